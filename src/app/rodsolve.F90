@@ -1,0 +1,99 @@
+!> rodsolve: nonlinear dynamics and statics of Cosserat rods.
+!>
+!> The thin main program of DESIGN.md §2 (STYLE.md item 1): read the command line, start PETSc
+!> and MPI, read and validate the scene, run, write, finalize. Everything else lives in the
+!> libraries; errors come back here as values and leave through rs_parallel_abort.
+program rodsolve
+    use, intrinsic :: iso_fortran_env, only: output_unit
+    use rs_core_error, only: error_t, error_list_t, exit_input_error, exit_run_error
+    use rs_core_logger, only: logger_init, log_info, log_level_from_name
+    use rs_core_strings, only: str
+    use rs_core_version, only: rodsolve_version, rodsolve_git_commit
+    use rs_model_scene, only: scene_t
+    use rs_parallel_mpi_env, only: world_rank, world_size, mpi_library_version
+    use rs_parallel_abort, only: stop_all, set_cleanup
+    use rs_parallel_metis, only: metis_version
+    use rs_io_cli, only: cli_t, parse_command_line, usage_text
+    use rs_io_input_file, only: load_scene
+    use rs_io_scene_writer, only: resolved_scene_text
+    use rs_io_input_reference, only: input_reference_markdown
+    use rs_io_hdf5_info, only: hdf5_version
+    use rs_solver_petsc_env, only: petsc_initialize, petsc_finalize, petsc_version, mumps_version
+    implicit none
+
+    type(cli_t) :: cli
+    type(error_t), allocatable :: err
+    type(error_list_t) :: input_errors
+    type(scene_t) :: scene
+
+    cli = command_line()
+    call petsc_initialize(cli%program, cli%petsc_args, err)
+    if (allocated(err)) call stop_all(exit_run_error, 'rodsolve: ' // err%describe())
+    call set_cleanup(petsc_finalize)
+    call logger_init(world_rank(), quiet=cli%quiet)
+    if (len(cli%error) > 0) call stop_all(exit_input_error, cli%error // new_line('a') // usage_text())
+
+    select case (cli%action)
+    case ('help')
+        call print_root(usage_text())
+    case ('version')
+        call print_root(version_text())
+    case ('reference')
+        call print_root(input_reference_markdown())
+    case ('check', 'run')
+        call load_scene(cli%scene_file, scene, input_errors)
+        if (input_errors%count > 0) call stop_all(exit_input_error, input_errors%joined() // &
+            new_line('a') // 'rodsolve: ' // str(input_errors%count) // ' error(s) in ' // &
+            cli%scene_file // '; nothing was run')
+        call logger_init(world_rank(), level=log_level_from_name(trim(scene%run%log_level)), &
+            quiet=cli%quiet)
+        if (cli%action == 'check') then
+            call print_root(resolved_scene_text(scene))
+            call log_info('rodsolve: ' // cli%scene_file // ' is valid (' // str(size(scene%rods)) // &
+                ' rod(s)); nothing was run (--check-input)')
+        else
+            call stop_all(exit_run_error, 'rodsolve: ' // cli%scene_file // ' is valid, but this ' // &
+                'version of rodsolve has no formulation to run it with yet (docs/user/capabilities.md); ' // &
+                'use --check-input to validate scenes')
+        end if
+    end select
+    call stop_all(0)
+
+contains
+
+    !> The command line, parsed (rodsolve's flags, the scene, PETSc's options).
+    function command_line() result(parsed)
+        type(cli_t) :: parsed
+        character(len=4096), allocatable :: args(:)
+        character(len=4096) :: program
+        integer :: i
+        call get_command_argument(0, program)
+        allocate(args(command_argument_count()))
+        do i = 1, size(args)
+            call get_command_argument(i, args(i))
+        end do
+        parsed = parse_command_line(program, args)
+    end function command_line
+
+    !> Print `text` once, from rank 0.
+    subroutine print_root(text)
+        character(len=*), intent(in) :: text
+        if (world_rank() == 0) then
+            write(output_unit, '(a)') text
+            flush(output_unit)
+        end if
+    end subroutine print_root
+
+    !> rodsolve's version and commit, and the versions of the libraries it is linked against.
+    function version_text() result(text)
+        character(len=:), allocatable :: text
+        character(len=*), parameter :: nl = new_line('a')
+        text = 'rodsolve ' // rodsolve_version // ' (git ' // rodsolve_git_commit // ')' // nl // &
+            '  PETSc  ' // petsc_version() // nl // &
+            '  MUMPS  ' // mumps_version() // nl // &
+            '  HDF5   ' // hdf5_version() // nl // &
+            '  MPI    ' // mpi_library_version() // ' (' // str(world_size()) // ' rank(s))' // nl // &
+            '  METIS  ' // metis_version()
+    end function version_text
+
+end program rodsolve

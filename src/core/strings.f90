@@ -1,0 +1,126 @@
+!> String helpers: case folding, number formatting and the edit distance behind "did you mean"
+!> suggestions for misspelled input names (DESIGN.md §6).
+module rs_core_strings
+    use rs_core_kinds, only: rk
+    implicit none
+    private
+
+    public :: to_lower, str, edit_distance, closest_name
+
+    !> Shortest readable text of a number.
+    interface str
+        module procedure str_int, str_real
+    end interface str
+
+contains
+
+    !> `text` with ASCII upper-case letters folded to lower case.
+    pure function to_lower(text) result(lower)
+        character(len=*), intent(in) :: text
+        character(len=len(text)) :: lower
+        integer :: i, code
+        lower = text
+        do i = 1, len(text)
+            code = iachar(text(i:i))
+            if (code >= iachar('A') .and. code <= iachar('Z')) lower(i:i) = achar(code + 32)
+        end do
+    end function to_lower
+
+    pure function str_int(value) result(text)
+        integer, intent(in) :: value
+        character(len=:), allocatable :: text
+        character(len=24) :: buffer
+        write(buffer, '(i0)') value
+        text = trim(buffer)
+    end function str_int
+
+    !> Real as the shortest text that reads back to the same double: positional notation for
+    !> magnitudes in [1e-3, 1e7), scientific otherwise (e.g. 0.01, 7800.0, 2.1e+11).
+    pure function str_real(value) result(text)
+        real(rk), intent(in) :: value
+        character(len=:), allocatable :: text
+        character(len=40) :: buffer
+        real(rk) :: back
+        integer :: digits, ios
+        if (value /= 0.0_rk .and. abs(value) >= 1.0e-3_rk .and. abs(value) < 1.0e7_rk) then
+            do digits = 1, 20
+                write(buffer, '(f40.' // str_int(digits) // ')') value
+                read(buffer, *, iostat=ios) back
+                if (ios == 0 .and. back == value) exit
+            end do
+            text = trim(adjustl(buffer))
+            if (text(1:1) == '.') text = '0' // text
+            if (text(1:2) == '-.') text = '-0' // text(2:)
+            if (text(len(text):len(text)) == '.') text = text // '0'
+            return
+        end if
+        do digits = 1, 17
+            write(buffer, '(es26.' // str_int(digits - 1) // ')') value
+            read(buffer, *, iostat=ios) back
+            if (ios == 0 .and. back == value) exit
+        end do
+        text = trim(adjustl(buffer))
+        call trim_mantissa(text)
+    end function str_real
+
+    !> 1.50000E+00 -> 1.5, 2.0000E-03 -> 2.0E-03 style cleanup: keep one digit after the point.
+    pure subroutine trim_mantissa(text)
+        character(len=:), allocatable, intent(inout) :: text
+        integer :: e, last
+        character(len=:), allocatable :: mantissa, exponent
+        e = scan(text, 'Ee')
+        if (e == 0) return
+        mantissa = text(1:e - 1)
+        exponent = text(e + 1:)
+        last = len(mantissa)
+        do while (last > 1)
+            if (mantissa(last:last) /= '0' .or. mantissa(last - 1:last - 1) == '.') exit
+            last = last - 1
+        end do
+        mantissa = mantissa(1:last)
+        if (mantissa(len(mantissa):len(mantissa)) == '.') mantissa = mantissa // '0'
+        if (exponent == '+00' .or. exponent == '+0') then
+            text = mantissa
+        else
+            text = mantissa // 'e' // exponent
+        end if
+    end subroutine trim_mantissa
+
+    !> Levenshtein distance between two strings (case-sensitive; fold first if needed).
+    pure integer function edit_distance(a, b) result(distance)
+        character(len=*), intent(in) :: a, b
+        integer :: previous(0:len(b)), current(0:len(b))
+        integer :: i, j, cost
+        previous = [(j, j = 0, len(b))]
+        do i = 1, len(a)
+            current(0) = i
+            do j = 1, len(b)
+                cost = merge(0, 1, a(i:i) == b(j:j))
+                current(j) = min(previous(j) + 1, current(j - 1) + 1, previous(j - 1) + cost)
+            end do
+            previous = current
+        end do
+        distance = previous(len(b))
+    end function edit_distance
+
+    !> The entry of `names` closest to `name`, or '' if none is close enough to be a likely
+    !> misspelling (distance at most 2, or at most a third of the name's length).
+    pure function closest_name(name, names) result(best)
+        character(len=*), intent(in) :: name
+        character(len=*), intent(in) :: names(:)
+        character(len=:), allocatable :: best
+        integer :: i, d, best_distance, limit
+        best = ''
+        best_distance = huge(1)
+        limit = max(2, len_trim(name) / 3)
+        do i = 1, size(names)
+            d = edit_distance(to_lower(trim(name)), to_lower(trim(names(i))))
+            if (d < best_distance) then
+                best_distance = d
+                best = trim(names(i))
+            end if
+        end do
+        if (best_distance > limit) best = ''
+    end function closest_name
+
+end module rs_core_strings

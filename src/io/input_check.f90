@@ -1,0 +1,293 @@
+!> Resolution and cross-checks of a scene that was read without errors (DESIGN.md §6): fills
+!> derived defaults (rod names, formulations, directors, stiffnesses from section and material,
+!> output path) and checks what no single variable can (a &bc on a rod that does not exist, an
+!> end supported twice, a table that is not increasing, dt above t_end, ...). Every problem is
+!> added to `errors`, naming the file, line, group and variable.
+module rs_io_input_check
+    use rs_core_kinds, only: rk
+    use rs_core_error, only: error_list_t
+    use rs_core_strings, only: str
+    use rs_model_scene, only: scene_t, rod_input_t, unset_real
+    use rs_model_section, only: section_properties_t, circle_section, tube_section, rectangle_section
+    implicit none
+    private
+
+    public :: resolve_scene, default_output_path
+
+    character(len=*), parameter :: stiffness_names(9) = [character(len=5) :: 'EA', 'GA1', 'GA2', &
+        'EI1', 'EI2', 'GJ', 'rhoA', 'rhoI1', 'rhoI2']
+
+contains
+
+    !> Fill derived defaults of `scene` and cross-check it; problems go to `errors`.
+    subroutine resolve_scene(scene, errors)
+        type(scene_t), intent(inout) :: scene
+        type(error_list_t), intent(inout) :: errors
+        integer :: i
+
+        if (len_trim(scene%output%path) == 0) scene%output%path = default_output_path(scene%source_file)
+        if (scene%time%dt /= unset_real .and. scene%time%t_end /= unset_real) then
+            if (scene%time%dt > scene%time%t_end) call errors%add(at(scene, 0) // '&time dt: ' // &
+                str(scene%time%dt) // ' is larger than t_end = ' // str(scene%time%t_end))
+        end if
+        if (size(scene%rods) == 0) call errors%add(scene%source_file // ': the scene has no &rod group')
+        do i = 1, size(scene%rods)
+            call resolve_rod(scene, i, errors)
+        end do
+        call check_unique_names(scene, errors)
+        call check_bcs(scene, errors)
+        call check_loads(scene, errors)
+    end subroutine resolve_scene
+
+    !> 'out/<scene name>.h5' for scene file '<dir>/<scene name>.nml'.
+    pure function default_output_path(source_file) result(path)
+        character(len=*), intent(in) :: source_file
+        character(len=:), allocatable :: path
+        integer :: slash, dot
+        slash = index(source_file, '/', back=.true.)
+        path = source_file(slash + 1:)
+        dot = index(path, '.', back=.true.)
+        if (dot > 1) path = path(1:dot - 1)
+        path = 'out/' // path // '.h5'
+    end function default_output_path
+
+    pure function at(scene, line) result(prefix)
+        type(scene_t), intent(in) :: scene
+        integer, intent(in) :: line
+        character(len=:), allocatable :: prefix
+        if (line > 0) then
+            prefix = scene%source_file // ':' // str(line) // ': '
+        else
+            prefix = scene%source_file // ': '
+        end if
+    end function at
+
+    subroutine resolve_rod(scene, i, errors)
+        type(scene_t), intent(inout) :: scene
+        integer, intent(in) :: i
+        type(error_list_t), intent(inout) :: errors
+        character(len=:), allocatable :: here
+        real(rk) :: t(3), d1(3)
+
+        associate (rod => scene%rods(i))
+            if (len_trim(rod%name) == 0) rod%name = 'rod' // str(i)
+            here = at(scene, rod%input_line) // '&rod ''' // trim(rod%name) // ''' '
+            if (len_trim(rod%formulation) == 0) rod%formulation = scene%run%formulation_default
+            if (norm2(rod%direction) == 0.0_rk) then
+                call errors%add(here // 'direction: must not be the zero vector')
+                return
+            end if
+            t = rod%direction / norm2(rod%direction)
+            rod%direction = t
+            if (rod%d1(1) == unset_real) then
+                rod%d1 = default_d1(t)
+            else
+                ! Keep the given d1's orientation about the centreline, made orthonormal.
+                d1 = rod%d1 - dot_product(rod%d1, t) * t
+                if (norm2(d1) <= 1.0e-8_rk * max(norm2(rod%d1), tiny(1.0_rk))) then
+                    call errors%add(here // 'd1: must not be parallel to direction')
+                    return
+                end if
+                rod%d1 = d1 / norm2(d1)
+            end if
+            call resolve_stiffness(rod, here, errors)
+        end associate
+    end subroutine resolve_rod
+
+    !> A unit vector normal to the unit tangent t: e_z x t normalized, or e_x when t is along
+    !> e_z. For a rod along e_x this is d1 = e_y, d2 = t x d1 = e_z.
+    pure function default_d1(t) result(d1)
+        real(rk), intent(in) :: t(3)
+        real(rk) :: d1(3)
+        d1 = [-t(2), t(1), 0.0_rk] + 0.0_rk   ! + 0 turns -0.0 into 0.0 for the echo
+        if (norm2(d1) < 1.0e-8_rk) then
+            d1 = [1.0_rk, 0.0_rk, 0.0_rk]
+        else
+            d1 = d1 / norm2(d1)
+        end if
+    end function default_d1
+
+    !> Stiffnesses and inertias: given directly (section = 'none'), or from section and material.
+    subroutine resolve_stiffness(rod, here, errors)
+        type(rod_input_t), intent(inout) :: rod
+        character(len=*), intent(in) :: here
+        type(error_list_t), intent(inout) :: errors
+        real(rk) :: direct(9), torsion
+        type(section_properties_t) :: s
+        character(len=:), allocatable :: missing
+        integer :: k
+
+        direct = [rod%EA, rod%GA1, rod%GA2, rod%EI1, rod%EI2, rod%GJ, rod%rhoA, rod%rhoI1, rod%rhoI2]
+        if (trim(rod%section) == 'none') then
+            missing = ''
+            do k = 1, size(direct)
+                if (direct(k) == unset_real) missing = missing // ' ' // trim(stiffness_names(k))
+            end do
+            if (len(missing) > 0) call errors%add(here // 'section: with section = ''none'' the ' // &
+                'stiffnesses and inertias must be given; missing:' // missing // &
+                ' (or give section, its dimensions, E and density)')
+            if (rod%torsion_constant == '') rod%torsion_constant = 'polar'
+            return
+        end if
+        if (any(direct /= unset_real)) then
+            call errors%add(here // 'section: give either section with E and density, or the ' // &
+                'stiffnesses EA ... rhoI2 with section = ''none'', not both')
+            return
+        end if
+        select case (trim(rod%section))
+        case ('circle')
+            if (.not. need(rod%radius, 'radius')) return
+            s = circle_section(rod%radius)
+        case ('tube')
+            if (.not. need(rod%radius, 'radius')) return
+            if (.not. need(rod%inner_radius, 'inner_radius')) return
+            if (rod%inner_radius >= rod%radius) then
+                call errors%add(here // 'inner_radius: ' // str(rod%inner_radius) // &
+                    ' must be smaller than radius = ' // str(rod%radius))
+                return
+            end if
+            s = tube_section(rod%radius, rod%inner_radius)
+        case ('rectangle')
+            if (.not. need(rod%width, 'width')) return
+            if (.not. need(rod%height, 'height')) return
+            if (rod%torsion_constant == '') then
+                call errors%add(here // 'torsion_constant: required for a rectangle (''polar'' or ' // &
+                    '''saint_venant''; the two differ for non-circular sections)')
+                return
+            end if
+            s = rectangle_section(rod%width, rod%height)
+        end select
+        if (rod%torsion_constant == '') rod%torsion_constant = 'polar'
+        if (.not. need(rod%E, 'E')) return
+        if (.not. need(rod%density, 'density')) return
+        if (rod%G == unset_real) then
+            if (rod%nu == unset_real) then
+                call errors%add(here // 'G: give G or nu with a section')
+                return
+            end if
+            rod%G = rod%E / (2.0_rk * (1.0_rk + rod%nu))
+        end if
+        torsion = s%polar
+        if (trim(rod%torsion_constant) == 'saint_venant') torsion = s%saint_venant
+        rod%EA = rod%E * s%area
+        rod%GA1 = rod%shear_factor * rod%G * s%area
+        rod%GA2 = rod%GA1
+        rod%EI1 = rod%E * s%i1
+        rod%EI2 = rod%E * s%i2
+        rod%GJ = rod%G * torsion
+        rod%rhoA = rod%density * s%area
+        rod%rhoI1 = rod%density * s%i1
+        rod%rhoI2 = rod%density * s%i2
+    contains
+        logical function need(value, name)
+            real(rk), intent(in) :: value
+            character(len=*), intent(in) :: name
+            need = value /= unset_real
+            if (.not. need) call errors%add(here // name // ': required with section = ''' // &
+                trim(rod%section) // '''')
+        end function need
+    end subroutine resolve_stiffness
+
+    subroutine check_unique_names(scene, errors)
+        type(scene_t), intent(in) :: scene
+        type(error_list_t), intent(inout) :: errors
+        integer :: i, j
+        do i = 2, size(scene%rods)
+            do j = 1, i - 1
+                if (scene%rods(i)%name == scene%rods(j)%name) call errors%add(at(scene, &
+                    scene%rods(i)%input_line) // '&rod name: ''' // trim(scene%rods(i)%name) // &
+                    ''' is already the name of the rod at line ' // str(scene%rods(j)%input_line))
+            end do
+        end do
+    end subroutine check_unique_names
+
+    integer function rod_index(scene, name)
+        type(scene_t), intent(in) :: scene
+        character(len=*), intent(in) :: name
+        integer :: i
+        rod_index = 0
+        do i = 1, size(scene%rods)
+            if (trim(scene%rods(i)%name) == trim(name)) then
+                rod_index = i
+                return
+            end if
+        end do
+    end function rod_index
+
+    function rod_names(scene) result(text)
+        type(scene_t), intent(in) :: scene
+        character(len=:), allocatable :: text
+        integer :: i
+        text = ''
+        do i = 1, size(scene%rods)
+            if (i > 1) text = text // ', '
+            text = text // '''' // trim(scene%rods(i)%name) // ''''
+        end do
+    end function rod_names
+
+    subroutine check_bcs(scene, errors)
+        type(scene_t), intent(in) :: scene
+        type(error_list_t), intent(inout) :: errors
+        integer :: i, j
+        do i = 1, size(scene%bcs)
+            associate (bc => scene%bcs(i))
+                if (len_trim(bc%rod) > 0 .and. rod_index(scene, bc%rod) == 0) call errors%add(at(scene, &
+                    bc%input_line) // '&bc rod: no rod is named ''' // trim(bc%rod) // '''; rods: ' // &
+                    rod_names(scene))
+                do j = 1, i - 1
+                    if (scene%bcs(j)%rod == bc%rod .and. scene%bcs(j)%end == bc%end .and. &
+                            len_trim(bc%end) > 0) call errors%add(at(scene, bc%input_line) // &
+                        '&bc end: the ''' // trim(bc%end) // ''' end of rod ''' // trim(bc%rod) // &
+                        ''' already has a support (line ' // str(scene%bcs(j)%input_line) // ')')
+                end do
+            end associate
+        end do
+    end subroutine check_bcs
+
+    subroutine check_loads(scene, errors)
+        type(scene_t), intent(in) :: scene
+        type(error_list_t), intent(inout) :: errors
+        character(len=:), allocatable :: here
+        integer :: i, n_times, n_values
+        do i = 1, size(scene%loads)
+            associate (load => scene%loads(i))
+                here = at(scene, load%input_line) // '&load '
+                if (len_trim(load%rod) == 0) then
+                    if (load%where /= 'gravity' .and. len_trim(load%where) > 0) call errors%add(here // &
+                        'rod: required unless where = ''gravity''')
+                else if (rod_index(scene, load%rod) == 0) then
+                    call errors%add(here // 'rod: no rod is named ''' // trim(load%rod) // '''; rods: ' // &
+                        rod_names(scene))
+                end if
+                if (load%where == 'gravity') then
+                    if (any(load%force /= 0.0_rk) .or. any(load%moment /= 0.0_rk)) call errors%add(here // &
+                        'force: a gravity load takes acceleration, not force or moment')
+                    if (all(load%acceleration == 0.0_rk)) call errors%add(here // &
+                        'acceleration: a gravity load needs a non-zero acceleration')
+                else if (any(load%acceleration /= 0.0_rk)) then
+                    call errors%add(here // 'acceleration: only a gravity load takes an acceleration')
+                end if
+                select case (trim(load%time_function))
+                case ('ramp', 'hat', 'pulse')
+                    if (load%t_off == unset_real) then
+                        call errors%add(here // 't_off: required by time_function = ''' // &
+                            trim(load%time_function) // '''')
+                    else if (load%t_off <= load%t_on) then
+                        call errors%add(here // 't_off: ' // str(load%t_off) // ' must be larger than t_on = ' // &
+                            str(load%t_on))
+                    end if
+                case ('table')
+                    n_times = count(load%table_times /= unset_real)
+                    n_values = count(load%table_values /= unset_real)
+                    if (n_times < 2 .or. n_times /= n_values) then
+                        call errors%add(here // 'table_times: a table needs at least 2 times and as many ' // &
+                            'table_values (' // str(n_times) // ' and ' // str(n_values) // ' given)')
+                    else if (any(load%table_times(2:n_times) <= load%table_times(1:n_times - 1))) then
+                        call errors%add(here // 'table_times: must be strictly increasing')
+                    end if
+                end select
+            end associate
+        end do
+    end subroutine check_loads
+
+end module rs_io_input_check

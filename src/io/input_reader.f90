@@ -1,0 +1,427 @@
+!> Reads scene text into the plain scene type (DESIGN.md §6). Each assignment of each group is
+!> checked against the tables of rs_io_input_spec (name, number of values, allowed values,
+!> range) and then read on its own through a namelist whose object is the group's plain type,
+!> `&rod_nml r%n_elements = 10 /`, so a wrong value is reported with its file, line, group and
+!> variable, and every problem of the file is collected before anything stops.
+module rs_io_input_reader
+    use rs_core_kinds, only: rk
+    use rs_core_error, only: error_list_t
+    use rs_core_strings, only: to_lower, str, closest_name
+    use rs_model_scene, only: scene_t, run_input_t, time_input_t, solver_input_t, output_input_t, &
+        rod_input_t, bc_input_t, load_input_t
+    use rs_io_namelist_lexer, only: assignment_t, group_chunk_t, split_namelist
+    use rs_io_input_spec, only: group_spec_t, variable_spec_t, input_groups, find_group, find_variable, &
+        range_description
+    implicit none
+    private
+
+    public :: read_scene_text
+
+contains
+
+    !> Fill `scene` from `text` (the contents of `file`); every problem is added to `errors`.
+    !> Values are as given (defaults where not given); resolution and cross-checks follow in
+    !> rs_io_input_check.
+    subroutine read_scene_text(text, file, scene, errors)
+        character(len=*), intent(in) :: text, file
+        type(scene_t), intent(out) :: scene
+        type(error_list_t), intent(inout) :: errors
+        type(group_spec_t), allocatable :: groups(:)
+        type(group_chunk_t), allocatable :: chunks(:)
+        integer, allocatable :: first_line(:)
+        integer :: c, g
+
+        scene%source_file = file
+        scene%source_text = text
+        allocate(scene%rods(0), scene%bcs(0), scene%loads(0))
+        groups = input_groups()
+        allocate(first_line(size(groups)))
+        first_line = 0
+        call split_namelist(text, file, chunks, errors)
+
+        do c = 1, size(chunks)
+            g = find_group(groups, chunks(c)%name)
+            if (g == 0) then
+                call errors%add(file // ':' // str(chunks(c)%line) // ': unknown group &' // &
+                    chunks(c)%name // suggestion(chunks(c)%name, group_names(groups)) // &
+                    '; groups are ' // list_of(group_names(groups)))
+                cycle
+            end if
+            if (.not. groups(g)%implemented) then
+                call errors%add(file // ':' // str(chunks(c)%line) // ': the group &' // chunks(c)%name // &
+                    ' is not available in this version of rodsolve (docs/user/capabilities.md)')
+                cycle
+            end if
+            if (.not. groups(g)%repeatable .and. first_line(g) > 0) then
+                call errors%add(file // ':' // str(chunks(c)%line) // ': &' // chunks(c)%name // &
+                    ' is given twice (first at line ' // str(first_line(g)) // '); it may appear once')
+                cycle
+            end if
+            if (first_line(g) == 0) first_line(g) = chunks(c)%line
+            call read_chunk(chunks(c), groups(g), file, scene, errors)
+        end do
+    end subroutine read_scene_text
+
+    !> Check and read the assignments of one group occurrence into its place in `scene`.
+    subroutine read_chunk(chunk, group, file, scene, errors)
+        type(group_chunk_t), intent(in) :: chunk
+        type(group_spec_t), intent(in) :: group
+        character(len=*), intent(in) :: file
+        type(scene_t), intent(inout) :: scene
+        type(error_list_t), intent(inout) :: errors
+        type(rod_input_t) :: rod
+        type(bc_input_t) :: bc
+        type(load_input_t) :: load
+        logical, allocatable :: given(:)
+        character(len=:), allocatable :: where, value, message
+        integer :: k, v, ios
+
+        allocate(given(size(group%variables)))
+        given = .false.
+        rod%input_line = chunk%line
+        bc%input_line = chunk%line
+        load%input_line = chunk%line
+        do k = 1, size(chunk%assignments)
+            associate (a => chunk%assignments(k))
+                where = file // ':' // str(a%line) // ': &' // chunk%name // ' ' // a%name // ': '
+                v = find_variable(group, a%name)
+                if (v == 0) then
+                    call errors%add(file // ':' // str(a%line) // ': &' // chunk%name // ': unknown variable "' // &
+                        a%name // '"' // suggestion(a%name, variable_names(group)))
+                    cycle
+                end if
+                if (given(v)) then
+                    call errors%add(where // 'given twice in one group')
+                    cycle
+                end if
+                given(v) = .true.
+                call check_value(a, group%variables(v), value, message)
+                if (len(message) > 0) then
+                    call errors%add(where // message)
+                    cycle
+                end if
+                select case (group%name)
+                case ('run')
+                    call read_run(a%target, value, scene%run, ios, message)
+                case ('time')
+                    call read_time(a%target, value, scene%time, ios, message)
+                case ('solver')
+                    call read_solver(a%target, value, scene%solver, ios, message)
+                case ('output')
+                    call read_output(a%target, value, scene%output, ios, message)
+                case ('rod')
+                    call read_rod(a%target, value, rod, ios, message)
+                case ('bc')
+                    call read_bc(a%target, value, bc, ios, message)
+                case ('load')
+                    call read_load(a%target, value, load, ios, message)
+                end select
+                if (ios /= 0) call errors%add(where // 'cannot read "' // a%value // '" as ' // &
+                    kind_phrase(group%variables(v)) // ' (' // trim(message) // ')')
+            end associate
+        end do
+        do v = 1, size(group%variables)
+            if (group%variables(v)%required .and. .not. given(v)) call errors%add(file // ':' // &
+                str(chunk%line) // ': &' // chunk%name // ' ' // trim(group%variables(v)%name) // &
+                ': required but not given')
+        end do
+        select case (group%name)
+        case ('rod')
+            scene%rods = [scene%rods, rod]
+        case ('bc')
+            scene%bcs = [scene%bcs, bc]
+        case ('load')
+            scene%loads = [scene%loads, load]
+        end select
+    end subroutine read_chunk
+
+    !> Generic checks of one assignment against its spec; `value` is the text handed to the
+    !> namelist reader (allowed strings folded to lower case), `message` is '' when all is well.
+    subroutine check_value(a, spec, value, message)
+        type(assignment_t), intent(in) :: a
+        type(variable_spec_t), intent(in) :: spec
+        character(len=:), allocatable, intent(out) :: value, message
+        real(rk), allocatable :: numbers(:)
+        character(len=:), allocatable :: text
+        integer :: ios, i
+
+        value = a%value
+        message = ''
+        if (a%n_values == 0) then
+            message = 'no value given'
+            return
+        end if
+        if (spec%kind == 'string' .and. (a%n_values /= 1 .or. .not. is_quoted(a%value))) then
+            message = 'expects one quoted string, e.g. ''text'' (given: ' // a%value // ')'
+            return
+        end if
+        if (.not. a%subscripted) then
+            if (a%n_values < spec%min_count .or. a%n_values > spec%max_count) then
+                if (spec%min_count == spec%max_count) then
+                    message = 'expects ' // str(spec%min_count) // ' value(s), ' // str(a%n_values) // ' given'
+                else
+                    message = 'expects ' // str(spec%min_count) // ' to ' // str(spec%max_count) // &
+                        ' values, ' // str(a%n_values) // ' given'
+                end if
+                return
+            end if
+        end if
+        select case (spec%kind)
+        case ('string')
+            if (len_trim(spec%allowed) > 0) then
+                text = to_lower(unquote(a%value))
+                if (.not. is_allowed(text, spec%allowed)) then
+                    message = '"' // unquote(a%value) // '" is not allowed; allowed: ' // &
+                        allowed_list(spec%allowed) // suggestion(text, split_allowed(spec%allowed))
+                    return
+                end if
+                value = "'" // text // "'"
+            end if
+        case ('integer', 'real')
+            allocate(numbers(a%n_values))
+            read(a%value, *, iostat=ios) numbers
+            if (ios /= 0) return   ! the namelist read reports the type error
+            do i = 1, size(numbers)
+                if (numbers(i) < spec%lower .or. numbers(i) > spec%upper .or. &
+                        (.not. spec%lower_inclusive .and. numbers(i) == spec%lower)) then
+                    message = 'value ' // a%value // ' out of range; allowed: ' // range_description(spec)
+                    return
+                end if
+            end do
+        end select
+    end subroutine check_value
+
+    ! One namelist reader per group: the namelist object is a copy of the group's plain type, so
+    ! the assignment `target = value` is read as `r%target = value` and only that component
+    ! changes; on failure the object is left as it was.
+
+    subroutine read_run(target, value, obj, ios, message)
+        character(len=*), intent(in) :: target, value
+        type(run_input_t), intent(inout) :: obj
+        integer, intent(out) :: ios
+        character(len=:), allocatable, intent(out) :: message
+        type(run_input_t) :: r
+        character(len=256) :: msg
+        character(len=:), allocatable :: buffer
+        namelist /run_nml/ r
+        r = obj
+        msg = ''
+        buffer = '&run_nml r%' // target // ' = ' // value // ' /'
+        read(buffer, nml=run_nml, iostat=ios, iomsg=msg)
+        if (ios == 0) obj = r
+        message = trim(msg)
+    end subroutine read_run
+
+    subroutine read_time(target, value, obj, ios, message)
+        character(len=*), intent(in) :: target, value
+        type(time_input_t), intent(inout) :: obj
+        integer, intent(out) :: ios
+        character(len=:), allocatable, intent(out) :: message
+        type(time_input_t) :: r
+        character(len=256) :: msg
+        character(len=:), allocatable :: buffer
+        namelist /time_nml/ r
+        r = obj
+        msg = ''
+        buffer = '&time_nml r%' // target // ' = ' // value // ' /'
+        read(buffer, nml=time_nml, iostat=ios, iomsg=msg)
+        if (ios == 0) obj = r
+        message = trim(msg)
+    end subroutine read_time
+
+    subroutine read_solver(target, value, obj, ios, message)
+        character(len=*), intent(in) :: target, value
+        type(solver_input_t), intent(inout) :: obj
+        integer, intent(out) :: ios
+        character(len=:), allocatable, intent(out) :: message
+        type(solver_input_t) :: r
+        character(len=256) :: msg
+        character(len=:), allocatable :: buffer
+        namelist /solver_nml/ r
+        r = obj
+        msg = ''
+        buffer = '&solver_nml r%' // target // ' = ' // value // ' /'
+        read(buffer, nml=solver_nml, iostat=ios, iomsg=msg)
+        if (ios == 0) obj = r
+        message = trim(msg)
+    end subroutine read_solver
+
+    subroutine read_output(target, value, obj, ios, message)
+        character(len=*), intent(in) :: target, value
+        type(output_input_t), intent(inout) :: obj
+        integer, intent(out) :: ios
+        character(len=:), allocatable, intent(out) :: message
+        type(output_input_t) :: r
+        character(len=256) :: msg
+        character(len=:), allocatable :: buffer
+        namelist /output_nml/ r
+        r = obj
+        msg = ''
+        buffer = '&output_nml r%' // target // ' = ' // value // ' /'
+        read(buffer, nml=output_nml, iostat=ios, iomsg=msg)
+        if (ios == 0) obj = r
+        message = trim(msg)
+    end subroutine read_output
+
+    subroutine read_rod(target, value, obj, ios, message)
+        character(len=*), intent(in) :: target, value
+        type(rod_input_t), intent(inout) :: obj
+        integer, intent(out) :: ios
+        character(len=:), allocatable, intent(out) :: message
+        type(rod_input_t) :: r
+        character(len=256) :: msg
+        character(len=:), allocatable :: buffer
+        namelist /rod_nml/ r
+        r = obj
+        msg = ''
+        buffer = '&rod_nml r%' // target // ' = ' // value // ' /'
+        read(buffer, nml=rod_nml, iostat=ios, iomsg=msg)
+        if (ios == 0) obj = r
+        message = trim(msg)
+    end subroutine read_rod
+
+    subroutine read_bc(target, value, obj, ios, message)
+        character(len=*), intent(in) :: target, value
+        type(bc_input_t), intent(inout) :: obj
+        integer, intent(out) :: ios
+        character(len=:), allocatable, intent(out) :: message
+        type(bc_input_t) :: r
+        character(len=256) :: msg
+        character(len=:), allocatable :: buffer
+        namelist /bc_nml/ r
+        r = obj
+        msg = ''
+        buffer = '&bc_nml r%' // target // ' = ' // value // ' /'
+        read(buffer, nml=bc_nml, iostat=ios, iomsg=msg)
+        if (ios == 0) obj = r
+        message = trim(msg)
+    end subroutine read_bc
+
+    subroutine read_load(target, value, obj, ios, message)
+        character(len=*), intent(in) :: target, value
+        type(load_input_t), intent(inout) :: obj
+        integer, intent(out) :: ios
+        character(len=:), allocatable, intent(out) :: message
+        type(load_input_t) :: r
+        character(len=256) :: msg
+        character(len=:), allocatable :: buffer
+        namelist /load_nml/ r
+        r = obj
+        msg = ''
+        buffer = '&load_nml r%' // target // ' = ' // value // ' /'
+        read(buffer, nml=load_nml, iostat=ios, iomsg=msg)
+        if (ios == 0) obj = r
+        message = trim(msg)
+    end subroutine read_load
+
+    ! --- message helpers ---------------------------------------------------------------------
+
+    pure logical function is_quoted(text)
+        character(len=*), intent(in) :: text
+        integer :: n
+        n = len_trim(text)
+        is_quoted = .false.
+        if (n >= 2) is_quoted = (text(1:1) == "'" .and. text(n:n) == "'") .or. &
+            (text(1:1) == '"' .and. text(n:n) == '"')
+    end function is_quoted
+
+    pure function unquote(text) result(out)
+        character(len=*), intent(in) :: text
+        character(len=:), allocatable :: out
+        out = trim(text)
+        if (is_quoted(out)) out = out(2:len(out) - 1)
+    end function unquote
+
+    pure logical function is_allowed(text, allowed)
+        character(len=*), intent(in) :: text, allowed
+        is_allowed = index('|' // trim(allowed) // '|', '|' // trim(text) // '|') > 0
+    end function is_allowed
+
+    pure function split_allowed(allowed) result(names)
+        character(len=*), intent(in) :: allowed
+        character(len=32), allocatable :: names(:)
+        integer :: start, bar
+        allocate(names(0))
+        start = 1
+        do
+            bar = index(allowed(start:), '|')
+            if (bar == 0) then
+                names = [names, allowed(start:len_trim(allowed))]
+                exit
+            end if
+            names = [names, allowed(start:start + bar - 2)]
+            start = start + bar
+        end do
+    end function split_allowed
+
+    pure function allowed_list(allowed) result(text)
+        character(len=*), intent(in) :: allowed
+        character(len=:), allocatable :: text
+        character(len=32), allocatable :: names(:)
+        integer :: i
+        names = split_allowed(allowed)
+        text = ''
+        do i = 1, size(names)
+            if (i > 1) text = text // ', '
+            text = text // "'" // trim(names(i)) // "'"
+        end do
+    end function allowed_list
+
+    pure function kind_phrase(spec) result(text)
+        type(variable_spec_t), intent(in) :: spec
+        character(len=:), allocatable :: text
+        select case (spec%kind)
+        case ('integer')
+            text = 'integer'
+        case ('real')
+            text = 'real number'
+        case ('logical')
+            text = 'logical (.true. or .false.)'
+        case default
+            text = 'quoted string'
+        end select
+        if (spec%max_count > 1) text = text // 's'
+    end function kind_phrase
+
+    !> "; did you mean 'x'?" when `name` is close to one of `names`, else ''.
+    pure function suggestion(name, names) result(text)
+        character(len=*), intent(in) :: name
+        character(len=*), intent(in) :: names(:)
+        character(len=:), allocatable :: text, best
+        best = closest_name(name, names)
+        text = ''
+        if (len(best) > 0) text = '; did you mean "' // best // '"?'
+    end function suggestion
+
+    pure function group_names(groups) result(names)
+        type(group_spec_t), intent(in) :: groups(:)
+        character(len=16), allocatable :: names(:)
+        integer :: i
+        allocate(names(size(groups)))
+        do i = 1, size(groups)
+            names(i) = groups(i)%name
+        end do
+    end function group_names
+
+    pure function variable_names(group) result(names)
+        type(group_spec_t), intent(in) :: group
+        character(len=32), allocatable :: names(:)
+        integer :: i
+        allocate(names(size(group%variables)))
+        do i = 1, size(group%variables)
+            names(i) = group%variables(i)%name
+        end do
+    end function variable_names
+
+    pure function list_of(names) result(text)
+        character(len=*), intent(in) :: names(:)
+        character(len=:), allocatable :: text
+        integer :: i
+        text = ''
+        do i = 1, size(names)
+            if (i > 1) text = text // ', '
+            text = text // '&' // trim(names(i))
+        end do
+    end function list_of
+
+end module rs_io_input_reader

@@ -1,0 +1,356 @@
+!> Splits namelist text into groups and assignments, with line numbers, before any value is
+!> read (DESIGN.md §6): gfortran's namelist reader alone skips unknown groups silently, stops at
+!> the first error and names no line. Each assignment is later read on its own, so every
+!> problem can be reported with its file, line, group and variable.
+!>
+!> Syntax accepted: `&group name = value, name(2) = v, ... /` over any number of lines, `!`
+!> comments outside quoted strings, strings in '...' or "..." (doubled quotes inside),
+!> repeat counts `3*0.0`. Text outside groups is an error.
+module rs_io_namelist_lexer
+    use rs_core_error, only: error_list_t
+    use rs_core_strings, only: to_lower, str
+    implicit none
+    private
+
+    public :: assignment_t, group_chunk_t, split_namelist
+
+    !> One `target = value` of a group.
+    type :: assignment_t
+        !> The target as written, blanks removed (e.g. "start(2)").
+        character(len=:), allocatable :: target
+        !> Lower-case base name (e.g. "start").
+        character(len=:), allocatable :: name
+        logical :: subscripted = .false.
+        !> Value text, one line, comments removed.
+        character(len=:), allocatable :: value
+        integer :: line = 0
+        !> Number of values after expanding repeat counts; 0 if the value is empty.
+        integer :: n_values = 0
+    end type assignment_t
+
+    !> One `&group ... /` occurrence.
+    type :: group_chunk_t
+        character(len=:), allocatable :: name
+        integer :: line = 0
+        type(assignment_t), allocatable :: assignments(:)
+    end type group_chunk_t
+
+    character(len=*), parameter :: blanks = ' ' // achar(9) // achar(10) // achar(13)
+
+contains
+
+    !> Split `text` (the contents of `file`) into group chunks; problems go to `errors`.
+    subroutine split_namelist(text, file, chunks, errors)
+        character(len=*), intent(in) :: text, file
+        type(group_chunk_t), allocatable, intent(out) :: chunks(:)
+        type(error_list_t), intent(inout) :: errors
+        character(len=len(text)) :: clean
+        integer :: line_of(len(text))
+        integer :: p, n, name_end, body_end, reported_line
+        type(group_chunk_t) :: chunk
+        logical :: unterminated_string
+
+        allocate(chunks(0))
+        n = len(text)
+        call strip_comments(text, clean, line_of, unterminated_string)
+        if (unterminated_string) then
+            call errors%add(file // ': a quoted string is not closed before the end of the file')
+            return
+        end if
+        p = 1
+        reported_line = 0
+        do while (p <= n)
+            if (index(blanks, clean(p:p)) > 0) then
+                p = p + 1
+                cycle
+            end if
+            if (clean(p:p) == '&') then
+                name_end = p
+                do while (name_end < n)
+                    if (.not. is_name_char(clean(name_end + 1:name_end + 1))) exit
+                    name_end = name_end + 1
+                end do
+                if (name_end == p) then
+                    call errors%add(file // ':' // str(line_of(p)) // ': a group name must follow "&"')
+                    p = p + 1
+                    cycle
+                end if
+                chunk%name = to_lower(clean(p + 1:name_end))
+                chunk%line = line_of(p)
+                body_end = find_group_end(clean, name_end + 1)
+                if (body_end == 0) then
+                    call errors%add(file // ':' // str(chunk%line) // ': &' // chunk%name // &
+                        ' is not closed by "/"')
+                    return
+                end if
+                call split_assignments(clean, line_of, name_end + 1, body_end - 1, file, chunk, errors)
+                chunks = [chunks, chunk]
+                p = body_end + 1
+                if (p <= n .and. clean(body_end:body_end) == '&') p = body_end + 4   ! "&end"
+            else
+                if (line_of(p) /= reported_line) then
+                    call errors%add(file // ':' // str(line_of(p)) // ': text outside a namelist group: "' // &
+                        snippet(clean, p) // '" (a group starts with &name and ends with /)')
+                    reported_line = line_of(p)
+                end if
+                p = p + 1
+            end if
+        end do
+    end subroutine split_namelist
+
+    !> Blank out comments (keeping newlines) and note the line of every character.
+    subroutine strip_comments(text, clean, line_of, unterminated_string)
+        character(len=*), intent(in) :: text
+        character(len=len(text)), intent(out) :: clean
+        integer, intent(out) :: line_of(:)
+        logical, intent(out) :: unterminated_string
+        character :: quote, c
+        logical :: in_comment
+        integer :: i, line
+        clean = text
+        quote = ' '
+        in_comment = .false.
+        line = 1
+        do i = 1, len(text)
+            c = text(i:i)
+            line_of(i) = line
+            if (c == achar(10)) then
+                line = line + 1
+                in_comment = .false.
+                cycle
+            end if
+            if (in_comment) then
+                clean(i:i) = ' '
+            else if (quote /= ' ') then
+                if (c == quote) quote = ' '
+            else if (c == '"' .or. c == "'") then
+                quote = c
+            else if (c == '!') then
+                in_comment = .true.
+                clean(i:i) = ' '
+            end if
+        end do
+        unterminated_string = quote /= ' '
+    end subroutine strip_comments
+
+    !> Position of the "/" (or of "&end") closing the group whose body starts at `from`; 0 if
+    !> none.
+    pure integer function find_group_end(clean, from) result(at)
+        character(len=*), intent(in) :: clean
+        integer, intent(in) :: from
+        character :: quote
+        integer :: i
+        quote = ' '
+        at = 0
+        do i = from, len(clean)
+            if (quote /= ' ') then
+                if (clean(i:i) == quote) quote = ' '
+            else if (clean(i:i) == '"' .or. clean(i:i) == "'") then
+                quote = clean(i:i)
+            else if (clean(i:i) == '/') then
+                at = i
+                return
+            else if (clean(i:i) == '&') then
+                if (i + 3 <= len(clean)) then
+                    if (to_lower(clean(i:i + 3)) == '&end') then
+                        at = i
+                        return
+                    end if
+                end if
+            end if
+        end do
+    end function find_group_end
+
+    !> Split the body clean(first:last) of `chunk` into its assignments.
+    subroutine split_assignments(clean, line_of, first, last, file, chunk, errors)
+        character(len=*), intent(in) :: clean
+        integer, intent(in) :: line_of(:), first, last
+        character(len=*), intent(in) :: file
+        type(group_chunk_t), intent(inout) :: chunk
+        type(error_list_t), intent(inout) :: errors
+        integer, allocatable :: equals(:), starts(:)
+        integer :: i, k, depth, j, value_end
+        character :: quote
+        type(assignment_t) :: a
+
+        if (allocated(chunk%assignments)) deallocate(chunk%assignments)
+        allocate(chunk%assignments(0))
+        allocate(equals(0))
+        quote = ' '
+        depth = 0
+        do i = first, last
+            if (quote /= ' ') then
+                if (clean(i:i) == quote) quote = ' '
+            else if (clean(i:i) == '"' .or. clean(i:i) == "'") then
+                quote = clean(i:i)
+            else if (clean(i:i) == '(') then
+                depth = depth + 1
+            else if (clean(i:i) == ')') then
+                depth = depth - 1
+            else if (clean(i:i) == '=' .and. depth == 0) then
+                equals = [equals, i]
+            end if
+        end do
+
+        allocate(starts(size(equals)))
+        do k = 1, size(equals)
+            starts(k) = target_start(clean, first, equals(k) - 1)
+        end do
+        ! Whatever precedes the first target must be blank (or separators).
+        j = last
+        if (size(equals) > 0) j = starts(1) - 1
+        if (verify(clean(first:j), blanks // ',') > 0) then
+            i = first - 1 + verify(clean(first:j), blanks // ',')
+            call errors%add(file // ':' // str(line_of(i)) // ': &' // chunk%name // &
+                ': expected "name = value", found "' // snippet(clean, i) // '"')
+        end if
+
+        do k = 1, size(equals)
+            if (starts(k) >= equals(k)) then
+                call errors%add(file // ':' // str(line_of(equals(k))) // ': &' // chunk%name // &
+                    ': "=" without a variable name before it')
+                cycle
+            end if
+            a%target = remove_blanks(clean(starts(k):equals(k) - 1))
+            a%subscripted = index(a%target, '(') > 0
+            if (a%subscripted) then
+                a%name = to_lower(a%target(1:index(a%target, '(') - 1))
+            else
+                a%name = to_lower(a%target)
+            end if
+            a%line = line_of(starts(k))
+            value_end = last
+            if (k < size(equals)) value_end = starts(k + 1) - 1
+            a%value = one_line(clean(equals(k) + 1:value_end))
+            a%n_values = count_values(a%value)
+            chunk%assignments = [chunk%assignments, a]
+        end do
+    end subroutine split_assignments
+
+    !> Start of the variable name that ends just before position `last` + 1 (skipping blanks
+    !> and one subscript in parentheses).
+    pure integer function target_start(clean, first, last) result(at)
+        character(len=*), intent(in) :: clean
+        integer, intent(in) :: first, last
+        integer :: i, depth
+        i = last
+        do while (i >= first)
+            if (index(blanks, clean(i:i)) == 0) exit
+            i = i - 1
+        end do
+        if (i >= first) then
+            if (clean(i:i) == ')') then
+                depth = 0
+                do while (i >= first)
+                    if (clean(i:i) == ')') depth = depth + 1
+                    if (clean(i:i) == '(') depth = depth - 1
+                    i = i - 1
+                    if (depth == 0) exit
+                end do
+                do while (i >= first)
+                    if (index(blanks, clean(i:i)) == 0) exit
+                    i = i - 1
+                end do
+            end if
+        end if
+        do while (i >= first)
+            if (.not. is_name_char(clean(i:i))) exit
+            i = i - 1
+        end do
+        at = i + 1
+    end function target_start
+
+    !> Number of values in a value text: separators are commas and blanks outside quotes, and a
+    !> token r*v counts r times.
+    pure integer function count_values(value) result(n)
+        character(len=*), intent(in) :: value
+        integer :: i, token_start, repeat, star, ios
+        character :: quote
+        logical :: in_token
+        n = 0
+        quote = ' '
+        in_token = .false.
+        token_start = 1
+        do i = 1, len(value) + 1
+            if (i <= len(value)) then
+                if (quote /= ' ') then
+                    if (value(i:i) == quote) quote = ' '
+                    cycle
+                end if
+                if (value(i:i) == '"' .or. value(i:i) == "'") then
+                    quote = value(i:i)
+                    if (.not. in_token) then
+                        in_token = .true.
+                        token_start = i
+                    end if
+                    cycle
+                end if
+                if (value(i:i) /= ',' .and. value(i:i) /= ' ') then
+                    if (.not. in_token) then
+                        in_token = .true.
+                        token_start = i
+                    end if
+                    cycle
+                end if
+            end if
+            if (in_token) then
+                star = index(value(token_start:i - 1), '*')
+                repeat = 1
+                if (star > 1 .and. value(token_start:token_start) /= '"' .and. &
+                        value(token_start:token_start) /= "'") then
+                    read(value(token_start:token_start + star - 2), *, iostat=ios) repeat
+                    if (ios /= 0) repeat = 1
+                end if
+                n = n + repeat
+                in_token = .false.
+            end if
+        end do
+    end function count_values
+
+    pure logical function is_name_char(c)
+        character, intent(in) :: c
+        is_name_char = (c >= 'a' .and. c <= 'z') .or. (c >= 'A' .and. c <= 'Z') .or. &
+            (c >= '0' .and. c <= '9') .or. c == '_' .or. c == '%'
+    end function is_name_char
+
+    pure function remove_blanks(text) result(out)
+        character(len=*), intent(in) :: text
+        character(len=:), allocatable :: out
+        integer :: i
+        out = ''
+        do i = 1, len(text)
+            if (index(blanks, text(i:i)) == 0) out = out // text(i:i)
+        end do
+    end function remove_blanks
+
+    !> Newlines and tabs to blanks, outer blanks and one trailing comma removed.
+    pure function one_line(text) result(out)
+        character(len=*), intent(in) :: text
+        character(len=:), allocatable :: out
+        integer :: i
+        character(len=len(text)) :: work
+        work = text
+        do i = 1, len(work)
+            if (index(blanks, work(i:i)) > 0) work(i:i) = ' '
+        end do
+        out = trim(adjustl(work))
+        if (len(out) > 0) then
+            if (out(len(out):len(out)) == ',') out = trim(out(1:len(out) - 1))
+        end if
+    end function one_line
+
+    !> Up to 30 characters of the line at position `at`, for messages.
+    pure function snippet(text, at) result(out)
+        character(len=*), intent(in) :: text
+        integer, intent(in) :: at
+        character(len=:), allocatable :: out
+        integer :: last
+        last = at
+        do while (last < len(text) .and. last - at < 30)
+            if (text(last + 1:last + 1) == achar(10)) exit
+            last = last + 1
+        end do
+        out = trim(text(at:last))
+    end function snippet
+
+end module rs_io_namelist_lexer

@@ -1,0 +1,230 @@
+!> The resolved scene as namelist text (DESIGN.md §6, STYLE.md item 13): every group with every
+!> variable, defaults and derived values included, in a form rodsolve reads back to the same
+!> scene. Printed by `--check-input` and stored in the output as /input/resolved.
+!>
+!> Each group is written with Fortran's namelist output (so no variable can be forgotten) and
+!> then tidied: component prefixes dropped, names in lower case, reals in their shortest exact
+!> form, padding inside strings removed, variables that are still unset left out.
+module rs_io_scene_writer
+    use rs_core_kinds, only: rk
+    use rs_core_strings, only: to_lower, str
+    use rs_io_input_spec, only: group_spec_t, input_groups, find_group, find_variable
+    use rs_model_scene, only: scene_t, run_input_t, time_input_t, solver_input_t, output_input_t, &
+        rod_input_t, bc_input_t, load_input_t
+    implicit none
+    private
+
+    public :: resolved_scene_text
+
+    integer, parameter :: max_lines = 400
+    integer, parameter :: line_len = 4096
+
+contains
+
+    !> The whole scene as namelist text, one group after the other.
+    function resolved_scene_text(scene) result(text)
+        type(scene_t), intent(in) :: scene
+        character(len=:), allocatable :: text
+        character(len=line_len) :: lines(max_lines)
+        type(run_input_t) :: run
+        type(time_input_t) :: time
+        type(solver_input_t) :: solver
+        type(output_input_t) :: output
+        type(rod_input_t) :: rod
+        type(bc_input_t) :: bc
+        type(load_input_t) :: load
+        namelist /run_nml/ run
+        namelist /time_nml/ time
+        namelist /solver_nml/ solver
+        namelist /output_nml/ output
+        namelist /rod_nml/ rod
+        namelist /bc_nml/ bc
+        namelist /load_nml/ load
+        integer :: i
+
+        text = '! resolved scene of ' // scene%source_file // ' (defaults and derived values included)' // &
+            new_line('a')
+        run = scene%run
+        lines = ''
+        write(lines, nml=run_nml, delim='apostrophe')
+        text = text // tidy_group('run', lines)
+        time = scene%time
+        lines = ''
+        write(lines, nml=time_nml, delim='apostrophe')
+        text = text // tidy_group('time', lines)
+        solver = scene%solver
+        lines = ''
+        write(lines, nml=solver_nml, delim='apostrophe')
+        text = text // tidy_group('solver', lines)
+        output = scene%output
+        lines = ''
+        write(lines, nml=output_nml, delim='apostrophe')
+        text = text // tidy_group('output', lines)
+        do i = 1, size(scene%rods)
+            rod = scene%rods(i)
+            lines = ''
+            write(lines, nml=rod_nml, delim='apostrophe')
+            text = text // tidy_group('rod', lines)
+        end do
+        do i = 1, size(scene%bcs)
+            bc = scene%bcs(i)
+            lines = ''
+            write(lines, nml=bc_nml, delim='apostrophe')
+            text = text // tidy_group('bc', lines)
+        end do
+        do i = 1, size(scene%loads)
+            load = scene%loads(i)
+            lines = ''
+            write(lines, nml=load_nml, delim='apostrophe')
+            text = text // tidy_group('load', lines)
+        end do
+    end function resolved_scene_text
+
+    !> Turn gfortran's namelist output of one group object into `&group` / `name = value` lines.
+    function tidy_group(group, lines) result(text)
+        character(len=*), intent(in) :: group
+        character(len=*), intent(in) :: lines(:)
+        character(len=:), allocatable :: text, name, value, line
+        type(group_spec_t), allocatable :: groups(:)
+        integer :: i, eq, pct, g, v
+        groups = input_groups()
+        g = find_group(groups, group)
+        text = '&' // group // new_line('a')
+        name = ''
+        value = ''
+        do i = 1, size(lines)
+            line = trim(adjustl(lines(i)))
+            if (len(line) == 0) cycle
+            if (line(1:1) == '&' .or. line(1:1) == '/') cycle
+            pct = index(line, '%')
+            eq = index(line, '=')
+            if (pct > 0 .and. eq > pct .and. verify(line(1:pct - 1), &
+                    'abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ_') == 0) then
+                text = text // variable_line(name, value)
+                name = to_lower(trim(line(pct + 1:eq - 1)))
+                ! The spelling of the reference (EA, rhoI1), not the namelist's upper case.
+                v = find_variable(groups(g), name)
+                if (v > 0) name = trim(groups(g)%variables(v)%name)
+                value = line(eq + 1:)
+            else
+                value = value // ' ' // line
+            end if
+        end do
+        text = text // variable_line(name, value) // '/' // new_line('a')
+    end function tidy_group
+
+    !> "    name = v1, v2" with values tidied; '' for no name, the hidden input_line, or a value
+    !> whose every entry is still unset.
+    function variable_line(name, raw) result(text)
+        character(len=*), intent(in) :: name, raw
+        character(len=:), allocatable :: text, token, values
+        character(len=:), allocatable :: tokens(:)
+        integer :: i, n_kept
+        text = ''
+        if (len(name) == 0 .or. name == 'input_line') return
+        call split_tokens(raw, tokens)
+        values = ''
+        n_kept = 0
+        do i = 1, size(tokens)
+            token = tidy_token(trim(tokens(i)))
+            if (len(token) == 0) cycle
+            if (n_kept > 0) values = values // ', '
+            values = values // token
+            n_kept = n_kept + 1
+        end do
+        if (n_kept == 0) return
+        text = '    ' // name // ' = ' // values // new_line('a')
+    end function variable_line
+
+    !> One value: strings lose their padding, reals take their shortest exact form, unset
+    !> sentinels (huge reals, -huge integers, repeated or not) vanish.
+    function tidy_token(raw) result(token)
+        character(len=*), intent(in) :: raw
+        character(len=:), allocatable :: token
+        character(len=:), allocatable :: body
+        integer :: star, repeat, ios, i_value
+        real(rk) :: r_value
+        token = raw
+        if (len(token) == 0) return
+        if (token(1:1) == "'") then
+            token = "'" // trim(token(2:len(token) - 1)) // "'"
+            return
+        end if
+        star = index(token, '*')
+        repeat = 1
+        body = token
+        if (star > 0) then
+            read(token(1:star - 1), *, iostat=ios) repeat
+            body = token(star + 1:)
+        end if
+        if (scan(body, '.EeDd') > 0 .and. scan(body, 'TF') == 0) then
+            read(body, *, iostat=ios) r_value
+            if (ios == 0) then
+                if (r_value == huge(1.0_rk)) then
+                    token = ''
+                    return
+                end if
+                body = str(r_value)
+            end if
+        else if (scan(body, '0123456789') > 0 .and. scan(body, 'TF') == 0) then
+            read(body, *, iostat=ios) i_value
+            if (ios == 0 .and. i_value == -huge(1)) then
+                token = ''
+                return
+            end if
+        else if (body == 'T') then
+            body = '.true.'
+        else if (body == 'F') then
+            body = '.false.'
+        end if
+        if (repeat > 1) then
+            token = str(repeat) // '*' // body
+        else
+            token = body
+        end if
+    end function tidy_token
+
+    !> Split namelist value text at commas and blanks outside quotes.
+    subroutine split_tokens(raw, tokens)
+        character(len=*), intent(in) :: raw
+        character(len=:), allocatable, intent(out) :: tokens(:)
+        character(len=len(raw) + 1) :: current
+        character :: quote
+        integer :: i, n, length
+        character(len=len(raw) + 1) :: collected(len(raw) + 1)
+        n = 0
+        length = 0
+        quote = ' '
+        current = ''
+        do i = 1, len(raw) + 1
+            if (i <= len(raw)) then
+                if (quote /= ' ') then
+                    length = length + 1
+                    current(length:length) = raw(i:i)
+                    if (raw(i:i) == quote) quote = ' '
+                    cycle
+                end if
+                if (raw(i:i) == "'" .or. raw(i:i) == '"') then
+                    quote = raw(i:i)
+                    length = length + 1
+                    current(length:length) = raw(i:i)
+                    cycle
+                end if
+                if (raw(i:i) /= ',' .and. raw(i:i) /= ' ') then
+                    length = length + 1
+                    current(length:length) = raw(i:i)
+                    cycle
+                end if
+            end if
+            if (length > 0) then
+                n = n + 1
+                collected(n) = current(1:length)
+                current = ''
+                length = 0
+            end if
+        end do
+        allocate(character(len=len(raw) + 1) :: tokens(n))
+        tokens = collected(1:n)
+    end subroutine split_tokens
+
+end module rs_io_scene_writer

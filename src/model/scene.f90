@@ -1,0 +1,135 @@
+!> The scene as plain data: what the input file says, with defaults, before anything is built
+!> (STYLE.md item 2). One type per namelist group of DESIGN.md §6; a scene holds one of each
+!> single group and arrays of the repeatable ones. These types are also namelist objects
+!> (src/io/input_reader.f90 reads `&rod_nml r%n_elements = 10 /`), so they hold no allocatable
+!> components; variable-length inputs have a fixed capacity.
+!>
+!> Values that have no default and were not given keep the sentinels `unset_real`,
+!> `unset_int`; strings that were not given are blank unless a default is stated.
+module rs_model_scene
+    use rs_core_kinds, only: rk
+    implicit none
+    private
+
+    !> Marks a real variable that was not given and has no default.
+    real(rk), parameter, public :: unset_real = huge(1.0_rk)
+    !> Marks an integer variable that was not given and has no default.
+    integer, parameter, public :: unset_int = -huge(1)
+    !> Capacity of time-function tables (&load table_times, table_values).
+    integer, parameter, public :: max_table = 64
+    !> Length of name-like strings (rod names, formulation names, kinds).
+    integer, parameter, public :: name_len = 64
+    !> Length of free text (titles, paths, option strings).
+    integer, parameter, public :: text_len = 512
+
+    !> &run: what the run is and its global choices.
+    type, public :: run_input_t
+        character(len=text_len) :: title = ''
+        character(len=name_len) :: formulation_default = 'ph_director'
+        integer :: seed = 1
+        character(len=name_len) :: log_level = 'info'
+    end type run_input_t
+
+    !> &time: the time interval and the time-stepping scheme.
+    type, public :: time_input_t
+        real(rk) :: t_end = unset_real
+        real(rk) :: dt = unset_real
+        character(len=name_len) :: scheme = 'midpoint'
+        logical :: quasistatic = .false.
+    end type time_input_t
+
+    !> &solver: Newton's stopping rule, cut-backs and PETSc options (DESIGN.md §3).
+    type, public :: solver_input_t
+        real(rk) :: newton_atol = 1.0e-10_rk
+        real(rk) :: newton_rtol = 0.0_rk
+        integer :: max_newton = 25
+        integer :: max_cutbacks = 6
+        character(len=text_len) :: petsc_options = ''
+    end type solver_input_t
+
+    !> &output: where results go and how often (DESIGN.md §7).
+    type, public :: output_input_t
+        character(len=text_len) :: path = ''
+        integer :: stride = 1
+        character(len=text_len) :: fields = 'all'
+        integer :: flush_every = 10
+        logical :: xdmf = .true.
+    end type output_input_t
+
+    !> &rod: geometry, section, material and discretization of one rod.
+    type, public :: rod_input_t
+        !> Line of the group in the input file (set by the reader; not an input variable).
+        integer :: input_line = 0
+        character(len=name_len) :: name = ''
+        character(len=name_len) :: formulation = ''
+        integer :: n_elements = unset_int
+        integer :: degree = 2
+        integer :: n_gauss = 2
+        real(rk) :: start(3) = 0.0_rk
+        real(rk) :: direction(3) = [1.0_rk, 0.0_rk, 0.0_rk]
+        real(rk) :: d1(3) = unset_real
+        real(rk) :: length = unset_real
+        character(len=name_len) :: section = 'none'
+        real(rk) :: radius = unset_real
+        real(rk) :: inner_radius = unset_real
+        real(rk) :: width = unset_real
+        real(rk) :: height = unset_real
+        real(rk) :: E = unset_real
+        real(rk) :: G = unset_real
+        real(rk) :: nu = unset_real
+        real(rk) :: density = unset_real
+        real(rk) :: EA = unset_real
+        real(rk) :: GA1 = unset_real
+        real(rk) :: GA2 = unset_real
+        real(rk) :: EI1 = unset_real
+        real(rk) :: EI2 = unset_real
+        real(rk) :: GJ = unset_real
+        real(rk) :: rhoA = unset_real
+        real(rk) :: rhoI1 = unset_real
+        real(rk) :: rhoI2 = unset_real
+        real(rk) :: shear_factor = 1.0_rk
+        character(len=name_len) :: torsion_constant = ''
+        logical :: prestressed = .false.
+        character(len=name_len) :: constraint = 'none'
+    end type rod_input_t
+
+    !> &bc: the support at one end of a rod.
+    type, public :: bc_input_t
+        !> Line of the group in the input file (set by the reader; not an input variable).
+        integer :: input_line = 0
+        character(len=name_len) :: rod = ''
+        character(len=name_len) :: end = ''
+        character(len=name_len) :: kind = ''
+    end type bc_input_t
+
+    !> &load: an end load, a distributed load or gravity, scaled by a time function.
+    type, public :: load_input_t
+        !> Line of the group in the input file (set by the reader; not an input variable).
+        integer :: input_line = 0
+        character(len=name_len) :: rod = ''
+        character(len=name_len) :: where = ''
+        real(rk) :: force(3) = 0.0_rk
+        real(rk) :: moment(3) = 0.0_rk
+        real(rk) :: acceleration(3) = 0.0_rk
+        character(len=name_len) :: frame = 'spatial'
+        character(len=name_len) :: time_function = 'constant'
+        real(rk) :: t_on = 0.0_rk
+        real(rk) :: t_off = unset_real
+        real(rk) :: table_times(max_table) = unset_real
+        real(rk) :: table_values(max_table) = unset_real
+    end type load_input_t
+
+    !> A whole scene: the single groups and the repeatable ones in file order.
+    type, public :: scene_t
+        character(len=:), allocatable :: source_file
+        character(len=:), allocatable :: source_text
+        type(run_input_t) :: run
+        type(time_input_t) :: time
+        type(solver_input_t) :: solver
+        type(output_input_t) :: output
+        type(rod_input_t), allocatable :: rods(:)
+        type(bc_input_t), allocatable :: bcs(:)
+        type(load_input_t), allocatable :: loads(:)
+    end type scene_t
+
+end module rs_model_scene

@@ -1,0 +1,67 @@
+!> Cross-section properties of the shapes a scene may name (DESIGN.md §1): area, second moments
+!> about the directors d1 and d2, and the torsion constant, either the polar moment
+!> (I1 + I2, the value the seeds use, e.g. seed 004's 45-degree bend) or Saint-Venant's.
+!> Pure functions of the dimensions.
+module rs_model_section
+    use rs_core_kinds, only: rk, pi
+    implicit none
+    private
+
+    public :: section_properties_t, circle_section, tube_section, rectangle_section
+
+    !> Geometric properties of a section; I1 about d1, I2 about d2.
+    type :: section_properties_t
+        real(rk) :: area = 0.0_rk
+        real(rk) :: i1 = 0.0_rk
+        real(rk) :: i2 = 0.0_rk
+        real(rk) :: polar = 0.0_rk
+        real(rk) :: saint_venant = 0.0_rk
+    end type section_properties_t
+
+contains
+
+    !> Solid circle of radius r (Saint-Venant's torsion constant equals the polar moment).
+    pure function circle_section(r) result(s)
+        real(rk), intent(in) :: r
+        type(section_properties_t) :: s
+        s = tube_section(r, 0.0_rk)
+    end function circle_section
+
+    !> Circular tube of outer radius r_out and inner radius r_in.
+    pure function tube_section(r_out, r_in) result(s)
+        real(rk), intent(in) :: r_out, r_in
+        type(section_properties_t) :: s
+        s%area = pi * (r_out**2 - r_in**2)
+        s%i1 = pi * (r_out**4 - r_in**4) / 4.0_rk
+        s%i2 = s%i1
+        s%polar = s%i1 + s%i2
+        s%saint_venant = s%polar
+    end function tube_section
+
+    !> Rectangle with side `width` along d1 and `height` along d2.
+    !> Saint-Venant's constant from the series solution of the Prandtl stress function
+    !> (Timoshenko & Goodier, Theory of Elasticity, §109):
+    !> J = a b^3 / 3 (1 - 192 b / (pi^5 a) sum_{n odd} tanh(n pi a / (2 b)) / n^5), a >= b.
+    pure function rectangle_section(width, height) result(s)
+        real(rk), intent(in) :: width, height
+        type(section_properties_t) :: s
+        real(rk) :: a, b, series, term
+        integer :: n
+        s%area = width * height
+        s%i1 = width * height**3 / 12.0_rk
+        s%i2 = height * width**3 / 12.0_rk
+        s%polar = s%i1 + s%i2
+        a = max(width, height)
+        b = min(width, height)
+        series = 0.0_rk
+        n = 1
+        do
+            term = tanh(real(n, rk) * pi * a / (2.0_rk * b)) / real(n, rk)**5
+            series = series + term
+            if (term < 1.0e-17_rk * series) exit
+            n = n + 2
+        end do
+        s%saint_venant = a * b**3 / 3.0_rk * (1.0_rk - 192.0_rk * b / (pi**5 * a) * series)
+    end function rectangle_section
+
+end module rs_model_section

@@ -1,0 +1,79 @@
+!> The MPI facts and collectives rodsolve needs outside PETSc: rank, size, broadcasts of the
+!> input text and of flags. Only src/parallel/ calls MPI (STYLE.md item 6). MPI is initialized
+!> by PETSc (src/solver/petsc_env.F90); these routines run between PetscInitialize and
+!> PetscFinalize, on MPI_COMM_WORLD unless a communicator is given.
+module rs_parallel_mpi_env
+    use mpi
+    use rs_core_error, only: error_t, set_error
+    implicit none
+    private
+
+    public :: world_rank, world_size, is_root, broadcast_text, broadcast_flag, barrier
+    public :: mpi_library_version, any_rank_true
+
+contains
+
+    !> This process's rank in MPI_COMM_WORLD.
+    integer function world_rank()
+        integer :: ierr
+        call MPI_Comm_rank(MPI_COMM_WORLD, world_rank, ierr)
+    end function world_rank
+
+    !> Number of processes in MPI_COMM_WORLD.
+    integer function world_size()
+        integer :: ierr
+        call MPI_Comm_size(MPI_COMM_WORLD, world_size, ierr)
+    end function world_size
+
+    !> True on rank 0, the rank that reads input, prints and writes serial output.
+    logical function is_root()
+        is_root = world_rank() == 0
+    end function is_root
+
+    !> Send `text` (allocated on `root` only) to every rank; every rank ends with the same text.
+    subroutine broadcast_text(text, root)
+        character(len=:), allocatable, intent(inout) :: text
+        integer, intent(in) :: root
+        integer :: length, ierr
+        if (world_rank() == root) length = len(text)
+        call MPI_Bcast(length, 1, MPI_INTEGER, root, MPI_COMM_WORLD, ierr)
+        if (world_rank() /= root) then
+            if (allocated(text)) deallocate(text)
+            allocate(character(len=length) :: text)
+        end if
+        if (length > 0) call MPI_Bcast(text, length, MPI_CHARACTER, root, MPI_COMM_WORLD, ierr)
+    end subroutine broadcast_text
+
+    !> Give every rank the value `flag` has on `root`.
+    subroutine broadcast_flag(flag, root)
+        logical, intent(inout) :: flag
+        integer, intent(in) :: root
+        integer :: ierr
+        call MPI_Bcast(flag, 1, MPI_LOGICAL, root, MPI_COMM_WORLD, ierr)
+    end subroutine broadcast_flag
+
+    !> True on every rank if `flag` is true on any rank.
+    logical function any_rank_true(flag)
+        logical, intent(in) :: flag
+        integer :: ierr
+        call MPI_Allreduce(flag, any_rank_true, 1, MPI_LOGICAL, MPI_LOR, MPI_COMM_WORLD, ierr)
+    end function any_rank_true
+
+    !> Wait for all ranks.
+    subroutine barrier()
+        integer :: ierr
+        call MPI_Barrier(MPI_COMM_WORLD, ierr)
+    end subroutine barrier
+
+    !> The MPI library's own version line (MPI_Get_library_version), first line only.
+    function mpi_library_version() result(text)
+        character(len=:), allocatable :: text
+        character(len=MPI_MAX_LIBRARY_VERSION_STRING) :: buffer
+        integer :: length, ierr, eol
+        call MPI_Get_library_version(buffer, length, ierr)
+        text = buffer(1:length)
+        eol = scan(text, new_line('a') // ',')
+        if (eol > 0) text = text(1:eol - 1)
+    end function mpi_library_version
+
+end module rs_parallel_mpi_env

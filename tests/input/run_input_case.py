@@ -1,0 +1,77 @@
+#!/usr/bin/env python3
+"""Runs rodsolve on one scene of tests/input/ and checks the verdict (DESIGN.md §6, §8).
+
+A bad scene states the messages it must produce in lines `! expect: <fragment>`. The check:
+exit status 2, every fragment in the output, the first fragment printed once (rank 0 only, on
+any number of ranks), and nothing created in the working directory (no output file).
+A good scene (--good) must pass `--check-input` with status 0 and print its resolved text.
+"""
+import argparse
+import os
+import subprocess
+import sys
+import tempfile
+
+
+def main():
+    parser = argparse.ArgumentParser()
+    parser.add_argument("--rodsolve", required=True)
+    parser.add_argument("--mpiexec", required=True)
+    parser.add_argument("--np", type=int, default=2)
+    parser.add_argument("--good", action="store_true", help="the scene must be valid")
+    parser.add_argument("--check-only", action="store_true", help="use --check-input")
+    parser.add_argument("--expect", action="append", default=[], help="extra expected fragment")
+    parser.add_argument("scene")
+    args = parser.parse_args()
+
+    scene = os.path.abspath(args.scene)
+    expected = list(args.expect)
+    if os.path.exists(scene):
+        with open(scene, encoding="utf-8") as f:
+            for line in f:
+                if line.startswith("! expect:"):
+                    expected.append(line[len("! expect:"):].strip())
+
+    env = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1")
+    with tempfile.TemporaryDirectory() as workdir:
+        command = [args.mpiexec, "--oversubscribe", "-np", str(args.np), args.rodsolve]
+        if args.good or args.check_only:
+            command.append("--check-input")
+        command.append(scene)
+        result = subprocess.run(command, cwd=workdir, env=env, capture_output=True, text=True,
+                                timeout=120)
+        output = result.stdout + result.stderr
+        left_behind = os.listdir(workdir)
+
+    failures = []
+    if args.good:
+        if result.returncode != 0:
+            failures.append(f"exit status {result.returncode}, expected 0")
+        if "is valid" not in output:
+            failures.append("no 'is valid' line")
+    else:
+        if result.returncode != 2:
+            failures.append(f"exit status {result.returncode}, expected 2")
+        if not expected:
+            failures.append("the scene states no '! expect:' line")
+        for fragment in expected:
+            if fragment not in output:
+                failures.append(f"missing message fragment: {fragment!r}")
+        if expected and output.count(expected[0]) > 1:
+            failures.append(f"printed {output.count(expected[0])} times (rank 0 only expected)")
+    if left_behind:
+        failures.append(f"files were created: {left_behind}")
+
+    print(" ".join(command))
+    print(output)
+    if failures:
+        for failure in failures:
+            print("FAIL:", failure)
+        print("0 passed, 1 failed")
+        return 1
+    print("1 passed, 0 failed")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
