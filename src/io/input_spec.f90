@@ -124,15 +124,25 @@ contains
         text = ''
         if (spec%lower > -huge(1.0_rk)) then
             if (spec%lower_inclusive) then
-                text = '>= ' // str(spec%lower)
+                text = '>= ' // bound(spec%lower)
             else
-                text = '> ' // str(spec%lower)
+                text = '> ' // bound(spec%lower)
             end if
         end if
         if (spec%upper < huge(1.0_rk)) then
             if (len(text) > 0) text = text // ' and '
-            text = text // '<= ' // str(spec%upper)
+            text = text // '<= ' // bound(spec%upper)
         end if
+    contains
+        function bound(value) result(b)
+            real(rk), intent(in) :: value
+            character(len=:), allocatable :: b
+            if (spec%kind == 'integer') then
+                b = str(nint(value))
+            else
+                b = str(value)
+            end if
+        end function bound
     end function range_description
 
     function run_group() result(g)

@@ -1,0 +1,30 @@
+#!/usr/bin/env python3
+"""docs/user/input.md holds the output of `rodsolve --input-reference` between its GENERATED
+markers; this test fails when the two differ (the input tables changed, the docs did not)."""
+import subprocess
+import sys
+
+
+def main():
+    rodsolve, doc = sys.argv[1], sys.argv[2]
+    generated = subprocess.run([rodsolve, "--input-reference"], capture_output=True, text=True,
+                               check=True).stdout.strip()
+    text = open(doc, encoding="utf-8").read()
+    begin = text.index("<!-- BEGIN GENERATED: rodsolve --input-reference -->")
+    end = text.index("<!-- END GENERATED -->")
+    documented = text[begin:end].split("\n", 1)[1].strip()
+    if documented != generated:
+        print(f"{doc} is out of date; regenerate the block between its markers with "
+              "`build/rodsolve --input-reference`")
+        for i, (a, b) in enumerate(zip(documented.splitlines(), generated.splitlines())):
+            if a != b:
+                print(f"first difference at generated line {i + 1}:\n  doc: {a}\n  now: {b}")
+                break
+        print("0 passed, 1 failed")
+        return 1
+    print("1 passed, 0 failed")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
