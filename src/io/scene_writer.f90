@@ -25,7 +25,7 @@ contains
     function resolved_scene_text(scene) result(text)
         type(scene_t), intent(in) :: scene
         character(len=:), allocatable :: text
-        character(len=line_len) :: lines(max_lines)
+        character(len=line_len), allocatable :: lines(:)
         type(run_input_t) :: run
         type(time_input_t) :: time
         type(solver_input_t) :: solver
@@ -42,6 +42,7 @@ contains
         namelist /load_nml/ load
         integer :: i
 
+        allocate(lines(max_lines))
         text = '! resolved scene of ' // scene%source_file // ' (defaults and derived values included)' // &
             new_line('a')
         run = scene%run

@@ -21,6 +21,8 @@ def main():
     parser.add_argument("--good", action="store_true", help="the scene must be valid")
     parser.add_argument("--check-only", action="store_true", help="use --check-input")
     parser.add_argument("--expect", action="append", default=[], help="extra expected fragment")
+    parser.add_argument("--rodsolve-arg", action="append", default=[],
+                        help="extra argument for rodsolve, after the scene (use --rodsolve-arg=X)")
     parser.add_argument("scene")
     args = parser.parse_args()
 
@@ -38,6 +40,7 @@ def main():
         if args.good or args.check_only:
             command.append("--check-input")
         command.append(scene)
+        command += args.rodsolve_arg
         result = subprocess.run(command, cwd=workdir, env=env, capture_output=True, text=True,
                                 timeout=120)
         output = result.stdout + result.stderr
