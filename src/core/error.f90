@@ -101,8 +101,7 @@ contains
         character(len=*), intent(in) :: path
         character(len=:), allocatable :: short
         integer :: at
-        at = index(path, '/src/', back=.true.)
-        if (at == 0) at = index(path, '/tests/', back=.true.)
+        at = max(index(path, '/src/', back=.true.), index(path, '/tests/', back=.true.))
         if (at > 0) then
             short = path(at + 1:)
         else

@@ -54,8 +54,11 @@ contains
             if (text(len(text):len(text)) == '.') text = text // '0'
             return
         end if
-        do digits = 1, 17
-            write(buffer, '(es26.' // str_int(digits - 1) // ')') value
+        ! A short trial of a value near huge() rounds past it and would overflow when read back
+        ! (a trapped FPE in checked builds): such values take all 17 digits at once.
+        do digits = merge(17, 1, abs(value) > 1.0e308_rk), 17
+            ! The explicit exponent width keeps the letter E for three-digit exponents.
+            write(buffer, '(es26.' // str_int(digits - 1) // 'e3)') value
             read(buffer, *, iostat=ios) back
             if (ios == 0 .and. back == value) exit
         end do
@@ -63,7 +66,8 @@ contains
         call trim_mantissa(text)
     end function str_real
 
-    !> 1.50000E+00 -> 1.5, 2.0000E-03 -> 2.0E-03 style cleanup: keep one digit after the point.
+    !> 1.50000E+000 -> 1.5, 2.0000E-003 -> 2.0e-03, 1.5E-100 -> 1.5e-100: one digit after the
+    !> point at least, exponents with at least two digits.
     pure subroutine trim_mantissa(text)
         character(len=:), allocatable, intent(inout) :: text
         integer :: e, last
@@ -79,7 +83,11 @@ contains
         end do
         mantissa = mantissa(1:last)
         if (mantissa(len(mantissa):len(mantissa)) == '.') mantissa = mantissa // '0'
-        if (exponent == '+00' .or. exponent == '+0') then
+        do while (len(exponent) > 3)
+            if (exponent(2:2) /= '0') exit
+            exponent = exponent(1:1) // exponent(3:)
+        end do
+        if (verify(exponent(2:), '0') == 0) then
             text = mantissa
         else
             text = mantissa // 'e' // exponent

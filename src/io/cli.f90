@@ -69,10 +69,10 @@ contains
             if (arg == '-h') then
                 cli%action = 'help'
             else if (arg(1:min(1, len(arg))) == '-') then
-                cli%petsc_args = [cli%petsc_args, args(i)]
+                cli%petsc_args = [character(len=arg_len) :: cli%petsc_args, args(i)]
                 in_petsc_option = .true.
             else if (in_petsc_option) then
-                cli%petsc_args = [cli%petsc_args, args(i)]
+                cli%petsc_args = [character(len=arg_len) :: cli%petsc_args, args(i)]
             else if (len(cli%scene_file) == 0) then
                 cli%scene_file = arg
             else

@@ -7,15 +7,15 @@ module rs_io_input_check
     use rs_core_kinds, only: rk
     use rs_core_error, only: error_list_t
     use rs_core_strings, only: str
-    use rs_model_scene, only: scene_t, rod_input_t, unset_real
+    use rs_model_scene, only: scene_t, rod_input_t, unset_real, section_derived_names
     use rs_model_section, only: section_properties_t, circle_section, tube_section, rectangle_section
     implicit none
     private
 
     public :: resolve_scene, default_output_path
 
-    character(len=*), parameter :: stiffness_names(9) = [character(len=5) :: 'EA', 'GA1', 'GA2', &
-        'EI1', 'EI2', 'GJ', 'rhoA', 'rhoI1', 'rhoI2']
+    !> Deviation from unit length or orthogonality that counts as round-off.
+    real(rk), parameter :: round_off = 4.0_rk * epsilon(1.0_rk)
 
 contains
 
@@ -77,18 +77,23 @@ contains
                 call errors%add(here // 'direction: must not be the zero vector')
                 return
             end if
-            t = rod%direction / norm2(rod%direction)
+            ! Vectors that are unit (and orthogonal) to round-off are kept bit for bit, so that
+            ! resolving a resolved scene changes nothing (the --check-input echo reads back).
+            t = rod%direction
+            if (abs(norm2(t) - 1.0_rk) > round_off) t = t / norm2(t)
             rod%direction = t
             if (rod%d1(1) == unset_real) then
                 rod%d1 = default_d1(t)
             else
                 ! Keep the given d1's orientation about the centreline, made orthonormal.
-                d1 = rod%d1 - dot_product(rod%d1, t) * t
+                d1 = rod%d1
+                if (abs(dot_product(d1, t)) > round_off) d1 = d1 - dot_product(d1, t) * t
                 if (norm2(d1) <= 1.0e-8_rk * max(norm2(rod%d1), tiny(1.0_rk))) then
                     call errors%add(here // 'd1: must not be parallel to direction')
                     return
                 end if
-                rod%d1 = d1 / norm2(d1)
+                if (abs(norm2(d1) - 1.0_rk) > round_off) d1 = d1 / norm2(d1)
+                rod%d1 = d1
             end if
             call resolve_stiffness(rod, here, errors)
         end associate
@@ -121,7 +126,7 @@ contains
         if (trim(rod%section) == 'none') then
             missing = ''
             do k = 1, size(direct)
-                if (direct(k) == unset_real) missing = missing // ' ' // trim(stiffness_names(k))
+                if (direct(k) == unset_real) missing = missing // ' ' // trim(section_derived_names(k))
             end do
             if (len(missing) > 0) call errors%add(here // 'section: with section = ''none'' the ' // &
                 'stiffnesses and inertias must be given; missing:' // missing // &

@@ -83,6 +83,13 @@ contains
                         ' is not closed by "/"')
                     return
                 end if
+                if (body_end < 0) then
+                    call errors%add(file // ':' // str(chunk%line) // ': &' // chunk%name // &
+                        ' is not closed by "/" before the next group (line ' // &
+                        str(line_of(-body_end)) // ')')
+                    p = -body_end
+                    cycle
+                end if
                 call split_assignments(clean, line_of, name_end + 1, body_end - 1, file, chunk, errors)
                 chunks = [chunks, chunk]
                 p = body_end + 1
@@ -134,7 +141,7 @@ contains
     end subroutine strip_comments
 
     !> Position of the "/" (or of "&end") closing the group whose body starts at `from`; 0 if
-    !> none.
+    !> the text ends first, minus the position of the next "&group" if that comes first.
     pure integer function find_group_end(clean, from) result(at)
         character(len=*), intent(in) :: clean
         integer, intent(in) :: from
@@ -151,12 +158,16 @@ contains
                 at = i
                 return
             else if (clean(i:i) == '&') then
+                ! "&end" closes the group (old style); any other "&name" starts the next group,
+                ! so this one was never closed: returned as -i.
+                at = -i
                 if (i + 3 <= len(clean)) then
-                    if (to_lower(clean(i:i + 3)) == '&end') then
-                        at = i
-                        return
-                    end if
+                    if (to_lower(clean(i:i + 3)) == '&end') at = i
                 end if
+                if (i + 4 <= len(clean) .and. at > 0) then
+                    if (is_name_char(clean(i + 4:i + 4))) at = -i
+                end if
+                return
             end if
         end do
     end function find_group_end
@@ -212,6 +223,16 @@ contains
                 cycle
             end if
             a%target = remove_blanks(clean(starts(k):equals(k) - 1))
+            if (len(a%target) == 0) then
+                call errors%add(file // ':' // str(line_of(equals(k))) // ': &' // chunk%name // &
+                    ': "=" without a variable name before it')
+                cycle
+            end if
+            if (.not. is_letter(a%target(1:1))) then
+                call errors%add(file // ':' // str(line_of(equals(k))) // ': &' // chunk%name // &
+                    ': "=" without a variable name before it (found "' // a%target // '")')
+                cycle
+            end if
             a%subscripted = index(a%target, '(') > 0
             if (a%subscripted) then
                 a%name = to_lower(a%target(1:index(a%target, '(') - 1))
@@ -306,6 +327,11 @@ contains
             end if
         end do
     end function count_values
+
+    pure logical function is_letter(c)
+        character, intent(in) :: c
+        is_letter = (c >= 'a' .and. c <= 'z') .or. (c >= 'A' .and. c <= 'Z')
+    end function is_letter
 
     pure logical function is_name_char(c)
         character, intent(in) :: c

@@ -9,7 +9,7 @@ module rs_io_scene_writer
     use rs_core_kinds, only: rk
     use rs_core_strings, only: to_lower, str
     use rs_io_input_spec, only: group_spec_t, input_groups, find_group, find_variable
-    use rs_model_scene, only: scene_t, run_input_t, time_input_t, solver_input_t, output_input_t, &
+    use rs_model_scene, only: section_derived_names, scene_t, run_input_t, time_input_t, solver_input_t, output_input_t, &
         rod_input_t, bc_input_t, load_input_t
     implicit none
     private
@@ -65,7 +65,7 @@ contains
             rod = scene%rods(i)
             lines = ''
             write(lines, nml=rod_nml, delim='apostrophe')
-            text = text // tidy_group('rod', lines)
+            text = text // section_values_as_comments(tidy_group('rod', lines), rod%section)
         end do
         do i = 1, size(scene%bcs)
             bc = scene%bcs(i)
@@ -80,6 +80,34 @@ contains
             text = text // tidy_group('load', lines)
         end do
     end function resolved_scene_text
+
+    !> With a section, the stiffnesses it determines are shown as comments: given again next
+    !> to the section they would be an input error (either section or stiffnesses).
+    function section_values_as_comments(group_text, section) result(text)
+        character(len=*), intent(in) :: group_text, section
+        character(len=:), allocatable :: text
+        integer :: start, eol, k
+        character(len=:), allocatable :: line
+        if (trim(section) == 'none') then
+            text = group_text
+            return
+        end if
+        text = ''
+        start = 1
+        do while (start <= len(group_text))
+            eol = index(group_text(start:), new_line('a'))
+            if (eol == 0) eol = len(group_text) - start + 2
+            line = group_text(start:start + eol - 2)
+            do k = 1, size(section_derived_names)
+                if (index(line, '    ' // trim(section_derived_names(k)) // ' = ') == 1) then
+                    line = '    ! ' // line(5:) // '   (from the section)'
+                    exit
+                end if
+            end do
+            text = text // line // new_line('a')
+            start = start + eol
+        end do
+    end function section_values_as_comments
 
     !> Turn gfortran's namelist output of one group object into `&group` / `name = value` lines.
     function tidy_group(group, lines) result(text)

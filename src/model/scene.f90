@@ -22,6 +22,10 @@ module rs_model_scene
     !> Length of free text (titles, paths, option strings).
     integer, parameter, public :: text_len = 512
 
+    !> The &rod variables that a section with its material determines (DESIGN.md §1).
+    character(len=*), parameter, public :: section_derived_names(9) = [character(len=5) :: &
+        'EA', 'GA1', 'GA2', 'EI1', 'EI2', 'GJ', 'rhoA', 'rhoI1', 'rhoI2']
+
     !> &run: what the run is and its global choices.
     type, public :: run_input_t
         character(len=text_len) :: title = ''

@@ -13,6 +13,13 @@ import sys
 import tempfile
 
 
+def resolved_text(stdout):
+    """The resolved scene of --check-input: its groups, without the header and verdict lines."""
+    lines = stdout.splitlines()
+    return "\n".join(l for l in lines if not l.startswith("! resolved scene of")
+                     and not l.startswith("rodsolve: ")) + "\n"
+
+
 def main():
     parser = argparse.ArgumentParser()
     parser.add_argument("--rodsolve", required=True)
@@ -45,6 +52,18 @@ def main():
                                 timeout=120)
         output = result.stdout + result.stderr
         left_behind = os.listdir(workdir)
+        echo_differs = None
+        if args.good and result.returncode == 0:
+            # The resolved echo is itself a scene that resolves to the same text.
+            resolved = resolved_text(result.stdout)
+            again_path = os.path.join(workdir, "resolved.nml")
+            with open(again_path, "w", encoding="utf-8") as f:
+                f.write(resolved)
+            again = subprocess.run([args.rodsolve, "--check-input", again_path], cwd=workdir,
+                                   env=env, capture_output=True, text=True, timeout=120)
+            os.remove(again_path)
+            if again.returncode != 0 or resolved_text(again.stdout) != resolved:
+                echo_differs = again.stdout + again.stderr
 
     failures = []
     if args.good:
@@ -52,6 +71,8 @@ def main():
             failures.append(f"exit status {result.returncode}, expected 0")
         if "is valid" not in output:
             failures.append("no 'is valid' line")
+        if echo_differs is not None:
+            failures.append("the resolved echo does not read back to itself:\n" + echo_differs)
     else:
         if result.returncode != 2:
             failures.append(f"exit status {result.returncode}, expected 2")
