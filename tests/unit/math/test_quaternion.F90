@@ -3,6 +3,7 @@
 !> conjugation, rotation of vectors, agreement with rs_math_so3.
 module rs_test_math_quaternion
     use rs_core_kinds, only: rk, pi
+    use rs_test_random, only: set_random_seed, random_unit_vector
     use rs_test_assert, only: run_test, assert_true, assert_close
     use rs_math_quaternion, only: quaternion_from_matrix, quaternion_to_matrix, &
         quaternion_product, quaternion_conjugate, quaternion_normalize, quaternion_rotate, &
@@ -21,7 +22,7 @@ contains
 
     !> Run every test of this file through rs_test_assert.
     subroutine run_all_tests()
-        call set_seed()
+        call set_random_seed(31337, 104729)
         call run_test('matrix_round_trip', test_matrix_round_trip)
         call run_test('shepperd_pivots', test_shepperd_pivots)
         call run_test('to_matrix_is_rotation', test_to_matrix_is_rotation)
@@ -31,25 +32,6 @@ contains
         call run_test('rotation_vector_round_trip', test_rotation_vector_round_trip)
         call run_test('normalize', test_normalize)
     end subroutine run_all_tests
-
-    subroutine set_seed()
-        integer :: n, i
-        integer, allocatable :: seed(:)
-        call random_seed(size=n)
-        allocate(seed(n))
-        seed = [(31337 + 104729 * i, i = 1, n)]
-        call random_seed(put=seed)
-    end subroutine set_seed
-
-    function random_axis() result(axis)
-        real(rk) :: axis(3)
-        do
-            call random_number(axis)
-            axis = 2.0_rk * axis - 1.0_rk
-            if (norm2(axis) > 0.1_rk .and. norm2(axis) <= 1.0_rk) exit
-        end do
-        axis = axis / norm2(axis)
-    end function random_axis
 
     ! Angle of sample i: uniform in [0, pi], within 1e-8 of 0, within 1e-8 of pi, exactly pi.
     function sample_angle(i) result(angle)
@@ -70,14 +52,14 @@ contains
 
     function random_quaternion() result(q)
         real(rk) :: q(4)
-        q = quaternion_from_rotation_vector(sample_angle(0) * random_axis())
+        q = quaternion_from_rotation_vector(sample_angle(0) * random_unit_vector())
     end function random_quaternion
 
     subroutine test_matrix_round_trip()
         real(rk) :: psi(3), a(3, 3), q(4), cosine
         integer :: i
         do i = 1, 1000
-            psi = sample_angle(i) * random_axis()
+            psi = sample_angle(i) * random_unit_vector()
             a = exp_so3(psi)
             q = quaternion_from_matrix(a)
             CHECK_CLOSE(norm2(q), 1.0_rk, 4.0e-15_rk, 0.0_rk, 'unit quaternion')
@@ -114,7 +96,7 @@ contains
         real(rk) :: q(4), a(3, 3), psi(3)
         integer :: i
         do i = 1, 200
-            psi = sample_angle(i) * random_axis()
+            psi = sample_angle(i) * random_unit_vector()
             q = quaternion_from_rotation_vector(psi)
             a = quaternion_to_matrix(q)
             CHECK_CLOSE(matmul(transpose(a), a), identity, 4.0e-15_rk, 0.0_rk, 'A^T A = 1')
@@ -167,7 +149,7 @@ contains
         integer :: i
         do i = 1, 1000
             angle = sample_angle(i)
-            psi = angle * random_axis()
+            psi = angle * random_unit_vector()
             q = quaternion_from_rotation_vector(psi)
             CHECK_CLOSE(norm2(q), 1.0_rk, 4.0e-15_rk, 0.0_rk, 'unit quaternion')
             psi_back = quaternion_to_rotation_vector(q)

@@ -2,6 +2,7 @@
 !> Unit tests of rs_math_se3 (methods/se3_petrov_galerkin.md §4, §5.2, §5.3, §8.1, §14.0).
 module rs_test_math_se3
     use rs_core_kinds, only: rk, pi
+    use rs_test_random, only: set_random_seed, random_unit_vector
     use rs_test_assert, only: run_test, assert_true, assert_close
     use rs_math_so3, only: exp_so3
     use rs_math_se3, only: hat_se3, vee_se3, ad_se3, exp_se3, log_se3, tangent_se3, &
@@ -18,7 +19,7 @@ contains
 
     !> Run every test of this file through rs_test_assert.
     subroutine run_all_tests()
-        call set_seed()
+        call set_random_seed(271828, 1299709)
         call run_test('hat_vee_ad', test_hat_vee_ad)
         call run_test('exp_log_round_trip', test_exp_log_round_trip)
         call run_test('exp_matches_matrix_series', test_exp_matches_matrix_series)
@@ -31,25 +32,6 @@ contains
         call run_test('quarter_circle', test_quarter_circle)
         call run_test('constant_strain', test_constant_strain)
     end subroutine run_all_tests
-
-    subroutine set_seed()
-        integer :: n, i
-        integer, allocatable :: seed(:)
-        call random_seed(size=n)
-        allocate(seed(n))
-        seed = [(271828 + 1299709 * i, i = 1, n)]
-        call random_seed(put=seed)
-    end subroutine set_seed
-
-    function random_axis() result(axis)
-        real(rk) :: axis(3)
-        do
-            call random_number(axis)
-            axis = 2.0_rk * axis - 1.0_rk
-            if (norm2(axis) > 0.1_rk .and. norm2(axis) <= 1.0_rk) exit
-        end do
-        axis = axis / norm2(axis)
-    end function random_axis
 
     ! Twist of sample i: translation in [-2, 2]^3, rotation angle uniform in [0, pi), within
     ! 1e-8 of 0, within 1e-8 of pi, or fixed small (1e-5) / large (3.0), in turn.
@@ -71,7 +53,7 @@ contains
         case default
             angle = 3.0_rk
         end select
-        theta(4:6) = angle * random_axis()
+        theta(4:6) = angle * random_unit_vector()
     end function random_twist
 
     function exp_matrix(theta) result(h)

@@ -5,6 +5,7 @@
 !> document, on the same (double) arguments, so they check both branches of every coefficient.
 module rs_test_math_so3
     use rs_core_kinds, only: rk, pi
+    use rs_test_random, only: set_random_seed, random_unit_vector
     use rs_test_assert, only: run_test, assert_true, assert_close
     use rs_math_so3, only: hat, vee, exp_so3, log_so3, tangent_so3, tangent_inverse_so3, &
         exp_so3_derivative, tangent_so3_derivative, tangent_inverse_so3_derivative, &
@@ -27,7 +28,7 @@ contains
 
     !> Run every test of this file through rs_test_assert.
     subroutine run_all_tests()
-        call set_seed()
+        call set_random_seed(20240611, 7919)
         call run_test('hat_vee', test_hat_vee)
         call run_test('exp_is_rotation', test_exp_is_rotation)
         call run_test('exp_log_round_trip_random', test_exp_log_round_trip_random)
@@ -45,25 +46,6 @@ contains
         call run_test('derivative_accuracy_against_quad', test_derivative_accuracy_against_quad)
         call run_test('complement_rotation_vector', test_complement_rotation_vector)
     end subroutine run_all_tests
-
-    subroutine set_seed()
-        integer :: n, i
-        integer, allocatable :: seed(:)
-        call random_seed(size=n)
-        allocate(seed(n))
-        seed = [(20240611 + 7919 * i, i = 1, n)]
-        call random_seed(put=seed)
-    end subroutine set_seed
-
-    function random_axis() result(axis)
-        real(rk) :: axis(3)
-        do
-            call random_number(axis)
-            axis = 2.0_rk * axis - 1.0_rk
-            if (norm2(axis) > 0.1_rk .and. norm2(axis) <= 1.0_rk) exit
-        end do
-        axis = axis / norm2(axis)
-    end function random_axis
 
     ! Angle of sample i: uniform in [0, pi), within 1e-8 of 0, within 1e-8 of pi, or
     ! log-uniform in [1e-12, 1], in turn.
@@ -117,7 +99,7 @@ contains
         ! Active rotation: a quarter turn about e_z takes e_x to e_y.
         CHECK_CLOSE(a(:, 1), identity(:, 2), 1.0e-16_rk, 0.0_rk, 'A e_x = e_y')
         do i = 1, 200
-            psi = sample_angle(i) * random_axis()
+            psi = sample_angle(i) * random_unit_vector()
             a = exp_so3(psi)
             CHECK_CLOSE(matmul(transpose(a), a), identity, 4.0e-15_rk, 0.0_rk, 'A^T A = 1')
             CHECK_CLOSE(determinant(a), 1.0_rk, 4.0e-15_rk, 0.0_rk, 'det A = 1')
@@ -130,7 +112,7 @@ contains
         integer :: i
         do i = 1, 1000
             angle = sample_angle(i)
-            psi = angle * random_axis()
+            psi = angle * random_unit_vector()
             a = exp_so3(psi)
             psi_back = log_so3(a)
             CHECK_CLOSE(exp_so3(psi_back), a, 4.0e-15_rk, 0.0_rk, 'Exp(Log(A)) = A')
@@ -151,7 +133,7 @@ contains
         integer :: i, j
         do j = 1, 4
             do i = 1, 25
-                axis = random_axis()
+                axis = random_unit_vector()
                 psi = (pi - gaps(j)) * axis
                 a = exp_so3(psi)
                 psi_back = log_so3(a)
@@ -161,7 +143,7 @@ contains
         end do
         ! Exactly pi: A = 2 n n^T - 1; either sign is a logarithm.
         do i = 1, 25
-            axis = random_axis()
+            axis = random_unit_vector()
             a = 2.0_rk * spread(axis, 2, 3) * spread(axis, 1, 3) - identity
             psi_back = log_so3(a)
             CHECK_CLOSE(norm2(psi_back), pi, 4.0e-15_rk, 0.0_rk, 'angle pi')
@@ -186,7 +168,7 @@ contains
         integer :: i, j
         do j = 1, size(angles)
             do i = 1, 10
-                psi = angles(j) * random_axis()
+                psi = angles(j) * random_unit_vector()
                 CHECK_CLOSE(log_so3(exp_so3(psi)), psi, 1.0e-300_rk, 2.0e-15_rk, 'Log(Exp(psi))')
             end do
         end do
@@ -196,7 +178,7 @@ contains
         real(rk) :: psi(3), t(3, 3), t_inv(3, 3)
         integer :: i
         do i = 1, 400
-            psi = sample_angle(i) * random_axis()
+            psi = sample_angle(i) * random_unit_vector()
             t = tangent_so3(psi)
             t_inv = tangent_inverse_so3(psi)
             CHECK_CLOSE(matmul(t, t_inv), identity, 4.0e-15_rk, 0.0_rk, 'T T^{-1} = 1')
@@ -208,7 +190,7 @@ contains
         real(rk) :: psi(3), t(3, 3), t_inv(3, 3)
         integer :: i
         do i = 1, 200
-            psi = sample_angle(i) * random_axis()
+            psi = sample_angle(i) * random_unit_vector()
             t = transpose(tangent_so3(psi))
             t_inv = transpose(tangent_inverse_so3(psi))
             CHECK_CLOSE(tangent_so3(-psi), t, 1.0e-16_rk, 0.0_rk, 'T(-psi) = T(psi)^T')
@@ -221,7 +203,7 @@ contains
         real(rk) :: psi(3), a(3, 3), da(3, 3), t(3, 3), e(3)
         integer :: i, k
         do i = 1, 100
-            psi = fd_angle(i) * random_axis()
+            psi = fd_angle(i) * random_unit_vector()
             a = exp_so3(psi)
             t = tangent_so3(psi)
             do k = 1, 3
@@ -252,7 +234,7 @@ contains
         real(rk) :: psi(3), d(3, 3, 3), e(3), fd(3, 3)
         integer :: i, k
         do i = 1, 100
-            psi = fd_angle(i) * random_axis()
+            psi = fd_angle(i) * random_unit_vector()
             d = exp_so3_derivative(psi)
             do k = 1, 3
                 e = 0.0_rk
@@ -267,7 +249,7 @@ contains
         real(rk) :: psi(3), d(3, 3, 3), e(3), fd(3, 3)
         integer :: i, k
         do i = 1, 100
-            psi = fd_angle(i) * random_axis()
+            psi = fd_angle(i) * random_unit_vector()
             d = tangent_so3_derivative(psi)
             do k = 1, 3
                 e = 0.0_rk
@@ -282,7 +264,7 @@ contains
         real(rk) :: psi(3), d(3, 3, 3), e(3), fd(3, 3)
         integer :: i, k
         do i = 1, 100
-            psi = fd_angle(i) * random_axis()
+            psi = fd_angle(i) * random_unit_vector()
             d = tangent_inverse_so3_derivative(psi)
             do k = 1, 3
                 e = 0.0_rk
@@ -297,7 +279,7 @@ contains
         real(rk) :: psi(3), u(3), dt(3, 3, 3), dt_inv(3, 3, 3), expected(3, 3), got(3, 3)
         integer :: i, k
         do i = 1, 50
-            psi = sample_angle(i) * random_axis()
+            psi = sample_angle(i) * random_unit_vector()
             call random_number(u)
             u = 2.0_rk * u - 1.0_rk
             dt = tangent_so3_derivative(psi)
@@ -361,7 +343,7 @@ contains
         angles = accuracy_angles()
         do j = 1, size(angles)
             do i = 1, 5
-                psi = angles(j) * random_axis()
+                psi = angles(j) * random_unit_vector()
                 call check_quad(exp_so3(psi), exp_quad(real(psi, qp)), 'Exp vs quad')
                 call check_quad(tangent_so3(psi), tangent_quad(real(psi, qp)), 'T vs quad')
                 call check_quad(tangent_inverse_so3(psi), tangent_inverse_quad(real(psi, qp)), &
@@ -380,7 +362,7 @@ contains
         angles = accuracy_angles()
         do j = 1, size(angles)
             do i = 1, 3
-                psi = angles(j) * random_axis()
+                psi = angles(j) * random_unit_vector()
                 psi_q = real(psi, qp)
                 d_exp = exp_so3_derivative(psi)
                 d_t = tangent_so3_derivative(psi)
@@ -403,7 +385,7 @@ contains
         real(rk) :: psi(3), psi_c(3), angle, axis(3), expected(3)
         integer :: i
         do i = 1, 200
-            axis = random_axis()
+            axis = random_unit_vector()
             call random_number(angle)
             angle = pi + 2.0_rk * pi * angle
             psi = angle * axis
