@@ -24,6 +24,19 @@ module rs_test_math_so3
     ! Tolerance against the quadruple-precision references (relative to max(1, max |entry|)).
     real(rk), parameter :: quad_tol = 5.0e-15_rk
 
+    abstract interface
+        pure function matrix_function(psi) result(m)
+            import :: rk
+            real(rk), intent(in) :: psi(3)
+            real(rk) :: m(3, 3)
+        end function matrix_function
+        pure function derivative_function(psi) result(d)
+            import :: rk
+            real(rk), intent(in) :: psi(3)
+            real(rk) :: d(3, 3, 3)
+        end function derivative_function
+    end interface
+
 contains
 
     !> Run every test of this file through rs_test_assert.
@@ -231,49 +244,37 @@ contains
     end function fd_angle
 
     subroutine test_exp_derivative_fd()
-        real(rk) :: psi(3), d(3, 3, 3), e(3), fd(3, 3)
-        integer :: i, k
-        do i = 1, 100
-            psi = fd_angle(i) * random_unit_vector()
-            d = exp_so3_derivative(psi)
-            do k = 1, 3
-                e = 0.0_rk
-                e(k) = fd_step
-                fd = (exp_so3(psi + e) - exp_so3(psi - e)) / (2.0_rk * fd_step)
-                CHECK_CLOSE(d(:, :, k), fd, fd_atol, fd_rtol, 'dExp/dpsi_k')
-            end do
-        end do
+        call check_derivative_fd(exp_so3, exp_so3_derivative, 'dExp/dpsi_k')
     end subroutine test_exp_derivative_fd
 
     subroutine test_tangent_derivative_fd()
-        real(rk) :: psi(3), d(3, 3, 3), e(3), fd(3, 3)
-        integer :: i, k
-        do i = 1, 100
-            psi = fd_angle(i) * random_unit_vector()
-            d = tangent_so3_derivative(psi)
-            do k = 1, 3
-                e = 0.0_rk
-                e(k) = fd_step
-                fd = (tangent_so3(psi + e) - tangent_so3(psi - e)) / (2.0_rk * fd_step)
-                CHECK_CLOSE(d(:, :, k), fd, fd_atol, fd_rtol, 'dT/dpsi_k')
-            end do
-        end do
+        call check_derivative_fd(tangent_so3, tangent_so3_derivative, 'dT/dpsi_k')
     end subroutine test_tangent_derivative_fd
 
     subroutine test_tangent_inverse_derivative_fd()
+        call check_derivative_fd(tangent_inverse_so3, tangent_inverse_so3_derivative, &
+            'dT^{-1}/dpsi_k')
+    end subroutine test_tangent_inverse_derivative_fd
+
+    !> The analytic derivative d(:, :, k) = dM/dpsi_k against central differences of M at 100
+    !> rotation vectors whose angles are chosen by fd_angle.
+    subroutine check_derivative_fd(matrix_of, derivative_of, label)
+        procedure(matrix_function) :: matrix_of
+        procedure(derivative_function) :: derivative_of
+        character(len=*), intent(in) :: label
         real(rk) :: psi(3), d(3, 3, 3), e(3), fd(3, 3)
         integer :: i, k
         do i = 1, 100
             psi = fd_angle(i) * random_unit_vector()
-            d = tangent_inverse_so3_derivative(psi)
+            d = derivative_of(psi)
             do k = 1, 3
                 e = 0.0_rk
                 e(k) = fd_step
-                fd = (tangent_inverse_so3(psi + e) - tangent_inverse_so3(psi - e)) / (2 * fd_step)
-                CHECK_CLOSE(d(:, :, k), fd, fd_atol, fd_rtol, 'dT^{-1}/dpsi_k')
+                fd = (matrix_of(psi + e) - matrix_of(psi - e)) / (2.0_rk * fd_step)
+                CHECK_CLOSE(d(:, :, k), fd, fd_atol, fd_rtol, label)
             end do
         end do
-    end subroutine test_tangent_inverse_derivative_fd
+    end subroutine check_derivative_fd
 
     subroutine test_directional_matches_derivative()
         real(rk) :: psi(3), u(3), dt(3, 3, 3), dt_inv(3, 3, 3), expected(3, 3), got(3, 3)
