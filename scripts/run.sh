@@ -1,8 +1,8 @@
 #!/usr/bin/env bash
 # Runs a scene: set-up if needed, then `mpirun -np N build/rodsolve SCENE [PETSc options]`,
-# and says where the results are.
+# plots energy and centreline snapshots next to the result file, and says where they are.
 #
-#   scripts/run.sh                                   the default scene on 2 ranks
+#   scripts/run.sh                                   the default scene (flying spaghetti), 2 ranks
 #   scripts/run.sh input/some_scene.nml -np 1 -snes_monitor
 set -euo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"
@@ -22,19 +22,7 @@ while [ $# -gt 0 ]; do
     esac
 done
 
-if [ -z "$scene" ]; then
-    if [ -f "$default_scene" ]; then
-        scene="$default_scene"
-    else
-        # The default scene arrives with the ph_director formulation (issue 3); until then the
-        # best the default run can do is to validate the reference scene of the input tests.
-        echo "run: the default scene input/flying_spaghetti.nml does not exist yet; validating"
-        echo "run: tests/input/good_cantilever.nml instead (no formulation is available to run it)"
-        mpirun --oversubscribe -np "$np" "$root/build/rodsolve" --check-input \
-            "$root/tests/input/good_cantilever.nml"
-        exit $?
-    fi
-fi
+[ -z "$scene" ] && scene="$default_scene"
 
 # The output path the scene resolves to (defaults included).
 output=$(mpirun --oversubscribe -np 1 "$root/build/rodsolve" --check-input "$scene" \
@@ -43,6 +31,16 @@ status=0
 mpirun --oversubscribe -np "$np" "$root/build/rodsolve" "$scene" "${petsc[@]}" || status=$?
 if [ $status -eq 0 ]; then
     echo "run: results in $output"
+    # Debian's interpreter has h5py and matplotlib (the first python3 on PATH may not).
+    python=/usr/bin/python3
+    [ -x "$python" ] || python=python3
+    base="${output%.h5}"
+    if "$python" "$root/scripts/rodplot.py" energy "$output" -o "${base}_energy.png" &&
+       "$python" "$root/scripts/rodplot.py" snapshots "$output" -o "${base}_snapshots.png"; then
+        echo "run: plots in ${base}_energy.png and ${base}_snapshots.png"
+    else
+        echo "run: plotting failed (scripts/rodplot.py); the results are complete" >&2
+    fi
 else
     echo "run: rodsolve stopped with status $status" >&2
     [ -n "$output" ] && [ -f "$output" ] && echo "run: what was computed is in $output" >&2

@@ -19,6 +19,7 @@ program rodsolve
     use rs_io_input_reference, only: input_reference_markdown
     use rs_io_hdf5_info, only: hdf5_version
     use rs_solver_petsc_env, only: petsc_initialize, petsc_finalize, petsc_version, mumps_version
+    use rs_app_run_scene, only: run_scene
     implicit none
 
     type(cli_t) :: cli
@@ -52,9 +53,8 @@ program rodsolve
             call log_info('rodsolve: ' // cli%scene_file // ' is valid (' // str(size(scene%rods)) // &
                 ' rod(s)); nothing was run (--check-input)')
         else
-            call stop_all(exit_run_error, 'rodsolve: ' // cli%scene_file // ' is valid, but this ' // &
-                'version of rodsolve has no formulation to run it with yet (docs/user/capabilities.md); ' // &
-                'use --check-input to validate scenes')
+            call run_scene(scene, full_command_line(), err)
+            if (allocated(err)) call stop_all(exit_run_error, 'rodsolve: ' // err%describe())
         end if
     end select
     call stop_all(0)
@@ -74,6 +74,15 @@ contains
         end do
         parsed = parse_command_line(program, args)
     end function command_line
+
+    !> The command line as typed, for the output file.
+    function full_command_line() result(text)
+        character(len=:), allocatable :: text
+        integer :: length
+        call get_command(length=length)
+        allocate(character(len=length) :: text)
+        if (length > 0) call get_command(text)
+    end function full_command_line
 
     !> Print `text` once, from rank 0.
     subroutine print_root(text)

@@ -5,7 +5,7 @@ module rs_core_strings
     implicit none
     private
 
-    public :: to_lower, str, edit_distance, closest_name
+    public :: str_significant, to_lower, str, edit_distance, closest_name
 
     !> Shortest readable text of a number.
     interface str
@@ -13,6 +13,17 @@ module rs_core_strings
     end interface str
 
 contains
+
+    !> `value` with `digits` significant digits, for people (timings, progress): "1.23e-03".
+    pure function str_significant(value, digits) result(text)
+        real(rk), intent(in) :: value
+        integer, intent(in) :: digits
+        character(len=:), allocatable :: text
+        character(len=40) :: buffer, form
+        write(form, '(a,i0,a,i0,a)') '(es', digits + 8, '.', max(digits - 1, 0), ')'
+        write(buffer, form) value
+        text = trim(adjustl(buffer))
+    end function str_significant
 
     !> `text` with ASCII upper-case letters folded to lower case.
     pure function to_lower(text) result(lower)

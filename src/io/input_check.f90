@@ -9,10 +9,11 @@ module rs_io_input_check
     use rs_core_strings, only: str
     use rs_model_scene, only: scene_t, rod_input_t, unset_real, section_derived_names
     use rs_model_section, only: section_properties_t, circle_section, tube_section, rectangle_section
+    use rs_model_capabilities, only: capability_t, capability_of, lists_name
     implicit none
     private
 
-    public :: resolve_scene, default_output_path
+    public :: resolve_scene, default_output_path, check_capabilities
 
     !> Deviation from unit length or orthogonality that counts as round-off.
     real(rk), parameter :: round_off = 4.0_rk * epsilon(1.0_rk)
@@ -73,6 +74,9 @@ contains
             if (len_trim(rod%name) == 0) rod%name = 'rod' // str(i)
             here = at(scene, rod%input_line) // '&rod ''' // trim(rod%name) // ''' '
             if (len_trim(rod%formulation) == 0) rod%formulation = scene%run%formulation_default
+            ! 'auto' picks the planar formulation for planar scenes (DESIGN.md §4) once one is
+            ! available; until then every scene runs on the 3D ph_director.
+            if (rod%formulation == 'auto') rod%formulation = 'ph_director'
             if (norm2(rod%direction) == 0.0_rk) then
                 call errors%add(here // 'direction: must not be the zero vector')
                 return
@@ -294,5 +298,73 @@ contains
             end associate
         end do
     end subroutine check_loads
+
+    !> A scene must never silently get less than it asked for (DESIGN.md §1): every rod's
+    !> formulation must be available and able to do what its supports and loads ask.
+    subroutine check_capabilities(scene, errors)
+        type(scene_t), intent(in) :: scene
+        type(error_list_t), intent(inout) :: errors
+        type(capability_t) :: row
+        character(len=*), parameter :: see = ' (docs/user/capabilities.md)'
+        character(len=:), allocatable :: name, what
+        integer :: i, j
+        do i = 1, size(scene%rods)
+            associate (rod => scene%rods(i))
+                name = trim(rod%formulation)
+                row = capability_of(name)
+                what = 'formulation ''' // name // ''''
+                if (.not. row%available) then
+                    call errors%add(at(scene, rod%input_line) // '&rod formulation: ''' // name // &
+                        ''' is not available in this version; available: ' // &
+                        available_formulation_names() // see)
+                    cycle
+                end if
+                if (.not. lists_name(row%constraints, rod%constraint)) call errors%add(at(scene, &
+                    rod%input_line) // '&rod constraint: ''' // trim(rod%constraint) // &
+                    ''' is not available for ' // what // '; available: ' // trim(row%constraints) // see)
+                if (scene%time%quasistatic .and. .not. row%quasistatic) call errors%add(at(scene, 0) // &
+                    '&time quasistatic: not available for ' // what // ' (rod ''' // trim(rod%name) // &
+                    ''')' // see)
+                do j = 1, size(scene%bcs)
+                    associate (bc => scene%bcs(j))
+                        if (bc%rod /= rod%name .or. len_trim(bc%kind) == 0) cycle
+                        if (.not. lists_name(row%end_kinds, bc%kind)) call errors%add(at(scene, &
+                            bc%input_line) // '&bc kind: a ''' // trim(bc%kind) // ''' end is not ' // &
+                            'available for ' // what // '; available: ' // trim(row%end_kinds) // see)
+                    end associate
+                end do
+                do j = 1, size(scene%loads)
+                    associate (load => scene%loads(j))
+                        if (load%rod /= rod%name .and. len_trim(load%rod) > 0) cycle
+                        if (len_trim(load%where) == 0) cycle
+                        if (.not. lists_name(row%load_places, load%where)) call errors%add(at(scene, &
+                            load%input_line) // '&load where: ''' // trim(load%where) // &
+                            ''' is not available for ' // what // '; available: ' // &
+                            trim(row%load_places) // see)
+                        if (.not. lists_name(row%load_frames, load%frame)) call errors%add(at(scene, &
+                            load%input_line) // '&load frame: ''' // trim(load%frame) // &
+                            ''' loads are not available for ' // what // '; available: ' // &
+                            trim(row%load_frames) // see)
+                    end associate
+                end do
+            end associate
+        end do
+    end subroutine check_capabilities
+
+    !> Names of the formulations this build can run.
+    function available_formulation_names() result(names)
+        character(len=:), allocatable :: names
+        character(len=*), parameter :: known(5) = [character(len=12) :: 'ph_director', &
+            'ph_planar', 'cl_em_planar', 'se3_pg', 'se3_strand']
+        type(capability_t) :: row
+        integer :: i
+        names = ''
+        do i = 1, size(known)
+            row = capability_of(known(i))
+            if (.not. row%available) cycle
+            if (len(names) > 0) names = names // ', '
+            names = names // trim(known(i))
+        end do
+    end function available_formulation_names
 
 end module rs_io_input_check

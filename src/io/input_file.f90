@@ -7,7 +7,7 @@ module rs_io_input_file
     use rs_model_scene, only: scene_t
     use rs_parallel_mpi_env, only: world_rank, broadcast_text, broadcast_flag
     use rs_io_input_reader, only: read_scene_text
-    use rs_io_input_check, only: resolve_scene
+    use rs_io_input_check, only: resolve_scene, check_capabilities
     implicit none
     private
 
@@ -34,6 +34,9 @@ contains
             return
         end if
         call parse_scene(text, file, scene, errors)
+        ! The language may describe more than this build can run (DESIGN.md §1); only a scene
+        ! that reads cleanly is checked against the capability matrix.
+        if (errors%count == 0) call check_capabilities(scene, errors)
     end subroutine load_scene
 
     !> Read, resolve and check scene text (no MPI): for unit tests and sweeps.

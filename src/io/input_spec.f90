@@ -187,6 +187,10 @@ contains
                 lower=1.0_rk), &
             spec_v('max_cutbacks', 'integer', '-', '6', &
                 'Halvings of one step before the run stops with its last good state written.', lower=0.0_rk), &
+            spec_v('condense_stresses', 'logical', '-', '.false.', &
+                'Eliminate element stresses and velocities from the Newton unknowns (methods/' // &
+                'ph_director_3d.md §5.5): same solution, fewer unknowns, but slower and with a ' // &
+                'higher round-off floor here (docs/performance.md).'), &
             spec_v('petsc_options', 'string', '-', "''", &
                 'PETSc options, applied after the scene values and before the command line.')]
     end function solver_group

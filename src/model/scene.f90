@@ -48,6 +48,7 @@ module rs_model_scene
         real(rk) :: newton_rtol = 0.0_rk
         integer :: max_newton = 25
         integer :: max_cutbacks = 6
+        logical :: condense_stresses = .false.
         character(len=text_len) :: petsc_options = ''
     end type solver_input_t
 

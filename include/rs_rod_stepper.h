@@ -1,0 +1,100 @@
+/* The rod stepper: what Fortran calls (through bind(C), src/solver/rod_stepper.f90) to advance
+   one rod with a rodmid TS on PETSC_COMM_SELF (DESIGN.md §3 and §5), and the run's PETSc
+   options (src/solver/petsc_init.c).
+
+   Callbacks get raw arrays (kernels never see a PETSc handle, DESIGN.md §2) and return
+       0  ok,
+       1  invalid state (NaN, inverted element): only the residual and the Jacobian may say
+          so; the SNES diverges with a domain error and the step is halved, the run goes on,
+       other values: fatal, the advance stops with an error naming the callback.
+   x_n is the state at the start of the (sub)step and has n_state entries; y and f have
+   n_unknown entries; the Jacobian values come in the order of the CSR pattern given at
+   create (nnz = row_ptr[n_unknown] entries). */
+#ifndef RS_ROD_STEPPER_H
+#define RS_ROD_STEPPER_H
+
+/* Return value of rs_stepper_advance when Newton failed after all cut-backs: x holds the last
+   good state. Every other non-zero value is an error (PETSc or a fatal callback). */
+#define RS_STEPPER_DIVERGED 1
+/* Return value for invalid arguments (sizes, pattern, callbacks); PETSc's codes are >= 55. */
+#define RS_STEPPER_BAD_ARGUMENT 2
+
+typedef int (*rs_cb_residual)(void *ctx, double t_n, double h, const double *x_n, const double *y,
+                              double *f);
+typedef int (*rs_cb_jacobian)(void *ctx, double t_n, double h, const double *x_n, const double *y,
+                              double *values);
+/* Predictor: the first Newton iterate y (default y = x_n, needs n_unknown = n_state). */
+typedef int (*rs_cb_vec)(void *ctx, double t_n, double h, const double *x_n, double *y);
+/* Update: x_{n+1} from the converged y (default x_{n+1} = y). */
+typedef int (*rs_cb_update)(void *ctx, double t_n, double h, const double *x_n, const double *y,
+                            double *x_np1);
+/* After each accepted (sub)step [t_n, t_n + h]: energy work, history, Newton statistics. */
+typedef int (*rs_cb_poststep)(void *ctx, double t_n, double h, const double *x_n,
+                              const double *x_np1, int newton_its, double fnorm);
+
+/* Create a stepper. row_ptr (n_unknown + 1 entries) and cols give the CSR pattern of dF/dY,
+   0-based with strictly increasing columns in each row; the matrix is preallocated exactly
+   from it and kept, so MUMPS analyses it once per stepper (DESIGN.md §3).
+   newton_atol, newton_rtol, max_newton and max_cutbacks are scene values: they enter the
+   option database as defaults below the input's petsc_options and the command line (see
+   rs_petsc_apply_options), then TSSetFromOptions reads everything.
+   Returns 0, or non-zero with a message in errmsg (errlen bytes, NUL-terminated). */
+int rs_stepper_create(void **handle, int n_state, int n_unknown, const int *row_ptr,
+                      const int *cols, rs_cb_residual residual, rs_cb_jacobian jacobian,
+                      rs_cb_vec predictor, rs_cb_update update, rs_cb_poststep poststep,
+                      void *ctx, double newton_atol, double newton_rtol, int max_newton,
+                      int max_cutbacks, char *errmsg, int errlen);
+
+/* Advance x from t_n to exactly t_n + dt: substeps of dt - (time done), each halved by the
+   TS on Newton failure, so the step grows back after a cut. Outputs: accepted substeps,
+   total halvings and Newton iterations over them, final residual norm of the last one.
+   Returns 0; RS_STEPPER_DIVERGED with x = the state at the start of the failing substep and a
+   message naming that time; or another non-zero code on an error (PETSc, a fatal callback
+   status, bad arguments), with x unchanged and the message in errmsg. */
+int rs_stepper_advance(void *handle, double t_n, double dt, double *x, int *substeps,
+                       int *cutbacks, int *newton_its, double *fnorm, char *errmsg, int errlen);
+
+/* The solver actually configured (after all options): SNES tolerances, maximum iterations and
+   function evaluations, maximum cut-backs, and "snes <type> linesearch <type> ksp <type> pc
+   <type> solver <package>" in `types` (NUL-terminated, at most `length` bytes). */
+int rs_stepper_solver_settings(void *handle, double *atol, double *rtol, double *stol,
+                               int *max_it, int *max_funcs, int *max_cutbacks, char *types,
+                               int length);
+
+/* TSView of the stepper's TS (with its SNES, KSP and PC) into the file `path` (NULL or "":
+   standard output). */
+int rs_stepper_view(void *handle, const char *path);
+
+/* Free the stepper and set *handle to NULL; a NULL handle is fine. */
+int rs_stepper_destroy(void **handle);
+
+/* ---- The run's PETSc options (src/solver/petsc_init.c; DESIGN.md §3 "Options") ----------
+
+   Precedence: scene values < the input's petsc_options < the command line. The command line
+   layer (with PETSC_OPTIONS and .petscrc files, read as PetscInitialize read them) is captured
+   by rs_petsc_initialize and never overwritten; a layer only sets the options that no higher
+   layer names, so the order of the calls does not matter.
+
+   rs_petsc_apply_options(scene_options, user_options):
+     user_options != NULL: replace the petsc_options layer (names only the old one set are
+       cleared); the driver calls this once at start-up with the input's petsc_options.
+     scene_options != NULL: insert scene values under the two other layers. Each stepper does
+       this with the defaults built from its scene values (so sweeps of newton_atol work:
+       every member's stepper reads its own values), and the driver may do it at start-up.
+   Non-collective (PETSC_COMM_SELF parsing), so ranks may create steppers independently.
+   Returns 0, or non-zero with a message (e.g. PETSc could not parse the string). */
+int rs_petsc_apply_options(const char *scene_options, const char *user_options, char *errmsg,
+                           int errlen);
+
+/* All options in the database ("-name value ..."), for the output file. Copies at most
+   length - 1 characters and a NUL; returns the full length (>= length: truncated), or -1. */
+int rs_petsc_options_text(char *buffer, int length);
+
+/* Start PETSc's default event logging (what -log_view does), for rs_petsc_event_count. */
+int rs_petsc_log_begin(void);
+
+/* How often the event `name` (e.g. "MatLUFactorSym") ran in the current logging stage since
+   logging began; 0 for an event not registered yet. Returns 0, 1 if logging is off. */
+int rs_petsc_event_count(const char *name, int *count);
+
+#endif

@@ -1,0 +1,64 @@
+/* The rodmid time stepper of rodsolve: a PETSc TS type that advances one implicit step of a
+   user-defined *step problem* (DESIGN.md §3, "The midpoint stepper").
+
+   A step from (t_n, X_n) with step h solves F(Y; X_n, t_n, h) = 0 for the step unknown Y with
+   the SNES of the TS, then sets X_{n+1} = U(Y, X_n). Y is a Vec of its own and may differ in
+   size from the TS state X (condensed element stresses, multiplicative rotation updates), which
+   is why PETSc's TSTHETA cannot serve. Defaults: Y has X's layout, the predictor is Y0 = X_n
+   and the update is X_{n+1} = Y.
+
+   On a SNES failure (any SNESConvergedReason < 0, including a domain error raised by the
+   residual with SNESSetFunctionDomainError) the step is halved and retried from X_n, at most
+   max_cutbacks times; then ts->reason = TS_DIVERGED_NONLINEAR_SOLVE and the TS state stays
+   X_n. After TSStep, TSGetTimeStep returns the step actually taken (or, after a failure, the
+   smallest one tried): a cut-back does not set the next step, the caller does (as
+   rs_stepper_advance does for every substep).
+
+   Options: -ts_rodmid_max_cutbacks <n> (default 6, as &solver max_cutbacks). PETSc is pinned
+   to 3.18.x because this type is built against PETSc's private TS header
+   (cmake/RodsolveDeps.cmake). */
+#ifndef RS_RODMID_H
+#define RS_RODMID_H
+
+#include <petscts.h>
+
+/* The name under which the type is registered: TSSetType(ts, TSRODMID). */
+#define TSRODMID "rodmid"
+
+/* F = F(Y; X_n, t_n, h). Raise SNESSetFunctionDomainError on the TS's SNES for an invalid Y
+   (the step is cut, not the run); return a PETSc error only for fatal problems. */
+typedef PetscErrorCode (*RsStepResidual)(PetscReal t_n, PetscReal h, Vec X_n, Vec Y, Vec F,
+                                         void *ctx);
+/* J = dF/dY at Y; J is the matrix given to TSRodmidSetStepProblem (assemble it). */
+typedef PetscErrorCode (*RsStepJacobian)(PetscReal t_n, PetscReal h, Vec X_n, Vec Y, Mat J,
+                                         void *ctx);
+/* Predictor: fill Y with the first Newton iterate. */
+typedef PetscErrorCode (*RsStepVecFn)(PetscReal t_n, PetscReal h, Vec X_n, Vec Y, void *ctx);
+/* Update: X_{n+1} from the converged Y and X_n. */
+typedef PetscErrorCode (*RsStepUpdate)(PetscReal t_n, PetscReal h, Vec X_n, Vec Y, Vec X_np1,
+                                       void *ctx);
+
+/* Register TSRODMID with TSRegister; safe to call any number of times (also after a PETSc
+   finalize/initialize cycle). */
+PETSC_EXTERN PetscErrorCode rs_rodmid_register(void);
+
+/* Define the step problem of a TSRODMID. Y_template: a Vec with Y's layout (duplicated; NULL:
+   X's layout). J: the Jacobian matrix, referenced and reused for every step, so that its
+   nonzero pattern and with it the symbolic factorization are kept (DESIGN.md §3). predictor
+   and update may be NULL (defaults above; a NULL update needs Y of X's size). No-op for other
+   TS types. */
+PETSC_EXTERN PetscErrorCode TSRodmidSetStepProblem(TS ts, Vec Y_template, Mat J,
+                                                   RsStepResidual residual,
+                                                   RsStepJacobian jacobian,
+                                                   RsStepVecFn predictor, RsStepUpdate update,
+                                                   void *ctx);
+/* Maximum number of halvings of one step before the TS reports TS_DIVERGED_NONLINEAR_SOLVE. */
+PETSC_EXTERN PetscErrorCode TSRodmidSetMaxCutbacks(TS ts, PetscInt n);
+/* The current limit of halvings of one step. */
+PETSC_EXTERN PetscErrorCode TSRodmidGetMaxCutbacks(TS ts, PetscInt *n);
+/* Statistics of the last accepted step: SNES iterations, halvings, final residual norm. Any
+   pointer may be NULL. After a failed step they still describe the last accepted one. */
+PETSC_EXTERN PetscErrorCode TSRodmidGetStepStats(TS ts, PetscInt *newton_its, PetscInt *cutbacks,
+                                                 PetscReal *fnorm);
+
+#endif

@@ -1,0 +1,141 @@
+!> The interface every rod formulation implements (DESIGN.md §2): its unknowns, initial state,
+!> the residual and Jacobian of one time step, what it does after an accepted step and what it
+!> records for the output. Implementations live in src/formulations/<name>/ and are created by
+!> rs_formulations_factory; nothing here knows PETSc or MPI.
+!>
+!> The time step is a *step problem* (src/solver/rodmid.c): given the state X_n at t_n and the
+!> step h, find the unknown Y with F(Y; X_n, t_n, h) = 0, then X_{n+1} = update(Y, X_n). The
+!> Jacobian dF/dY is written into the values of a fixed CSR pattern that the formulation
+!> declares once (exact preallocation, DESIGN.md §3).
+module rs_formulations_formulation
+    use rs_core_kinds, only: rk
+    use rs_core_error, only: error_t
+    use rs_model_scene, only: scene_t
+    use rs_model_rod_history, only: rod_history_t
+    implicit none
+    private
+
+    !> Residual evaluation status: the state is fine.
+    integer, parameter, public :: state_valid = 0
+    !> Residual evaluation status: the state is invalid (NaN, inverted element); the step is cut.
+    integer, parameter, public :: state_invalid = 1
+
+    !> A rod formulation: one object per rod.
+    type, abstract, public :: rod_formulation_t
+    contains
+        !> Build the rod `rod_index` of the scene: mesh, unknowns, loads.
+        procedure(init_interface), deferred :: init
+        !> Length of the state vector X.
+        procedure(size_interface), deferred :: n_state
+        !> Number of unknowns Y of a step.
+        procedure(size_interface), deferred :: n_unknown
+        !> CSR pattern of dF/dY (0-based, columns sorted within a row).
+        procedure(pattern_interface), deferred :: jacobian_pattern
+        !> X at the start time.
+        procedure(state_interface), deferred :: initial_state
+        !> F(Y; X_n, t_n, h).
+        procedure(residual_interface), deferred :: step_residual
+        !> dF/dY in the values of the CSR pattern.
+        procedure(jacobian_interface), deferred :: step_jacobian
+        !> First Newton iterate (default: Y = X_n, for formulations with Y = X).
+        procedure :: predictor => default_predictor
+        !> X_{n+1} from the converged Y (default: X_{n+1} = Y).
+        procedure :: update => default_update
+        !> Book-keeping after an accepted (sub)step: work of the loads, Newton statistics.
+        procedure(accept_interface), deferred :: accept_step
+        !> Size the output record of this rod.
+        procedure(history_init_interface), deferred :: init_history
+        !> Append the state X at time t to the history.
+        procedure(record_interface), deferred :: record
+        !> A short description for the log ("ph_director: 10 elements, p = 2, 750 unknowns").
+        procedure(describe_interface), deferred :: describe
+    end type rod_formulation_t
+
+    abstract interface
+        subroutine init_interface(this, scene, rod_index, err)
+            import :: rod_formulation_t, scene_t, error_t
+            class(rod_formulation_t), intent(inout) :: this
+            type(scene_t), intent(in) :: scene
+            integer, intent(in) :: rod_index
+            type(error_t), allocatable, intent(out) :: err
+        end subroutine init_interface
+
+        pure integer function size_interface(this)
+            import :: rod_formulation_t
+            class(rod_formulation_t), intent(in) :: this
+        end function size_interface
+
+        subroutine pattern_interface(this, row_ptr, cols)
+            import :: rod_formulation_t
+            class(rod_formulation_t), intent(in) :: this
+            integer, allocatable, intent(out) :: row_ptr(:), cols(:)
+        end subroutine pattern_interface
+
+        subroutine state_interface(this, x)
+            import :: rod_formulation_t, rk
+            class(rod_formulation_t), intent(in) :: this
+            real(rk), intent(out) :: x(:)
+        end subroutine state_interface
+
+        subroutine residual_interface(this, t_n, h, x_n, y, f, status)
+            import :: rod_formulation_t, rk
+            class(rod_formulation_t), intent(inout) :: this
+            real(rk), intent(in) :: t_n, h, x_n(:), y(:)
+            real(rk), intent(out) :: f(:)
+            integer, intent(out) :: status
+        end subroutine residual_interface
+
+        subroutine jacobian_interface(this, t_n, h, x_n, y, values, status)
+            import :: rod_formulation_t, rk
+            class(rod_formulation_t), intent(inout) :: this
+            real(rk), intent(in) :: t_n, h, x_n(:), y(:)
+            real(rk), intent(out) :: values(:)
+            integer, intent(out) :: status
+        end subroutine jacobian_interface
+
+        subroutine accept_interface(this, t_n, h, x_n, x_1, newton_iterations, residual_norm)
+            import :: rod_formulation_t, rk
+            class(rod_formulation_t), intent(inout) :: this
+            real(rk), intent(in) :: t_n, h, x_n(:), x_1(:)
+            integer, intent(in) :: newton_iterations
+            real(rk), intent(in) :: residual_norm
+        end subroutine accept_interface
+
+        subroutine history_init_interface(this, history, capacity)
+            import :: rod_formulation_t, rod_history_t
+            class(rod_formulation_t), intent(in) :: this
+            type(rod_history_t), intent(inout) :: history
+            integer, intent(in) :: capacity
+        end subroutine history_init_interface
+
+        subroutine record_interface(this, history, t, x)
+            import :: rod_formulation_t, rod_history_t, rk
+            class(rod_formulation_t), intent(inout) :: this
+            type(rod_history_t), intent(inout) :: history
+            real(rk), intent(in) :: t, x(:)
+        end subroutine record_interface
+
+        function describe_interface(this) result(text)
+            import :: rod_formulation_t
+            class(rod_formulation_t), intent(in) :: this
+            character(len=:), allocatable :: text
+        end function describe_interface
+    end interface
+
+contains
+
+    subroutine default_predictor(this, t_n, h, x_n, y)
+        class(rod_formulation_t), intent(inout) :: this
+        real(rk), intent(in) :: t_n, h, x_n(:)
+        real(rk), intent(out) :: y(:)
+        y = x_n
+    end subroutine default_predictor
+
+    subroutine default_update(this, t_n, h, x_n, y, x_1)
+        class(rod_formulation_t), intent(inout) :: this
+        real(rk), intent(in) :: t_n, h, x_n(:), y(:)
+        real(rk), intent(out) :: x_1(:)
+        x_1 = y
+    end subroutine default_update
+
+end module rs_formulations_formulation

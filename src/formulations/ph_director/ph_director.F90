@@ -1,0 +1,1013 @@
+#include "rs_macros.h"
+!> The mixed port-Hamiltonian director rod of seed 000 (methods/ph_director_3d.md), as a
+!> rod formulation: mesh, unknowns and their map, loads, the midpoint step problem assembled
+!> from the pure kernels of rs_ph_director_element, and what is recorded.
+!>
+!> Unknowns of a step (uncondensed, methods §5.6): per free node q = (phi, d1, d2, d3) and
+!> v at t_{n+1} (12 + 12) and the midpoint multipliers lambda (6); per element the stress
+!> coefficients sigma at t_{n+1} (6 p). A clamped node has no unknowns: its q is fixed, v = 0,
+!> and its multipliers are dropped (methods §2.9). The state X has the same layout as the
+!> unknown Y; the lambda slots of X hold the multipliers of the last step's midpoint, which
+!> no residual uses (methods §5.2, last bullet).
+!>
+!> Dofs are numbered node by node along the rod with each element's stresses after its
+!> interior nodes, so the Jacobian is banded before any reordering.
+module rs_ph_director
+    use rs_core_kinds, only: rk
+    use rs_core_error, only: error_t, set_error
+    use rs_core_strings, only: str
+    use rs_model_scene, only: scene_t, rod_input_t
+    use rs_model_time_function, only: time_function_t, time_function_from_load
+    use rs_model_rod_history, only: rod_history_t
+    use rs_assembly_csr_pattern, only: csr_builder_t, csr_pattern_t
+    use rs_formulations_formulation, only: rod_formulation_t, state_valid, state_invalid
+    use rs_ph_director_element, only: ph_director_basis_t, ph_director_material_t, &
+        ph_director_basis_init, ph_director_element_residual, ph_director_node_residual, &
+        ph_director_element_kinetic_energy, ph_director_element_complementary_energy, &
+        ph_director_element_momenta, ph_director_element_position_integral, &
+        ph_director_element_external_work, ph_director_node_external_work, &
+        ph_director_node_constraint
+    implicit none
+    private
+
+    !> Dofs of a node in the local layout of the node kernel: q (1:12), v (13:24), lambda (25:30).
+    integer, parameter :: node_dofs = 30
+
+    !> A concentrated load at a node, or a distributed load (per unit length) on the whole rod.
+    type :: rod_load_t
+        integer :: node = 0
+        logical :: distributed = .false.
+        real(rk) :: force(3) = 0.0_rk
+        real(rk) :: moment(3) = 0.0_rk
+        type(time_function_t) :: factor
+    end type rod_load_t
+
+    !> The ph_director formulation of one rod.
+    type, extends(rod_formulation_t), public :: ph_director_t
+        ! Parameters (read-only after init).
+        character(len=:), allocatable :: name
+        integer :: n_elements = 0
+        integer :: degree = 2
+        integer :: n_nodes = 0
+        integer :: n_local = 0
+        integer :: n_dofs = 0
+        real(rk) :: length = 0.0_rk
+        real(rk), allocatable :: node_s(:)
+        real(rk), allocatable :: element_length(:)
+        type(ph_director_basis_t) :: basis
+        type(ph_director_material_t) :: material
+        type(rod_load_t), allocatable :: loads(:)
+        logical, allocatable :: clamped(:)
+        real(rk), allocatable :: fixed_q(:, :)
+        !> node_dof(i, k): unknown index of local dof i of node k (0: fixed or dropped).
+        integer, allocatable :: node_dof(:, :)
+        !> stress_dof(j, e): unknown index of stress coefficient j = 6 (b - 1) + component.
+        integer, allocatable :: stress_dof(:, :)
+        !> Stresses and velocities eliminated from the Newton unknowns (methods §5.5).
+        logical :: condensed = .false.
+        !> Condensed unknowns: node_unknown(i, k) for q (1:12) and lambda (13:18) of node k.
+        integer, allocatable :: node_unknown(:, :)
+        integer :: n_condensed = 0
+        !> Inverse of each element's stress matrix C_e (constant: R_S is linear in sigma).
+        real(rk), allocatable :: compliance_inverse(:, :, :)
+        type(csr_pattern_t) :: pattern
+        !> Position in the CSR values of element entry (i, j) of element e (0: not stored).
+        integer, allocatable :: element_map(:, :, :)
+        !> Position in the CSR values of node entry (i, j) of node k (0: not stored).
+        integer, allocatable :: node_map(:, :, :)
+        ! Workspace (nodal fields at t_n and t_{n+1}, stresses).
+        real(rk), allocatable :: q_n(:, :), q_1(:, :), v_n(:, :), v_1(:, :), lambda(:, :)
+        real(rk), allocatable :: s_n(:, :, :), s_1(:, :, :)
+        ! Book-keeping since the last record.
+        real(rk) :: work_since_record = 0.0_rk
+        real(rk) :: balance_since_record = 0.0_rk
+        real(rk) :: smallest_step = huge(1.0_rk)
+        real(rk) :: last_residual = 0.0_rk
+        integer :: iterations_since_record = 0
+    contains
+        procedure :: init => ph_director_init
+        procedure :: n_state => ph_director_n_dofs
+        procedure :: n_unknown => ph_director_n_unknown
+        procedure :: predictor => ph_director_predictor
+        procedure :: update => ph_director_update
+        procedure :: jacobian_pattern => ph_director_jacobian_pattern
+        procedure :: initial_state => ph_director_initial_state
+        procedure :: step_residual => ph_director_step_residual
+        procedure :: step_jacobian => ph_director_step_jacobian
+        procedure :: accept_step => ph_director_accept_step
+        procedure :: init_history => ph_director_init_history
+        procedure :: record => ph_director_record
+        procedure :: describe => ph_director_describe
+        procedure :: energy => ph_director_energy
+        procedure :: unpack
+        procedure :: element_nodes
+    end type ph_director_t
+
+contains
+
+    !> Build rod `rod_index` of a validated scene.
+    subroutine ph_director_init(this, scene, rod_index, err)
+        class(ph_director_t), intent(inout) :: this
+        type(scene_t), intent(in) :: scene
+        integer, intent(in) :: rod_index
+        type(error_t), allocatable, intent(out) :: err
+        character(len=:), allocatable :: message
+        logical :: ok
+        integer :: e, k
+        associate (rod => scene%rods(rod_index))
+            this%name = trim(rod%name)
+            if (trim(rod%constraint) /= 'none') then
+                message = 'rod ''' // this%name // ''': constraint = ''' // &
+                    trim(rod%constraint) // &
+                    ''' is not available in this version (docs/user/capabilities.md)'
+                RS_SET_ERROR(err, 'ph_director_init', message)
+                return
+            end if
+            this%n_elements = rod%n_elements
+            this%degree = rod%degree
+            this%n_nodes = this%n_elements * this%degree + 1
+            this%length = rod%length
+            call ph_director_basis_init(this%basis, rod%degree, rod%n_gauss, ok)
+            if (.not. ok) then
+                message = 'rod ''' // this%name // ''': no element of degree ' // &
+                    str(rod%degree) // ' with ' // str(rod%n_gauss) // ' Gauss points'
+                RS_SET_ERROR(err, 'ph_director_init', message)
+                return
+            end if
+            this%n_local = 24 * (this%degree + 1) + 6 * this%degree
+            this%material%rhoA = rod%rhoA
+            this%material%rhoI = [rod%rhoI1, rod%rhoI2]
+            this%material%compliance = 1.0_rk / [rod%GA1, rod%GA2, rod%EA, rod%EI1, rod%EI2, rod%GJ]
+
+            ! Uniform mesh of the straight reference; seed 000 §2.1, Remark 2.1.
+            allocate(this%node_s(this%n_nodes), this%element_length(this%n_elements))
+            this%node_s = [(rod%length * real(k - 1, rk) / real(this%n_nodes - 1, rk), &
+                k = 1, this%n_nodes)]
+            do e = 1, this%n_elements
+                this%element_length(e) = this%node_s(e * this%degree + 1) - &
+                    this%node_s((e - 1) * this%degree + 1)
+            end do
+            call reference_configuration(this, rod)
+            call read_supports(this, scene, err)
+            RS_RETURN_IF_ERROR(err)
+            call read_loads(this, scene, err)
+            RS_RETURN_IF_ERROR(err)
+        end associate
+        this%condensed = scene%solver%condense_stresses
+        if (this%condensed .and. any(this%material%compliance == 0.0_rk)) this%condensed = .false.
+        call number_dofs(this)
+        if (this%condensed) then
+            call invert_compliances(this)
+            call build_condensed_pattern(this)
+        else
+            call build_pattern(this)
+        end if
+        allocate(this%q_n(12, this%n_nodes), this%q_1(12, this%n_nodes), &
+            this%v_n(12, this%n_nodes), this%v_1(12, this%n_nodes), &
+            this%lambda(6, this%n_nodes), source=0.0_rk)
+        allocate(this%s_n(6, this%degree, this%n_elements), &
+            this%s_1(6, this%degree, this%n_elements), source=0.0_rk)
+    end subroutine ph_director_init
+
+    !> The straight, stress-free reference: phi = start + s t, d3 = t, d1 given, d2 = d3 x d1.
+    subroutine reference_configuration(this, rod)
+        type(ph_director_t), intent(inout) :: this
+        type(rod_input_t), intent(in) :: rod
+        real(rk) :: d1(3), d2(3), d3(3)
+        integer :: k
+        d3 = rod%direction
+        d1 = rod%d1
+        d2 = [d3(2) * d1(3) - d3(3) * d1(2), d3(3) * d1(1) - d3(1) * d1(3), &
+            d3(1) * d1(2) - d3(2) * d1(1)]
+        allocate(this%fixed_q(12, this%n_nodes))
+        do k = 1, this%n_nodes
+            this%fixed_q(1:3, k) = rod%start + this%node_s(k) * d3
+            this%fixed_q(4:6, k) = d1
+            this%fixed_q(7:9, k) = d2
+            this%fixed_q(10:12, k) = d3
+        end do
+    end subroutine reference_configuration
+
+    subroutine read_supports(this, scene, err)
+        type(ph_director_t), intent(inout) :: this
+        type(scene_t), intent(in) :: scene
+        type(error_t), allocatable, intent(out) :: err
+        character(len=:), allocatable :: message
+        integer :: i, node
+        allocate(this%clamped(this%n_nodes), source=.false.)
+        do i = 1, size(scene%bcs)
+            associate (bc => scene%bcs(i))
+                if (trim(bc%rod) /= this%name) cycle
+                node = merge(1, this%n_nodes, trim(bc%end) == 'start')
+                select case (trim(bc%kind))
+                case ('clamped')
+                    this%clamped(node) = .true.
+                case ('free')
+                case default
+                    message = 'rod ''' // this%name // ''': a ''' // trim(bc%kind) // &
+                        ''' end is not available for ph_director in this version (docs/user/capabilities.md)'
+                    RS_SET_ERROR(err, 'read_supports', message)
+                    return
+                end select
+            end associate
+        end do
+    end subroutine read_supports
+
+    subroutine read_loads(this, scene, err)
+        type(ph_director_t), intent(inout) :: this
+        type(scene_t), intent(in) :: scene
+        type(error_t), allocatable, intent(out) :: err
+        character(len=:), allocatable :: message
+        type(rod_load_t) :: load
+        integer :: i
+        allocate(this%loads(0))
+        do i = 1, size(scene%loads)
+            associate (input => scene%loads(i))
+                if (trim(input%rod) /= this%name .and. .not. (len_trim(input%rod) == 0 .and. &
+                    trim(input%where) == 'gravity')) cycle
+                if (trim(input%frame) /= 'spatial') then
+                    message = 'rod ''' // this%name // &
+                        ''': follower loads are not available for ph_director in this version (docs/user/capabilities.md)'
+                    RS_SET_ERROR(err, 'read_loads', message)
+                    return
+                end if
+                load = rod_load_t()
+                call time_function_from_load(input, load%factor, err)
+                RS_RETURN_IF_ERROR(err)
+                select case (trim(input%where))
+                case ('start')
+                    load%node = 1
+                case ('end')
+                    load%node = this%n_nodes
+                case ('distributed')
+                    load%distributed = .true.
+                case ('gravity')
+                    load%distributed = .true.
+                end select
+                if (trim(input%where) == 'gravity') then
+                    load%force = this%material%rhoA * input%acceleration
+                else
+                    load%force = input%force
+                    load%moment = input%moment
+                end if
+                this%loads = [this%loads, load]
+            end associate
+        end do
+    end subroutine read_loads
+
+    !> Unknown numbering: nodes along the rod, each element's stresses after its interior nodes.
+    subroutine number_dofs(this)
+        type(ph_director_t), intent(inout) :: this
+        integer :: e, a, k, next
+        allocate(this%node_dof(node_dofs, this%n_nodes), source=0)
+        allocate(this%stress_dof(6 * this%degree, this%n_elements), source=0)
+        next = 0
+        call number_node(1)
+        do e = 1, this%n_elements
+            do a = 2, this%degree
+                call number_node((e - 1) * this%degree + a)
+            end do
+            do k = 1, 6 * this%degree
+                next = next + 1
+                this%stress_dof(k, e) = next
+            end do
+            call number_node(e * this%degree + 1)
+        end do
+        this%n_dofs = next
+    contains
+        subroutine number_node(node)
+            integer, intent(in) :: node
+            integer :: i
+            if (this%clamped(node)) return
+            do i = 1, node_dofs
+                next = next + 1
+                this%node_dof(i, node) = next
+            end do
+        end subroutine number_node
+    end subroutine number_dofs
+
+    !> Global unknown index of every local dof of element e (0 where fixed).
+    pure function element_dofs(this, e) result(dofs)
+        type(ph_director_t), intent(in) :: this
+        integer, intent(in) :: e
+        integer :: dofs(this%n_local)
+        integer :: a, node
+        do a = 1, this%degree + 1
+            node = (e - 1) * this%degree + a
+            dofs(24 * (a - 1) + 1 : 24 * a) = this%node_dof(1:24, node)
+        end do
+        dofs(24 * (this%degree + 1) + 1 :) = this%stress_dof(:, e)
+    end function element_dofs
+
+    !> Which element Jacobian entries can be non-zero (methods §5.6 table): momentum rows couple
+    !> to all q and stresses and, through the lumped-by-component mass, to v of the same
+    !> component; stress rows couple to all q and v and to stresses of the same component.
+    pure function element_mask(this) result(mask)
+        type(ph_director_t), intent(in) :: this
+        logical :: mask(this%n_local, this%n_local)
+        integer :: n_node_local, i, j, ci, cj
+        n_node_local = 24 * (this%degree + 1)
+        mask = .false.
+        do j = 1, this%n_local
+            do i = 1, this%n_local
+                if (i <= n_node_local) then
+                    ci = mod(i - 1, 24) + 1
+                    if (ci <= 12) cycle
+                    if (j > n_node_local) then
+                        mask(i, j) = .true.
+                    else
+                        cj = mod(j - 1, 24) + 1
+                        mask(i, j) = cj <= 12 .or. cj == ci
+                    end if
+                else if (j <= n_node_local) then
+                    mask(i, j) = .true.
+                else
+                    mask(i, j) = mod(i - n_node_local - 1, 6) == mod(j - n_node_local - 1, 6)
+                end if
+            end do
+        end do
+    end function element_mask
+
+    !> Non-zeros of the node kernel's Jacobian (methods §5.6): kinematic rows couple q and v of
+    !> the same component; director momentum rows couple to the directors (multiplier and
+    !> end-moment terms) and the multipliers; constraint rows to the directors.
+    pure function node_mask() result(mask)
+        logical :: mask(node_dofs, node_dofs)
+        integer :: c
+        mask = .false.
+        do c = 1, 12
+            mask(c, c) = .true.
+            mask(c, 12 + c) = .true.
+        end do
+        mask(16:24, 4:12) = .true.
+        mask(16:24, 25:30) = .true.
+        mask(25:30, 4:12) = .true.
+    end function node_mask
+
+    subroutine build_pattern(this)
+        type(ph_director_t), intent(inout) :: this
+        type(csr_builder_t) :: builder
+        logical :: emask(this%n_local, this%n_local), nmask(node_dofs, node_dofs)
+        integer :: dofs(this%n_local)
+        integer :: e, k, i, j
+        emask = element_mask(this)
+        nmask = node_mask()
+        call builder%init(this%n_dofs, this%n_elements * count(emask) + this%n_nodes * count(nmask))
+        do e = 1, this%n_elements
+            dofs = element_dofs(this, e)
+            call builder%add_block(dofs, dofs, emask)
+        end do
+        do k = 1, this%n_nodes
+            call builder%add_block(this%node_dof(:, k), this%node_dof(:, k), nmask)
+        end do
+        call builder%build(this%pattern)
+        allocate(this%element_map(this%n_local, this%n_local, this%n_elements), source=0)
+        do e = 1, this%n_elements
+            dofs = element_dofs(this, e)
+            do j = 1, this%n_local
+                do i = 1, this%n_local
+                    if (emask(i, j)) this%element_map(i, j, e) = this%pattern%position(dofs(i), dofs(j))
+                end do
+            end do
+        end do
+        allocate(this%node_map(node_dofs, node_dofs, this%n_nodes), source=0)
+        do k = 1, this%n_nodes
+            do j = 1, node_dofs
+                do i = 1, node_dofs
+                    if (nmask(i, j)) this%node_map(i, j, k) = &
+                        this%pattern%position(this%node_dof(i, k), this%node_dof(j, k))
+                end do
+            end do
+        end do
+    end subroutine build_pattern
+
+    pure integer function ph_director_n_dofs(this)
+        class(ph_director_t), intent(in) :: this
+        ph_director_n_dofs = this%n_dofs
+    end function ph_director_n_dofs
+
+    pure integer function ph_director_n_unknown(this)
+        class(ph_director_t), intent(in) :: this
+        if (this%condensed) then
+            ph_director_n_unknown = this%n_condensed
+        else
+            ph_director_n_unknown = this%n_dofs
+        end if
+    end function ph_director_n_unknown
+
+    subroutine ph_director_jacobian_pattern(this, row_ptr, cols)
+        class(ph_director_t), intent(in) :: this
+        integer, allocatable, intent(out) :: row_ptr(:), cols(:)
+        call this%pattern%zero_based(row_ptr, cols)
+    end subroutine ph_director_jacobian_pattern
+
+    !> At rest in the stress-free reference (methods §5.4): sigma = 0, v = 0.
+    subroutine ph_director_initial_state(this, x)
+        class(ph_director_t), intent(in) :: this
+        real(rk), intent(out) :: x(:)
+        integer :: k, i
+        x = 0.0_rk
+        do k = 1, this%n_nodes
+            do i = 1, 12
+                if (this%node_dof(i, k) > 0) x(this%node_dof(i, k)) = this%fixed_q(i, k)
+            end do
+        end do
+    end subroutine ph_director_initial_state
+
+    !> Nodal q, v, lambda and element stresses of a state or unknown vector.
+    subroutine unpack(this, x, q, v, lambda, s)
+        class(ph_director_t), intent(in) :: this
+        real(rk), intent(in) :: x(:)
+        real(rk), intent(out) :: q(:, :), v(:, :), lambda(:, :), s(:, :, :)
+        integer :: k, e, i
+        do k = 1, this%n_nodes
+            if (this%clamped(k)) then
+                q(:, k) = this%fixed_q(:, k)
+                v(:, k) = 0.0_rk
+                lambda(:, k) = 0.0_rk
+            else
+                do i = 1, 12
+                    q(i, k) = x(this%node_dof(i, k))
+                    v(i, k) = x(this%node_dof(12 + i, k))
+                end do
+                do i = 1, 6
+                    lambda(i, k) = x(this%node_dof(24 + i, k))
+                end do
+            end if
+        end do
+        do e = 1, this%n_elements
+            s(:, :, e) = reshape(x(this%stress_dof(:, e)), [6, this%degree])
+        end do
+    end subroutine unpack
+
+    !> First and last node of element e.
+    pure function element_nodes(this, e) result(range)
+        class(ph_director_t), intent(in) :: this
+        integer, intent(in) :: e
+        integer :: range(2)
+        range = [(e - 1) * this%degree + 1, e * this%degree + 1]
+    end function element_nodes
+
+    !> Distributed force and moment per unit length at time t (gravity included).
+    pure subroutine distributed_loads(this, t, force, moment)
+        type(ph_director_t), intent(in) :: this
+        real(rk), intent(in) :: t
+        real(rk), intent(out) :: force(3), moment(3)
+        integer :: i
+        real(rk) :: f
+        force = 0.0_rk
+        moment = 0.0_rk
+        do i = 1, size(this%loads)
+            if (.not. this%loads(i)%distributed) cycle
+            f = this%loads(i)%factor%value(t)
+            force = force + f * this%loads(i)%force
+            moment = moment + f * this%loads(i)%moment
+        end do
+    end subroutine distributed_loads
+
+    !> Concentrated force and moment at node k and time t.
+    pure subroutine node_loads(this, k, t, force, moment)
+        type(ph_director_t), intent(in) :: this
+        integer, intent(in) :: k
+        real(rk), intent(in) :: t
+        real(rk), intent(out) :: force(3), moment(3)
+        integer :: i
+        real(rk) :: f
+        force = 0.0_rk
+        moment = 0.0_rk
+        do i = 1, size(this%loads)
+            if (this%loads(i)%distributed .or. this%loads(i)%node /= k) cycle
+            f = this%loads(i)%factor%value(t)
+            force = force + f * this%loads(i)%force
+            moment = moment + f * this%loads(i)%moment
+        end do
+    end subroutine node_loads
+
+    !> The midpoint step residual (methods §5.6, rows R_K, R_M, R_S and the nodal constraint
+    !> g(d_{n+1}) = 0 of DESIGN.md §3), assembled from the element and node kernels.
+    subroutine ph_director_step_residual(this, t_n, h, x_n, y, f, status)
+        class(ph_director_t), intent(inout) :: this
+        real(rk), intent(in) :: t_n, h, x_n(:), y(:)
+        real(rk), intent(out) :: f(:)
+        integer, intent(out) :: status
+        if (any(y /= y)) then
+            status = state_invalid
+            return
+        end if
+        status = state_valid
+        if (this%condensed) then
+            call condensed_step(this, t_n, h, x_n, y, f=f)
+        else
+            call uncondensed_step(this, t_n, h, x_n, y, f=f)
+        end if
+    end subroutine ph_director_step_residual
+
+    !> dF/dY of the step residual, written into the values of the fixed CSR pattern.
+    subroutine ph_director_step_jacobian(this, t_n, h, x_n, y, values, status)
+        class(ph_director_t), intent(inout) :: this
+        real(rk), intent(in) :: t_n, h, x_n(:), y(:)
+        real(rk), intent(out) :: values(:)
+        integer, intent(out) :: status
+        status = state_valid
+        if (this%condensed) then
+            call condensed_step(this, t_n, h, x_n, y, values=values)
+        else
+            call uncondensed_step(this, t_n, h, x_n, y, values=values)
+        end if
+    end subroutine ph_director_step_jacobian
+
+    !> Residual and/or Jacobian of the uncondensed step: element kernels scattered through the
+    !> dof map, node kernels for the kinematic, multiplier and end-load rows.
+    subroutine uncondensed_step(this, t_n, h, x_n, y, f, values)
+        type(ph_director_t), intent(inout) :: this
+        real(rk), intent(in) :: t_n, h, x_n(:), y(:)
+        real(rk), intent(out), optional :: f(:), values(:)
+        real(rk) :: r_e(this%n_local), j_e(this%n_local, this%n_local)
+        real(rk) :: r_k(node_dofs), j_k(node_dofs, node_dofs)
+        real(rk) :: nbar(3), mbar(3), force(3), moment(3), t_mid
+        integer :: e, k, i, j, p, nodes(2), dofs(this%n_local)
+        call this%unpack(x_n, this%q_n, this%v_n, this%lambda, this%s_n)
+        call this%unpack(y, this%q_1, this%v_1, this%lambda, this%s_1)
+        t_mid = t_n + 0.5_rk * h
+        call distributed_loads(this, t_mid, nbar, mbar)
+        if (present(f)) f = 0.0_rk
+        if (present(values)) values = 0.0_rk
+        do e = 1, this%n_elements
+            nodes = this%element_nodes(e)
+            if (present(values)) then
+                call ph_director_element_residual(this%basis, this%material, &
+                    this%element_length(e), h, this%q_n(:, nodes(1):nodes(2)), &
+                    this%q_1(:, nodes(1):nodes(2)), this%v_n(:, nodes(1):nodes(2)), &
+                    this%v_1(:, nodes(1):nodes(2)), this%s_n(:, :, e), this%s_1(:, :, e), nbar, &
+                    mbar, r_e, j_e)
+                do j = 1, this%n_local
+                    do i = 1, this%n_local
+                        p = this%element_map(i, j, e)
+                        if (p > 0) values(p) = values(p) + j_e(i, j)
+                    end do
+                end do
+            else
+                call ph_director_element_residual(this%basis, this%material, &
+                    this%element_length(e), h, this%q_n(:, nodes(1):nodes(2)), &
+                    this%q_1(:, nodes(1):nodes(2)), this%v_n(:, nodes(1):nodes(2)), &
+                    this%v_1(:, nodes(1):nodes(2)), this%s_n(:, :, e), this%s_1(:, :, e), nbar, &
+                    mbar, r_e)
+            end if
+            if (present(f)) then
+                dofs = element_dofs(this, e)
+                do i = 1, this%n_local
+                    if (dofs(i) > 0) f(dofs(i)) = f(dofs(i)) + r_e(i)
+                end do
+            end if
+        end do
+        do k = 1, this%n_nodes
+            if (this%clamped(k)) cycle
+            call node_loads(this, k, t_mid, force, moment)
+            if (present(values)) then
+                call ph_director_node_residual(h, this%q_n(:, k), this%q_1(:, k), this%v_n(:, k), &
+                    this%v_1(:, k), this%lambda(:, k), .true., force, moment, r_k, j_k)
+                do j = 1, node_dofs
+                    do i = 1, node_dofs
+                        p = this%node_map(i, j, k)
+                        if (p > 0) values(p) = values(p) + j_k(i, j)
+                    end do
+                end do
+            else
+                call ph_director_node_residual(h, this%q_n(:, k), this%q_1(:, k), this%v_n(:, k), &
+                    this%v_1(:, k), this%lambda(:, k), .true., force, moment, r_k)
+            end if
+            if (present(f)) f(this%node_dof(:, k)) = f(this%node_dof(:, k)) + r_k
+        end do
+    end subroutine uncondensed_step
+
+    ! ---- Condensed step (methods §5.5) ----------------------------------------------------
+    ! With q_{n+1} and the midpoint multipliers as the only unknowns, the kinematic rows R_K
+    ! give v_{n+1} = 2 (q_{n+1} - q_n)/h - v_n and the stress rows R_S, linear in sigma_{n+1}
+    ! with the constant matrix C_e, give sigma_{n+1} element by element. The residual is R_M
+    ! and the constraint rows at that (v, sigma), so R_K = R_S = 0 exactly and the norm of the
+    ! residual is the norm of the uncondensed one (DESIGN.md §3). The Jacobian is the element
+    ! Schur complement of the uncondensed one.
+
+    !> Number the condensed unknowns (q, lambda of each free node) along the rod.
+    subroutine number_condensed(this)
+        type(ph_director_t), intent(inout) :: this
+        integer :: k, i, next
+        allocate(this%node_unknown(18, this%n_nodes), source=0)
+        next = 0
+        do k = 1, this%n_nodes
+            if (this%clamped(k)) cycle
+            do i = 1, 18
+                next = next + 1
+                this%node_unknown(i, k) = next
+            end do
+        end do
+        this%n_condensed = next
+    end subroutine number_condensed
+
+    !> C_e^{-1} of every element, read off the kernel's stress block (R_S is linear in sigma).
+    subroutine invert_compliances(this)
+        type(ph_director_t), intent(inout) :: this
+        real(rk) :: q(12, this%degree + 1), v(12, this%degree + 1), s(6, this%degree)
+        real(rk) :: r_e(this%n_local), j_e(this%n_local, this%n_local)
+        integer :: e, m, first
+        m = 6 * this%degree
+        first = 24 * (this%degree + 1) + 1
+        allocate(this%compliance_inverse(m, m, this%n_elements))
+        q = this%fixed_q(:, 1:this%degree + 1)
+        v = 0.0_rk
+        s = 0.0_rk
+        do e = 1, this%n_elements
+            call ph_director_element_residual(this%basis, this%material, this%element_length(e), &
+                1.0_rk, q, q, v, v, s, s, [0.0_rk, 0.0_rk, 0.0_rk], [0.0_rk, 0.0_rk, 0.0_rk], r_e, j_e)
+            this%compliance_inverse(:, :, e) = inverse(j_e(first:, first:))
+        end do
+        call number_condensed(this)
+    end subroutine invert_compliances
+
+    !> Inverse of a small non-singular matrix (Gauss-Jordan with partial pivoting).
+    pure function inverse(a) result(b)
+        real(rk), intent(in) :: a(:, :)
+        real(rk) :: b(size(a, 1), size(a, 1))
+        real(rk) :: w(size(a, 1), 2 * size(a, 1)), row(2 * size(a, 1))
+        integer :: n, i, p
+        n = size(a, 1)
+        w = 0.0_rk
+        w(:, 1:n) = a
+        do i = 1, n
+            w(i, n + i) = 1.0_rk
+        end do
+        do i = 1, n
+            p = i - 1 + maxloc(abs(w(i:, i)), 1)
+            row = w(i, :)
+            w(i, :) = w(p, :)
+            w(p, :) = row
+            w(i, :) = w(i, :) / w(i, i)
+            do p = 1, n
+                if (p /= i) w(p, :) = w(p, :) - w(p, i) * w(i, :)
+            end do
+        end do
+        b = w(:, n + 1:)
+    end function inverse
+
+    !> Condensed unknown index of the 12 q of each element node (0 where clamped).
+    pure function element_q_unknowns(this, e) result(dofs)
+        type(ph_director_t), intent(in) :: this
+        integer, intent(in) :: e
+        integer :: dofs(12 * (this%degree + 1))
+        integer :: a, node
+        do a = 1, this%degree + 1
+            node = (e - 1) * this%degree + a
+            dofs(12 * (a - 1) + 1 : 12 * a) = this%node_unknown(1:12, node)
+        end do
+    end function element_q_unknowns
+
+    !> Condensed pattern: element blocks couple all q of an element (momentum rows); the node
+    !> blocks add the multiplier columns of the director rows and the constraint rows.
+    subroutine build_condensed_pattern(this)
+        type(ph_director_t), intent(inout) :: this
+        type(csr_builder_t) :: builder
+        integer :: dofs(12 * (this%degree + 1))
+        logical :: nmask(18, 18)
+        integer :: e, k, i, j, nq
+        nq = 12 * (this%degree + 1)
+        nmask = .false.
+        nmask(4:12, 4:12) = .true.
+        nmask(4:12, 13:18) = .true.
+        nmask(13:18, 4:12) = .true.
+        call builder%init(this%n_condensed, this%n_elements * nq * nq + this%n_nodes * count(nmask))
+        do e = 1, this%n_elements
+            dofs = element_q_unknowns(this, e)
+            call builder%add_block(dofs, dofs)
+        end do
+        do k = 1, this%n_nodes
+            call builder%add_block(this%node_unknown(:, k), this%node_unknown(:, k), nmask)
+        end do
+        call builder%build(this%pattern)
+        allocate(this%element_map(nq, nq, this%n_elements), source=0)
+        do e = 1, this%n_elements
+            dofs = element_q_unknowns(this, e)
+            do j = 1, nq
+                do i = 1, nq
+                    this%element_map(i, j, e) = this%pattern%position(dofs(i), dofs(j))
+                end do
+            end do
+        end do
+        allocate(this%node_map(18, 18, this%n_nodes), source=0)
+        do k = 1, this%n_nodes
+            do j = 1, 18
+                do i = 1, 18
+                    if (nmask(i, j)) this%node_map(i, j, k) = &
+                        this%pattern%position(this%node_unknown(i, k), this%node_unknown(j, k))
+                end do
+            end do
+        end do
+    end subroutine build_condensed_pattern
+
+    !> Newton starts from the last state (DESIGN.md §3: predictor x_{n+1} = x_n).
+    subroutine ph_director_predictor(this, t_n, h, x_n, y)
+        class(ph_director_t), intent(inout) :: this
+        real(rk), intent(in) :: t_n, h, x_n(:)
+        real(rk), intent(out) :: y(:)
+        integer :: k
+        if (.not. this%condensed) then
+            y = x_n
+            return
+        end if
+        do k = 1, this%n_nodes
+            if (this%clamped(k)) cycle
+            y(this%node_unknown(1:12, k)) = x_n(this%node_dof(1:12, k))
+            y(this%node_unknown(13:18, k)) = x_n(this%node_dof(25:30, k))
+        end do
+    end subroutine ph_director_predictor
+
+    !> The state at t_{n+1}: the unknowns themselves, or with v and sigma recovered.
+    subroutine ph_director_update(this, t_n, h, x_n, y, x_1)
+        class(ph_director_t), intent(inout) :: this
+        real(rk), intent(in) :: t_n, h, x_n(:), y(:)
+        real(rk), intent(out) :: x_1(:)
+        integer :: k, e
+        if (.not. this%condensed) then
+            x_1 = y
+            return
+        end if
+        call condensed_fields(this, h, x_n, y)
+        do k = 1, this%n_nodes
+            if (this%clamped(k)) cycle
+            x_1(this%node_dof(1:12, k)) = this%q_1(:, k)
+            x_1(this%node_dof(13:24, k)) = this%v_1(:, k)
+            x_1(this%node_dof(25:30, k)) = this%lambda(:, k)
+        end do
+        do e = 1, this%n_elements
+            x_1(this%stress_dof(:, e)) = reshape(this%s_1(:, :, e), [6 * this%degree])
+        end do
+    end subroutine ph_director_update
+
+    !> q, lambda from the condensed unknowns; v_{n+1} from R_K = 0 and sigma_{n+1} from
+    !> R_S = 0 (methods §5.5 items 1-2); the t_n fields from the state.
+    subroutine condensed_fields(this, h, x_n, y)
+        type(ph_director_t), intent(inout) :: this
+        real(rk), intent(in) :: h, x_n(:), y(:)
+        real(rk) :: r_e(this%n_local), zero(3)
+        integer :: k, e, i, nodes(2), m, first
+        call this%unpack(x_n, this%q_n, this%v_n, this%lambda, this%s_n)
+        do k = 1, this%n_nodes
+            if (this%clamped(k)) then
+                this%q_1(:, k) = this%fixed_q(:, k)
+                this%v_1(:, k) = 0.0_rk
+                this%lambda(:, k) = 0.0_rk
+            else
+                do i = 1, 12
+                    this%q_1(i, k) = y(this%node_unknown(i, k))
+                end do
+                do i = 1, 6
+                    this%lambda(i, k) = y(this%node_unknown(12 + i, k))
+                end do
+                this%v_1(:, k) = 2.0_rk * (this%q_1(:, k) - this%q_n(:, k)) / h - this%v_n(:, k)
+            end if
+        end do
+        m = 6 * this%degree
+        first = 24 * (this%degree + 1) + 1
+        zero = 0.0_rk
+        do e = 1, this%n_elements
+            nodes = this%element_nodes(e)
+            call ph_director_element_residual(this%basis, this%material, this%element_length(e), &
+                h, this%q_n(:, nodes(1):nodes(2)), this%q_1(:, nodes(1):nodes(2)), &
+                this%v_n(:, nodes(1):nodes(2)), this%v_1(:, nodes(1):nodes(2)), &
+                this%s_n(:, :, e), this%s_n(:, :, e), zero, zero, r_e)
+            this%s_1(:, :, e) = this%s_n(:, :, e) - reshape(matmul(this%compliance_inverse(:, :, e), &
+                r_e(first:)), [6, this%degree])
+        end do
+    end subroutine condensed_fields
+
+    !> Residual (and, if `values` is present, the Schur-complement Jacobian) of the condensed
+    !> step.
+    subroutine condensed_step(this, t_n, h, x_n, y, f, values)
+        type(ph_director_t), intent(inout) :: this
+        real(rk), intent(in) :: t_n, h, x_n(:), y(:)
+        real(rk), intent(out), optional :: f(:), values(:)
+        real(rk) :: r_e(this%n_local), j_e(this%n_local, this%n_local)
+        real(rk) :: schur(12 * (this%degree + 1), 12 * (this%degree + 1))
+        real(rk) :: coupling(6 * this%degree, 12 * (this%degree + 1))
+        real(rk) :: r_k(node_dofs), j_k(node_dofs, node_dofs)
+        real(rk) :: nbar(3), mbar(3), force(3), moment(3), t_mid
+        integer :: rows_m(12 * (this%degree + 1)), cols_q(12 * (this%degree + 1))
+        integer :: cols_v(12 * (this%degree + 1))
+        integer :: e, k, a, i, j, p, nodes(2), nq, first
+        call condensed_fields(this, h, x_n, y)
+        t_mid = t_n + 0.5_rk * h
+        call distributed_loads(this, t_mid, nbar, mbar)
+        nq = 12 * (this%degree + 1)
+        first = 24 * (this%degree + 1) + 1
+        do a = 1, this%degree + 1
+            do i = 1, 12
+                cols_q(12 * (a - 1) + i) = 24 * (a - 1) + i
+                cols_v(12 * (a - 1) + i) = 24 * (a - 1) + 12 + i
+            end do
+        end do
+        rows_m = cols_v
+        if (present(f)) f = 0.0_rk
+        if (present(values)) values = 0.0_rk
+        do e = 1, this%n_elements
+            nodes = this%element_nodes(e)
+            if (present(values)) then
+                call ph_director_element_residual(this%basis, this%material, &
+                    this%element_length(e), h, this%q_n(:, nodes(1):nodes(2)), &
+                    this%q_1(:, nodes(1):nodes(2)), this%v_n(:, nodes(1):nodes(2)), &
+                    this%v_1(:, nodes(1):nodes(2)), this%s_n(:, :, e), this%s_1(:, :, e), nbar, &
+                    mbar, r_e, j_e)
+                ! d/dq_{n+1} through v_{n+1} = 2 (q_{n+1} - q_n)/h - v_n, then the Schur
+                ! complement of the stress block: A - B C_e^{-1} C.
+                schur = j_e(rows_m, cols_q) + (2.0_rk / h) * j_e(rows_m, cols_v)
+                coupling = j_e(first:, cols_q) + (2.0_rk / h) * j_e(first:, cols_v)
+                schur = schur - matmul(j_e(rows_m, first:), &
+                    matmul(this%compliance_inverse(:, :, e), coupling))
+                do j = 1, nq
+                    do i = 1, nq
+                        p = this%element_map(i, j, e)
+                        if (p > 0) values(p) = values(p) + schur(i, j)
+                    end do
+                end do
+            else
+                call ph_director_element_residual(this%basis, this%material, &
+                    this%element_length(e), h, this%q_n(:, nodes(1):nodes(2)), &
+                    this%q_1(:, nodes(1):nodes(2)), this%v_n(:, nodes(1):nodes(2)), &
+                    this%v_1(:, nodes(1):nodes(2)), this%s_n(:, :, e), this%s_1(:, :, e), nbar, &
+                    mbar, r_e)
+            end if
+            if (present(f)) then
+                do a = 1, this%degree + 1
+                    k = nodes(1) + a - 1
+                    if (this%clamped(k)) cycle
+                    do i = 1, 12
+                        f(this%node_unknown(i, k)) = f(this%node_unknown(i, k)) + &
+                            r_e(24 * (a - 1) + 12 + i)
+                    end do
+                end do
+            end if
+        end do
+        do k = 1, this%n_nodes
+            if (this%clamped(k)) cycle
+            call node_loads(this, k, t_mid, force, moment)
+            if (present(values)) then
+                call ph_director_node_residual(h, this%q_n(:, k), this%q_1(:, k), this%v_n(:, k), &
+                    this%v_1(:, k), this%lambda(:, k), .true., force, moment, r_k, j_k)
+                ! Condensed row i is node row 12 + i (momentum 13:24, constraint 25:30); column
+                ! j is q (1:12) or lambda (25:30). The node's momentum rows do not depend on v.
+                do j = 1, 18
+                    do i = 1, 18
+                        p = this%node_map(i, j, k)
+                        if (p > 0) values(p) = values(p) + j_k(12 + i, merge(j, 12 + j, j <= 12))
+                    end do
+                end do
+            else
+                call ph_director_node_residual(h, this%q_n(:, k), this%q_1(:, k), this%v_n(:, k), &
+                    this%v_1(:, k), this%lambda(:, k), .true., force, moment, r_k)
+            end if
+            if (present(f)) then
+                f(this%node_unknown(1:12, k)) = f(this%node_unknown(1:12, k)) + r_k(13:24)
+                f(this%node_unknown(13:18, k)) = f(this%node_unknown(13:18, k)) + r_k(25:30)
+            end if
+        end do
+    end subroutine condensed_step
+
+    !> H = kinetic + complementary energy of a state (methods §4.3 eq. 35).
+    subroutine ph_director_energy(this, x, kinetic, strain)
+        class(ph_director_t), intent(inout) :: this
+        real(rk), intent(in) :: x(:)
+        real(rk), intent(out) :: kinetic, strain
+        integer :: e, nodes(2)
+        call this%unpack(x, this%q_1, this%v_1, this%lambda, this%s_1)
+        kinetic = 0.0_rk
+        strain = 0.0_rk
+        do e = 1, this%n_elements
+            nodes = this%element_nodes(e)
+            kinetic = kinetic + ph_director_element_kinetic_energy(this%basis, this%material, &
+                this%element_length(e), this%v_1(:, nodes(1):nodes(2)))
+            strain = strain + ph_director_element_complementary_energy(this%basis, &
+                this%material, this%element_length(e), this%s_1(:, :, e))
+        end do
+    end subroutine ph_director_energy
+
+    !> Work of the loads over the accepted step and the energy-balance error
+    !> H_{n+1} - H_n - W_n (methods §5.3 item 1), accumulated until the next record.
+    subroutine ph_director_accept_step(this, t_n, h, x_n, x_1, newton_iterations, residual_norm)
+        class(ph_director_t), intent(inout) :: this
+        real(rk), intent(in) :: t_n, h, x_n(:), x_1(:)
+        integer, intent(in) :: newton_iterations
+        real(rk), intent(in) :: residual_norm
+        real(rk) :: work, nbar(3), mbar(3), force(3), moment(3), t_mid
+        real(rk) :: kinetic_n, strain_n, kinetic_1, strain_1
+        integer :: e, k, nodes(2)
+        call this%energy(x_n, kinetic_n, strain_n)
+        call this%energy(x_1, kinetic_1, strain_1)
+        call this%unpack(x_n, this%q_n, this%v_n, this%lambda, this%s_n)
+        call this%unpack(x_1, this%q_1, this%v_1, this%lambda, this%s_1)
+        t_mid = t_n + 0.5_rk * h
+        call distributed_loads(this, t_mid, nbar, mbar)
+        work = 0.0_rk
+        do e = 1, this%n_elements
+            nodes = this%element_nodes(e)
+            work = work + ph_director_element_external_work(this%basis, this%element_length(e), &
+                h, this%q_n(:, nodes(1):nodes(2)), this%q_1(:, nodes(1):nodes(2)), &
+                this%v_n(:, nodes(1):nodes(2)), this%v_1(:, nodes(1):nodes(2)), nbar, mbar)
+        end do
+        do k = 1, this%n_nodes
+            if (this%clamped(k)) cycle
+            call node_loads(this, k, t_mid, force, moment)
+            if (all(force == 0.0_rk) .and. all(moment == 0.0_rk)) cycle
+            work = work + ph_director_node_external_work(h, this%q_n(:, k), this%q_1(:, k), &
+                this%v_n(:, k), this%v_1(:, k), force, moment)
+        end do
+        this%work_since_record = this%work_since_record + work
+        this%balance_since_record = this%balance_since_record + &
+            ((kinetic_1 + strain_1) - (kinetic_n + strain_n) - work)
+        this%iterations_since_record = this%iterations_since_record + newton_iterations
+        this%smallest_step = min(this%smallest_step, h)
+        this%last_residual = residual_norm
+    end subroutine ph_director_accept_step
+
+    subroutine ph_director_init_history(this, history, capacity)
+        class(ph_director_t), intent(in) :: this
+        type(rod_history_t), intent(inout) :: history
+        integer, intent(in) :: capacity
+        integer :: e, b
+        call history%init(this%name, 'ph_director', this%n_nodes, this%n_elements * this%degree, &
+            capacity)
+        history%mesh = this%node_s
+        do e = 1, this%n_elements
+            do b = 1, this%degree
+                history%stress_mesh((e - 1) * this%degree + b) = this%node_s((e - 1) * &
+                    this%degree + 1) + 0.5_rk * this%element_length(e) * &
+                    (1.0_rk + this%basis%stress_xi(b))
+            end do
+        end do
+    end subroutine ph_director_init_history
+
+    !> Append the state at time t: fields, energies, momenta, centre of mass, constraint
+    !> residual, and the step statistics accumulated since the previous record.
+    subroutine ph_director_record(this, history, t, x)
+        class(ph_director_t), intent(inout) :: this
+        type(rod_history_t), intent(inout) :: history
+        real(rk), intent(in) :: t, x(:)
+        real(rk) :: kinetic, strain, linear(3), angular(3), l_e(3), a_e(3), position(3)
+        integer :: r, e, k, i, nodes(2)
+        r = history%next_record()
+        if (r == 0) return
+        call this%energy(x, kinetic, strain)
+        ! energy() unpacked x into the t_{n+1} workspace.
+        linear = 0.0_rk
+        angular = 0.0_rk
+        position = 0.0_rk
+        do e = 1, this%n_elements
+            nodes = this%element_nodes(e)
+            call ph_director_element_momenta(this%basis, this%material, this%element_length(e), &
+                this%q_1(:, nodes(1):nodes(2)), this%v_1(:, nodes(1):nodes(2)), l_e, a_e)
+            linear = linear + l_e
+            angular = angular + a_e
+            position = position + ph_director_element_position_integral(this%basis, &
+                this%element_length(e), this%q_1(:, nodes(1):nodes(2)))
+        end do
+        history%time(r) = t
+        history%kinetic(r) = kinetic
+        history%strain(r) = strain
+        history%total(r) = kinetic + strain
+        history%linear_momentum(:, r) = linear
+        history%angular_momentum(:, r) = angular
+        history%center_of_mass(:, r) = position / this%length
+        history%constraint_residual(r) = 0.0_rk
+        do k = 1, this%n_nodes
+            history%position(:, k, r) = this%q_1(1:3, k)
+            history%velocity(:, k, r) = this%v_1(1:3, k)
+            do i = 1, 3
+                history%directors(:, i, k, r) = this%q_1(3 * i + 1 : 3 * i + 3, k)
+                history%director_velocity(:, i, k, r) = this%v_1(3 * i + 1 : 3 * i + 3, k)
+            end do
+            history%constraint_residual(r) = max(history%constraint_residual(r), &
+                maxval(abs(ph_director_node_constraint(this%q_1(:, k)))))
+        end do
+        do e = 1, this%n_elements
+            history%stress(:, (e - 1) * this%degree + 1 : e * this%degree, r) = this%s_1(:, :, e)
+        end do
+        history%external_work(r) = this%work_since_record
+        history%balance_error(r) = this%balance_since_record
+        history%newton_iterations(r) = this%iterations_since_record
+        history%newton_residual(r) = this%last_residual
+        history%dt(r) = merge(0.0_rk, this%smallest_step, this%smallest_step == huge(1.0_rk))
+        this%work_since_record = 0.0_rk
+        this%balance_since_record = 0.0_rk
+        this%iterations_since_record = 0
+        this%smallest_step = huge(1.0_rk)
+        this%last_residual = 0.0_rk
+    end subroutine ph_director_record
+
+    function ph_director_describe(this) result(text)
+        class(ph_director_t), intent(in) :: this
+        character(len=:), allocatable :: text
+        text = 'rod ''' // this%name // ''': ph_director, ' // str(this%n_elements) // &
+            ' elements of degree ' // str(this%degree) // ', ' // str(this%basis%n_gauss) // &
+            ' Gauss points, ' // str(this%n_unknown()) // ' Newton unknowns (' // &
+            trim(merge('stresses condensed', 'uncondensed       ', this%condensed)) // '), ' // &
+            str(this%pattern%nnz()) // ' Jacobian non-zeros'
+    end function ph_director_describe
+
+end module rs_ph_director

@@ -1,0 +1,608 @@
+!> A thin, checked layer over the HDF5 Fortran API for writing one file from one rank (DESIGN.md
+!> §7; only src/io/ calls HDF5, STYLE.md item 6). The default (serial) file driver is used: the
+!> caller guarantees that only one rank calls it (rank 0 after a gather).
+!>
+!> Every HDF5 call is checked; a failure returns an `error_t` naming the HDF5 call, the object
+!> and the file, and HDF5's own error-stack printing is switched off so that the message is the
+!> only output.
+!>
+!> Conventions of the files written here:
+!> - Fortran arrays are stored in Fortran order, so h5py and C see the dimensions reversed: a
+!>   Fortran array (3, n_nodes, n_steps) is an h5py dataset of shape (n_steps, n_nodes, 3).
+!> - Reals are IEEE double (little endian) and integers 32-bit signed in the file.
+!> - Strings (attributes and text datasets) are variable-length UTF-8 scalars: h5py returns
+!>   `str` for attributes and `bytes` for datasets (`ds.asstr()[()]` gives `str`). A string is
+!>   cut at its first NUL character.
+!> - A dataset whose last Fortran dimension counts stored steps (`series = .true.`) is chunked
+!>   along that dimension (min(n, 64) steps, fewer when one chunk would exceed 1 MiB; every other
+!>   dimension whole) and has an unlimited maximum there, so it can grow record by record.
+!>   Other datasets are contiguous.
+module rs_io_hdf5_file
+    use, intrinsic :: iso_c_binding, only: c_char, c_int, c_null_char, c_ptr, c_null_ptr, c_loc
+    use hdf5, only: hid_t, hsize_t, h5open_f, h5eset_auto_f, h5fcreate_f, h5fclose_f, &
+        h5gcreate_f, h5gclose_f, h5lexists_f, h5oopen_f, h5oclose_f, h5screate_f, &
+        h5screate_simple_f, h5sclose_f, h5tcopy_f, h5tset_cset_f, h5tclose_f, h5aexists_f, &
+        h5adelete_f, h5acreate_f, h5awrite_f, h5aclose_f, h5pcreate_f, h5pset_chunk_f, &
+        h5pclose_f, h5dcreate_f, h5dwrite_f, h5dclose_f, H5F_ACC_TRUNC_F, H5S_SCALAR_F, &
+        H5S_UNLIMITED_F, H5P_DATASET_CREATE_F, H5T_STRING, H5T_CSET_UTF8_F, H5T_NATIVE_DOUBLE, &
+        H5T_NATIVE_INTEGER, H5T_IEEE_F64LE, H5T_STD_I32LE
+    use rs_core_kinds, only: rk
+    use rs_core_error, only: error_t, set_error
+    implicit none
+    private
+
+    public :: hdf5_file_t
+
+    !> Most stored steps in one chunk of a series dataset.
+    integer, parameter, public :: max_chunk_steps = 64
+    !> Largest chunk of a series dataset in bytes (HDF5's default chunk cache is 1 MiB).
+    integer, parameter :: max_chunk_bytes = 1024 * 1024
+
+    integer(c_int), parameter :: access_exists = 0, access_write = 2
+
+    !> One HDF5 file open for writing. Object paths are absolute ("/rods/arm/position") or
+    !> relative to the root group; "/" is the root group.
+    type :: hdf5_file_t
+        !> HDF5 file identifier; negative while no file is open.
+        integer(hid_t) :: id = -1
+        !> The file name as given to `create`, for messages.
+        character(len=:), allocatable :: path
+    contains
+        !> Create (or truncate) a file, creating missing parent directories.
+        procedure :: create => file_create
+        !> Close the file; does nothing when none is open.
+        procedure :: close => file_close
+        !> Whether a file is open.
+        procedure :: is_open => file_is_open
+        !> Create a group and any missing groups above it; an existing group is not an error.
+        procedure :: create_group => file_create_group
+        !> Write (or replace) an attribute of a group or dataset: a string, a default integer,
+        !> a real scalar or a real vector.
+        generic :: write_attribute => write_attribute_string, write_attribute_integer, &
+            write_attribute_real, write_attribute_real_vector
+        !> Write a scalar variable-length string dataset with `unit` and `description`.
+        procedure :: write_string_dataset => file_write_string_dataset
+        !> Write a real dataset of rank 1 to 4 or an integer dataset of rank 1 from a Fortran
+        !> array, with `unit` and `description` attributes.
+        generic :: write_dataset => write_real_1, write_real_2, write_real_3, write_real_4, &
+            write_integer_1
+        procedure, private :: write_attribute_string, write_attribute_integer, &
+            write_attribute_real, write_attribute_real_vector
+        procedure, private :: write_real_1, write_real_2, write_real_3, write_real_4, &
+            write_integer_1
+        procedure, private :: write_numeric_dataset, write_attribute_buffer, failed, &
+            prepare_dataset, check_open
+    end type hdf5_file_t
+
+    interface
+        function c_mkdir(path, mode) bind(C, name='mkdir') result(status)
+            import :: c_char, c_int
+            character(kind=c_char), intent(in) :: path(*)
+            integer(c_int), value :: mode
+            integer(c_int) :: status
+        end function c_mkdir
+
+        function c_access(path, mode) bind(C, name='access') result(status)
+            import :: c_char, c_int
+            character(kind=c_char), intent(in) :: path(*)
+            integer(c_int), value :: mode
+            integer(c_int) :: status
+        end function c_access
+    end interface
+
+contains
+
+    !> Create the file `path` for writing, replacing an existing file of that name. Missing
+    !> parent directories are created (mode 0777 less the umask). Fails with a message naming
+    !> the directory when it cannot be created or is not writable.
+    subroutine file_create(this, path, err)
+        class(hdf5_file_t), intent(inout) :: this
+        character(len=*), intent(in) :: path
+        type(error_t), allocatable, intent(out) :: err
+        character(len=*), parameter :: routine = 'hdf5_file%create'
+        character(len=:), allocatable :: directory
+        integer :: status, slash
+
+        if (this%is_open()) then
+            call set_error(err, 'cannot create "' // path // '": this object still has "' // &
+                this%path // '" open', routine, __FILE__, __LINE__)
+            return
+        end if
+        this%path = path
+        if (len_trim(path) == 0) then
+            call set_error(err, 'cannot create an HDF5 file with an empty name', routine, &
+                __FILE__, __LINE__)
+            return
+        end if
+        slash = index(path, '/', back=.true.)
+        if (slash == 0) then
+            directory = '.'
+        else if (slash == 1) then
+            directory = '/'
+        else
+            directory = path(1:slash - 1)
+        end if
+        if (slash == len(path)) then
+            call set_error(err, 'cannot create "' // path // '": the name is a directory', &
+                routine, __FILE__, __LINE__)
+            return
+        end if
+        call make_directories(directory)
+        ! "dir/." resolves only when dir is a directory (a regular file gives ENOTDIR).
+        if (c_access(c_string(directory // '/.'), access_exists) /= 0) then
+            call set_error(err, 'cannot create the directory "' // directory // &
+                '" for the output file "' // path // '"', routine, __FILE__, __LINE__)
+            return
+        end if
+        if (c_access(c_string(directory), access_write) /= 0) then
+            call set_error(err, 'cannot create "' // path // '": the directory "' // directory // &
+                '" is not writable', routine, __FILE__, __LINE__)
+            return
+        end if
+
+        call h5open_f(status)
+        if (this%failed(status, 'H5open', '/', routine, __LINE__, err)) return
+        call h5eset_auto_f(0, status)
+        if (this%failed(status, 'H5Eset_auto', '/', routine, __LINE__, err)) return
+        call h5fcreate_f(path, H5F_ACC_TRUNC_F, this%id, status)
+        if (status /= 0) then
+            this%id = -1
+            call set_error(err, 'cannot create the HDF5 file "' // path // &
+                '" (H5Fcreate failed: is it open in another program, or the disk full?)', &
+                routine, __FILE__, __LINE__)
+        end if
+    end subroutine file_create
+
+    !> Close the file. Every object this module opens is closed before its procedure returns,
+    !> so closing flushes everything written.
+    subroutine file_close(this, err)
+        class(hdf5_file_t), intent(inout) :: this
+        type(error_t), allocatable, intent(out) :: err
+        integer :: status
+        if (.not. this%is_open()) return
+        call h5fclose_f(this%id, status)
+        this%id = -1
+        if (this%failed(status, 'H5Fclose', '/', 'hdf5_file%close', __LINE__, err)) return
+    end subroutine file_close
+
+    logical function file_is_open(this)
+        class(hdf5_file_t), intent(in) :: this
+        file_is_open = this%id >= 0
+    end function file_is_open
+
+    !> Create the group `path` with the groups above it; existing groups are kept.
+    subroutine file_create_group(this, path, err)
+        class(hdf5_file_t), intent(inout) :: this
+        character(len=*), intent(in) :: path
+        type(error_t), allocatable, intent(out) :: err
+        character(len=*), parameter :: routine = 'hdf5_file%create_group'
+        integer(hid_t) :: group
+        integer :: status, i
+        logical :: exists
+        call this%check_open(path, routine, err)
+        if (allocated(err)) return
+        do i = 2, len(path) + 1
+            if (i <= len(path)) then
+                if (path(i:i) /= '/') cycle
+            end if
+            if (path(i - 1:i - 1) == '/') cycle
+            call h5lexists_f(this%id, path(1:i - 1), exists, status)
+            if (this%failed(status, 'H5Lexists', path(1:i - 1), routine, __LINE__, err)) return
+            if (exists) cycle
+            call h5gcreate_f(this%id, path(1:i - 1), group, status)
+            if (this%failed(status, 'H5Gcreate', path(1:i - 1), routine, __LINE__, err)) return
+            call h5gclose_f(group, status)
+            if (this%failed(status, 'H5Gclose', path(1:i - 1), routine, __LINE__, err)) return
+        end do
+    end subroutine file_create_group
+
+    !> A string attribute `name` = `value` on the group or dataset `object`.
+    subroutine write_attribute_string(this, object, name, value, err)
+        class(hdf5_file_t), intent(inout) :: this
+        character(len=*), intent(in) :: object, name, value
+        type(error_t), allocatable, intent(out) :: err
+        character(kind=c_char), allocatable, target :: text(:)
+        type(c_ptr), target :: pointer
+        integer(hid_t) :: string_type
+        integer :: status
+        character(len=*), parameter :: routine = 'hdf5_file%write_attribute'
+        call this%check_open(object, routine, err)
+        if (allocated(err)) return
+        call new_string_type(string_type, status)
+        if (this%failed(status, 'H5Tcopy/H5Tset_cset', object // '@' // name, routine, &
+                __LINE__, err)) return
+        allocate(text, source=c_string(value))
+        pointer = c_loc(text)
+        call this%write_attribute_buffer(object, name, string_type, string_type, &
+            [integer(hsize_t) ::], c_loc(pointer), err)
+        call h5tclose_f(string_type, status)
+        if (allocated(err)) return
+        if (this%failed(status, 'H5Tclose', object // '@' // name, routine, __LINE__, err)) return
+    end subroutine write_attribute_string
+
+    !> An integer attribute (32-bit in the file) `name` = `value` on `object`.
+    subroutine write_attribute_integer(this, object, name, value, err)
+        class(hdf5_file_t), intent(inout) :: this
+        character(len=*), intent(in) :: object, name
+        integer, intent(in), target :: value
+        type(error_t), allocatable, intent(out) :: err
+        call this%write_attribute_buffer(object, name, H5T_STD_I32LE, H5T_NATIVE_INTEGER, &
+            [integer(hsize_t) ::], c_loc(value), err)
+    end subroutine write_attribute_integer
+
+    !> A real scalar attribute `name` = `value` on `object`.
+    subroutine write_attribute_real(this, object, name, value, err)
+        class(hdf5_file_t), intent(inout) :: this
+        character(len=*), intent(in) :: object, name
+        real(rk), intent(in), target :: value
+        type(error_t), allocatable, intent(out) :: err
+        call this%write_attribute_buffer(object, name, H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, &
+            [integer(hsize_t) ::], c_loc(value), err)
+    end subroutine write_attribute_real
+
+    !> A real vector attribute `name` = `values` on `object` (an empty vector is allowed).
+    subroutine write_attribute_real_vector(this, object, name, values, err)
+        class(hdf5_file_t), intent(inout) :: this
+        character(len=*), intent(in) :: object, name
+        real(rk), intent(in), target, contiguous :: values(:)
+        type(error_t), allocatable, intent(out) :: err
+        real(rk), target :: dummy(1)
+        if (size(values) == 0) then
+            call this%write_attribute_buffer(object, name, H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, &
+                [0_hsize_t], c_loc(dummy), err)
+        else
+            call this%write_attribute_buffer(object, name, H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, &
+                [int(size(values), hsize_t)], c_loc(values), err)
+        end if
+    end subroutine write_attribute_real_vector
+
+    !> A scalar variable-length UTF-8 string dataset `path` holding `text` (e.g. a whole input
+    !> file), with a `description` and an empty `unit` (text has none).
+    subroutine file_write_string_dataset(this, path, text, description, err)
+        class(hdf5_file_t), intent(inout) :: this
+        character(len=*), intent(in) :: path, text, description
+        type(error_t), allocatable, intent(out) :: err
+        character(len=*), parameter :: routine = 'hdf5_file%write_string_dataset'
+        character(kind=c_char), allocatable, target :: buffer(:)
+        type(c_ptr), target :: pointer
+        integer(hid_t) :: string_type, space, dataset
+        integer :: status, close_status
+
+        call this%prepare_dataset(path, routine, err)
+        if (allocated(err)) return
+        string_type = -1
+        space = -1
+        dataset = -1
+        body: block
+            call new_string_type(string_type, status)
+            if (this%failed(status, 'H5Tcopy/H5Tset_cset', path, routine, __LINE__, err)) &
+                exit body
+            call h5screate_f(H5S_SCALAR_F, space, status)
+            if (this%failed(status, 'H5Screate', path, routine, __LINE__, err)) exit body
+            call h5dcreate_f(this%id, path, string_type, space, dataset, status)
+            if (this%failed(status, 'H5Dcreate', path, routine, __LINE__, err)) exit body
+            allocate(buffer, source=c_string(text))
+            pointer = c_loc(buffer)
+            call h5dwrite_f(dataset, string_type, c_loc(pointer), status)
+            if (this%failed(status, 'H5Dwrite', path, routine, __LINE__, err)) exit body
+        end block body
+        call close_all(dataset, space, string_type, close_status)
+        if (allocated(err)) return
+        if (this%failed(close_status, 'H5Dclose/H5Sclose/H5Tclose', path, routine, __LINE__, &
+                err)) return
+        call this%write_attribute(path, 'unit', '', err)
+        if (allocated(err)) return
+        call this%write_attribute(path, 'description', description, err)
+    end subroutine file_write_string_dataset
+
+    !> A real rank-1 dataset (h5py shape (n,)). With `series`, the dimension counts steps.
+    subroutine write_real_1(this, path, values, unit, description, err, series)
+        class(hdf5_file_t), intent(inout) :: this
+        character(len=*), intent(in) :: path, unit, description
+        real(rk), intent(in), target, contiguous :: values(:)
+        type(error_t), allocatable, intent(out) :: err
+        logical, intent(in), optional :: series
+        type(c_ptr) :: data
+        data = c_null_ptr
+        if (size(values) > 0) data = c_loc(values)
+        call this%write_numeric_dataset(path, int(shape(values), hsize_t), H5T_IEEE_F64LE, &
+            H5T_NATIVE_DOUBLE, storage_size(values) / 8, data, unit, description, &
+            optional_true(series), err)
+    end subroutine write_real_1
+
+    !> A real rank-2 dataset; h5py shows the dimensions reversed. With `series`, the last
+    !> Fortran dimension (h5py's first) counts steps.
+    subroutine write_real_2(this, path, values, unit, description, err, series)
+        class(hdf5_file_t), intent(inout) :: this
+        character(len=*), intent(in) :: path, unit, description
+        real(rk), intent(in), target, contiguous :: values(:, :)
+        type(error_t), allocatable, intent(out) :: err
+        logical, intent(in), optional :: series
+        type(c_ptr) :: data
+        data = c_null_ptr
+        if (size(values) > 0) data = c_loc(values)
+        call this%write_numeric_dataset(path, int(shape(values), hsize_t), H5T_IEEE_F64LE, &
+            H5T_NATIVE_DOUBLE, storage_size(values) / 8, data, unit, description, &
+            optional_true(series), err)
+    end subroutine write_real_2
+
+    !> A real rank-3 dataset; h5py shows the dimensions reversed. With `series`, the last
+    !> Fortran dimension (h5py's first) counts steps.
+    subroutine write_real_3(this, path, values, unit, description, err, series)
+        class(hdf5_file_t), intent(inout) :: this
+        character(len=*), intent(in) :: path, unit, description
+        real(rk), intent(in), target, contiguous :: values(:, :, :)
+        type(error_t), allocatable, intent(out) :: err
+        logical, intent(in), optional :: series
+        type(c_ptr) :: data
+        data = c_null_ptr
+        if (size(values) > 0) data = c_loc(values)
+        call this%write_numeric_dataset(path, int(shape(values), hsize_t), H5T_IEEE_F64LE, &
+            H5T_NATIVE_DOUBLE, storage_size(values) / 8, data, unit, description, &
+            optional_true(series), err)
+    end subroutine write_real_3
+
+    !> A real rank-4 dataset; h5py shows the dimensions reversed. With `series`, the last
+    !> Fortran dimension (h5py's first) counts steps.
+    subroutine write_real_4(this, path, values, unit, description, err, series)
+        class(hdf5_file_t), intent(inout) :: this
+        character(len=*), intent(in) :: path, unit, description
+        real(rk), intent(in), target, contiguous :: values(:, :, :, :)
+        type(error_t), allocatable, intent(out) :: err
+        logical, intent(in), optional :: series
+        type(c_ptr) :: data
+        data = c_null_ptr
+        if (size(values) > 0) data = c_loc(values)
+        call this%write_numeric_dataset(path, int(shape(values), hsize_t), H5T_IEEE_F64LE, &
+            H5T_NATIVE_DOUBLE, storage_size(values) / 8, data, unit, description, &
+            optional_true(series), err)
+    end subroutine write_real_4
+
+    !> A default-integer rank-1 dataset (32-bit in the file). With `series`, the dimension
+    !> counts steps.
+    subroutine write_integer_1(this, path, values, unit, description, err, series)
+        class(hdf5_file_t), intent(inout) :: this
+        character(len=*), intent(in) :: path, unit, description
+        integer, intent(in), target, contiguous :: values(:)
+        type(error_t), allocatable, intent(out) :: err
+        logical, intent(in), optional :: series
+        type(c_ptr) :: data
+        data = c_null_ptr
+        if (size(values) > 0) data = c_loc(values)
+        call this%write_numeric_dataset(path, int(shape(values), hsize_t), H5T_STD_I32LE, &
+            H5T_NATIVE_INTEGER, storage_size(values) / 8, data, unit, description, &
+            optional_true(series), err)
+    end subroutine write_integer_1
+
+    !> Create the dataset `path` of Fortran shape `dims`, write `data` (not referenced when the
+    !> dataset is empty) and its `unit` and `description`.
+    subroutine write_numeric_dataset(this, path, dims, file_type, memory_type, element_bytes, &
+            data, unit, description, series, err)
+        class(hdf5_file_t), intent(inout) :: this
+        character(len=*), intent(in) :: path, unit, description
+        integer(hsize_t), intent(in) :: dims(:)
+        integer(hid_t), intent(in) :: file_type, memory_type
+        integer, intent(in) :: element_bytes
+        type(c_ptr), intent(in) :: data
+        logical, intent(in) :: series
+        type(error_t), allocatable, intent(out) :: err
+        character(len=*), parameter :: routine = 'hdf5_file%write_dataset'
+        integer(hid_t) :: space, dataset, properties
+        integer(hsize_t) :: max_dims(size(dims)), chunk(size(dims)), step_bytes
+        integer :: status, close_status, rank
+
+        call this%prepare_dataset(path, routine, err)
+        if (allocated(err)) return
+        rank = size(dims)
+        space = -1
+        dataset = -1
+        properties = -1
+        body: block
+            call h5pcreate_f(H5P_DATASET_CREATE_F, properties, status)
+            if (this%failed(status, 'H5Pcreate', path, routine, __LINE__, err)) exit body
+            max_dims = dims
+            if (series) then
+                ! DESIGN.md §7: chunked and extendable along the steps.
+                max_dims(rank) = H5S_UNLIMITED_F
+                chunk = max(dims, 1_hsize_t)
+                step_bytes = product(chunk(1:rank - 1)) * int(element_bytes, hsize_t)
+                chunk(rank) = max(1_hsize_t, min(dims(rank), int(max_chunk_steps, hsize_t), &
+                    int(max_chunk_bytes, hsize_t) / step_bytes))
+                call h5pset_chunk_f(properties, rank, chunk, status)
+                if (this%failed(status, 'H5Pset_chunk', path, routine, __LINE__, err)) exit body
+            end if
+            call h5screate_simple_f(rank, dims, space, status, max_dims)
+            if (this%failed(status, 'H5Screate_simple', path, routine, __LINE__, err)) exit body
+            call h5dcreate_f(this%id, path, file_type, space, dataset, status, &
+                dcpl_id=properties)
+            if (this%failed(status, 'H5Dcreate', path, routine, __LINE__, err)) exit body
+            if (product(dims) > 0) then
+                call h5dwrite_f(dataset, memory_type, data, status)
+                if (this%failed(status, 'H5Dwrite', path, routine, __LINE__, err)) exit body
+            end if
+        end block body
+        call close_all(dataset, space, -1_hid_t, close_status, properties)
+        if (allocated(err)) return
+        if (this%failed(close_status, 'H5Dclose/H5Sclose/H5Pclose', path, routine, __LINE__, &
+                err)) return
+        call this%write_attribute(path, 'unit', unit, err)
+        if (allocated(err)) return
+        call this%write_attribute(path, 'description', description, err)
+    end subroutine write_numeric_dataset
+
+    !> Create or replace attribute `name` of `object` with dataspace `dims` (scalar when empty)
+    !> and write `data` of `memory_type`.
+    subroutine write_attribute_buffer(this, object, name, file_type, memory_type, dims, data, err)
+        class(hdf5_file_t), intent(inout) :: this
+        character(len=*), intent(in) :: object, name
+        integer(hid_t), intent(in) :: file_type, memory_type
+        integer(hsize_t), intent(in) :: dims(:)
+        type(c_ptr), intent(in) :: data
+        type(error_t), allocatable, intent(out) :: err
+        character(len=*), parameter :: routine = 'hdf5_file%write_attribute'
+        integer(hid_t) :: target_object, space, attribute
+        integer :: status, close_status
+        logical :: exists
+        character(len=:), allocatable :: what
+
+        call this%check_open(object, routine, err)
+        if (allocated(err)) return
+        what = 'attribute "' // name // '" of ' // object
+        target_object = -1
+        space = -1
+        attribute = -1
+        body: block
+            call h5oopen_f(this%id, object, target_object, status)
+            if (this%failed(status, 'H5Oopen', object, routine, __LINE__, err)) exit body
+            call h5aexists_f(target_object, name, exists, status)
+            if (this%failed(status, 'H5Aexists', what, routine, __LINE__, err)) exit body
+            if (exists) then
+                call h5adelete_f(target_object, name, status)
+                if (this%failed(status, 'H5Adelete', what, routine, __LINE__, err)) exit body
+            end if
+            if (size(dims) == 0) then
+                call h5screate_f(H5S_SCALAR_F, space, status)
+            else
+                call h5screate_simple_f(size(dims), dims, space, status)
+            end if
+            if (this%failed(status, 'H5Screate', what, routine, __LINE__, err)) exit body
+            call h5acreate_f(target_object, name, file_type, space, attribute, status)
+            if (this%failed(status, 'H5Acreate', what, routine, __LINE__, err)) exit body
+            if (product(dims) > 0) then
+                call h5awrite_f(attribute, memory_type, data, status)
+                if (this%failed(status, 'H5Awrite', what, routine, __LINE__, err)) exit body
+            end if
+        end block body
+        close_status = 0
+        if (attribute >= 0) call h5aclose_f(attribute, status)
+        if (attribute >= 0 .and. status /= 0) close_status = status
+        if (space >= 0) call h5sclose_f(space, status)
+        if (space >= 0 .and. status /= 0) close_status = status
+        if (target_object >= 0) call h5oclose_f(target_object, status)
+        if (target_object >= 0 .and. status /= 0) close_status = status
+        if (allocated(err)) return
+        if (this%failed(close_status, 'H5Aclose/H5Sclose/H5Oclose', what, routine, __LINE__, &
+                err)) return
+    end subroutine write_attribute_buffer
+
+    !> Before creating dataset `path`: the file is open, the groups above exist and the name is
+    !> free (a clear message instead of H5Dcreate's failure).
+    subroutine prepare_dataset(this, path, routine, err)
+        class(hdf5_file_t), intent(inout) :: this
+        character(len=*), intent(in) :: path, routine
+        type(error_t), allocatable, intent(out) :: err
+        integer :: slash, status
+        logical :: exists
+        call this%check_open(path, routine, err)
+        if (allocated(err)) return
+        slash = index(path, '/', back=.true.)
+        if (slash == len(path) .or. len(path) == 0) then
+            call set_error(err, 'invalid dataset name "' // path // '" in "' // this%path // '"', &
+                routine, __FILE__, __LINE__)
+            return
+        end if
+        if (slash > 1) then
+            call this%create_group(path(1:slash - 1), err)
+            if (allocated(err)) return
+        end if
+        call h5lexists_f(this%id, path, exists, status)
+        if (this%failed(status, 'H5Lexists', path, routine, __LINE__, err)) return
+        if (exists) then
+            call set_error(err, 'cannot create dataset "' // path // '" in "' // this%path // &
+                '": the name exists already', routine, __FILE__, __LINE__)
+        end if
+    end subroutine prepare_dataset
+
+    subroutine check_open(this, object, routine, err)
+        class(hdf5_file_t), intent(in) :: this
+        character(len=*), intent(in) :: object, routine
+        type(error_t), allocatable, intent(out) :: err
+        if (.not. this%is_open()) call set_error(err, 'cannot write "' // object // &
+            '": no HDF5 file is open', routine, __FILE__, __LINE__)
+    end subroutine check_open
+
+    !> True (and `err` set, naming the HDF5 call, the object and the file) when `status` is a
+    !> failure of an HDF5 call.
+    logical function failed(this, status, call_name, object, routine, line, err)
+        class(hdf5_file_t), intent(in) :: this
+        integer, intent(in) :: status, line
+        character(len=*), intent(in) :: call_name, object, routine
+        type(error_t), allocatable, intent(inout) :: err
+        character(len=:), allocatable :: file_name
+        failed = status /= 0
+        if (.not. failed) return
+        file_name = '(no file)'
+        if (allocated(this%path)) file_name = this%path
+        call set_error(err, 'HDF5 call ' // call_name // ' failed for "' // object // &
+            '" in "' // file_name // '"', routine, __FILE__, line)
+    end function failed
+
+    !> A variable-length UTF-8 string type (h5py reads its attributes as str).
+    subroutine new_string_type(string_type, status)
+        integer(hid_t), intent(out) :: string_type
+        integer, intent(out) :: status
+        call h5tcopy_f(H5T_STRING, string_type, status)
+        if (status /= 0) then
+            string_type = -1
+            return
+        end if
+        call h5tset_cset_f(string_type, H5T_CSET_UTF8_F, status)
+    end subroutine new_string_type
+
+    !> Close the identifiers that are open (non-negative); `status` is the first failure.
+    subroutine close_all(dataset, space, datatype, status, properties)
+        integer(hid_t), intent(in) :: dataset, space, datatype
+        integer, intent(out) :: status
+        integer(hid_t), intent(in), optional :: properties
+        integer :: one
+        status = 0
+        if (dataset >= 0) then
+            call h5dclose_f(dataset, one)
+            if (status == 0) status = one
+        end if
+        if (space >= 0) then
+            call h5sclose_f(space, one)
+            if (status == 0) status = one
+        end if
+        if (datatype >= 0) then
+            call h5tclose_f(datatype, one)
+            if (status == 0) status = one
+        end if
+        if (present(properties)) then
+            if (properties >= 0) then
+                call h5pclose_f(properties, one)
+                if (status == 0) status = one
+            end if
+        end if
+    end subroutine close_all
+
+    !> `mkdir -p directory`: failures are ignored here and detected by the caller's check.
+    subroutine make_directories(directory)
+        character(len=*), intent(in) :: directory
+        integer :: i, status
+        do i = 2, len(directory) + 1
+            if (i <= len(directory)) then
+                if (directory(i:i) /= '/') cycle
+            end if
+            status = c_mkdir(c_string(directory(1:i - 1)), int(o'777', c_int))
+        end do
+    end subroutine make_directories
+
+    !> `text` as a NUL-terminated C character array.
+    pure function c_string(text) result(chars)
+        character(len=*), intent(in) :: text
+        character(kind=c_char) :: chars(len(text) + 1)
+        integer :: i
+        do i = 1, len(text)
+            chars(i) = text(i:i)
+        end do
+        chars(len(text) + 1) = c_null_char
+    end function c_string
+
+    pure logical function optional_true(flag)
+        logical, intent(in), optional :: flag
+        optional_true = .false.
+        if (present(flag)) optional_true = flag
+    end function optional_true
+
+end module rs_io_hdf5_file

@@ -1,0 +1,46 @@
+!> What each formulation can do: the capability matrix of DESIGN.md §1 as data, so that
+!> `--check-input` rejects a scene that asks a formulation for more than it has and
+!> docs/user/capabilities.md can be checked against it. A formulation that is not available in
+!> this build has an empty row.
+module rs_model_capabilities
+    implicit none
+    private
+
+    public :: capability_of, lists_name
+
+    !> One row of the matrix. Lists are '|'-separated names, empty when nothing is supported.
+    type, public :: capability_t
+        character(len=32) :: formulation = ''
+        logical :: available = .false.
+        character(len=64) :: end_kinds = ''
+        character(len=64) :: load_places = ''
+        character(len=64) :: load_frames = ''
+        character(len=64) :: constraints = ''
+        logical :: quasistatic = .false.
+    end type capability_t
+
+contains
+
+    !> The row of formulation `name` (an unavailable row if the name is unknown).
+    pure function capability_of(name) result(row)
+        character(len=*), intent(in) :: name
+        type(capability_t) :: row
+        row%formulation = name
+        select case (trim(name))
+        case ('ph_director')
+            ! seed 000 §2.9 and §6.1: clamped (Dirichlet) and free (Neumann) ends; dead end
+            ! loads, distributed loads and gravity; the straight stress-free reference.
+            row = capability_t('ph_director', .true., 'clamped|free', 'start|end|distributed|gravity', &
+                'spatial', 'none', .false.)
+        end select
+    end function capability_of
+
+    !> True if `name` is one of the '|'-separated names in `list` (a blank name, or one that
+    !> contains '|', is never listed).
+    pure logical function lists_name(list, name)
+        character(len=*), intent(in) :: list, name
+        lists_name = len_trim(name) > 0 .and. index(name, '|') == 0 .and. &
+            index('|' // trim(list) // '|', '|' // trim(name) // '|') > 0
+    end function lists_name
+
+end module rs_model_capabilities

@@ -1,0 +1,125 @@
+!> Time functions that scale loads: the factor f(t) of a `&load` (DESIGN.md §6).
+!>
+!> - `constant`: f = 1 at all times.
+!> - `ramp`: 0 up to t_on, linear to 1 at t_off, 1 afterwards.
+!> - `hat`: 0 outside [t_on, t_off], linear up to 1 at the centre and back to 0 at t_off; the
+!>   load history of the flying spaghetti (seed 000 §6.1, methods/ph_director_3d.md §6.1:
+!>   f(t) = 80 t up to 2.5, 400 - 80 t up to 5, is 200 * hat with t_on = 0, t_off = 5).
+!> - `pulse`: the smooth pulse of seed 000 §6.2, f = (1 - cos(2 pi (t - t_on)/(t_off - t_on)))/2
+!>   inside [t_on, t_off], 0 outside (peak 1 at the centre).
+!> - `table`: piecewise linear through (table_times, table_values), constant beyond the ends.
+!>
+!> The midpoint scheme evaluates f at the mid time t_{n+1/2} (methods §5.1), so a kink of a
+!> piecewise-linear function is only integrated exactly when it lies on a step boundary.
+#include "rs_macros.h"
+module rs_model_time_function
+    use rs_core_kinds, only: rk
+    use rs_core_error, only: error_t, set_error
+    use rs_model_scene, only: load_input_t, unset_real
+    implicit none
+    private
+
+    public :: time_function_from_load
+
+    !> The names `time_function_from_load` accepts.
+    character(len=*), parameter, public :: time_function_names = 'constant|ramp|hat|pulse|table'
+
+    integer, parameter :: kind_constant = 1, kind_ramp = 2, kind_hat = 3, kind_pulse = 4, &
+        kind_table = 5
+
+    !> A scalar function of time, evaluated by `value`.
+    type, public :: time_function_t
+        integer :: kind = kind_constant
+        real(rk) :: t_on = 0.0_rk
+        real(rk) :: t_off = 1.0_rk
+        real(rk), allocatable :: times(:), values(:)
+    contains
+        procedure :: value => time_function_value
+    end type time_function_t
+
+contains
+
+    !> The time function of a `&load`; an unknown name is an error that lists the valid ones.
+    subroutine time_function_from_load(load, tf, err)
+        type(load_input_t), intent(in) :: load
+        type(time_function_t), intent(out) :: tf
+        type(error_t), allocatable, intent(out) :: err
+        character(len=:), allocatable :: message
+        integer :: n
+        tf%t_on = load%t_on
+        if (load%t_off /= unset_real) tf%t_off = load%t_off
+        select case (trim(load%time_function))
+        case ('constant')
+            tf%kind = kind_constant
+        case ('ramp')
+            tf%kind = kind_ramp
+        case ('hat')
+            tf%kind = kind_hat
+        case ('pulse')
+            tf%kind = kind_pulse
+        case ('table')
+            tf%kind = kind_table
+            n = count(load%table_times /= unset_real)
+            tf%times = load%table_times(1:n)
+            tf%values = load%table_values(1:n)
+            if (n < 1 .or. count(load%table_values /= unset_real) /= n) then
+                RS_SET_ERROR(err, 'time_function_from_load', 'a table needs as many table_values as table_times')
+                return
+            end if
+        case default
+            message = 'unknown time function ''' // trim(load%time_function) // '''; known: ' // &
+                time_function_names
+            RS_SET_ERROR(err, 'time_function_from_load', message)
+            return
+        end select
+        if (tf%kind /= kind_constant .and. tf%kind /= kind_table .and. tf%t_off <= tf%t_on) then
+            RS_SET_ERROR(err, 'time_function_from_load', 'time function needs t_off > t_on')
+        end if
+    end subroutine time_function_from_load
+
+    !> f(t).
+    pure real(rk) function time_function_value(this, t) result(f)
+        class(time_function_t), intent(in) :: this
+        real(rk), intent(in) :: t
+        real(rk), parameter :: two_pi = 2.0_rk * acos(-1.0_rk)
+        real(rk) :: x
+        integer :: i
+        ! Only ramp, hat and pulse have t_off > t_on; a constant or table may have t_off = t_on.
+        x = 0.0_rk
+        if (any(this%kind == [kind_ramp, kind_hat, kind_pulse])) then
+            x = (t - this%t_on) / (this%t_off - this%t_on)
+        end if
+        select case (this%kind)
+        case (kind_ramp)
+            f = min(1.0_rk, max(0.0_rk, x))
+        case (kind_hat)
+            if (x <= 0.0_rk .or. x >= 1.0_rk) then
+                f = 0.0_rk
+            else
+                f = 1.0_rk - abs(2.0_rk * x - 1.0_rk)
+            end if
+        case (kind_pulse)
+            if (x <= 0.0_rk .or. x >= 1.0_rk) then
+                f = 0.0_rk
+            else
+                f = 0.5_rk * (1.0_rk - cos(two_pi * x))
+            end if
+        case (kind_table)
+            associate (ts => this%times, vs => this%values)
+                if (t <= ts(1)) then
+                    f = vs(1)
+                else if (t >= ts(size(ts))) then
+                    f = vs(size(vs))
+                else
+                    do i = 2, size(ts)
+                        if (t <= ts(i)) exit
+                    end do
+                    f = vs(i - 1) + (vs(i) - vs(i - 1)) * (t - ts(i - 1)) / (ts(i) - ts(i - 1))
+                end if
+            end associate
+        case default
+            f = 1.0_rk
+        end select
+    end function time_function_value
+
+end module rs_model_time_function

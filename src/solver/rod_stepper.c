@@ -1,0 +1,628 @@
+/* The rod stepper (interface and callback rules in include/rs_rod_stepper.h): one rodmid TS on
+   PETSC_COMM_SELF per rod (DESIGN.md §5: each rod is solved with sequential objects, no
+   communication in the time loop), driven from Fortran through bind(C).
+
+   The functions called from Fortran return int and a message; the work is done in
+   PetscErrorCode functions with PetscCall, and a PETSc error handler pushed around them keeps
+   the first PETSc message so that it reaches the Fortran error object (STYLE.md item 11).
+
+   Floating-point traps: Debug builds trap invalid, zero and overflow in rodsolve's Fortran
+   (cmake/RodsolveFlags.cmake), and the trap mask is global. PETSc makes Inf on purpose (a
+   domain error sets the residual to Inf, VecSetInf computes 1/0), which would kill a Debug
+   run exactly when a step should be cut (DESIGN.md §3). So every entry point runs PETSc in
+   non-stop mode (feholdexcept) and restores the caller's environment on return, and the
+   callbacks run in the caller's environment: kernels keep their traps. */
+#include <petscts.h>
+#include <fenv.h>
+#include <stdarg.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include "rs_rodmid.h"
+#include "rs_rod_stepper.h"
+
+typedef struct {
+    TS             ts;
+    Vec            X;      /* the TS state */
+    Vec            X_prev; /* the state at the start of the substep, for the poststep callback */
+    Mat            J;
+    PetscInt       n_state, n_unknown;
+    rs_cb_residual residual;
+    rs_cb_jacobian jacobian;
+    rs_cb_vec      predictor;
+    rs_cb_update   update;
+    rs_cb_poststep poststep;
+    void          *ctx;
+    fenv_t         caller_env; /* floating-point environment of the Fortran caller */
+} RsStepper;
+
+/* Enter PETSc from the caller: remember its environment, switch traps off. */
+static void enter_petsc(RsStepper *s)
+{
+    feholdexcept(&s->caller_env);
+}
+
+/* Back to the caller, with its traps and its flags (those PETSc raised are dropped). */
+static void leave_petsc(const RsStepper *s)
+{
+    fesetenv(&s->caller_env);
+}
+
+/* A callback runs in the caller's environment; PETSc's is put back afterwards. */
+static void enter_user(const RsStepper *s, fenv_t *petsc_env)
+{
+    fegetenv(petsc_env);
+    fesetenv(&s->caller_env);
+}
+
+static void leave_user(const fenv_t *petsc_env)
+{
+    fesetenv(petsc_env);
+}
+
+/* The first message of a PETSc error, caught while a facade function runs. */
+typedef struct {
+    char text[768];
+    int  have;
+} RsErrorCapture;
+
+static PetscErrorCode capture_error(MPI_Comm comm, int line, const char *fun, const char *file,
+                                    PetscErrorCode n, PetscErrorType p, const char *mess, void *ctx)
+{
+    RsErrorCapture *capture = (RsErrorCapture *)ctx;
+    if (p == PETSC_ERROR_INITIAL && !capture->have) {
+        snprintf(capture->text, sizeof(capture->text), "%s (PETSc error %d in %s)",
+                 mess ? mess : "", (int)n, fun ? fun : "?");
+        capture->have = 1;
+    }
+    /* PETSc still prints its trace, as everywhere else in rodsolve (src/core/error.f90). */
+    return PetscTraceBackErrorHandler(comm, line, fun, file, n, p, mess, NULL);
+}
+
+static void set_message(char *errmsg, int errlen, const char *format, ...)
+{
+    va_list args;
+    if (!errmsg || errlen <= 0) return;
+    va_start(args, format);
+    vsnprintf(errmsg, (size_t)errlen, format, args);
+    va_end(args);
+}
+
+/* A PETSc error of `what` as the message: the caught PETSc text, else PETSc's generic one. */
+static void set_petsc_message(char *errmsg, int errlen, const char *what, PetscErrorCode ierr,
+                              const RsErrorCapture *capture)
+{
+    const char *generic = NULL;
+    if (capture->have) {
+        set_message(errmsg, errlen, "%s: %s", what, capture->text);
+    } else {
+        PetscErrorMessage(ierr, &generic, NULL);
+        set_message(errmsg, errlen, "%s: PETSc error %d (%s)", what, (int)ierr,
+                    generic ? generic : "unknown");
+    }
+}
+
+/* ---- The step problem of rodmid, on raw arrays -------------------------------------------- */
+
+static PetscErrorCode step_residual(PetscReal t_n, PetscReal h, Vec X_n, Vec Y, Vec F, void *ctx)
+{
+    RsStepper         *s = (RsStepper *)ctx;
+    const PetscScalar *x, *y;
+    PetscScalar       *f;
+    SNES               snes;
+    int                status;
+    fenv_t             env;
+
+    PetscFunctionBegin;
+    PetscCall(VecGetArrayRead(X_n, &x));
+    PetscCall(VecGetArrayRead(Y, &y));
+    PetscCall(VecGetArray(F, &f));
+    enter_user(s, &env);
+    status = s->residual(s->ctx, t_n, h, x, y, f);
+    leave_user(&env);
+    PetscCall(VecRestoreArray(F, &f));
+    PetscCall(VecRestoreArrayRead(Y, &y));
+    PetscCall(VecRestoreArrayRead(X_n, &x));
+    if (status == 1) {
+        /* DESIGN.md §3: an invalid state cuts the step, not the run. */
+        PetscCall(TSGetSNES(s->ts, &snes));
+        PetscCall(SNESSetFunctionDomainError(snes));
+    } else {
+        PetscCheck(status == 0, PETSC_COMM_SELF, PETSC_ERR_USER,
+                   "the residual callback failed with status %d at t = %g, h = %g", status,
+                   (double)t_n, (double)h);
+    }
+    PetscFunctionReturn(0);
+}
+
+static PetscErrorCode step_jacobian(PetscReal t_n, PetscReal h, Vec X_n, Vec Y, Mat J, void *ctx)
+{
+    RsStepper         *s = (RsStepper *)ctx;
+    const PetscScalar *x, *y;
+    PetscScalar       *values;
+    SNES               snes;
+    int                status;
+    fenv_t             env;
+
+    PetscFunctionBegin;
+    /* The values of an AIJ matrix are stored row by row with sorted columns, i.e. in the order
+       of the CSR pattern it was preallocated from: the callback writes them in place. The
+       pattern never changes, so the factorization's symbolic phase is not redone (§3). */
+    PetscCall(VecGetArrayRead(X_n, &x));
+    PetscCall(VecGetArrayRead(Y, &y));
+    PetscCall(MatSeqAIJGetArray(J, &values));
+    enter_user(s, &env);
+    status = s->jacobian(s->ctx, t_n, h, x, y, values);
+    leave_user(&env);
+    PetscCall(MatSeqAIJRestoreArray(J, &values));
+    PetscCall(VecRestoreArrayRead(Y, &y));
+    PetscCall(VecRestoreArrayRead(X_n, &x));
+    PetscCall(MatAssemblyBegin(J, MAT_FINAL_ASSEMBLY));
+    PetscCall(MatAssemblyEnd(J, MAT_FINAL_ASSEMBLY));
+    if (status == 1) {
+        PetscCall(TSGetSNES(s->ts, &snes));
+        PetscCall(SNESSetJacobianDomainError(snes));
+    } else {
+        PetscCheck(status == 0, PETSC_COMM_SELF, PETSC_ERR_USER,
+                   "the Jacobian callback failed with status %d at t = %g, h = %g", status,
+                   (double)t_n, (double)h);
+    }
+    PetscFunctionReturn(0);
+}
+
+static PetscErrorCode step_predictor(PetscReal t_n, PetscReal h, Vec X_n, Vec Y, void *ctx)
+{
+    RsStepper         *s = (RsStepper *)ctx;
+    const PetscScalar *x;
+    PetscScalar       *y;
+    int                status;
+    fenv_t             env;
+
+    PetscFunctionBegin;
+    PetscCall(VecGetArrayRead(X_n, &x));
+    PetscCall(VecGetArray(Y, &y));
+    enter_user(s, &env);
+    status = s->predictor(s->ctx, t_n, h, x, y);
+    leave_user(&env);
+    PetscCall(VecRestoreArray(Y, &y));
+    PetscCall(VecRestoreArrayRead(X_n, &x));
+    PetscCheck(status == 0, PETSC_COMM_SELF, PETSC_ERR_USER,
+               "the predictor callback failed with status %d at t = %g, h = %g", status,
+               (double)t_n, (double)h);
+    PetscFunctionReturn(0);
+}
+
+static PetscErrorCode step_update(PetscReal t_n, PetscReal h, Vec X_n, Vec Y, Vec X_np1, void *ctx)
+{
+    RsStepper         *s = (RsStepper *)ctx;
+    const PetscScalar *x, *y;
+    PetscScalar       *x1;
+    int                status;
+    fenv_t             env;
+
+    PetscFunctionBegin;
+    PetscCall(VecGetArrayRead(X_n, &x));
+    PetscCall(VecGetArrayRead(Y, &y));
+    PetscCall(VecGetArray(X_np1, &x1));
+    enter_user(s, &env);
+    status = s->update(s->ctx, t_n, h, x, y, x1);
+    leave_user(&env);
+    PetscCall(VecRestoreArray(X_np1, &x1));
+    PetscCall(VecRestoreArrayRead(Y, &y));
+    PetscCall(VecRestoreArrayRead(X_n, &x));
+    PetscCheck(status == 0, PETSC_COMM_SELF, PETSC_ERR_USER,
+               "the update callback failed with status %d at t = %g, h = %g", status, (double)t_n,
+               (double)h);
+    PetscFunctionReturn(0);
+}
+
+/* ---- Create --------------------------------------------------------------------------------- */
+
+/* Problems of the arguments, as a message; 0 if none. */
+static int check_arguments(int n_state, int n_unknown, const int *row_ptr, const int *cols,
+                           rs_cb_residual residual, rs_cb_jacobian jacobian, rs_cb_vec predictor,
+                           rs_cb_update update, double newton_atol, double newton_rtol,
+                           int max_newton, int max_cutbacks, char *errmsg, int errlen)
+{
+    if (n_state < 1 || n_unknown < 1) {
+        set_message(errmsg, errlen, "rod stepper: n_state = %d and n_unknown = %d must be >= 1",
+                    n_state, n_unknown);
+        return 1;
+    }
+    if (!residual || !jacobian) {
+        set_message(errmsg, errlen,
+                    "rod stepper: the residual and Jacobian callbacks are required");
+        return 1;
+    }
+    if (n_unknown != n_state && (!predictor || !update)) {
+        set_message(
+            errmsg, errlen,
+            "rod stepper: n_unknown = %d differs from n_state = %d, so a predictor and an update "
+            "callback are required (the defaults copy X into Y and back)",
+            n_unknown, n_state);
+        return 1;
+    }
+    if (!(newton_atol >= 0.0) || !(newton_rtol >= 0.0) || max_newton < 0 || max_cutbacks < 0) {
+        set_message(
+            errmsg, errlen,
+            "rod stepper: newton_atol = %g and newton_rtol = %g must be >= 0, max_newton = %d and "
+            "max_cutbacks = %d >= 0",
+            newton_atol, newton_rtol, max_newton, max_cutbacks);
+        return 1;
+    }
+    if (!row_ptr || !cols || row_ptr[0] != 0) {
+        set_message(errmsg, errlen,
+                    "rod stepper: the CSR pattern must be given, 0-based (row_ptr[0] = 0)");
+        return 1;
+    }
+    for (int i = 0; i < n_unknown; ++i) {
+        if (row_ptr[i + 1] < row_ptr[i]) {
+            set_message(errmsg, errlen, "rod stepper: row_ptr decreases at row %d (0-based)", i);
+            return 1;
+        }
+        for (int k = row_ptr[i]; k < row_ptr[i + 1]; ++k) {
+            if (cols[k] < 0 || cols[k] >= n_unknown) {
+                set_message(errmsg, errlen,
+                            "rod stepper: column %d of row %d (0-based) is outside 0..%d", cols[k],
+                            i, n_unknown - 1);
+                return 1;
+            }
+            if (k > row_ptr[i] && cols[k] <= cols[k - 1]) {
+                /* AIJ stores sorted columns: any other order would scramble the values. */
+                set_message(errmsg, errlen,
+                            "rod stepper: the columns of row %d (0-based) are not strictly "
+                            "increasing (%d after %d)",
+                            i, cols[k], cols[k - 1]);
+                return 1;
+            }
+        }
+    }
+    return 0;
+}
+
+static PetscErrorCode stepper_setup(RsStepper *s, const int *row_ptr, const int *cols,
+                                    double newton_atol, double newton_rtol, int max_newton,
+                                    int max_cutbacks)
+{
+    char      defaults[512], message[1024];
+    Vec       Y_template = NULL;
+    SNES      snes;
+    PetscBool is_rodmid;
+    TSType    type;
+
+    PetscFunctionBegin;
+    PetscCall(rs_rodmid_register());
+
+    /* Scene values as the bottom layer of the options (DESIGN.md §3): newtonls with the bt line
+       search, the absolute Newton test of the method documents with PETSc's relative tests
+       off unless the scene asks, and MUMPS LU for the saddle-point systems. */
+    snprintf(defaults, sizeof(defaults),
+             "-snes_type newtonls -snes_linesearch_type bt -snes_atol %.17g -snes_rtol %.17g "
+             "-snes_stol 0 -snes_max_it %d -ksp_type preonly -pc_type lu "
+             "-pc_factor_mat_solver_type mumps -mat_mumps_icntl_14 50 -ts_rodmid_max_cutbacks %d",
+             newton_atol, newton_rtol, max_newton, max_cutbacks);
+    PetscCheck(rs_petsc_apply_options(defaults, NULL, message, (int)sizeof(message)) == 0,
+               PETSC_COMM_SELF, PETSC_ERR_LIB, "%s", message);
+
+    PetscCall(VecCreateSeq(PETSC_COMM_SELF, s->n_state, &s->X));
+    PetscCall(VecDuplicate(s->X, &s->X_prev));
+
+    PetscCall(MatCreate(PETSC_COMM_SELF, &s->J));
+    PetscCall(MatSetSizes(s->J, s->n_unknown, s->n_unknown, s->n_unknown, s->n_unknown));
+    PetscCall(MatSetType(s->J, MATSEQAIJ));
+    PetscCall(MatSeqAIJSetPreallocationCSR(s->J, (const PetscInt *)row_ptr, (const PetscInt *)cols,
+                                           NULL));
+    PetscCall(MatSetOption(s->J, MAT_NEW_NONZERO_ALLOCATION_ERR, PETSC_TRUE));
+
+    PetscCall(TSCreate(PETSC_COMM_SELF, &s->ts));
+    PetscCall(TSSetType(s->ts, TSRODMID));
+    PetscCall(TSSetProblemType(s->ts, TS_NONLINEAR));
+    PetscCall(TSSetSolution(s->ts, s->X));
+    if (s->n_unknown != s->n_state)
+        PetscCall(VecCreateSeq(PETSC_COMM_SELF, s->n_unknown, &Y_template));
+    PetscCall(TSRodmidSetStepProblem(s->ts, Y_template, s->J, step_residual, step_jacobian,
+                                     s->predictor ? step_predictor : NULL,
+                                     s->update ? step_update : NULL, s));
+    PetscCall(VecDestroy(&Y_template));
+    /* A diverged step is a result the stepper acts on (STYLE.md item 11), never an abort. */
+    PetscCall(TSSetErrorIfStepFails(s->ts, PETSC_FALSE));
+    PetscCall(TSSetExactFinalTime(s->ts, TS_EXACTFINALTIME_STEPOVER));
+
+    /* Programmatic settings before TSSetFromOptions, so that options still override them. */
+    PetscCall(TSGetSNES(s->ts, &snes));
+    PetscCall(SNESSetErrorIfNotConverged(snes, PETSC_FALSE));
+    PetscCall(SNESSetConvergenceTest(snes, SNESConvergedDefault, NULL, NULL));
+    /* Only debug builds of PETSc look at a Jacobian domain error by default. */
+    PetscCall(SNESSetCheckJacobianDomainError(snes, PETSC_TRUE));
+    PetscCall(TSSetFromOptions(s->ts));
+    PetscCall(PetscObjectTypeCompare((PetscObject)s->ts, TSRODMID, &is_rodmid));
+    PetscCall(TSGetType(s->ts, &type));
+    PetscCheck(is_rodmid, PETSC_COMM_SELF, PETSC_ERR_ARG_WRONG,
+               "the rod stepper is a TS of type rodmid; remove -ts_type %s from the options", type);
+    PetscCall(TSSetUp(s->ts));
+    PetscFunctionReturn(0);
+}
+
+static void stepper_free(RsStepper *s)
+{
+    /* Errors of destruction are only reported (by PETSc's handler): nothing to act on. */
+    enter_petsc(s);
+    TSDestroy(&s->ts);
+    MatDestroy(&s->J);
+    VecDestroy(&s->X_prev);
+    VecDestroy(&s->X);
+    leave_petsc(s);
+    free(s);
+}
+
+int rs_stepper_create(void **handle, int n_state, int n_unknown, const int *row_ptr,
+                      const int *cols, rs_cb_residual residual, rs_cb_jacobian jacobian,
+                      rs_cb_vec predictor, rs_cb_update update, rs_cb_poststep poststep, void *ctx,
+                      double newton_atol, double newton_rtol, int max_newton, int max_cutbacks,
+                      char *errmsg, int errlen)
+{
+    RsErrorCapture capture = {"", 0};
+    RsStepper     *s;
+    PetscErrorCode ierr;
+
+    if (errmsg && errlen > 0) errmsg[0] = '\0';
+    if (!handle) {
+        set_message(errmsg, errlen, "rod stepper: no handle to create");
+        return RS_STEPPER_BAD_ARGUMENT;
+    }
+    *handle = NULL;
+    if (check_arguments(n_state, n_unknown, row_ptr, cols, residual, jacobian, predictor, update,
+                        newton_atol, newton_rtol, max_newton, max_cutbacks, errmsg, errlen))
+        return RS_STEPPER_BAD_ARGUMENT;
+    s = calloc(1, sizeof(*s));
+    if (!s) {
+        set_message(errmsg, errlen, "rod stepper: out of memory");
+        return RS_STEPPER_BAD_ARGUMENT;
+    }
+    s->n_state   = n_state;
+    s->n_unknown = n_unknown;
+    s->residual  = residual;
+    s->jacobian  = jacobian;
+    s->predictor = predictor;
+    s->update    = update;
+    s->poststep  = poststep;
+    s->ctx       = ctx;
+
+    enter_petsc(s);
+    PetscPushErrorHandler(capture_error, &capture);
+    ierr = stepper_setup(s, row_ptr, cols, newton_atol, newton_rtol, max_newton, max_cutbacks);
+    PetscPopErrorHandler();
+    leave_petsc(s);
+    if (ierr) {
+        set_petsc_message(errmsg, errlen, "rod stepper: creation failed", ierr, &capture);
+        stepper_free(s);
+        return (int)ierr;
+    }
+    *handle = s;
+    return 0;
+}
+
+/* ---- Advance -------------------------------------------------------------------------------- */
+
+typedef struct {
+    int         substeps, cutbacks, newton_its;
+    double      fnorm;
+    int         diverged;   /* Newton failed after all cut-backs */
+    double      t_failed;   /* start of the failing substep: the time of the state left in x */
+    double      h_smallest; /* the last step tried there */
+    int         halvings;   /* tried there */
+    const char *snes_reason;
+} RsAdvanceResult;
+
+static PetscErrorCode stepper_advance(RsStepper *s, double t_n, double dt, double *x,
+                                      RsAdvanceResult *r)
+{
+    PetscScalar        *a;
+    const PetscScalar  *x0, *x1;
+    PetscReal           elapsed = 0.0, h_wanted, h_taken, t0, fnorm;
+    PetscInt            steps_before, steps_after, its, cut, max_cutbacks;
+    TSConvergedReason   reason;
+    SNESConvergedReason snes_reason;
+    SNES                snes;
+    int                 status;
+    fenv_t              env;
+
+    PetscFunctionBegin;
+    PetscCall(VecGetArray(s->X, &a));
+    PetscCall(PetscArraycpy(a, x, s->n_state));
+    PetscCall(VecRestoreArray(s->X, &a));
+    PetscCall(TSSetTime(s->ts, t_n));
+    PetscCall(TSSetMaxTime(s->ts, t_n + dt));
+    PetscCall(TSGetStepNumber(s->ts, &steps_before));
+    for (;;) {
+        /* Always try the whole rest: after a cut-back the step grows back at once. */
+        h_wanted = dt - elapsed;
+        PetscCall(TSSetTimeStep(s->ts, h_wanted));
+        PetscCall(TSGetTime(s->ts, &t0));
+        PetscCall(VecCopy(s->X, s->X_prev));
+        PetscCall(TSStep(s->ts));
+        PetscCall(TSGetConvergedReason(s->ts, &reason));
+        if (reason < 0) {
+            /* rodmid left X at the start of the failing substep. */
+            PetscCall(TSGetTimeStep(s->ts, &h_taken));
+            PetscCall(TSGetSNES(s->ts, &snes));
+            PetscCall(SNESGetConvergedReason(snes, &snes_reason));
+            PetscCall(TSRodmidGetMaxCutbacks(s->ts, &max_cutbacks));
+            r->diverged    = 1;
+            r->t_failed    = t0;
+            r->h_smallest  = h_taken;
+            r->halvings    = (int)max_cutbacks;
+            r->snes_reason = SNESConvergedReasons[snes_reason];
+            break;
+        }
+        PetscCall(TSGetTimeStep(s->ts, &h_taken));
+        PetscCall(TSRodmidGetStepStats(s->ts, &its, &cut, &fnorm));
+        r->cutbacks += (int)cut;
+        r->newton_its += (int)its;
+        r->fnorm = fnorm;
+        if (s->poststep) {
+            PetscCall(VecGetArrayRead(s->X_prev, &x0));
+            PetscCall(VecGetArrayRead(s->X, &x1));
+            enter_user(s, &env);
+            status = s->poststep(s->ctx, t0, h_taken, x0, x1, (int)its, fnorm);
+            leave_user(&env);
+            PetscCall(VecRestoreArrayRead(s->X, &x1));
+            PetscCall(VecRestoreArrayRead(s->X_prev, &x0));
+            PetscCheck(status == 0, PETSC_COMM_SELF, PETSC_ERR_USER,
+                       "the poststep callback failed with status %d at t = %g, h = %g", status, t0,
+                       h_taken);
+        }
+        /* Taken without a cut: that was the rest of dt (an exact test, so no drift in time). */
+        if (h_taken == h_wanted) break;
+        elapsed += h_taken;
+    }
+    PetscCall(TSGetStepNumber(s->ts, &steps_after));
+    r->substeps = (int)(steps_after - steps_before);
+    PetscCall(VecGetArrayRead(s->X, &x0));
+    PetscCall(PetscArraycpy(x, x0, s->n_state));
+    PetscCall(VecRestoreArrayRead(s->X, &x0));
+    PetscFunctionReturn(0);
+}
+
+int rs_stepper_advance(void *handle, double t_n, double dt, double *x, int *substeps, int *cutbacks,
+                       int *newton_its, double *fnorm, char *errmsg, int errlen)
+{
+    RsStepper      *s       = (RsStepper *)handle;
+    RsErrorCapture  capture = {"", 0};
+    RsAdvanceResult r;
+    PetscErrorCode  ierr;
+
+    memset(&r, 0, sizeof(r));
+    if (errmsg && errlen > 0) errmsg[0] = '\0';
+    if (!s) {
+        set_message(errmsg, errlen, "rod stepper: advance on a stepper that was not created");
+        return RS_STEPPER_BAD_ARGUMENT;
+    }
+    if (!(dt > 0.0)) {
+        set_message(errmsg, errlen, "rod stepper: the step dt = %g at t = %g must be positive", dt,
+                    t_n);
+        return RS_STEPPER_BAD_ARGUMENT;
+    }
+    enter_petsc(s);
+    PetscPushErrorHandler(capture_error, &capture);
+    ierr = stepper_advance(s, t_n, dt, x, &r);
+    PetscPopErrorHandler();
+    leave_petsc(s);
+    if (substeps) *substeps = r.substeps;
+    if (cutbacks) *cutbacks = r.cutbacks;
+    if (newton_its) *newton_its = r.newton_its;
+    if (fnorm) *fnorm = r.fnorm;
+    if (ierr) {
+        set_petsc_message(errmsg, errlen, "rod stepper: advance failed", ierr, &capture);
+        return (int)ierr;
+    }
+    if (r.diverged) {
+        set_message(errmsg, errlen,
+                    "Newton did not converge at t = %.10g after %d halvings of the step (smallest "
+                    "step %.6g); "
+                    "last SNES reason %s. The state returned is the last good one, at t = %.10g.",
+                    r.t_failed, r.halvings, r.h_smallest, r.snes_reason, r.t_failed);
+        return RS_STEPPER_DIVERGED;
+    }
+    return 0;
+}
+
+/* ---- Queries and destroy -------------------------------------------------------------------- */
+
+static PetscErrorCode stepper_settings(RsStepper *s, double *atol, double *rtol, double *stol,
+                                       int *max_it, int *max_funcs, int *max_cutbacks, char *types,
+                                       int length)
+{
+    SNES               snes;
+    SNESLineSearch     linesearch;
+    KSP                ksp;
+    PC                 pc;
+    SNESType           snes_type;
+    SNESLineSearchType ls_type;
+    KSPType            ksp_type;
+    PCType             pc_type;
+    MatSolverType      solver = NULL;
+    PetscReal          a, r, st;
+    PetscInt           it, nf;
+    PetscBool          is_factor;
+    PetscInt           cutbacks;
+
+    PetscFunctionBegin;
+    PetscCall(TSGetSNES(s->ts, &snes));
+    PetscCall(SNESGetTolerances(snes, &a, &r, &st, &it, &nf));
+    PetscCall(SNESGetType(snes, &snes_type));
+    PetscCall(SNESGetLineSearch(snes, &linesearch));
+    PetscCall(SNESLineSearchGetType(linesearch, &ls_type));
+    PetscCall(SNESGetKSP(snes, &ksp));
+    PetscCall(KSPGetType(ksp, &ksp_type));
+    PetscCall(KSPGetPC(ksp, &pc));
+    PetscCall(PCGetType(pc, &pc_type));
+    PetscCall(
+        PetscObjectTypeCompareAny((PetscObject)pc, &is_factor, PCLU, PCCHOLESKY, PCILU, PCICC, ""));
+    if (is_factor) PetscCall(PCFactorGetMatSolverType(pc, &solver));
+    if (atol) *atol = a;
+    if (rtol) *rtol = r;
+    if (stol) *stol = st;
+    if (max_it) *max_it = (int)it;
+    if (max_funcs) *max_funcs = (int)nf;
+    PetscCall(TSRodmidGetMaxCutbacks(s->ts, &cutbacks));
+    if (max_cutbacks) *max_cutbacks = (int)cutbacks;
+    if (types && length > 0)
+        snprintf(types, (size_t)length, "snes %s linesearch %s ksp %s pc %s solver %s",
+                 snes_type ? snes_type : "?", ls_type ? ls_type : "?", ksp_type ? ksp_type : "?",
+                 pc_type ? pc_type : "?", solver ? solver : "none");
+    PetscFunctionReturn(0);
+}
+
+int rs_stepper_solver_settings(void *handle, double *atol, double *rtol, double *stol, int *max_it,
+                               int *max_funcs, int *max_cutbacks, char *types, int length)
+{
+    RsErrorCapture capture = {"", 0};
+    PetscErrorCode ierr;
+
+    if (!handle) return RS_STEPPER_BAD_ARGUMENT;
+    enter_petsc((RsStepper *)handle);
+    PetscPushErrorHandler(capture_error, &capture);
+    ierr = stepper_settings((RsStepper *)handle, atol, rtol, stol, max_it, max_funcs, max_cutbacks,
+                            types, length);
+    PetscPopErrorHandler();
+    leave_petsc((RsStepper *)handle);
+    return (int)ierr;
+}
+
+static PetscErrorCode stepper_view(RsStepper *s, const char *path)
+{
+    PetscViewer viewer;
+
+    PetscFunctionBegin;
+    if (!path || !path[0]) {
+        PetscCall(TSView(s->ts, PETSC_VIEWER_STDOUT_SELF));
+    } else {
+        PetscCall(PetscViewerASCIIOpen(PETSC_COMM_SELF, path, &viewer));
+        PetscCall(TSView(s->ts, viewer));
+        PetscCall(PetscViewerDestroy(&viewer));
+    }
+    PetscFunctionReturn(0);
+}
+
+int rs_stepper_view(void *handle, const char *path)
+{
+    RsErrorCapture capture = {"", 0};
+    PetscErrorCode ierr;
+
+    if (!handle) return RS_STEPPER_BAD_ARGUMENT;
+    enter_petsc((RsStepper *)handle);
+    PetscPushErrorHandler(capture_error, &capture);
+    ierr = stepper_view((RsStepper *)handle, path);
+    PetscPopErrorHandler();
+    leave_petsc((RsStepper *)handle);
+    return (int)ierr;
+}
+
+int rs_stepper_destroy(void **handle)
+{
+    if (!handle || !*handle) return 0;
+    stepper_free((RsStepper *)*handle);
+    *handle = NULL;
+    return 0;
+}

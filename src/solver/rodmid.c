@@ -1,0 +1,329 @@
+/* The rodmid TS type (DESIGN.md §3, "The midpoint stepper"; interface in include/rs_rodmid.h).
+
+   One TSStep solves the user's step problem F(Y; X_n, t_n, h) = 0 with the SNES of the TS and
+   applies the update X_{n+1} = U(Y, X_n). The formulations decide what Y is (all of X, or X
+   with element stresses condensed out, or rotation increments), which TSTHETA cannot express.
+
+   DESIGN.md §3 rule: of the TS this file writes only ptime, time_step, reason, vec_sol and
+   the SNES (steps is advanced by PETSc's TSStep itself when reason >= 0, see
+   src/ts/interface/ts.c of 3.18, so a type must not do it again). Everything else the type
+   needs lives in TS_Rodmid. The SNES reaches the step problem through PETSc's generic
+   SNESTSFormFunction/SNESTSFormJacobian, which call ts->ops->snesfunction/snesjacobian, the
+   way PETSc's own implicit types are wired. */
+#include <petsc/private/tsimpl.h>
+#include "rs_rodmid.h"
+
+typedef struct {
+    /* The step problem, from TSRodmidSetStepProblem. */
+    Vec            Y_template; /* layout of Y; NULL: X's layout */
+    Mat            J;          /* kept for the whole run: one symbolic factorization */
+    RsStepResidual residual;
+    RsStepJacobian jacobian;
+    RsStepVecFn    predictor;
+    RsStepUpdate   update;
+    void          *ctx;
+    PetscInt       max_cutbacks;
+    /* Work vectors, created in TSSetUp_Rodmid. */
+    Vec Y;  /* Newton unknown */
+    Vec F;  /* residual */
+    Vec X0; /* X_n: the callbacks read this copy, so a failed attempt cannot touch vec_sol */
+    /* The attempt being solved: what the SNES callbacks pass to the step problem. */
+    PetscReal t_n, h;
+    /* The last accepted step. */
+    PetscInt  last_its, last_cutbacks;
+    PetscReal last_fnorm;
+} TS_Rodmid;
+
+static PetscErrorCode SNESTSFormFunction_Rodmid(SNES snes, Vec Y, Vec F, TS ts)
+{
+    TS_Rodmid *rm = (TS_Rodmid *)ts->data;
+
+    PetscFunctionBegin;
+    (void)snes;
+    PetscCall(rm->residual(rm->t_n, rm->h, rm->X0, Y, F, rm->ctx));
+    PetscFunctionReturn(0);
+}
+
+static PetscErrorCode SNESTSFormJacobian_Rodmid(SNES snes, Vec Y, Mat A, Mat B, TS ts)
+{
+    TS_Rodmid *rm = (TS_Rodmid *)ts->data;
+
+    PetscFunctionBegin;
+    (void)snes;
+    /* The step problem fills the matrix it owns; with -snes_mf_operator A is matrix-free and
+       only needs an assembly to mark it current. */
+    PetscCall(rm->jacobian(rm->t_n, rm->h, rm->X0, Y, B, rm->ctx));
+    if (A != B) {
+        PetscCall(MatAssemblyBegin(A, MAT_FINAL_ASSEMBLY));
+        PetscCall(MatAssemblyEnd(A, MAT_FINAL_ASSEMBLY));
+    }
+    PetscFunctionReturn(0);
+}
+
+/* One step with bounded halving (DESIGN.md §3: "On SNES failure the step is halved and retried
+   (bounded)"). Every attempt starts again from X_n and the predictor. */
+static PetscErrorCode TSStep_Rodmid(TS ts)
+{
+    TS_Rodmid          *rm     = (TS_Rodmid *)ts->data;
+    SNESConvergedReason reason = SNES_CONVERGED_ITERATING;
+    PetscInt            cut;
+
+    PetscFunctionBegin;
+    PetscCall(VecCopy(ts->vec_sol, rm->X0));
+    for (cut = 0;; ++cut) {
+        rm->t_n = ts->ptime;
+        rm->h   = ts->time_step;
+        if (rm->predictor) PetscCall(rm->predictor(rm->t_n, rm->h, rm->X0, rm->Y, rm->ctx));
+        else PetscCall(VecCopy(rm->X0, rm->Y));
+        PetscCall(SNESSolve(ts->snes, NULL, rm->Y));
+        PetscCall(SNESGetConvergedReason(ts->snes, &reason));
+        if (reason > 0) break;
+        PetscCall(
+            PetscInfo(ts, "t = %g: SNES failed (%s) with h = %g after %" PetscInt_FMT " halvings\n",
+                      (double)rm->t_n, SNESConvergedReasons[reason], (double)rm->h, cut));
+        if (cut >= rm->max_cutbacks) {
+            /* vec_sol still holds X_n: the caller writes the last good state. */
+            ts->reason = TS_DIVERGED_NONLINEAR_SOLVE;
+            PetscFunctionReturn(0);
+        }
+        ts->time_step *= 0.5;
+    }
+    PetscCall(SNESGetIterationNumber(ts->snes, &rm->last_its));
+    PetscCall(SNESGetFunctionNorm(ts->snes, &rm->last_fnorm));
+    rm->last_cutbacks = cut;
+    if (rm->update) PetscCall(rm->update(rm->t_n, rm->h, rm->X0, rm->Y, ts->vec_sol, rm->ctx));
+    else PetscCall(VecCopy(rm->Y, ts->vec_sol));
+    /* time_step stays the step taken; choosing the next one is the caller's business. */
+    ts->ptime += rm->h;
+    PetscFunctionReturn(0);
+}
+
+static PetscErrorCode TSSetUp_Rodmid(TS ts)
+{
+    TS_Rodmid *rm = (TS_Rodmid *)ts->data;
+    PetscInt   n_x, n_y;
+    PetscErrorCode (*jacobian)(SNES, Vec, Mat, Mat, void *) = NULL;
+
+    PetscFunctionBegin;
+    PetscCheck(rm->residual && rm->jacobian && rm->J, PetscObjectComm((PetscObject)ts),
+               PETSC_ERR_ARG_WRONGSTATE,
+               "TSRODMID needs its step problem: call TSRodmidSetStepProblem() before TSSetUp()");
+    if (!rm->Y) PetscCall(VecDuplicate(rm->Y_template ? rm->Y_template : ts->vec_sol, &rm->Y));
+    if (!rm->F) PetscCall(VecDuplicate(rm->Y, &rm->F));
+    if (!rm->X0) PetscCall(VecDuplicate(ts->vec_sol, &rm->X0));
+    PetscCall(VecGetSize(ts->vec_sol, &n_x));
+    PetscCall(VecGetSize(rm->Y, &n_y));
+    PetscCheck(n_x == n_y || (rm->predictor && rm->update), PetscObjectComm((PetscObject)ts),
+               PETSC_ERR_ARG_INCOMP,
+               "TSRODMID: Y has %" PetscInt_FMT " entries and X %" PetscInt_FMT
+               "; the default predictor (Y = X_n) and update (X_{n+1} = Y) need equal sizes",
+               n_y, n_x);
+
+    PetscCall(TSGetSNES(ts, &ts->snes));
+    PetscCall(SNESSetFunction(ts->snes, rm->F, SNESTSFormFunction, ts));
+    /* Keep a Jacobian routine chosen through the options (-snes_fd); give it our matrix. */
+    PetscCall(SNESGetJacobian(ts->snes, NULL, NULL, &jacobian, NULL));
+    if (jacobian) PetscCall(SNESSetJacobian(ts->snes, rm->J, rm->J, NULL, NULL));
+    else PetscCall(SNESSetJacobian(ts->snes, rm->J, rm->J, SNESTSFormJacobian, ts));
+    PetscFunctionReturn(0);
+}
+
+static PetscErrorCode TSReset_Rodmid(TS ts)
+{
+    TS_Rodmid *rm = (TS_Rodmid *)ts->data;
+
+    PetscFunctionBegin;
+    PetscCall(VecDestroy(&rm->Y));
+    PetscCall(VecDestroy(&rm->F));
+    PetscCall(VecDestroy(&rm->X0));
+    PetscFunctionReturn(0);
+}
+
+static PetscErrorCode TSDestroy_Rodmid(TS ts)
+{
+    TS_Rodmid *rm = (TS_Rodmid *)ts->data;
+
+    PetscFunctionBegin;
+    PetscCall(TSReset_Rodmid(ts));
+    PetscCall(VecDestroy(&rm->Y_template));
+    PetscCall(MatDestroy(&rm->J));
+    PetscCall(PetscFree(ts->data));
+    PetscCall(PetscObjectComposeFunction((PetscObject)ts, "TSRodmidSetStepProblem_C", NULL));
+    PetscCall(PetscObjectComposeFunction((PetscObject)ts, "TSRodmidSetMaxCutbacks_C", NULL));
+    PetscCall(PetscObjectComposeFunction((PetscObject)ts, "TSRodmidGetMaxCutbacks_C", NULL));
+    PetscCall(PetscObjectComposeFunction((PetscObject)ts, "TSRodmidGetStepStats_C", NULL));
+    PetscFunctionReturn(0);
+}
+
+static PetscErrorCode TSSetFromOptions_Rodmid(TS ts, PetscOptionItems *PetscOptionsObject)
+{
+    TS_Rodmid *rm = (TS_Rodmid *)ts->data;
+
+    PetscFunctionBegin;
+    PetscOptionsHeadBegin(PetscOptionsObject, "rodmid options (rodsolve's midpoint stepper)");
+    PetscCall(PetscOptionsBoundedInt(
+        "-ts_rodmid_max_cutbacks", "Halvings of one step before the TS fails",
+        "TSRodmidSetMaxCutbacks", rm->max_cutbacks, &rm->max_cutbacks, NULL, 0));
+    PetscOptionsHeadEnd();
+    PetscFunctionReturn(0);
+}
+
+static PetscErrorCode TSView_Rodmid(TS ts, PetscViewer viewer)
+{
+    TS_Rodmid *rm = (TS_Rodmid *)ts->data;
+    PetscBool  ascii;
+
+    PetscFunctionBegin;
+    PetscCall(PetscObjectTypeCompare((PetscObject)viewer, PETSCVIEWERASCII, &ascii));
+    if (ascii) {
+        PetscCall(PetscViewerASCIIPrintf(
+            viewer,
+            "  rodmid: implicit midpoint on a user step problem, max cutbacks %" PetscInt_FMT "\n",
+            rm->max_cutbacks));
+    }
+    PetscFunctionReturn(0);
+}
+
+static PetscErrorCode TSRodmidSetStepProblem_Rodmid(TS ts, Vec Y_template, Mat J,
+                                                    RsStepResidual residual,
+                                                    RsStepJacobian jacobian, RsStepVecFn predictor,
+                                                    RsStepUpdate update, void *ctx)
+{
+    TS_Rodmid *rm = (TS_Rodmid *)ts->data;
+
+    PetscFunctionBegin;
+    /* The work vectors and the SNES's matrices are made from these in TSSetUp. */
+    PetscCheck(!ts->setupcalled, PetscObjectComm((PetscObject)ts), PETSC_ERR_ARG_WRONGSTATE,
+               "TSRodmidSetStepProblem() must come before TSSetUp()");
+    PetscCheck(residual && jacobian, PetscObjectComm((PetscObject)ts), PETSC_ERR_ARG_NULL,
+               "TSRodmidSetStepProblem(): the residual and Jacobian routines are required");
+    PetscCall(VecDestroy(&rm->Y_template));
+    if (Y_template) PetscCall(VecDuplicate(Y_template, &rm->Y_template));
+    PetscCall(PetscObjectReference((PetscObject)J));
+    PetscCall(MatDestroy(&rm->J));
+    rm->J         = J;
+    rm->residual  = residual;
+    rm->jacobian  = jacobian;
+    rm->predictor = predictor;
+    rm->update    = update;
+    rm->ctx       = ctx;
+    PetscFunctionReturn(0);
+}
+
+static PetscErrorCode TSRodmidSetMaxCutbacks_Rodmid(TS ts, PetscInt n)
+{
+    TS_Rodmid *rm = (TS_Rodmid *)ts->data;
+
+    PetscFunctionBegin;
+    PetscCheck(n >= 0, PetscObjectComm((PetscObject)ts), PETSC_ERR_ARG_OUTOFRANGE,
+               "TSRodmidSetMaxCutbacks(): %" PetscInt_FMT " must be >= 0", n);
+    rm->max_cutbacks = n;
+    PetscFunctionReturn(0);
+}
+
+static PetscErrorCode TSRodmidGetMaxCutbacks_Rodmid(TS ts, PetscInt *n)
+{
+    TS_Rodmid *rm = (TS_Rodmid *)ts->data;
+
+    PetscFunctionBegin;
+    *n = rm->max_cutbacks;
+    PetscFunctionReturn(0);
+}
+
+static PetscErrorCode TSRodmidGetStepStats_Rodmid(TS ts, PetscInt *newton_its, PetscInt *cutbacks,
+                                                  PetscReal *fnorm)
+{
+    TS_Rodmid *rm = (TS_Rodmid *)ts->data;
+
+    PetscFunctionBegin;
+    if (newton_its) *newton_its = rm->last_its;
+    if (cutbacks) *cutbacks = rm->last_cutbacks;
+    if (fnorm) *fnorm = rm->last_fnorm;
+    PetscFunctionReturn(0);
+}
+
+static PetscErrorCode TSCreate_Rodmid(TS ts)
+{
+    TS_Rodmid *rm;
+
+    PetscFunctionBegin;
+    PetscCall(PetscNew(&rm));
+    rm->max_cutbacks = 6;
+    ts->data         = (void *)rm;
+
+    ts->ops->setup          = TSSetUp_Rodmid;
+    ts->ops->step           = TSStep_Rodmid;
+    ts->ops->reset          = TSReset_Rodmid;
+    ts->ops->destroy        = TSDestroy_Rodmid;
+    ts->ops->setfromoptions = TSSetFromOptions_Rodmid;
+    ts->ops->view           = TSView_Rodmid;
+    ts->ops->snesfunction   = SNESTSFormFunction_Rodmid;
+    ts->ops->snesjacobian   = SNESTSFormJacobian_Rodmid;
+    ts->default_adapt_type  = TSADAPTNONE;
+    ts->usessnes            = PETSC_TRUE;
+
+    PetscCall(PetscObjectComposeFunction((PetscObject)ts, "TSRodmidSetStepProblem_C",
+                                         TSRodmidSetStepProblem_Rodmid));
+    PetscCall(PetscObjectComposeFunction((PetscObject)ts, "TSRodmidSetMaxCutbacks_C",
+                                         TSRodmidSetMaxCutbacks_Rodmid));
+    PetscCall(PetscObjectComposeFunction((PetscObject)ts, "TSRodmidGetMaxCutbacks_C",
+                                         TSRodmidGetMaxCutbacks_Rodmid));
+    PetscCall(PetscObjectComposeFunction((PetscObject)ts, "TSRodmidGetStepStats_C",
+                                         TSRodmidGetStepStats_Rodmid));
+    PetscFunctionReturn(0);
+}
+
+PetscErrorCode rs_rodmid_register(void)
+{
+    PetscErrorCode (*create)(TS) = NULL;
+
+    PetscFunctionBegin;
+    /* The list lives from TSInitializePackage to PetscFinalize: ask it, not a static flag. */
+    PetscCall(TSInitializePackage());
+    PetscCall(PetscFunctionListFind(TSList, TSRODMID, &create));
+    if (!create) PetscCall(TSRegister(TSRODMID, TSCreate_Rodmid));
+    PetscFunctionReturn(0);
+}
+
+PetscErrorCode TSRodmidSetStepProblem(TS ts, Vec Y_template, Mat J, RsStepResidual residual,
+                                      RsStepJacobian jacobian, RsStepVecFn predictor,
+                                      RsStepUpdate update, void *ctx)
+{
+    PetscFunctionBegin;
+    PetscValidHeaderSpecific(ts, TS_CLASSID, 1);
+    if (Y_template) PetscValidHeaderSpecific(Y_template, VEC_CLASSID, 2);
+    PetscValidHeaderSpecific(J, MAT_CLASSID, 3);
+    PetscTryMethod(
+        ts, "TSRodmidSetStepProblem_C",
+        (TS, Vec, Mat, RsStepResidual, RsStepJacobian, RsStepVecFn, RsStepUpdate, void *),
+        (ts, Y_template, J, residual, jacobian, predictor, update, ctx));
+    PetscFunctionReturn(0);
+}
+
+PetscErrorCode TSRodmidSetMaxCutbacks(TS ts, PetscInt n)
+{
+    PetscFunctionBegin;
+    PetscValidHeaderSpecific(ts, TS_CLASSID, 1);
+    PetscValidLogicalCollectiveInt(ts, n, 2);
+    PetscTryMethod(ts, "TSRodmidSetMaxCutbacks_C", (TS, PetscInt), (ts, n));
+    PetscFunctionReturn(0);
+}
+
+PetscErrorCode TSRodmidGetMaxCutbacks(TS ts, PetscInt *n)
+{
+    PetscFunctionBegin;
+    PetscValidHeaderSpecific(ts, TS_CLASSID, 1);
+    PetscValidIntPointer(n, 2);
+    PetscUseMethod(ts, "TSRodmidGetMaxCutbacks_C", (TS, PetscInt *), (ts, n));
+    PetscFunctionReturn(0);
+}
+
+PetscErrorCode TSRodmidGetStepStats(TS ts, PetscInt *newton_its, PetscInt *cutbacks,
+                                    PetscReal *fnorm)
+{
+    PetscFunctionBegin;
+    PetscValidHeaderSpecific(ts, TS_CLASSID, 1);
+    PetscUseMethod(ts, "TSRodmidGetStepStats_C", (TS, PetscInt *, PetscInt *, PetscReal *),
+                   (ts, newton_its, cutbacks, fnorm));
+    PetscFunctionReturn(0);
+}

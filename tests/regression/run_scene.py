@@ -1,0 +1,99 @@
+"""Shared helpers of the regression tests: run rodsolve on a scene text and read results.
+
+A test builds its scene from an example in input/ (so the examples are what is tested), points
+the output into its own working directory, runs `mpiexec -np N rodsolve scene.nml` and reads the
+HDF5 file with h5py by dataset name (DESIGN.md §7).
+"""
+import argparse
+import os
+import re
+import subprocess
+import sys
+
+import h5py
+import numpy as np
+
+
+def common_arguments(description):
+    parser = argparse.ArgumentParser(description=description)
+    parser.add_argument("--rodsolve", required=True, help="the rodsolve executable")
+    parser.add_argument("--mpiexec", required=True, help="mpiexec of the MPI rodsolve uses")
+    parser.add_argument("--source", required=True, help="the source tree (for input/)")
+    parser.add_argument("--workdir", required=True, help="directory for scenes and results")
+    return parser
+
+
+def read_example(source, name):
+    with open(os.path.join(source, "input", name), encoding="utf-8") as f:
+        return f.read()
+
+
+def set_variable(text, group, variable, value):
+    """Replace `variable = ...` (up to the next comma-free end of line or the next variable)
+    inside the first `&group` of a scene text, or add it to the group."""
+    start = re.search(r"^&" + group + r"\b", text, flags=re.M)
+    if start is None:
+        raise ValueError(f"no &{group} group")
+    end = text.index("\n/", start.end())
+    body = text[start.end():end]
+    pattern = re.compile(r"\b" + variable + r"\s*=\s*[^=\n]*?(?=(,\s*[A-Za-z_]\w*\s*=)|\s*!|\s*$)",
+                         flags=re.M)
+    if pattern.search(body):
+        body = pattern.sub(f"{variable} = {value}", body, count=1)
+    else:
+        body = body + f"\n    {variable} = {value}"
+    return text[:start.end()] + body + text[end:]
+
+
+def vector(values):
+    return ", ".join(repr(float(v)) for v in values)
+
+
+def run(args, text, name, ranks=1, extra=()):
+    """Write scene `name`.nml with its output in the work directory, run it, return the path
+    of the result file."""
+    os.makedirs(args.workdir, exist_ok=True)
+    output = os.path.join(args.workdir, name + ".h5")
+    if os.path.exists(output):
+        os.remove(output)
+    text = set_variable(text, "output", "path", f"'{output}'")
+    scene = os.path.join(args.workdir, name + ".nml")
+    with open(scene, "w", encoding="utf-8") as f:
+        f.write(text)
+    command = [args.mpiexec, "--oversubscribe", "-np", str(ranks), args.rodsolve, scene, *extra]
+    result = subprocess.run(command, capture_output=True, text=True)
+    if result.returncode != 0:
+        sys.stdout.write(result.stdout)
+        sys.stderr.write(result.stderr)
+        raise SystemExit(f"{' '.join(command)} failed with status {result.returncode}")
+    return output
+
+
+def rod(path, name):
+    """All datasets of /rods/<name> as numpy arrays, keyed by their path below the rod."""
+    fields = {}
+    with h5py.File(path, "r") as f:
+        group = f["rods"][name]
+
+        def visit(key, item):
+            if isinstance(item, h5py.Dataset):
+                fields[key] = item[()]
+        group.visititems(visit)
+    return fields
+
+
+class Checks:
+    """Named checks with their measured values, printed as a table; exit status 1 if any
+    failed (DESIGN.md §8: a test asserts something that can fail)."""
+
+    def __init__(self):
+        self.failed = 0
+
+    def check(self, name, measured, bound):
+        ok = bool(np.isfinite(measured) and measured <= bound)
+        self.failed += 0 if ok else 1
+        print(f"{'ok  ' if ok else 'FAIL'} {name}: {measured:.3e} (bound {bound:.1e})")
+
+    def finish(self):
+        print(f"{self.failed} check(s) failed")
+        sys.exit(1 if self.failed else 0)

@@ -1,0 +1,145 @@
+#include "rs_assert.h"
+!> Unit tests of rs_model_capabilities: ph_director's row of the capability matrix (DESIGN.md
+!> §1, docs/user/capabilities.md) checked against every value the input language allows for
+!> each column (src/io/input_spec.f90: bc kind, load where, load frame, rod constraint), the
+!> rows of unknown and not yet available formulations, and `lists_name`, which matches whole
+!> '|'-separated names only.
+module rs_test_model_capabilities
+    use rs_test_assert, only: run_test, assert_true, assert_equal
+    use rs_model_capabilities, only: capability_t, capability_of, lists_name
+    implicit none
+    private
+
+    public :: run_all_tests
+
+contains
+
+    !> Run every test of this file through rs_test_assert.
+    subroutine run_all_tests()
+        call run_test('ph_director_row', test_ph_director_row)
+        call run_test('ph_director_trailing_blanks', test_ph_director_trailing_blanks)
+        call run_test('unknown_formulations', test_unknown_formulations)
+        call run_test('unavailable_formulations', test_unavailable_formulations)
+        call run_test('lists_name_whole_names', test_lists_name_whole_names)
+        call run_test('lists_name_blank_and_empty', test_lists_name_blank_and_empty)
+    end subroutine run_all_tests
+
+    !> Check that exactly the names `supported` of the allowed input values `allowed` are in
+    !> `list`.
+    subroutine check_column(list, allowed, supported, column)
+        character(len=*), intent(in) :: list, allowed(:), supported(:), column
+        logical :: expected
+        integer :: i
+        do i = 1, size(allowed)
+            expected = any(allowed(i) == supported)
+            CHECK_EQUAL(lists_name(list, allowed(i)), expected, column // ': ' // trim(allowed(i)))
+        end do
+    end subroutine check_column
+
+    ! seed 000 §2.9, §6.1: clamped and free ends; end, distributed and gravity loads, dead
+    ! (spatial) only; no constraint; dynamic only.
+    subroutine test_ph_director_row()
+        character(len=12), parameter :: kinds(4) = [character(len=12) :: 'clamped', 'pinned', 'free', &
+            'driven']
+        character(len=12), parameter :: places(4) = [character(len=12) :: 'start', 'end', &
+            'distributed', 'gravity']
+        character(len=12), parameter :: frames(2) = [character(len=12) :: 'spatial', 'follower']
+        character(len=12), parameter :: constraints(3) = [character(len=12) :: 'none', 'kirchhoff', &
+            'inextensible']
+        character(len=12) :: supported_kinds(2), supported_frames(1), supported_constraints(1)
+        type(capability_t) :: row
+        row = capability_of('ph_director')
+        CHECK_TRUE(row%available, 'ph_director is available')
+        CHECK_EQUAL(trim(row%formulation), 'ph_director', 'row names its formulation')
+        supported_kinds(1) = 'clamped'
+        supported_kinds(2) = 'free'
+        call check_column(row%end_kinds, kinds, supported_kinds, 'end kind')
+        call check_column(row%load_places, places, places, 'load place')
+        supported_frames(1) = 'spatial'
+        call check_column(row%load_frames, frames, supported_frames, 'load frame')
+        supported_constraints(1) = 'none'
+        call check_column(row%constraints, constraints, supported_constraints, 'constraint')
+        CHECK_TRUE(.not. row%quasistatic, 'no quasistatic solves')
+    end subroutine test_ph_director_row
+
+    ! Input strings are fixed-length and blank-padded.
+    subroutine test_ph_director_trailing_blanks()
+        character(len=64) :: name, kind
+        type(capability_t) :: row
+        name = 'ph_director'
+        kind = 'free'
+        row = capability_of(name)
+        CHECK_TRUE(row%available, 'blank-padded name')
+        CHECK_TRUE(lists_name(row%end_kinds, kind), 'blank-padded kind')
+    end subroutine test_ph_director_trailing_blanks
+
+    !> The row of `name` is unavailable and empty.
+    subroutine check_unavailable(name)
+        character(len=*), intent(in) :: name
+        type(capability_t) :: row
+        row = capability_of(name)
+        CHECK_TRUE(.not. row%available, 'not available: "' // name // '"')
+        CHECK_EQUAL(trim(row%formulation), trim(name), 'row names what was asked: "' // name // '"')
+        CHECK_EQUAL(len_trim(row%end_kinds), 0, 'no end kinds: "' // name // '"')
+        CHECK_EQUAL(len_trim(row%load_places), 0, 'no load places: "' // name // '"')
+        CHECK_EQUAL(len_trim(row%load_frames), 0, 'no load frames: "' // name // '"')
+        CHECK_EQUAL(len_trim(row%constraints), 0, 'no constraints: "' // name // '"')
+        CHECK_TRUE(.not. row%quasistatic, 'not quasistatic: "' // name // '"')
+        CHECK_TRUE(.not. lists_name(row%end_kinds, 'clamped'), 'clamped not listed: "' // name // '"')
+        CHECK_TRUE(.not. lists_name(row%constraints, 'none'), 'none not listed: "' // name // '"')
+        CHECK_TRUE(.not. lists_name(row%constraints, ''), 'blank not listed: "' // name // '"')
+    end subroutine check_unavailable
+
+    subroutine test_unknown_formulations()
+        call check_unavailable('ph_directr')
+        call check_unavailable('PH_DIRECTOR')
+        call check_unavailable('ph_director_x')
+        call check_unavailable('ph')
+        call check_unavailable('')
+        call check_unavailable('auto')
+    end subroutine test_unknown_formulations
+
+    ! Formulations the input language names but this version cannot run (DESIGN.md §1).
+    subroutine test_unavailable_formulations()
+        call check_unavailable('ph_planar')
+        call check_unavailable('cl_em_planar')
+        call check_unavailable('se3_pg')
+        call check_unavailable('se3_strand')
+    end subroutine test_unavailable_formulations
+
+    subroutine test_lists_name_whole_names()
+        CHECK_TRUE(lists_name('clamped|free', 'free'), 'last name')
+        CHECK_TRUE(lists_name('clamped|free', 'clamped'), 'first name')
+        CHECK_TRUE(lists_name('start|end|distributed|gravity', 'end'), 'inner name')
+        CHECK_TRUE(lists_name('none', 'none'), 'single name')
+        CHECK_TRUE(.not. lists_name('clamped|free', 'fre'), 'prefix of a name')
+        CHECK_TRUE(.not. lists_name('clamped|free', 'ree'), 'suffix of a name')
+        CHECK_TRUE(.not. lists_name('clamped|free', 'lamped'), 'suffix of the first name')
+        CHECK_TRUE(.not. lists_name('clamped|free', 'clamped|'), 'name with a bar')
+        CHECK_TRUE(.not. lists_name('clamped|free', 'd|f'), 'across the bar')
+        CHECK_TRUE(.not. lists_name('clamped|free', 'clamped|free'), 'the whole list is not a name')
+        CHECK_TRUE(.not. lists_name('start|end|distributed|gravity', 'distribute'), 'prefix inside')
+        CHECK_TRUE(.not. lists_name('none', 'nonee'), 'longer name')
+        CHECK_TRUE(.not. lists_name('clamped|free', 'Free'), 'case matters')
+    end subroutine test_lists_name_whole_names
+
+    subroutine test_lists_name_blank_and_empty()
+        CHECK_TRUE(.not. lists_name('clamped|free', ''), 'empty name')
+        CHECK_TRUE(.not. lists_name('clamped|free', '   '), 'blank name')
+        CHECK_TRUE(.not. lists_name('', 'free'), 'empty list')
+        CHECK_TRUE(.not. lists_name('', ''), 'empty name in an empty list')
+        CHECK_TRUE(.not. lists_name('    ', ''), 'empty name in a blank list')
+        CHECK_TRUE(lists_name('clamped|free      ', 'free'), 'blank-padded list')
+        CHECK_TRUE(lists_name('clamped|free', 'free    '), 'blank-padded name')
+    end subroutine test_lists_name_blank_and_empty
+
+end module rs_test_model_capabilities
+
+!> Test program: runs the tests of rs_test_model_capabilities; exits non-zero if any failed.
+program test_capabilities
+    use rs_test_model_capabilities, only: run_all_tests
+    use rs_test_assert, only: finish_tests
+    implicit none
+    call run_all_tests()
+    call finish_tests()
+end program test_capabilities
