@@ -15,6 +15,7 @@ module rs_app_run_scene
     use rs_parallel_mpi_env, only: world_rank, world_size, send_array, receive_array, &
         any_rank_true, mpi_library_version
     use rs_io_result_file, only: result_meta_t, write_result_file
+    use rs_io_hdf5_file, only: hdf5_file_t
     use rs_io_scene_writer, only: resolved_scene_text
     use rs_solver_petsc_env, only: petsc_version
     use rs_solver_rod_stepper, only: petsc_apply_options, petsc_options_text
@@ -46,6 +47,16 @@ contains
 
         call petsc_apply_options(scene_options(scene), trim(scene%solver%petsc_options), err)
         RS_RETURN_IF_ERROR(err)
+        ! Nothing computed may be lost to an output path that cannot be written: try it first.
+        if (world_rank() == 0) call probe_output(trim(scene%output%path), write_err)
+        if (any_rank_true(allocated(write_err))) then
+            if (allocated(write_err)) then
+                call move_alloc(write_err, err)
+            else
+                RS_SET_ERROR(err, 'run_scene', 'the output file cannot be written (see rank 0)')
+            end if
+            return
+        end if
         started = wall_time()
         allocate(histories(size(scene%rods)))
         failed = .false.
@@ -104,6 +115,17 @@ contains
             RS_SET_ERROR(err, 'run_scene', message)
         end if
     end subroutine run_scene
+
+    !> Create (and close) the result file, so that a path that cannot be written is reported
+    !> before the run rather than after it.
+    subroutine probe_output(path, err)
+        character(len=*), intent(in) :: path
+        type(error_t), allocatable, intent(out) :: err
+        type(hdf5_file_t) :: file
+        call file%create(path, err)
+        RS_RETURN_IF_ERROR(err)
+        call file%close(err)
+    end subroutine probe_output
 
     !> Rank that runs rod i: round robin, so independent rods spread over the ranks.
     integer function rod_owner(i)

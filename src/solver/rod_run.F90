@@ -29,6 +29,8 @@ module rs_solver_rod_run
         integer :: n_state = 0
         integer :: n_unknown = 0
         integer :: n_values = 0
+        !> End of the last accepted (sub)step: where a failed step leaves the state.
+        real(rk) :: t_reached = 0.0_rk
     end type callback_context_t
 
     !> Seconds between two progress lines of one rod.
@@ -54,7 +56,7 @@ contains
         type(rod_stepper_t) :: stepper
         integer, allocatable :: row_ptr(:), cols(:)
         real(rk), allocatable :: x(:)
-        real(rk) :: t_n, h, fnorm, started, last_report, elapsed
+        real(rk) :: t_n, h, fnorm, started, last_report, elapsed, t_recorded
         integer :: n, n_steps, stride, substeps, cutbacks, iterations, total_iterations
         integer :: total_cutbacks
 
@@ -70,6 +72,7 @@ contains
         allocate(x(formulation%n_state()))
         call formulation%initial_state(x)
         call formulation%record(history, 0.0_rk, x)
+        t_recorded = 0.0_rk
 
         call formulation%jacobian_pattern(row_ptr, cols)
         context%formulation => formulation
@@ -94,12 +97,18 @@ contains
             total_iterations = total_iterations + iterations
             total_cutbacks = total_cutbacks + cutbacks
             if (allocated(err)) then
-                ! The stepper left x at the last good state; record it so it is written.
-                call formulation%record(history, t_n, x)
+                ! The stepper left x at the last good state (after any accepted substeps of
+                ! this step); record it so it is written.
+                if (context%t_reached > t_recorded) &
+                    call formulation%record(history, context%t_reached, x)
                 call stepper%destroy()
                 return
             end if
-            if (mod(n, stride) == 0 .or. n == n_steps) call formulation%record(history, t_n + h, x)
+            if (mod(n, stride) == 0 .or. n == n_steps) then
+                ! n dt rather than t_n + h, so that stored times are the grid's own values.
+                t_recorded = min(real(n, rk) * scene%time%dt, scene%time%t_end)
+                call formulation%record(history, t_recorded, x)
+            end if
             if (wall_time() - last_report >= progress_interval .or. n == n_steps) then
                 last_report = wall_time()
                 call log_info('  ' // history%name // ': t = ' // str(t_n + h) // ', step ' // &
@@ -189,6 +198,7 @@ contains
         call c_f_pointer(x_n, x_n_, [context%n_state])
         call c_f_pointer(x_1, x_1_, [context%n_state])
         call context%formulation%accept_step(t_n, h, x_n_, x_1_, int(newton_iterations), fnorm)
+        context%t_reached = t_n + h
         status = state_valid
     end function poststep_callback
 

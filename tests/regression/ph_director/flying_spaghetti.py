@@ -3,7 +3,9 @@
     flying_spaghetti.py invariants   energy balance, momenta, centre of mass, orthonormality
     flying_spaghetti.py ranks        the same run on 1 and 2 ranks gives identical results
     flying_spaghetti.py objectivity  a rigidly rotated scene gives the rotated solution
-    flying_spaghetti.py order        temporal order 2 at the free end at t = 5 (slow)
+    flying_spaghetti.py order        temporal order 2 at the free end at t = 5
+    flying_spaghetti.py unwritable_output   a bad output path stops the run before it starts
+    flying_spaghetti.py newton_failure      a failed step stops the run with the last good state written
 
 Tolerances are those of issue 3 and DESIGN.md §8: the energy balance is exact up to the Newton
 residual (tolerance 1e-11), momentum and centre of mass after the loads end (t >= 5) follow
@@ -59,14 +61,31 @@ def invariants(args, checks):
 
 
 def ranks(args, checks):
+    """Two rods (the spaghetti and a copy thrown the other way), so that on 2 ranks the second
+    is solved on rank 1 and its records travel to rank 0 for writing (DESIGN.md §5)."""
     text = rs.read_example(args.source, "flying_spaghetti.nml")
     text = rs.set_variable(text, "time", "t_end", "3.0")
-    one = rs.rod(rs.run(args, text, "ranks_1", ranks=1), ROD)
-    two = rs.rod(rs.run(args, text, "ranks_2", ranks=2), ROD)
-    differences = [key for key in one if not np.array_equal(one[key], two[key])]
-    missing = sorted(set(one) ^ set(two))
-    print(f"info: {len(one)} datasets compared bitwise; different: {differences}; missing: {missing}")
-    checks.check("datasets that differ between 1 and 2 ranks", float(len(differences) + len(missing)), 0.0)
+    rod = text[text.index("&rod"):text.index("/", text.index("&rod")) + 1]
+    load = text[text.index("&load"):text.index("/", text.index("&load")) + 1]
+    second = rod.replace("'spaghetti'", "'second'")
+    second_load = load.replace("'spaghetti'", "'second'").replace("force = 20.0", "force = -20.0")
+    text = text + "\n" + second + "\n" + second_load + "\n"
+    one_file = rs.run(args, text, "ranks_1", ranks=1)
+    two_file = rs.run(args, text, "ranks_2", ranks=2)
+    compared = 0
+    for name in (ROD, "second"):
+        one = rs.rod(one_file, name)
+        two = rs.rod(two_file, name)
+        differences = [key for key in one if key in two and not np.array_equal(one[key], two[key])]
+        missing = sorted(set(one) ^ set(two))
+        compared += len(one)
+        print(f"info: rod {name}: {len(one)} datasets compared bitwise; different: {differences}; "
+              f"missing: {missing}")
+        checks.check(f"datasets of rod '{name}' that differ between 1 and 2 ranks",
+                     float(len(differences) + len(missing)), 0.0)
+    first, second_rod = rs.rod(one_file, ROD), rs.rod(one_file, "second")
+    checks.check("the two rods differ (the comparison can fail)",
+                 -float(np.max(np.abs(first["position"] - second_rod["position"]))), -1e-3)
 
 
 def random_rotation(seed):
@@ -135,13 +154,63 @@ def order(args, checks):
                      abs(fitted - 2.0), 0.1)
 
 
+def unwritable_output(args, checks):
+    """An output path that cannot be written stops the run before the time loop (nothing is
+    computed and lost), with status 1 and a message naming the path."""
+    import subprocess
+    text = rs.read_example(args.source, "flying_spaghetti.nml")
+    text = rs.set_variable(text, "output", "path", "'/proc/no/such/dir/out.h5'")
+    os.makedirs(args.workdir, exist_ok=True)
+    scene = os.path.join(args.workdir, "unwritable.nml")
+    with open(scene, "w", encoding="utf-8") as f:
+        f.write(text)
+    result = subprocess.run([args.mpiexec, "--oversubscribe", "-np", "2", args.rodsolve, scene],
+                            capture_output=True, text=True)
+    output = result.stdout + result.stderr
+    print(output)
+    checks.check("exit status is 1", float(result.returncode != 1), 0.0)
+    checks.check("message names the path", float("/proc/no/such/dir/out.h5" not in output), 0.0)
+    checks.check("no time step was taken", float("Newton iterations" in output), 0.0)
+
+
+def newton_failure(args, checks):
+    """When Newton fails after all halvings, the run stops with status 1 and a message saying
+    where, and the file holds every step up to the last good state (DESIGN.md §3)."""
+    import subprocess
+    text = rs.read_example(args.source, "flying_spaghetti.nml")
+    text = rs.set_variable(text, "solver", "max_newton", "3")
+    text = rs.set_variable(text, "solver", "max_cutbacks", "1")
+    os.makedirs(args.workdir, exist_ok=True)
+    output = os.path.join(args.workdir, "newton_failure.h5")
+    text = rs.set_variable(text, "output", "path", f"'{output}'")
+    scene = os.path.join(args.workdir, "newton_failure.nml")
+    with open(scene, "w", encoding="utf-8") as f:
+        f.write(text)
+    result = subprocess.run([args.mpiexec, "--oversubscribe", "-np", "1", args.rodsolve, scene],
+                            capture_output=True, text=True)
+    message = result.stdout + result.stderr
+    print(message)
+    checks.check("exit status is 1", float(result.returncode != 1), 0.0)
+    checks.check("message says Newton did not converge",
+                 float("Newton did not converge at t = " not in message), 0.0)
+    r = rs.rod(output, ROD)
+    t = r["time"]
+    print(f"info: {t.size} records, last at t = {t[-1]}")
+    checks.check("records written up to the failure (more than the initial one)", -float(t.size), -2.0)
+    checks.check("record times strictly increase", float(np.any(np.diff(t) <= 0)), 0.0)
+    checks.check("the failure time in the message is the last record",
+                 float(f"at t = {t[-1]:g} " not in message and f"at t = {t[-1]} " not in message), 0.0)
+
+
 def main():
     parser = rs.common_arguments(__doc__)
-    parser.add_argument("case", choices=["invariants", "ranks", "objectivity", "order"])
+    parser.add_argument("case", choices=["invariants", "ranks", "objectivity", "order",
+                                         "unwritable_output", "newton_failure"])
     args = parser.parse_args()
     checks = rs.Checks()
-    {"invariants": invariants, "ranks": ranks, "objectivity": objectivity, "order": order}[args.case](
-        args, checks)
+    cases = {"invariants": invariants, "ranks": ranks, "objectivity": objectivity, "order": order,
+             "unwritable_output": unwritable_output, "newton_failure": newton_failure}
+    cases[args.case](args, checks)
     checks.finish()
 
 
