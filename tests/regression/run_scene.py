@@ -69,6 +69,19 @@ def run(args, text, name, ranks=1, extra=()):
     return output
 
 
+def run_failing(args, text, name, ranks=1):
+    """Write scene `name`.nml as given (its output path untouched), run it and return the exit
+    status and everything it printed, for tests of how a run fails."""
+    os.makedirs(args.workdir, exist_ok=True)
+    scene = os.path.join(args.workdir, name + ".nml")
+    with open(scene, "w", encoding="utf-8") as f:
+        f.write(text)
+    result = subprocess.run([args.mpiexec, "--oversubscribe", "-np", str(ranks), args.rodsolve, scene],
+                            capture_output=True, text=True)
+    print(result.stdout + result.stderr)
+    return result.returncode, result.stdout + result.stderr
+
+
 def rod(path, name):
     """All datasets of /rods/<name> as numpy arrays, keyed by their path below the rod."""
     fields = {}

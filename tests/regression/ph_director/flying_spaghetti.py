@@ -157,18 +157,10 @@ def order(args, checks):
 def unwritable_output(args, checks):
     """An output path that cannot be written stops the run before the time loop (nothing is
     computed and lost), with status 1 and a message naming the path."""
-    import subprocess
     text = rs.read_example(args.source, "flying_spaghetti.nml")
     text = rs.set_variable(text, "output", "path", "'/proc/no/such/dir/out.h5'")
-    os.makedirs(args.workdir, exist_ok=True)
-    scene = os.path.join(args.workdir, "unwritable.nml")
-    with open(scene, "w", encoding="utf-8") as f:
-        f.write(text)
-    result = subprocess.run([args.mpiexec, "--oversubscribe", "-np", "2", args.rodsolve, scene],
-                            capture_output=True, text=True)
-    output = result.stdout + result.stderr
-    print(output)
-    checks.check("exit status is 1", float(result.returncode != 1), 0.0)
+    status, output = rs.run_failing(args, text, "unwritable", ranks=2)
+    checks.check("exit status is 1", float(status != 1), 0.0)
     checks.check("message names the path", float("/proc/no/such/dir/out.h5" not in output), 0.0)
     checks.check("no time step was taken", float("Newton iterations" in output), 0.0)
 
@@ -176,21 +168,13 @@ def unwritable_output(args, checks):
 def newton_failure(args, checks):
     """When Newton fails after all halvings, the run stops with status 1 and a message saying
     where, and the file holds every step up to the last good state (DESIGN.md §3)."""
-    import subprocess
     text = rs.read_example(args.source, "flying_spaghetti.nml")
     text = rs.set_variable(text, "solver", "max_newton", "3")
     text = rs.set_variable(text, "solver", "max_cutbacks", "1")
-    os.makedirs(args.workdir, exist_ok=True)
     output = os.path.join(args.workdir, "newton_failure.h5")
     text = rs.set_variable(text, "output", "path", f"'{output}'")
-    scene = os.path.join(args.workdir, "newton_failure.nml")
-    with open(scene, "w", encoding="utf-8") as f:
-        f.write(text)
-    result = subprocess.run([args.mpiexec, "--oversubscribe", "-np", "1", args.rodsolve, scene],
-                            capture_output=True, text=True)
-    message = result.stdout + result.stderr
-    print(message)
-    checks.check("exit status is 1", float(result.returncode != 1), 0.0)
+    status, message = rs.run_failing(args, text, "newton_failure")
+    checks.check("exit status is 1", float(status != 1), 0.0)
     checks.check("message says Newton did not converge",
                  float("Newton did not converge at t = " not in message), 0.0)
     r = rs.rod(output, ROD)
