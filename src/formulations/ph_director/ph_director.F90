@@ -535,11 +535,7 @@ contains
         do e = 1, this%n_elements
             nodes = this%element_nodes(e)
             if (present(values)) then
-                call ph_director_element_residual(this%basis, this%material, &
-                    this%element_length(e), h, this%q_n(:, nodes(1):nodes(2)), &
-                    this%q_1(:, nodes(1):nodes(2)), this%v_n(:, nodes(1):nodes(2)), &
-                    this%v_1(:, nodes(1):nodes(2)), this%s_n(:, :, e), this%s_1(:, :, e), nbar, &
-                    mbar, r_e, j_e)
+                call element_kernel(this, e, h, nbar, mbar, r_e, j_e)
                 do j = 1, this%n_local
                     do i = 1, this%n_local
                         p = this%element_map(i, j, e)
@@ -547,11 +543,7 @@ contains
                     end do
                 end do
             else
-                call ph_director_element_residual(this%basis, this%material, &
-                    this%element_length(e), h, this%q_n(:, nodes(1):nodes(2)), &
-                    this%q_1(:, nodes(1):nodes(2)), this%v_n(:, nodes(1):nodes(2)), &
-                    this%v_1(:, nodes(1):nodes(2)), this%s_n(:, :, e), this%s_1(:, :, e), nbar, &
-                    mbar, r_e)
+                call element_kernel(this, e, h, nbar, mbar, r_e)
             end if
             if (present(f)) then
                 dofs = element_dofs(this, e)
@@ -770,14 +762,30 @@ contains
         zero = 0.0_rk
         do e = 1, this%n_elements
             nodes = this%element_nodes(e)
-            call ph_director_element_residual(this%basis, this%material, this%element_length(e), &
-                h, this%q_n(:, nodes(1):nodes(2)), this%q_1(:, nodes(1):nodes(2)), &
-                this%v_n(:, nodes(1):nodes(2)), this%v_1(:, nodes(1):nodes(2)), &
-                this%s_n(:, :, e), this%s_n(:, :, e), zero, zero, r_e)
+            ! R_S at sigma_{n+1} = sigma_n is -h int psi eps_dot; C_e (sigma_{n+1} - sigma_n)
+            ! must cancel it.
+            this%s_1(:, :, e) = this%s_n(:, :, e)
+            call element_kernel(this, e, h, zero, zero, r_e)
             this%s_1(:, :, e) = this%s_n(:, :, e) - reshape(matmul(this%compliance_inverse(:, :, e), &
                 r_e(first:)), [6, this%degree])
         end do
     end subroutine condensed_fields
+
+    !> The element kernel (methods §5.6 rows R_M, R_S) of element e on the workspace fields at
+    !> t_n and t_{n+1}, with its Jacobian when `j_e` is present.
+    subroutine element_kernel(this, e, h, nbar, mbar, r_e, j_e)
+        type(ph_director_t), intent(in) :: this
+        integer, intent(in) :: e
+        real(rk), intent(in) :: h, nbar(3), mbar(3)
+        real(rk), intent(out) :: r_e(:)
+        real(rk), intent(out), optional :: j_e(:, :)
+        integer :: nodes(2)
+        nodes = this%element_nodes(e)
+        call ph_director_element_residual(this%basis, this%material, this%element_length(e), h, &
+            this%q_n(:, nodes(1):nodes(2)), this%q_1(:, nodes(1):nodes(2)), &
+            this%v_n(:, nodes(1):nodes(2)), this%v_1(:, nodes(1):nodes(2)), this%s_n(:, :, e), &
+            this%s_1(:, :, e), nbar, mbar, r_e, j_e)
+    end subroutine element_kernel
 
     !> Residual (and, if `values` is present, the Schur-complement Jacobian) of the condensed
     !> step.
@@ -810,11 +818,7 @@ contains
         do e = 1, this%n_elements
             nodes = this%element_nodes(e)
             if (present(values)) then
-                call ph_director_element_residual(this%basis, this%material, &
-                    this%element_length(e), h, this%q_n(:, nodes(1):nodes(2)), &
-                    this%q_1(:, nodes(1):nodes(2)), this%v_n(:, nodes(1):nodes(2)), &
-                    this%v_1(:, nodes(1):nodes(2)), this%s_n(:, :, e), this%s_1(:, :, e), nbar, &
-                    mbar, r_e, j_e)
+                call element_kernel(this, e, h, nbar, mbar, r_e, j_e)
                 ! d/dq_{n+1} through v_{n+1} = 2 (q_{n+1} - q_n)/h - v_n, then the Schur
                 ! complement of the stress block: A - B C_e^{-1} C.
                 schur = j_e(rows_m, cols_q) + (2.0_rk / h) * j_e(rows_m, cols_v)
@@ -828,11 +832,7 @@ contains
                     end do
                 end do
             else
-                call ph_director_element_residual(this%basis, this%material, &
-                    this%element_length(e), h, this%q_n(:, nodes(1):nodes(2)), &
-                    this%q_1(:, nodes(1):nodes(2)), this%v_n(:, nodes(1):nodes(2)), &
-                    this%v_1(:, nodes(1):nodes(2)), this%s_n(:, :, e), this%s_1(:, :, e), nbar, &
-                    mbar, r_e)
+                call element_kernel(this, e, h, nbar, mbar, r_e)
             end if
             if (present(f)) then
                 do a = 1, this%degree + 1
