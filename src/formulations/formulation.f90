@@ -49,6 +49,12 @@ module rs_formulations_formulation
         procedure(record_interface), deferred :: record
         !> A short description for the log ("ph_director: 10 elements, p = 2, 750 unknowns").
         procedure(describe_interface), deferred :: describe
+        !> True if the run should end with an endpoint equilibrium solve (quasistatic runs,
+        !> DESIGN.md §3); default false.
+        procedure :: wants_endpoint_solve => default_wants_endpoint_solve
+        !> Switch the step problem to (or back from) the endpoint equilibrium at load time
+        !> `t_load`: the next step solves it instead of a time step; default: nothing to switch.
+        procedure :: set_endpoint_solve => default_set_endpoint_solve
     end type rod_formulation_t
 
     abstract interface
@@ -123,6 +129,17 @@ module rs_formulations_formulation
     end interface
 
 contains
+
+    pure logical function default_wants_endpoint_solve(this)
+        class(rod_formulation_t), intent(in) :: this
+        default_wants_endpoint_solve = .false.
+    end function default_wants_endpoint_solve
+
+    subroutine default_set_endpoint_solve(this, on, t_load)
+        class(rod_formulation_t), intent(inout) :: this
+        logical, intent(in) :: on
+        real(rk), intent(in) :: t_load
+    end subroutine default_set_endpoint_solve
 
     subroutine default_predictor(this, t_n, h, x_n, y)
         class(rod_formulation_t), intent(inout) :: this

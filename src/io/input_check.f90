@@ -1,19 +1,23 @@
 !> Resolution and cross-checks of a scene that was read without errors (DESIGN.md §6): fills
 !> derived defaults (rod names, formulations, directors, stiffnesses from section and material,
-!> output path) and checks what no single variable can (a &bc on a rod that does not exist, an
-!> end supported twice, a table that is not increasing, dt above t_end, ...). Every problem is
-!> added to `errors`, naming the file, line, group and variable.
+!> Maxwell shear relaxation times, output path) and checks what no single variable can (a &bc
+!> on a rod that does not exist, an end supported twice, a table that is not increasing, dt
+!> above t_end, Maxwell fractions that leave no elastic branch, an actuator without its force,
+!> ...). Every problem is added to `errors`, naming the file, line, group and variable.
 module rs_io_input_check
     use rs_core_kinds, only: rk
     use rs_core_error, only: error_list_t
     use rs_core_strings, only: str
-    use rs_model_scene, only: scene_t, rod_input_t, unset_real, section_derived_names
+    use rs_model_scene, only: scene_t, rod_input_t, actuator_input_t, unset_real, section_derived_names
     use rs_model_section, only: section_properties_t, circle_section, tube_section, rectangle_section
     use rs_model_capabilities, only: capability_t, capability_of, lists_name
     implicit none
     private
 
-    public :: resolve_scene, default_output_path, check_capabilities
+    public :: resolve_scene, default_output_path, check_capabilities, check_rod_capabilities
+
+    !> Where capability messages send the reader.
+    character(len=*), parameter :: see_matrix = ' (docs/user/capabilities.md)'
 
     !> Deviation from unit length or orthogonality that counts as round-off.
     real(rk), parameter :: round_off = 4.0_rk * epsilon(1.0_rk)
@@ -38,6 +42,7 @@ contains
         call check_unique_names(scene, errors)
         call check_bcs(scene, errors)
         call check_loads(scene, errors)
+        call check_actuators(scene, errors)
     end subroutine resolve_scene
 
     !> 'out/<scene name>.h5' for scene file '<dir>/<scene name>.nml'.
@@ -99,9 +104,69 @@ contains
                 if (abs(norm2(d1) - 1.0_rk) > round_off) d1 = d1 / norm2(d1)
                 rod%d1 = d1
             end if
+            call resolve_maxwell(rod, here, errors)
             call resolve_stiffness(rod, here, errors)
         end associate
     end subroutine resolve_rod
+
+    !> Maxwell branches (methods/ph_director_3d.md §3.1): m = the number of leading given
+    !> maxwell_fraction entries, with no gaps; one maxwell_tau_E per branch; maxwell_tau_G
+    !> defaults to maxwell_tau_E of the same branch; the fractions leave the elastic branch a
+    !> positive share 1 - sum.
+    subroutine resolve_maxwell(rod, here, errors)
+        type(rod_input_t), intent(inout) :: rod
+        character(len=*), intent(in) :: here
+        type(error_list_t), intent(inout) :: errors
+        integer :: m
+        logical :: ok
+        m = leading_count(rod%maxwell_fraction)
+        ok = no_gap(rod%maxwell_fraction, 'maxwell_fraction')
+        ok = no_gap(rod%maxwell_tau_E, 'maxwell_tau_E') .and. ok
+        if (.not. ok) return
+        if (count(rod%maxwell_tau_E /= unset_real) /= m) then
+            call errors%add(here // 'maxwell_tau_E: one relaxation time per Maxwell branch; ' // &
+                str(m) // ' maxwell_fraction and ' // str(count(rod%maxwell_tau_E /= unset_real)) // &
+                ' maxwell_tau_E given')
+            ok = .false.
+        end if
+        if (any(rod%maxwell_tau_G(m + 1:) /= unset_real)) then
+            call errors%add(here // 'maxwell_tau_G: given for branch ' // &
+                str(findloc(rod%maxwell_tau_G /= unset_real, .true., dim=1, back=.true.)) // &
+                ', but there are ' // str(m) // ' branches (one per maxwell_fraction)')
+            ok = .false.
+        end if
+        if (m > 0) then
+            if (sum(rod%maxwell_fraction(1:m)) >= 1.0_rk) then
+                call errors%add(here // 'maxwell_fraction: the fractions sum to ' // &
+                    str(sum(rod%maxwell_fraction(1:m))) // '; the sum must be < 1 so that the ' // &
+                    'elastic branch keeps a positive fraction 1 - sum')
+                ok = .false.
+            end if
+        end if
+        if (.not. ok) return
+        where (rod%maxwell_tau_G(1:m) == unset_real) rod%maxwell_tau_G(1:m) = rod%maxwell_tau_E(1:m)
+    contains
+        !> True if the given entries of `values` are leading (no unset entry before a given one).
+        logical function no_gap(values, name)
+            real(rk), intent(in) :: values(:)
+            character(len=*), intent(in) :: name
+            integer :: n
+            n = leading_count(values)
+            no_gap = all(values(n + 1:) == unset_real)
+            if (.not. no_gap) call errors%add(here // name // ': entry ' // str(n + 1) // &
+                ' is not given but a later one is; Maxwell branches are numbered from 1 without gaps')
+        end function no_gap
+    end subroutine resolve_maxwell
+
+    !> Number of leading given entries of `values`.
+    pure integer function leading_count(values) result(n)
+        real(rk), intent(in) :: values(:)
+        n = 0
+        do while (n < size(values))
+            if (values(n + 1) == unset_real) exit
+            n = n + 1
+        end do
+    end function leading_count
 
     !> A unit vector normal to the unit tangent t: e_z x t normalized, or e_x when t is along
     !> e_z. For a rod along e_x this is d1 = e_y, d2 = t x d1 = e_z.
@@ -257,7 +322,7 @@ contains
         type(scene_t), intent(in) :: scene
         type(error_list_t), intent(inout) :: errors
         character(len=:), allocatable :: here
-        integer :: i, n_times, n_values
+        integer :: i
         do i = 1, size(scene%loads)
             associate (load => scene%loads(i))
                 here = at(scene, load%input_line) // '&load '
@@ -276,80 +341,188 @@ contains
                 else if (any(load%acceleration /= 0.0_rk)) then
                     call errors%add(here // 'acceleration: only a gravity load takes an acceleration')
                 end if
-                select case (trim(load%time_function))
-                case ('ramp', 'hat', 'pulse')
-                    if (load%t_off == unset_real) then
-                        call errors%add(here // 't_off: required by time_function = ''' // &
-                            trim(load%time_function) // '''')
-                    else if (load%t_off <= load%t_on) then
-                        call errors%add(here // 't_off: ' // str(load%t_off) // ' must be larger than t_on = ' // &
-                            str(load%t_on))
-                    end if
-                case ('table')
-                    n_times = count(load%table_times /= unset_real)
-                    n_values = count(load%table_values /= unset_real)
-                    if (n_times < 2 .or. n_times /= n_values) then
-                        call errors%add(here // 'table_times: a table needs at least 2 times and as many ' // &
-                            'table_values (' // str(n_times) // ' and ' // str(n_values) // ' given)')
-                    else if (any(load%table_times(2:n_times) <= load%table_times(1:n_times - 1))) then
-                        call errors%add(here // 'table_times: must be strictly increasing')
-                    end if
-                end select
+                call check_time_function(here, load%time_function, load%t_on, load%t_off, &
+                    load%table_times, load%table_values, errors)
             end associate
         end do
     end subroutine check_loads
 
+    !> The time function of a &load or &actuator (prefix `here`): ramps, hats and pulses need
+    !> t_off > t_on; a table needs at least two strictly increasing times and as many values.
+    subroutine check_time_function(here, name, t_on, t_off, times, values, errors)
+        character(len=*), intent(in) :: here, name
+        real(rk), intent(in) :: t_on, t_off, times(:), values(:)
+        type(error_list_t), intent(inout) :: errors
+        integer :: n_times, n_values
+        select case (trim(name))
+        case ('ramp', 'hat', 'pulse')
+            if (t_off == unset_real) then
+                call errors%add(here // 't_off: required by time_function = ''' // trim(name) // '''')
+            else if (t_off <= t_on) then
+                call errors%add(here // 't_off: ' // str(t_off) // ' must be larger than t_on = ' // &
+                    str(t_on))
+            end if
+        case ('table')
+            n_times = count(times /= unset_real)
+            n_values = count(values /= unset_real)
+            if (n_times < 2 .or. n_times /= n_values) then
+                call errors%add(here // 'table_times: a table needs at least 2 times and as many ' // &
+                    'table_values (' // str(n_times) // ' and ' // str(n_values) // ' given)')
+            else if (leading_count(times) /= n_times .or. leading_count(values) /= n_values) then
+                call errors%add(here // 'table_times: the table entries must be given from 1 ' // &
+                    'without gaps')
+            else if (any(times(2:n_times) <= times(1:n_times - 1))) then
+                call errors%add(here // 'table_times: must be strictly increasing')
+            end if
+        end select
+    end subroutine check_time_function
+
+    !> &actuator (seed 000 §5.2, methods/ph_director_3d.md §3.2): an existing rod; a pneumatic
+    !> chamber takes area and pressure, a tendon tension, and neither takes the other's; the
+    !> offset lies inside a circle or tube section; the time function as for a load.
+    subroutine check_actuators(scene, errors)
+        type(scene_t), intent(in) :: scene
+        type(error_list_t), intent(inout) :: errors
+        character(len=:), allocatable :: here
+        integer :: i, r
+        if (.not. allocated(scene%actuators)) return
+        do i = 1, size(scene%actuators)
+            associate (act => scene%actuators(i))
+                here = at(scene, act%input_line) // '&actuator '
+                r = 0
+                if (len_trim(act%rod) > 0) then
+                    r = rod_index(scene, act%rod)
+                    if (r == 0) call errors%add(here // 'rod: no rod is named ''' // trim(act%rod) // &
+                        '''; rods: ' // rod_names(scene))
+                end if
+                select case (trim(act%kind))
+                case ('pneumatic')
+                    call need(act%area, 'area')
+                    call need(act%pressure, 'pressure')
+                    call refuse(act%tension, 'tension', 'a pneumatic chamber takes area and pressure')
+                case ('tendon')
+                    call need(act%tension, 'tension')
+                    call refuse(act%area, 'area', 'a tendon takes tension')
+                    call refuse(act%pressure, 'pressure', 'a tendon takes tension')
+                end select
+                if (count(act%offset /= unset_real) == 1) call errors%add(here // &
+                    'offset: both material coordinates (rho^1, rho^2) are needed')
+                if (r > 0 .and. all(act%offset /= unset_real)) call check_offset(scene%rods(r), act, &
+                    here, errors)
+                call check_time_function(here, act%time_function, act%t_on, act%t_off, &
+                    act%table_times, act%table_values, errors)
+            end associate
+        end do
+    contains
+        subroutine need(value, name)
+            real(rk), intent(in) :: value
+            character(len=*), intent(in) :: name
+            if (value == unset_real) call errors%add(here // name // ': required for kind = ''' // &
+                trim(scene%actuators(i)%kind) // '''')
+        end subroutine need
+
+        subroutine refuse(value, name, reason)
+            real(rk), intent(in) :: value
+            character(len=*), intent(in) :: name, reason
+            if (value /= unset_real) call errors%add(here // name // ': not allowed for kind = ''' // &
+                trim(scene%actuators(i)%kind) // ''' (' // reason // ')')
+        end subroutine refuse
+    end subroutine check_actuators
+
+    !> The chamber or tendon line must lie inside a circle or tube section of known radius.
+    subroutine check_offset(rod, act, here, errors)
+        type(rod_input_t), intent(in) :: rod
+        type(actuator_input_t), intent(in) :: act
+        character(len=*), intent(in) :: here
+        type(error_list_t), intent(inout) :: errors
+        real(rk) :: distance
+        if (trim(rod%section) /= 'circle' .and. trim(rod%section) /= 'tube') return
+        if (rod%radius == unset_real) return
+        distance = norm2(act%offset)
+        if (distance > rod%radius) call errors%add(here // 'offset: |offset| = ' // str(distance) // &
+            ' lies outside the ' // trim(rod%section) // ' section of rod ''' // trim(rod%name) // &
+            ''' (radius ' // str(rod%radius) // ')')
+    end subroutine check_offset
+
     !> A scene must never silently get less than it asked for (DESIGN.md §1): every rod's
-    !> formulation must be available and able to do what its supports and loads ask.
+    !> formulation must be available and able to do what the rod, its supports, loads and
+    !> actuators and the time settings ask.
     subroutine check_capabilities(scene, errors)
         type(scene_t), intent(in) :: scene
         type(error_list_t), intent(inout) :: errors
         type(capability_t) :: row
-        character(len=*), parameter :: see = ' (docs/user/capabilities.md)'
-        character(len=:), allocatable :: name, what
-        integer :: i, j
+        integer :: i
         do i = 1, size(scene%rods)
             associate (rod => scene%rods(i))
-                name = trim(rod%formulation)
-                row = capability_of(name)
-                what = 'formulation ''' // name // ''''
+                row = capability_of(trim(rod%formulation))
                 if (.not. row%available) then
-                    call errors%add(at(scene, rod%input_line) // '&rod formulation: ''' // name // &
-                        ''' is not available in this version; available: ' // &
-                        available_formulation_names() // see)
+                    call errors%add(at(scene, rod%input_line) // '&rod formulation: ''' // &
+                        trim(rod%formulation) // ''' is not available in this version; available: ' // &
+                        available_formulation_names() // see_matrix)
                     cycle
                 end if
-                if (.not. lists_name(row%constraints, rod%constraint)) call errors%add(at(scene, &
-                    rod%input_line) // '&rod constraint: ''' // trim(rod%constraint) // &
-                    ''' is not available for ' // what // '; available: ' // trim(row%constraints) // see)
-                if (scene%time%quasistatic .and. .not. row%quasistatic) call errors%add(at(scene, 0) // &
-                    '&time quasistatic: not available for ' // what // ' (rod ''' // trim(rod%name) // &
-                    ''')' // see)
-                do j = 1, size(scene%bcs)
-                    associate (bc => scene%bcs(j))
-                        if (bc%rod /= rod%name .or. len_trim(bc%kind) == 0) cycle
-                        if (.not. lists_name(row%end_kinds, bc%kind)) call errors%add(at(scene, &
-                            bc%input_line) // '&bc kind: a ''' // trim(bc%kind) // ''' end is not ' // &
-                            'available for ' // what // '; available: ' // trim(row%end_kinds) // see)
-                    end associate
-                end do
-                do j = 1, size(scene%loads)
-                    associate (load => scene%loads(j))
-                        if (load%rod /= rod%name .and. len_trim(load%rod) > 0) cycle
-                        if (len_trim(load%where) == 0) cycle
-                        if (.not. lists_name(row%load_places, load%where)) call errors%add(at(scene, &
-                            load%input_line) // '&load where: ''' // trim(load%where) // &
-                            ''' is not available for ' // what // '; available: ' // &
-                            trim(row%load_places) // see)
-                        if (.not. lists_name(row%load_frames, load%frame)) call errors%add(at(scene, &
-                            load%input_line) // '&load frame: ''' // trim(load%frame) // &
-                            ''' loads are not available for ' // what // '; available: ' // &
-                            trim(row%load_frames) // see)
-                    end associate
-                end do
+                call check_rod_capabilities(scene, i, row, errors)
             end associate
         end do
     end subroutine check_capabilities
+
+    !> Rod `i` of `scene` against capability row `row` (that of its formulation; any row in a
+    !> unit test): its constraint and Maxwell branches, quasistatics, and the kinds of its
+    !> supports, loads and actuators.
+    subroutine check_rod_capabilities(scene, i, row, errors)
+        type(scene_t), intent(in) :: scene
+        integer, intent(in) :: i
+        type(capability_t), intent(in) :: row
+        type(error_list_t), intent(inout) :: errors
+        character(len=:), allocatable :: what
+        integer :: j
+        associate (rod => scene%rods(i))
+            what = 'formulation ''' // trim(row%formulation) // ''''
+            if (.not. lists_name(row%constraints, rod%constraint)) call errors%add(at(scene, &
+                rod%input_line) // '&rod constraint: ''' // trim(rod%constraint) // &
+                ''' is not available for ' // what // '; available: ' // trim(row%constraints) // &
+                see_matrix)
+            if (any(rod%maxwell_fraction /= unset_real) .and. .not. row%viscoelastic) call errors%add( &
+                at(scene, rod%input_line) // '&rod maxwell_fraction: Maxwell branches ' // &
+                '(viscoelasticity) are not available for ' // what // ' (rod ''' // trim(rod%name) // &
+                ''')' // see_matrix)
+            if (scene%time%quasistatic .and. .not. row%quasistatic) call errors%add(at(scene, 0) // &
+                '&time quasistatic: not available for ' // what // ' (rod ''' // trim(rod%name) // &
+                ''')' // see_matrix)
+            do j = 1, size(scene%bcs)
+                associate (bc => scene%bcs(j))
+                    if (bc%rod /= rod%name .or. len_trim(bc%kind) == 0) cycle
+                    if (.not. lists_name(row%end_kinds, bc%kind)) call errors%add(at(scene, &
+                        bc%input_line) // '&bc kind: a ''' // trim(bc%kind) // ''' end is not ' // &
+                        'available for ' // what // '; available: ' // trim(row%end_kinds) // &
+                        see_matrix)
+                end associate
+            end do
+            do j = 1, size(scene%loads)
+                associate (load => scene%loads(j))
+                    if (load%rod /= rod%name .and. len_trim(load%rod) > 0) cycle
+                    if (len_trim(load%where) == 0) cycle
+                    if (.not. lists_name(row%load_places, load%where)) call errors%add(at(scene, &
+                        load%input_line) // '&load where: ''' // trim(load%where) // &
+                        ''' is not available for ' // what // '; available: ' // &
+                        trim(row%load_places) // see_matrix)
+                    if (.not. lists_name(row%load_frames, load%frame)) call errors%add(at(scene, &
+                        load%input_line) // '&load frame: ''' // trim(load%frame) // &
+                        ''' loads are not available for ' // what // '; available: ' // &
+                        trim(row%load_frames) // see_matrix)
+                end associate
+            end do
+            if (.not. allocated(scene%actuators) .or. row%actuation) return
+            do j = 1, size(scene%actuators)
+                associate (act => scene%actuators(j))
+                    if (act%rod == rod%name) call errors%add(at(scene, act%input_line) // &
+                        '&actuator kind: ''' // trim(act%kind) // &
+                        ''' actuators (actuation) are not ' // &
+                        'available for ' // what // ' (rod ''' // trim(rod%name) // ''')' // see_matrix)
+                end associate
+            end do
+        end associate
+    end subroutine check_rod_capabilities
 
     !> Names of the formulations this build can run.
     function available_formulation_names() result(names)

@@ -1,17 +1,17 @@
 !> Reads scene text into the plain scene type (DESIGN.md §6). Each assignment of each group is
 !> checked against the tables of rs_io_input_spec (name, number of values, allowed values,
 !> range) and then read on its own through a namelist whose object is the group's plain type,
-!> `&rod_nml r%n_elements = 10 /`, so a wrong value is reported with its file, line, group and
-!> variable, and every problem of the file is collected before anything stops.
+!> `&rod_nml rod_copy%n_elements = 10 /`, so a wrong value is reported with its file, line, group
+!> and variable, and every problem of the file is collected before anything stops.
 module rs_io_input_reader
     use rs_core_kinds, only: rk
     use rs_core_error, only: error_list_t
     use rs_core_strings, only: to_lower, str, closest_name
     use rs_model_scene, only: scene_t, run_input_t, time_input_t, solver_input_t, output_input_t, &
-        rod_input_t, bc_input_t, load_input_t
+        rod_input_t, bc_input_t, load_input_t, actuator_input_t
     use rs_io_namelist_lexer, only: assignment_t, group_chunk_t, split_namelist
     use rs_io_input_spec, only: group_spec_t, variable_spec_t, input_groups, find_group, find_variable, &
-        range_description
+        range_description, in_range
     implicit none
     private
 
@@ -33,7 +33,7 @@ contains
 
         scene%source_file = file
         scene%source_text = text
-        allocate(scene%rods(0), scene%bcs(0), scene%loads(0))
+        allocate(scene%rods(0), scene%bcs(0), scene%loads(0), scene%actuators(0))
         groups = input_groups()
         allocate(first_line(size(groups)))
         first_line = 0
@@ -72,6 +72,7 @@ contains
         type(rod_input_t) :: rod
         type(bc_input_t) :: bc
         type(load_input_t) :: load
+        type(actuator_input_t) :: actuator
         logical, allocatable :: given(:)
         character(len=:), allocatable :: where, value, message
         integer :: k, v, ios
@@ -81,15 +82,18 @@ contains
         rod%input_line = chunk%line
         bc%input_line = chunk%line
         load%input_line = chunk%line
+        actuator%input_line = chunk%line
         do k = 1, size(chunk%assignments)
             associate (a => chunk%assignments(k))
-                where = file // ':' // str(a%line) // ': &' // chunk%name // ' ' // a%name // ': '
                 v = find_variable(group, a%name)
                 if (v == 0) then
                     call errors%add(file // ':' // str(a%line) // ': &' // chunk%name // ': unknown variable "' // &
                         a%name // '"' // suggestion(a%name, variable_names(group)))
                     cycle
                 end if
+                ! Named as the reference spells it (maxwell_tau_E, EA), as the cross-checks do.
+                where = file // ':' // str(a%line) // ': &' // chunk%name // ' ' // &
+                    trim(group%variables(v)%name) // ': '
                 if (given(v)) then
                     call errors%add(where // 'given twice in one group')
                     cycle
@@ -100,22 +104,8 @@ contains
                     call errors%add(where // message)
                     cycle
                 end if
-                select case (group%name)
-                case ('run')
-                    call read_run(a%target, value, scene%run, ios, message)
-                case ('time')
-                    call read_time(a%target, value, scene%time, ios, message)
-                case ('solver')
-                    call read_solver(a%target, value, scene%solver, ios, message)
-                case ('output')
-                    call read_output(a%target, value, scene%output, ios, message)
-                case ('rod')
-                    call read_rod(a%target, value, rod, ios, message)
-                case ('bc')
-                    call read_bc(a%target, value, bc, ios, message)
-                case ('load')
-                    call read_load(a%target, value, load, ios, message)
-                end select
+                call read_assignment(trim(group%name), a%target, value, scene, rod, bc, load, &
+                    actuator, ios, message)
                 if (ios /= 0) call errors%add(where // 'cannot read "' // a%value // '" as ' // &
                     kind_phrase(group%variables(v)) // ' (' // trim(message) // ')')
             end associate
@@ -132,6 +122,8 @@ contains
             scene%bcs = [scene%bcs, bc]
         case ('load')
             scene%loads = [scene%loads, load]
+        case ('actuator')
+            scene%actuators = [scene%actuators, actuator]
         end select
     end subroutine read_chunk
 
@@ -182,8 +174,7 @@ contains
             read(a%value, *, iostat=ios) numbers
             if (ios /= 0) return   ! the namelist read reports the type error
             do i = 1, size(numbers)
-                if (numbers(i) < spec%lower .or. numbers(i) > spec%upper .or. &
-                        (.not. spec%lower_inclusive .and. numbers(i) == spec%lower)) then
+                if (.not. in_range(spec, numbers(i))) then
                     message = 'value ' // a%value // ' out of range; allowed: ' // range_description(spec)
                     return
                 end if
@@ -191,128 +182,81 @@ contains
         end select
     end subroutine check_value
 
-    ! One namelist reader per group: the namelist object is a copy of the group's plain type, so
-    ! the assignment `target = value` is read as `r%target = value` and only that component
-    ! changes; on failure the object is left as it was.
-
-    subroutine read_run(target, value, obj, ios, message)
-        character(len=*), intent(in) :: target, value
-        type(run_input_t), intent(inout) :: obj
+    !> Read `target = value` of group `group` through a namelist whose object is a copy of the
+    !> group's plain type (`&rod_nml rod%target = value /`), so only that component changes; the
+    !> single groups live in `scene`, the occurrence of a repeatable group being read in `rod`,
+    !> `bc`, `load` or `actuator`. On failure nothing changes. All namelists live in this one
+    !> procedure, so no group name may equal an object name (hence the `_nml` suffix).
+    subroutine read_assignment(group, target, value, scene, rod, bc, load, actuator, ios, message)
+        character(len=*), intent(in) :: group, target, value
+        type(scene_t), intent(inout) :: scene
+        type(rod_input_t), intent(inout) :: rod
+        type(bc_input_t), intent(inout) :: bc
+        type(load_input_t), intent(inout) :: load
+        type(actuator_input_t), intent(inout) :: actuator
         integer, intent(out) :: ios
         character(len=:), allocatable, intent(out) :: message
-        type(run_input_t) :: r
+        type(run_input_t) :: run_copy
+        type(time_input_t) :: time_copy
+        type(solver_input_t) :: solver_copy
+        type(output_input_t) :: output_copy
+        type(rod_input_t) :: rod_copy
+        type(bc_input_t) :: bc_copy
+        type(load_input_t) :: load_copy
+        type(actuator_input_t) :: actuator_copy
+        namelist /run_nml/ run_copy
+        namelist /time_nml/ time_copy
+        namelist /solver_nml/ solver_copy
+        namelist /output_nml/ output_copy
+        namelist /rod_nml/ rod_copy
+        namelist /bc_nml/ bc_copy
+        namelist /load_nml/ load_copy
+        namelist /actuator_nml/ actuator_copy
         character(len=256) :: msg
         character(len=:), allocatable :: buffer
-        namelist /run_nml/ r
-        r = obj
-        msg = ''
-        buffer = '&run_nml r%' // target // ' = ' // value // ' /'
-        read(buffer, nml=run_nml, iostat=ios, iomsg=msg)
-        if (ios == 0) obj = r
-        message = trim(msg)
-    end subroutine read_run
 
-    subroutine read_time(target, value, obj, ios, message)
-        character(len=*), intent(in) :: target, value
-        type(time_input_t), intent(inout) :: obj
-        integer, intent(out) :: ios
-        character(len=:), allocatable, intent(out) :: message
-        type(time_input_t) :: r
-        character(len=256) :: msg
-        character(len=:), allocatable :: buffer
-        namelist /time_nml/ r
-        r = obj
+        run_copy = scene%run
+        time_copy = scene%time
+        solver_copy = scene%solver
+        output_copy = scene%output
+        rod_copy = rod
+        bc_copy = bc
+        load_copy = load
+        actuator_copy = actuator
         msg = ''
-        buffer = '&time_nml r%' // target // ' = ' // value // ' /'
-        read(buffer, nml=time_nml, iostat=ios, iomsg=msg)
-        if (ios == 0) obj = r
+        buffer = '&' // group // '_nml ' // group // '_copy%' // target // ' = ' // value // ' /'
+        select case (group)
+        case ('run')
+            read(buffer, nml=run_nml, iostat=ios, iomsg=msg)
+        case ('time')
+            read(buffer, nml=time_nml, iostat=ios, iomsg=msg)
+        case ('solver')
+            read(buffer, nml=solver_nml, iostat=ios, iomsg=msg)
+        case ('output')
+            read(buffer, nml=output_nml, iostat=ios, iomsg=msg)
+        case ('rod')
+            read(buffer, nml=rod_nml, iostat=ios, iomsg=msg)
+        case ('bc')
+            read(buffer, nml=bc_nml, iostat=ios, iomsg=msg)
+        case ('load')
+            read(buffer, nml=load_nml, iostat=ios, iomsg=msg)
+        case ('actuator')
+            read(buffer, nml=actuator_nml, iostat=ios, iomsg=msg)
+        case default
+            ios = -1
+            msg = 'no reader for group &' // group
+        end select
         message = trim(msg)
-    end subroutine read_time
-
-    subroutine read_solver(target, value, obj, ios, message)
-        character(len=*), intent(in) :: target, value
-        type(solver_input_t), intent(inout) :: obj
-        integer, intent(out) :: ios
-        character(len=:), allocatable, intent(out) :: message
-        type(solver_input_t) :: r
-        character(len=256) :: msg
-        character(len=:), allocatable :: buffer
-        namelist /solver_nml/ r
-        r = obj
-        msg = ''
-        buffer = '&solver_nml r%' // target // ' = ' // value // ' /'
-        read(buffer, nml=solver_nml, iostat=ios, iomsg=msg)
-        if (ios == 0) obj = r
-        message = trim(msg)
-    end subroutine read_solver
-
-    subroutine read_output(target, value, obj, ios, message)
-        character(len=*), intent(in) :: target, value
-        type(output_input_t), intent(inout) :: obj
-        integer, intent(out) :: ios
-        character(len=:), allocatable, intent(out) :: message
-        type(output_input_t) :: r
-        character(len=256) :: msg
-        character(len=:), allocatable :: buffer
-        namelist /output_nml/ r
-        r = obj
-        msg = ''
-        buffer = '&output_nml r%' // target // ' = ' // value // ' /'
-        read(buffer, nml=output_nml, iostat=ios, iomsg=msg)
-        if (ios == 0) obj = r
-        message = trim(msg)
-    end subroutine read_output
-
-    subroutine read_rod(target, value, obj, ios, message)
-        character(len=*), intent(in) :: target, value
-        type(rod_input_t), intent(inout) :: obj
-        integer, intent(out) :: ios
-        character(len=:), allocatable, intent(out) :: message
-        type(rod_input_t) :: r
-        character(len=256) :: msg
-        character(len=:), allocatable :: buffer
-        namelist /rod_nml/ r
-        r = obj
-        msg = ''
-        buffer = '&rod_nml r%' // target // ' = ' // value // ' /'
-        read(buffer, nml=rod_nml, iostat=ios, iomsg=msg)
-        if (ios == 0) obj = r
-        message = trim(msg)
-    end subroutine read_rod
-
-    subroutine read_bc(target, value, obj, ios, message)
-        character(len=*), intent(in) :: target, value
-        type(bc_input_t), intent(inout) :: obj
-        integer, intent(out) :: ios
-        character(len=:), allocatable, intent(out) :: message
-        type(bc_input_t) :: r
-        character(len=256) :: msg
-        character(len=:), allocatable :: buffer
-        namelist /bc_nml/ r
-        r = obj
-        msg = ''
-        buffer = '&bc_nml r%' // target // ' = ' // value // ' /'
-        read(buffer, nml=bc_nml, iostat=ios, iomsg=msg)
-        if (ios == 0) obj = r
-        message = trim(msg)
-    end subroutine read_bc
-
-    subroutine read_load(target, value, obj, ios, message)
-        character(len=*), intent(in) :: target, value
-        type(load_input_t), intent(inout) :: obj
-        integer, intent(out) :: ios
-        character(len=:), allocatable, intent(out) :: message
-        type(load_input_t) :: r
-        character(len=256) :: msg
-        character(len=:), allocatable :: buffer
-        namelist /load_nml/ r
-        r = obj
-        msg = ''
-        buffer = '&load_nml r%' // target // ' = ' // value // ' /'
-        read(buffer, nml=load_nml, iostat=ios, iomsg=msg)
-        if (ios == 0) obj = r
-        message = trim(msg)
-    end subroutine read_load
+        if (ios /= 0) return
+        scene%run = run_copy
+        scene%time = time_copy
+        scene%solver = solver_copy
+        scene%output = output_copy
+        rod = rod_copy
+        bc = bc_copy
+        load = load_copy
+        actuator = actuator_copy
+    end subroutine read_assignment
 
     ! --- message helpers ---------------------------------------------------------------------
 

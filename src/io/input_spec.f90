@@ -8,11 +8,12 @@
 module rs_io_input_spec
     use rs_core_kinds, only: rk
     use rs_core_strings, only: to_lower, str
+    use rs_model_scene, only: max_table, max_branches
     implicit none
     private
 
     public :: variable_spec_t, group_spec_t, input_groups, find_group, find_variable, spec_v
-    public :: range_description
+    public :: range_description, in_range
 
     !> One input variable.
     type :: variable_spec_t
@@ -28,9 +29,10 @@ module rs_io_input_spec
         real(rk) :: lower = -huge(1.0_rk)
         real(rk) :: upper = huge(1.0_rk)
         logical :: lower_inclusive = .true.
+        logical :: upper_inclusive = .true.
         logical :: required = .false.
         character(len=48) :: default_text = ''
-        character(len=300) :: description = ''
+        character(len=480) :: description = ''
     end type variable_spec_t
 
     !> One namelist group.
@@ -38,7 +40,7 @@ module rs_io_input_spec
         character(len=16) :: name = ''
         logical :: repeatable = .false.
         logical :: implemented = .true.
-        character(len=200) :: description = ''
+        character(len=400) :: description = ''
         type(variable_spec_t), allocatable :: variables(:)
     end type group_spec_t
 
@@ -49,12 +51,12 @@ contains
 
     !> A variable spec; optional arguments as in variable_spec_t.
     pure function spec_v(name, kind, unit, default_text, description, count, max_count, allowed, &
-            lower, lower_inclusive, upper, required) result(v)
+            lower, lower_inclusive, upper, upper_inclusive, required) result(v)
         character(len=*), intent(in) :: name, kind, unit, default_text, description
         integer, intent(in), optional :: count, max_count
         character(len=*), intent(in), optional :: allowed
         real(rk), intent(in), optional :: lower, upper
-        logical, intent(in), optional :: lower_inclusive, required
+        logical, intent(in), optional :: lower_inclusive, upper_inclusive, required
         type(variable_spec_t) :: v
         v%name = name
         v%kind = kind
@@ -70,6 +72,7 @@ contains
         if (present(lower)) v%lower = lower
         if (present(upper)) v%upper = upper
         if (present(lower_inclusive)) v%lower_inclusive = lower_inclusive
+        if (present(upper_inclusive)) v%upper_inclusive = upper_inclusive
         if (present(required)) v%required = required
     end function spec_v
 
@@ -84,7 +87,7 @@ contains
         groups(5) = rod_group()
         groups(6) = bc_group()
         groups(7) = load_group()
-        groups(8) = planned_group('actuator', 'Pneumatic chambers and tendons of a rod.')
+        groups(8) = actuator_group()
         groups(9) = planned_group('joint', 'Joints between rod ends.')
         groups(10) = planned_group('sweep', 'Parameter sweeps over any input variable.')
     end function input_groups
@@ -117,6 +120,15 @@ contains
         end do
     end function find_variable
 
+    !> True if `value` lies in the allowed range of numeric variable `spec`.
+    pure logical function in_range(spec, value)
+        type(variable_spec_t), intent(in) :: spec
+        real(rk), intent(in) :: value
+        in_range = value >= spec%lower .and. value <= spec%upper
+        if (.not. spec%lower_inclusive) in_range = in_range .and. value /= spec%lower
+        if (.not. spec%upper_inclusive) in_range = in_range .and. value /= spec%upper
+    end function in_range
+
     !> The allowed range of a numeric variable, e.g. "> 0" or ">= 1 and <= 5".
     function range_description(spec) result(text)
         type(variable_spec_t), intent(in) :: spec
@@ -131,7 +143,11 @@ contains
         end if
         if (spec%upper < huge(1.0_rk)) then
             if (len(text) > 0) text = text // ' and '
-            text = text // '<= ' // bound(spec%upper)
+            if (spec%upper_inclusive) then
+                text = text // '<= ' // bound(spec%upper)
+            else
+                text = text // '< ' // bound(spec%upper)
+            end if
         end if
     contains
         function bound(value) result(b)
@@ -170,7 +186,10 @@ contains
                 lower=0.0_rk, lower_inclusive=.false., required=.true.), &
             spec_v('scheme', 'string', '-', "'midpoint'", 'Time integrator.', allowed='midpoint'), &
             spec_v('quasistatic', 'logical', '-', '.false.', &
-                'No inertia: time is a load factor (seed 000 §5).')]
+                'No inertia (mass terms dropped): time is a load factor (t_end usually 1). The ' // &
+                'loads are stepped with midpoint steps, then one endpoint (non-rate ' // &
+                'Hellinger-Reissner) equilibrium solve at t_end gives the last record (seed 000 ' // &
+                '§5, §6.3; methods/ph_director_3d.md §6.3).')]
     end function time_group
 
     function solver_group() result(g)
@@ -263,8 +282,27 @@ contains
                 allowed='polar|saint_venant'), &
             spec_v('prestressed', 'logical', '-', '.false.', &
                 'False: the initial geometry is stress-free (DESIGN.md §1).'), &
-            spec_v('constraint', 'string', '-', "'none'", 'Kinematic constraint (seed 000 §5).', &
-                allowed='none|kirchhoff|inextensible')]
+            spec_v('constraint', 'string', '-', "'none'", &
+                "Kinematic constraint: 'kirchhoff' = shear-rigid, 'inextensible' = shear-rigid " // &
+                'and inextensible (seed 000 §2.3, §5; methods/ph_director_3d.md §2.3). The ' // &
+                'constrained stress components become Lagrange multipliers; the stiffnesses of ' // &
+                "the constrained components (GA1, GA2, and EA for 'inextensible') are ignored, " // &
+                'so they may be given or derived from a section.', &
+                allowed='none|kirchhoff|inextensible'), &
+            spec_v('maxwell_fraction', 'real', '-', '-', &
+                'Generalized Maxwell viscoelasticity (seed 000 §5.1, methods/ph_director_3d.md ' // &
+                '§3.1): the fraction of every stiffness taken by branch i = 1..m; the branches ' // &
+                'are the leading entries (no gaps) and the purely elastic branch keeps ' // &
+                '1 - sum > 0.', count=1, max_count=max_branches, lower=0.0_rk, &
+                lower_inclusive=.false., upper=1.0_rk, upper_inclusive=.false.), &
+            spec_v('maxwell_tau_E', 'real', 's', '-', &
+                'Relaxation time of the dilatation and bending components of each Maxwell branch; ' // &
+                'exactly one per maxwell_fraction.', count=1, max_count=max_branches, lower=0.0_rk, &
+                lower_inclusive=.false.), &
+            spec_v('maxwell_tau_G', 'real', 's', 'maxwell_tau_E', &
+                'Relaxation time of the shear and torsion components of each Maxwell branch; a ' // &
+                'branch without one takes its maxwell_tau_E.', count=1, max_count=max_branches, &
+                lower=0.0_rk, lower_inclusive=.false.)]
     end function rod_group
 
     function bc_group() result(g)
@@ -294,14 +332,53 @@ contains
                 count=3), &
             spec_v('frame', 'string', '-', "'spatial'", 'Dead (spatial) or follower load.', &
                 allowed='spatial|follower'), &
-            spec_v('time_function', 'string', '-', "'constant'", 'Scaling of the load in time.', &
-                allowed='constant|ramp|hat|pulse|table'), &
+            time_function_variables('load')]
+    end function load_group
+
+    function actuator_group() result(g)
+        type(group_spec_t) :: g
+        g%name = 'actuator'
+        g%repeatable = .true.
+        g%description = 'A pneumatic chamber or a tendon along a whole rod (seed 000 §5.2, ' // &
+            'methods/ph_director_3d.md §3.2): a force of magnitude tau(t) along its line of ' // &
+            'action, added to the stress resultants of the momentum equations.'
+        g%variables = [ &
+            spec_v('rod', 'string', '-', '(required)', 'Name of the actuated rod.', required=.true.), &
+            spec_v('kind', 'string', '-', '(required)', &
+                "'pneumatic': a chamber, line of action d3 (normal to the section), tau(t) = " // &
+                "-pressure area f(t). 'tendon': a cable, line of action the tangent of its own line " // &
+                'r = phi + rho^1 d1 + rho^2 d2, tau(t) = tension f(t). f is the time function.', &
+                allowed='pneumatic|tendon', required=.true.), &
+            spec_v('offset', 'real', 'm', '(required)', &
+                'Material coordinates (rho^1, rho^2) of the chamber centroid or tendon line in the ' // &
+                '(d1, d2) director basis; must lie inside a circle or tube section.', count=2, &
+                required=.true.), &
+            spec_v('area', 'real', 'm^2', '(pneumatic)', &
+                'Cross-section area of the chamber; required for a pneumatic chamber, an error for ' // &
+                'a tendon.', lower=0.0_rk, lower_inclusive=.false.), &
+            spec_v('pressure', 'real', 'Pa', '(pneumatic)', &
+                'Gauge pressure of the chamber; required for a pneumatic chamber, an error for a ' // &
+                'tendon. Positive pressure pushes the end caps apart: tau < 0 elongates the rod.'), &
+            spec_v('tension', 'real', 'N', '(tendon)', &
+                'Tension of the tendon (a tendon only pulls); required for a tendon, an error for ' // &
+                'a pneumatic chamber.', lower=0.0_rk), &
+            time_function_variables('actuator force')]
+    end function actuator_group
+
+    !> time_function, t_on, t_off, table_times, table_values of a group whose `what` they scale.
+    function time_function_variables(what) result(variables)
+        character(len=*), intent(in) :: what
+        type(variable_spec_t) :: variables(5)
+        variables = [ &
+            spec_v('time_function', 'string', '-', "'constant'", 'Scaling f(t) of the ' // what // &
+                ' in time.', allowed='constant|ramp|hat|pulse|table'), &
             spec_v('t_on', 'real', 's', '0', 'Start of the ramp, hat or pulse.', lower=0.0_rk), &
             spec_v('t_off', 'real', 's', '-', 'End of the ramp, hat or pulse.', lower=0.0_rk), &
             spec_v('table_times', 'real', 's', '-', 'Times of a piecewise-linear table (increasing).', &
-                count=2, max_count=64), &
-            spec_v('table_values', 'real', '-', '-', 'Load factors at table_times.', count=2, max_count=64)]
-    end function load_group
+                count=2, max_count=max_table), &
+            spec_v('table_values', 'real', '-', '-', 'Factors f at table_times.', count=2, &
+                max_count=max_table)]
+    end function time_function_variables
 
     function planned_group(name, description) result(g)
         character(len=*), intent(in) :: name, description

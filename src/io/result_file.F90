@@ -6,8 +6,10 @@
 !>                             n_ranks, petsc_version, hdf5_version, mpi_version, title
 !>     /input/                 text, resolved, petsc_options
 !>     /rods/<name>/           attribute formulation; mesh, stress_mesh, time, position,
-!>                             directors, velocity, director_velocity, stress
-!>     /rods/<name>/series/    energy/{kinetic,strain,total,external_work,balance_error},
+!>                             directors, velocity, director_velocity, stress, strain,
+!>                             branch_stress (rods with Maxwell branches only)
+!>     /rods/<name>/series/    energy/{kinetic,strain,total,external_work,actuator_work,
+!>                             dissipated,balance_error},
 !>                             momentum/{linear,angular}, center_of_mass,
 !>                             constraint_residual, newton/{iterations,residual}, dt
 !>     /series/                time, energy/..., momentum/... summed over all rods
@@ -52,9 +54,12 @@ module rs_io_result_file
         character(len=:), allocatable :: petsc_options
     end type result_meta_t
 
-    character(len=*), parameter :: energy_names(5) = [character(len=13) :: 'kinetic', &
-        'strain', 'total', 'external_work', 'balance_error']
+    character(len=*), parameter :: energy_names(7) = [character(len=13) :: 'kinetic', &
+        'strain', 'total', 'external_work', 'actuator_work', 'dissipated', 'balance_error']
     character(len=*), parameter :: momentum_names(2) = [character(len=7) :: 'linear', 'angular']
+    !> Unit and components attribute of `stress` and `branch_stress`.
+    character(len=*), parameter :: stress_unit = 'N (N1, N2, N3); N m (M1, M2, M3)'
+    character(len=*), parameter :: stress_components = 'N1 N2 N3 M1 M2 M3'
 
 contains
 
@@ -169,6 +174,8 @@ contains
             if (too_short_3(h%velocity, h%n_stored)) what = 'velocity'
             if (too_short_4(h%director_velocity, h%n_stored)) what = 'director_velocity'
             if (too_short_3(h%stress, h%n_stored)) what = 'stress'
+            if (too_short_3(h%strains, h%n_stored)) what = 'strains'
+            if (too_short_4(h%branch_stress, h%n_stored)) what = 'branch_stress'
             do k = 1, size(energy_names)
                 call energy_of(h, energy_names(k), values_1)
                 if (too_short_1(values_1, h%n_stored)) what = trim(energy_names(k))
@@ -263,11 +270,23 @@ contains
         call put_4(file, group // '/director_velocity', h%director_velocity, n, '1/s', &
             'time derivative of the directors: [step, node, i, :] holds the spatial ' // &
             'components of d(d_(i+1))/dt', err)
-        call put_3(file, group // '/stress', h%stress, n, 'N (N1, N2, N3); N m (M1, M2, M3)', &
-            'stress resultants at the stress points in material (director) components, ' // &
-            '[step, point, k] with k over the attribute components: forces N and moments M', err)
-        if (.not. allocated(err) .and. has_3(h%stress)) &
-            call put_attribute(file, group // '/stress', 'components', 'N1 N2 N3 M1 M2 M3', err)
+        call put_3(file, group // '/stress', h%stress, n, stress_unit, &
+            'total stress resultants (elastic branch plus all Maxwell branches) at the ' // &
+            'stress points in material (director) components, [step, point, k] with k over ' // &
+            'the attribute components: forces N and moments M; stress minus the sum of ' // &
+            'branch_stress over the branches is the elastic-branch stress', err, &
+            stress_components)
+        call put_3(file, group // '/strain', h%strains, n, '1 (Gamma); 1/m (K)', &
+            'strains computed from the displacements at the stress points (straight ' // &
+            'reference: Gamma0 = (0, 0, 1), K0 = 0); strain consistency: C sigma_elastic = ' // &
+            'strain - strain0 (methods/ph_director_3d.md §2.2, §5.3 item 3), ' // &
+            '[step, point, k] with k over the attribute components', err, &
+            'Gamma1 Gamma2 Gamma3 K1 K2 K3')
+        call put_4(file, group // '/branch_stress', h%branch_stress, n, stress_unit, &
+            'stress resultants of the generalized-Maxwell branches at the stress points in ' // &
+            'material (director) components, [step, branch, point, k] with k over the ' // &
+            'attribute components (methods/ph_director_3d.md §3.1); stress minus their sum ' // &
+            'over the branches is the elastic-branch stress', err, stress_components)
 
         do k = 1, size(energy_names)
             call energy_of(h, energy_names(k), values_1)
@@ -352,6 +371,10 @@ contains
             if (allocated(h%total)) values = h%total
         case ('external_work')
             if (allocated(h%external_work)) values = h%external_work
+        case ('actuator_work')
+            if (allocated(h%actuator_work)) values = h%actuator_work
+        case ('dissipated')
+            if (allocated(h%dissipated)) values = h%dissipated
         case ('balance_error')
             if (allocated(h%balance_error)) values = h%balance_error
         end select
@@ -383,11 +406,20 @@ contains
         case ('total')
             text = 'total energy H (the Hamiltonian of the formulation) at the record, [step]'
         case ('external_work')
-            text = 'work W_n of the external loads summed over the steps since the previous ' // &
-                'record (its cumulative sum is the work done since the start), [step]'
+            text = 'work W_ext of the external loads summed over the steps since the ' // &
+                'previous record (its cumulative sum is the work done since the start), [step]'
+        case ('actuator_work')
+            text = 'work of the pneumatic and tendon actuators, W_act = -h int Delta ' // &
+                'sigma_act . eps_dot(q_mid, v_mid) ds, summed over the steps since the ' // &
+                'previous record (methods/ph_director_3d.md §3.2), [step]'
+        case ('dissipated')
+            text = 'energy dissipated by the Maxwell branches, D_n = h sum_i int ' // &
+                'sigma_mid^(i) . V^(i)^-1 sigma_mid^(i) ds >= 0, summed over the steps since ' // &
+                'the previous record (methods/ph_director_3d.md §3.1, §5.3), [step]'
         case ('balance_error')
-            text = 'energy-balance error H_{n+1} - H_n - W_n summed over the steps since the ' // &
-                'previous record (methods/ph_director_3d.md §5.3), [step]'
+            text = 'energy-balance error H_{n+1} - H_n - W_ext - W_act + D summed over the ' // &
+                'steps since the previous record (methods/ph_director_3d.md §5.3, §3.1; §9 ' // &
+                'item 7 for the sign of D), [step]'
         case default
             text = name
         end select
@@ -463,27 +495,33 @@ contains
         call file%write_dataset(path, values(:, 1:n), unit, description, err, series=.true.)
     end subroutine put_2
 
-    subroutine put_3(file, path, values, n, unit, description, err)
+    ! put_3 and put_4 also write the attribute `components` when it is given.
+
+    subroutine put_3(file, path, values, n, unit, description, err, components)
         type(hdf5_file_t), intent(inout) :: file
         character(len=*), intent(in) :: path, unit, description
         real(rk), allocatable, intent(in) :: values(:, :, :)
         integer, intent(in) :: n
         type(error_t), allocatable, intent(inout) :: err
+        character(len=*), intent(in), optional :: components
         if (allocated(err) .or. .not. has_3(values)) return
         call file%write_dataset(path, values(:, :, 1:n), unit, description, err, series=.true.)
+        if (present(components)) call put_attribute(file, path, 'components', components, err)
     end subroutine put_3
 
-    subroutine put_4(file, path, values, n, unit, description, err)
+    subroutine put_4(file, path, values, n, unit, description, err, components)
         type(hdf5_file_t), intent(inout) :: file
         character(len=*), intent(in) :: path, unit, description
         real(rk), allocatable, intent(in) :: values(:, :, :, :)
         integer, intent(in) :: n
         type(error_t), allocatable, intent(inout) :: err
+        character(len=*), intent(in), optional :: components
         if (allocated(err)) return
         if (.not. allocated(values)) return
         if (size(values) == 0) return
         call file%write_dataset(path, values(:, :, :, 1:n), unit, description, err, &
             series=.true.)
+        if (present(components)) call put_attribute(file, path, 'components', components, err)
     end subroutine put_4
 
     pure logical function has_1(values)

@@ -10,7 +10,7 @@ module rs_io_scene_writer
     use rs_core_strings, only: to_lower, str
     use rs_io_input_spec, only: group_spec_t, input_groups, find_group, find_variable
     use rs_model_scene, only: section_derived_names, scene_t, run_input_t, time_input_t, solver_input_t, output_input_t, &
-        rod_input_t, bc_input_t, load_input_t
+        rod_input_t, bc_input_t, load_input_t, actuator_input_t
     implicit none
     private
 
@@ -33,6 +33,7 @@ contains
         type(rod_input_t) :: rod
         type(bc_input_t) :: bc
         type(load_input_t) :: load
+        type(actuator_input_t) :: actuator
         namelist /run_nml/ run
         namelist /time_nml/ time
         namelist /solver_nml/ solver
@@ -40,6 +41,7 @@ contains
         namelist /rod_nml/ rod
         namelist /bc_nml/ bc
         namelist /load_nml/ load
+        namelist /actuator_nml/ actuator
         integer :: i
 
         allocate(lines(max_lines))
@@ -78,6 +80,13 @@ contains
             lines = ''
             write(lines, nml=load_nml, delim='apostrophe')
             text = text // tidy_group('load', lines)
+        end do
+        if (.not. allocated(scene%actuators)) return
+        do i = 1, size(scene%actuators)
+            actuator = scene%actuators(i)
+            lines = ''
+            write(lines, nml=actuator_nml, delim='apostrophe')
+            text = text // tidy_group('actuator', lines)
         end do
     end function resolved_scene_text
 

@@ -15,8 +15,14 @@ module rs_model_capabilities
         character(len=64) :: end_kinds = ''
         character(len=64) :: load_places = ''
         character(len=64) :: load_frames = ''
+        !> Kinematic constraints (&rod constraint) it can enforce.
         character(len=64) :: constraints = ''
+        !> Quasistatic runs (&time quasistatic = .true.).
         logical :: quasistatic = .false.
+        !> Generalized-Maxwell branches (&rod maxwell_*).
+        logical :: viscoelastic = .false.
+        !> Pneumatic chambers and tendons (&actuator).
+        logical :: actuation = .false.
     end type capability_t
 
 contains
@@ -29,9 +35,13 @@ contains
         select case (trim(name))
         case ('ph_director')
             ! seed 000 §2.9 and §6.1: clamped (Dirichlet) and free (Neumann) ends; dead end
-            ! loads, distributed loads and gravity; the straight stress-free reference.
-            row = capability_t('ph_director', .true., 'clamped|free', 'start|end|distributed|gravity', &
-                'spatial', 'none', .false.)
+            ! loads, distributed loads and gravity; the straight stress-free reference. The
+            ! extensions of seed 000 §5 (methods/ph_director_3d.md §2.3, §3, §6.3): shear-rigid
+            ! and inextensible constraints, quasistatics, Maxwell branches, actuators.
+            row = capability_t(formulation='ph_director', available=.true., end_kinds='clamped|free', &
+                load_places='start|end|distributed|gravity', load_frames='spatial', &
+                constraints='none|kirchhoff|inextensible', quasistatic=.true., viscoelastic=.true., &
+                actuation=.true.)
         end select
     end function capability_of
 

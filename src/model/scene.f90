@@ -15,8 +15,10 @@ module rs_model_scene
     real(rk), parameter, public :: unset_real = huge(1.0_rk)
     !> Marks an integer variable that was not given and has no default.
     integer, parameter, public :: unset_int = -huge(1)
-    !> Capacity of time-function tables (&load table_times, table_values).
-    integer, parameter, public :: max_table = 64
+    !> Capacity of time-function tables (&load and &actuator table_times, table_values).
+    integer, parameter, public :: max_table = 512
+    !> Capacity of generalized-Maxwell branches per rod (&rod maxwell_*).
+    integer, parameter, public :: max_branches = 8
     !> Length of name-like strings (rod names, formulation names, kinds).
     integer, parameter, public :: name_len = 64
     !> Length of free text (titles, paths, option strings).
@@ -96,6 +98,13 @@ module rs_model_scene
         character(len=name_len) :: torsion_constant = ''
         logical :: prestressed = .false.
         character(len=name_len) :: constraint = 'none'
+        !> Generalized Maxwell branches (seed 000 §5.1, methods §3.1): branch i takes the
+        !> fraction maxwell_fraction(i) of every stiffness, relaxes with tau_E (dilatation,
+        !> bending) and tau_G (shear, torsion); the elastic branch keeps 1 - sum of fractions.
+        !> The leading set entries define the branches.
+        real(rk) :: maxwell_fraction(max_branches) = unset_real
+        real(rk) :: maxwell_tau_E(max_branches) = unset_real
+        real(rk) :: maxwell_tau_G(max_branches) = unset_real
     end type rod_input_t
 
     !> &bc: the support at one end of a rod.
@@ -124,6 +133,26 @@ module rs_model_scene
         real(rk) :: table_values(max_table) = unset_real
     end type load_input_t
 
+    !> &actuator: a pneumatic chamber or a tendon along a whole rod (seed 000 §5.2, methods
+    !> §3.2), at material offset (rho^1, rho^2) in the (d1, d2) basis. Its force
+    !> tau(t) = -pressure area f(t) (pneumatic: a pressurized chamber pushes its end caps
+    !> apart) or tension f(t) (tendon), with f the time function.
+    type, public :: actuator_input_t
+        !> Line of the group in the input file (set by the reader; not an input variable).
+        integer :: input_line = 0
+        character(len=name_len) :: rod = ''
+        character(len=name_len) :: kind = ''
+        real(rk) :: offset(2) = unset_real
+        real(rk) :: area = unset_real
+        real(rk) :: pressure = unset_real
+        real(rk) :: tension = unset_real
+        character(len=name_len) :: time_function = 'constant'
+        real(rk) :: t_on = 0.0_rk
+        real(rk) :: t_off = unset_real
+        real(rk) :: table_times(max_table) = unset_real
+        real(rk) :: table_values(max_table) = unset_real
+    end type actuator_input_t
+
     !> A whole scene: the single groups and the repeatable ones in file order.
     type, public :: scene_t
         character(len=:), allocatable :: source_file
@@ -135,6 +164,7 @@ module rs_model_scene
         type(rod_input_t), allocatable :: rods(:)
         type(bc_input_t), allocatable :: bcs(:)
         type(load_input_t), allocatable :: loads(:)
+        type(actuator_input_t), allocatable :: actuators(:)
     end type scene_t
 
 end module rs_model_scene

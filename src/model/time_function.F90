@@ -1,4 +1,5 @@
-!> Time functions that scale loads: the factor f(t) of a `&load` (DESIGN.md §6).
+!> Time functions that scale loads and actuators: the factor f(t) of a `&load` or an `&actuator`
+!> (DESIGN.md §6).
 !>
 !> - `constant`: f = 1 at all times.
 !> - `ramp`: 0 up to t_on, linear to 1 at t_off, 1 afterwards.
@@ -15,13 +16,13 @@
 module rs_model_time_function
     use rs_core_kinds, only: rk
     use rs_core_error, only: error_t, set_error
-    use rs_model_scene, only: load_input_t, unset_real
+    use rs_model_scene, only: load_input_t, actuator_input_t, unset_real
     implicit none
     private
 
-    public :: time_function_from_load
+    public :: time_function_from_load, time_function_from_actuator
 
-    !> The names `time_function_from_load` accepts.
+    !> The names `time_function_from_load` and `time_function_from_actuator` accept.
     character(len=*), parameter, public :: time_function_names = 'constant|ramp|hat|pulse|table'
 
     integer, parameter :: kind_constant = 1, kind_ramp = 2, kind_hat = 3, kind_pulse = 4, &
@@ -44,11 +45,32 @@ contains
         type(load_input_t), intent(in) :: load
         type(time_function_t), intent(out) :: tf
         type(error_t), allocatable, intent(out) :: err
+        call time_function_from_parts('time_function_from_load', load%time_function, load%t_on, &
+            load%t_off, load%table_times, load%table_values, tf, err)
+    end subroutine time_function_from_load
+
+    !> The time function f of an `&actuator` (its force is tau(t) = -pressure area f(t) or
+    !> tension f(t)); the same names and rules as `time_function_from_load`.
+    subroutine time_function_from_actuator(actuator, tf, err)
+        type(actuator_input_t), intent(in) :: actuator
+        type(time_function_t), intent(out) :: tf
+        type(error_t), allocatable, intent(out) :: err
+        call time_function_from_parts('time_function_from_actuator', actuator%time_function, &
+            actuator%t_on, actuator%t_off, actuator%table_times, actuator%table_values, tf, err)
+    end subroutine time_function_from_actuator
+
+    !> The time function named `name` on [t_on, t_off] or through the set entries of
+    !> (times, values); errors name `routine`, the public entry point.
+    subroutine time_function_from_parts(routine, name, t_on, t_off, times, values, tf, err)
+        character(len=*), intent(in) :: routine, name
+        real(rk), intent(in) :: t_on, t_off, times(:), values(:)
+        type(time_function_t), intent(out) :: tf
+        type(error_t), allocatable, intent(out) :: err
         character(len=:), allocatable :: message
         integer :: n
-        tf%t_on = load%t_on
-        if (load%t_off /= unset_real) tf%t_off = load%t_off
-        select case (trim(load%time_function))
+        tf%t_on = t_on
+        if (t_off /= unset_real) tf%t_off = t_off
+        select case (trim(name))
         case ('constant')
             tf%kind = kind_constant
         case ('ramp')
@@ -59,23 +81,22 @@ contains
             tf%kind = kind_pulse
         case ('table')
             tf%kind = kind_table
-            n = count(load%table_times /= unset_real)
-            tf%times = load%table_times(1:n)
-            tf%values = load%table_values(1:n)
-            if (n < 1 .or. count(load%table_values /= unset_real) /= n) then
-                RS_SET_ERROR(err, 'time_function_from_load', 'a table needs as many table_values as table_times')
+            n = count(times /= unset_real)
+            tf%times = times(1:n)
+            tf%values = values(1:n)
+            if (n < 1 .or. count(values /= unset_real) /= n) then
+                RS_SET_ERROR(err, routine, 'a table needs as many table_values as table_times')
                 return
             end if
         case default
-            message = 'unknown time function ''' // trim(load%time_function) // '''; known: ' // &
-                time_function_names
-            RS_SET_ERROR(err, 'time_function_from_load', message)
+            message = 'unknown time function ''' // trim(name) // '''; known: ' // time_function_names
+            RS_SET_ERROR(err, routine, message)
             return
         end select
         if (tf%kind /= kind_constant .and. tf%kind /= kind_table .and. tf%t_off <= tf%t_on) then
-            RS_SET_ERROR(err, 'time_function_from_load', 'time function needs t_off > t_on')
+            RS_SET_ERROR(err, routine, 'time function needs t_off > t_on')
         end if
-    end subroutine time_function_from_load
+    end subroutine time_function_from_parts
 
     !> f(t).
     pure real(rk) function time_function_value(this, t) result(f)

@@ -104,6 +104,24 @@ contains
                 call stepper%destroy()
                 return
             end if
+            if (n == n_steps .and. formulation%wants_endpoint_solve()) then
+                ! Quasistatics (DESIGN.md §3): the midpoint steps are equilibria at the mid
+                ! loads; the last record is the equilibrium at the final load itself.
+                call formulation%set_endpoint_solve(.true., scene%time%t_end)
+                call stepper%advance(t_n, h, x, substeps, cutbacks, iterations, fnorm, err)
+                call formulation%set_endpoint_solve(.false., scene%time%t_end)
+                total_iterations = total_iterations + iterations
+                total_cutbacks = total_cutbacks + cutbacks
+                if (allocated(err)) then
+                    call formulation%record(history, context%t_reached, x)
+                    call stepper%destroy()
+                    err%message = 'endpoint equilibrium at t = ' // str(scene%time%t_end) // &
+                        ': ' // err%message
+                    return
+                end if
+                call log_info('  ' // history%name // ': endpoint equilibrium at t = ' // &
+                    str(scene%time%t_end) // ' in ' // str(iterations) // ' Newton iterations')
+            end if
             if (mod(n, stride) == 0 .or. n == n_steps) then
                 ! n dt rather than t_n + h, so that stored times are the grid's own values.
                 t_recorded = min(real(n, rk) * scene%time%dt, scene%time%t_end)

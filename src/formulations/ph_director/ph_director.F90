@@ -16,17 +16,22 @@ module rs_ph_director
     use rs_core_kinds, only: rk
     use rs_core_error, only: error_t, set_error
     use rs_core_strings, only: str
-    use rs_model_scene, only: scene_t, rod_input_t
-    use rs_model_time_function, only: time_function_t, time_function_from_load
+    use rs_model_scene, only: scene_t, rod_input_t, unset_real
+    use rs_core_logger, only: log_info
+    use rs_model_time_function, only: time_function_t, time_function_from_load, &
+        time_function_from_actuator
     use rs_model_rod_history, only: rod_history_t
     use rs_assembly_csr_pattern, only: csr_builder_t, csr_pattern_t
     use rs_formulations_formulation, only: rod_formulation_t, state_valid, state_invalid
     use rs_ph_director_element, only: ph_director_basis_t, ph_director_material_t, &
+        ph_director_actuation_t, ph_director_max_branches, ph_director_max_tendons, &
         ph_director_basis_init, ph_director_element_residual, ph_director_node_residual, &
         ph_director_element_kinetic_energy, ph_director_element_complementary_energy, &
         ph_director_element_momenta, ph_director_element_position_integral, &
         ph_director_element_external_work, ph_director_node_external_work, &
-        ph_director_node_constraint
+        ph_director_node_constraint, ph_director_element_strains, &
+        ph_director_element_dissipation, ph_director_element_actuator_work, &
+        ph_director_local_size
     implicit none
     private
 
@@ -41,6 +46,15 @@ module rs_ph_director
         real(rk) :: moment(3) = 0.0_rk
         type(time_function_t) :: factor
     end type rod_load_t
+
+    !> A pneumatic chamber or a tendon (methods §3.2): tau(t) = amplitude f(t) at material
+    !> offset (rho^1, rho^2).
+    type :: rod_actuator_t
+        logical :: tendon = .false.
+        real(rk) :: offset(2) = 0.0_rk
+        real(rk) :: amplitude = 0.0_rk
+        type(time_function_t) :: factor
+    end type rod_actuator_t
 
     !> The ph_director formulation of one rod.
     type, extends(rod_formulation_t), public :: ph_director_t
@@ -57,6 +71,12 @@ module rs_ph_director
         type(ph_director_basis_t) :: basis
         type(ph_director_material_t) :: material
         type(rod_load_t), allocatable :: loads(:)
+        type(rod_actuator_t), allocatable :: actuators(:)
+        !> Quasistatic run: no mass terms, time is a load factor, endpoint solve at the end.
+        logical :: quasistatic = .false.
+        !> The next step is the endpoint equilibrium at load time t_static (DESIGN.md §3).
+        logical :: static = .false.
+        real(rk) :: t_static = 0.0_rk
         logical, allocatable :: clamped(:)
         real(rk), allocatable :: fixed_q(:, :)
         !> node_dof(i, k): unknown index of local dof i of node k (0: fixed or dropped).
@@ -77,10 +97,13 @@ module rs_ph_director
         integer, allocatable :: node_map(:, :, :)
         ! Workspace (nodal fields at t_n and t_{n+1}, stresses).
         real(rk), allocatable :: q_n(:, :), q_1(:, :), v_n(:, :), v_1(:, :), lambda(:, :)
-        real(rk), allocatable :: s_n(:, :, :), s_1(:, :, :)
+        !> Stress coefficients s(6, p, 0:n_branches, element) (0: elastic branch).
+        real(rk), allocatable :: s_n(:, :, :, :), s_1(:, :, :, :)
         ! Book-keeping since the last record.
         real(rk) :: work_since_record = 0.0_rk
         real(rk) :: balance_since_record = 0.0_rk
+        real(rk) :: dissipated_since_record = 0.0_rk
+        real(rk) :: actuator_work_since_record = 0.0_rk
         real(rk) :: smallest_step = huge(1.0_rk)
         real(rk) :: last_residual = 0.0_rk
         integer :: iterations_since_record = 0
@@ -99,6 +122,8 @@ module rs_ph_director
         procedure :: record => ph_director_record
         procedure :: describe => ph_director_describe
         procedure :: energy => ph_director_energy
+        procedure :: wants_endpoint_solve => ph_director_wants_endpoint_solve
+        procedure :: set_endpoint_solve => ph_director_set_endpoint_solve
         procedure :: unpack
         procedure :: element_nodes
     end type ph_director_t
@@ -116,13 +141,6 @@ contains
         integer :: e, k
         associate (rod => scene%rods(rod_index))
             this%name = trim(rod%name)
-            if (trim(rod%constraint) /= 'none') then
-                message = 'rod ''' // this%name // ''': constraint = ''' // &
-                    trim(rod%constraint) // &
-                    ''' is not available in this version (docs/user/capabilities.md)'
-                RS_SET_ERROR(err, 'ph_director_init', message)
-                return
-            end if
             this%n_elements = rod%n_elements
             this%degree = rod%degree
             this%n_nodes = this%n_elements * this%degree + 1
@@ -134,10 +152,10 @@ contains
                 RS_SET_ERROR(err, 'ph_director_init', message)
                 return
             end if
-            this%n_local = 24 * (this%degree + 1) + 6 * this%degree
-            this%material%rhoA = rod%rhoA
-            this%material%rhoI = [rod%rhoI1, rod%rhoI2]
-            this%material%compliance = 1.0_rk / [rod%GA1, rod%GA2, rod%EA, rod%EI1, rod%EI2, rod%GJ]
+            this%quasistatic = scene%time%quasistatic
+            call build_material(this, rod, err)
+            RS_RETURN_IF_ERROR(err)
+            this%n_local = ph_director_local_size(this%basis, this%material)
 
             ! Uniform mesh of the straight reference; seed 000 §2.1, Remark 2.1.
             allocate(this%node_s(this%n_nodes), this%element_length(this%n_elements))
@@ -152,9 +170,19 @@ contains
             RS_RETURN_IF_ERROR(err)
             call read_loads(this, scene, err)
             RS_RETURN_IF_ERROR(err)
+            call read_actuators(this, scene, err)
+            RS_RETURN_IF_ERROR(err)
         end associate
         this%condensed = scene%solver%condense_stresses
-        if (this%condensed .and. any(this%material%compliance == 0.0_rk)) this%condensed = .false.
+        if (this%condensed .and. (any(this%material%compliance == 0.0_rk) .or. &
+            this%material%n_branches > 0 .or. this%quasistatic)) then
+            ! Condensation needs an invertible, step-independent stress block and the dynamic
+            ! kinematic rows (methods §5.5).
+            call log_info('rod ''' // this%name // ''': condense_stresses ignored: ' // &
+                'constrained components, Maxwell branches or a quasistatic run keep the ' // &
+                'stresses as unknowns')
+            this%condensed = .false.
+        end if
         call number_dofs(this)
         if (this%condensed) then
             call invert_compliances(this)
@@ -165,9 +193,116 @@ contains
         allocate(this%q_n(12, this%n_nodes), this%q_1(12, this%n_nodes), &
             this%v_n(12, this%n_nodes), this%v_1(12, this%n_nodes), &
             this%lambda(6, this%n_nodes), source=0.0_rk)
-        allocate(this%s_n(6, this%degree, this%n_elements), &
-            this%s_1(6, this%degree, this%n_elements), source=0.0_rk)
+        allocate(this%s_n(6, this%degree, 0:this%material%n_branches, this%n_elements), &
+            this%s_1(6, this%degree, 0:this%material%n_branches, this%n_elements), source=0.0_rk)
     end subroutine ph_director_init
+
+    !> Inertia, compliances and Maxwell branches of a rod (methods §2.3, §2.4, §3.1): the
+    !> stiffnesses k = (GA1, GA2, EA, EI1, EI2, GJ) are split into the elastic branch
+    !> (1 - sum f_i) k and the branches f_i k with viscosities V_i = diag(tau) f_i k, tau =
+    !> (tau_G, tau_G, tau_E, tau_E, tau_E, tau_G) (Remark 5.1). Constrained components
+    !> (`kirchhoff`: shear; `inextensible`: shear and dilatation) are rigid: zero compliance,
+    !> their stress a multiplier, no branch. A quasistatic run has no mass terms.
+    subroutine build_material(this, rod, err)
+        type(ph_director_t), intent(inout) :: this
+        type(rod_input_t), intent(in) :: rod
+        type(error_t), allocatable, intent(out) :: err
+        character(len=:), allocatable :: message
+        real(rk) :: stiffness(6), tau(6), elastic_fraction
+        logical :: rigid(6)
+        integer :: nb, br
+        if (.not. this%quasistatic) then
+            this%material%rhoA = rod%rhoA
+            this%material%rhoI = [rod%rhoI1, rod%rhoI2]
+        end if
+        stiffness = [rod%GA1, rod%GA2, rod%EA, rod%EI1, rod%EI2, rod%GJ]
+        rigid = .false.
+        select case (trim(rod%constraint))
+        case ('none')
+        case ('kirchhoff')
+            rigid(1:2) = .true.
+        case ('inextensible')
+            rigid(1:3) = .true.
+        case default
+            message = 'rod ''' // this%name // ''': unknown constraint ''' // trim(rod%constraint) // ''''
+            RS_SET_ERROR(err, 'build_material', message)
+            return
+        end select
+        nb = count(rod%maxwell_fraction /= unset_real)
+        if (nb > ph_director_max_branches) then
+            message = 'rod ''' // this%name // ''': at most ' // str(ph_director_max_branches) // &
+                ' Maxwell branches'
+            RS_SET_ERROR(err, 'build_material', message)
+            return
+        end if
+        elastic_fraction = 1.0_rk - sum(rod%maxwell_fraction(1:nb))
+        this%material%n_branches = nb
+        this%material%compliance = 0.0_rk
+        where (.not. rigid) this%material%compliance = 1.0_rk / (elastic_fraction * stiffness)
+        do br = 1, nb
+            tau = [rod%maxwell_tau_G(br), rod%maxwell_tau_G(br), rod%maxwell_tau_E(br), &
+                rod%maxwell_tau_E(br), rod%maxwell_tau_E(br), rod%maxwell_tau_G(br)]
+            this%material%branch_active(1:6, br) = .not. rigid
+            where (.not. rigid)
+                this%material%branch_compliance(1:6, br) = 1.0_rk / (rod%maxwell_fraction(br) * stiffness)
+                this%material%branch_fluidity(1:6, br) = &
+                    1.0_rk / (tau * rod%maxwell_fraction(br) * stiffness)
+            end where
+        end do
+    end subroutine build_material
+
+    !> The actuators of this rod (methods §3.2): tau = -pressure area f(t) for a pneumatic
+    !> chamber (a pressurized chamber pushes its end caps apart), tension f(t) for a tendon.
+    subroutine read_actuators(this, scene, err)
+        type(ph_director_t), intent(inout) :: this
+        type(scene_t), intent(in) :: scene
+        type(error_t), allocatable, intent(out) :: err
+        character(len=:), allocatable :: message
+        type(rod_actuator_t) :: actuator
+        integer :: i
+        allocate(this%actuators(0))
+        if (.not. allocated(scene%actuators)) return
+        do i = 1, size(scene%actuators)
+            associate (input => scene%actuators(i))
+                if (trim(input%rod) /= this%name) cycle
+                actuator = rod_actuator_t()
+                call time_function_from_actuator(input, actuator%factor, err)
+                RS_RETURN_IF_ERROR(err)
+                actuator%offset = input%offset
+                actuator%tendon = trim(input%kind) == 'tendon'
+                if (actuator%tendon) then
+                    actuator%amplitude = input%tension
+                else
+                    actuator%amplitude = -input%pressure * input%area
+                end if
+                this%actuators = [this%actuators, actuator]
+            end associate
+        end do
+        if (count(this%actuators%tendon) > ph_director_max_tendons) then
+            message = 'rod ''' // this%name // ''': at most ' // str(ph_director_max_tendons) // ' tendons'
+            RS_SET_ERROR(err, 'read_actuators', message)
+        end if
+    end subroutine read_actuators
+
+    !> The actuators at time t (methods §3.2): the pneumatic chambers' constant material stress
+    !> sum tau (0, 0, 1, rho^2, -rho^1, 0) and the tendons as (tau, rho^1, rho^2).
+    pure function actuation_at(this, t) result(actuation)
+        type(ph_director_t), intent(in) :: this
+        real(rk), intent(in) :: t
+        type(ph_director_actuation_t) :: actuation
+        real(rk) :: tau
+        integer :: i
+        do i = 1, size(this%actuators)
+            tau = this%actuators(i)%amplitude * this%actuators(i)%factor%value(t)
+            if (this%actuators(i)%tendon) then
+                actuation%n_tendons = actuation%n_tendons + 1
+                actuation%tendon(:, actuation%n_tendons) = [tau, this%actuators(i)%offset]
+            else
+                actuation%pneumatic = actuation%pneumatic + tau * [0.0_rk, 0.0_rk, 1.0_rk, &
+                    this%actuators(i)%offset(2), -this%actuators(i)%offset(1), 0.0_rk]
+            end if
+        end do
+    end function actuation_at
 
     !> The straight, stress-free reference: phi = start + s t, d3 = t, d1 given, d2 = d3 x d1.
     subroutine reference_configuration(this, rod)
@@ -260,14 +395,14 @@ contains
         type(ph_director_t), intent(inout) :: this
         integer :: e, a, k, next
         allocate(this%node_dof(node_dofs, this%n_nodes), source=0)
-        allocate(this%stress_dof(6 * this%degree, this%n_elements), source=0)
+        allocate(this%stress_dof(n_stress(this), this%n_elements), source=0)
         next = 0
         call number_node(1)
         do e = 1, this%n_elements
             do a = 2, this%degree
                 call number_node((e - 1) * this%degree + a)
             end do
-            do k = 1, 6 * this%degree
+            do k = 1, n_stress(this)
                 next = next + 1
                 this%stress_dof(k, e) = next
             end do
@@ -286,6 +421,23 @@ contains
         end subroutine number_node
     end subroutine number_dofs
 
+    !> Stress coefficients of an element: 6 p per branch, elastic branch included.
+    pure integer function n_stress(this)
+        type(ph_director_t), intent(in) :: this
+        n_stress = 6 * this%degree * (1 + this%material%n_branches)
+    end function n_stress
+
+    !> Whether stress unknown j of an element (1 .. n_stress) is a live component: elastic
+    !> components always, branch components unless the component is rigid.
+    pure logical function stress_active(this, j)
+        type(ph_director_t), intent(in) :: this
+        integer, intent(in) :: j
+        integer :: br
+        br = (j - 1) / (6 * this%degree)
+        stress_active = .true.
+        if (br > 0) stress_active = this%material%branch_active(mod(j - 1, 6) + 1, br)
+    end function stress_active
+
     !> Global unknown index of every local dof of element e (0 where fixed).
     pure function element_dofs(this, e) result(dofs)
         type(ph_director_t), intent(in) :: this
@@ -299,14 +451,18 @@ contains
         dofs(24 * (this%degree + 1) + 1 :) = this%stress_dof(:, e)
     end function element_dofs
 
-    !> Which element Jacobian entries can be non-zero (methods §5.6 table): momentum rows couple
-    !> to all q and stresses and, through the lumped-by-component mass, to v of the same
-    !> component; stress rows couple to all q and v and to stresses of the same component.
+    !> Which element Jacobian entries can be non-zero (methods §5.6 table, with the non-rate
+    !> stress rows of the kernel): momentum rows couple to all q, to the live stresses and,
+    !> through the mass (none in a quasistatic run), to v of the same component; stress rows
+    !> couple to all q and to the stresses of the same component and branch; the stress of a
+    !> rigid component's branch only to itself.
     pure function element_mask(this) result(mask)
         type(ph_director_t), intent(in) :: this
         logical :: mask(this%n_local, this%n_local)
-        integer :: n_node_local, i, j, ci, cj
+        integer :: n_node_local, i, j, ci, cj, si, sj
+        logical :: has_mass
         n_node_local = 24 * (this%degree + 1)
+        has_mass = this%material%rhoA /= 0.0_rk .or. any(this%material%rhoI /= 0.0_rk)
         mask = .false.
         do j = 1, this%n_local
             do i = 1, this%n_local
@@ -314,15 +470,22 @@ contains
                     ci = mod(i - 1, 24) + 1
                     if (ci <= 12) cycle
                     if (j > n_node_local) then
-                        mask(i, j) = .true.
+                        mask(i, j) = stress_active(this, j - n_node_local)
                     else
                         cj = mod(j - 1, 24) + 1
-                        mask(i, j) = cj <= 12 .or. cj == ci
+                        mask(i, j) = cj <= 12 .or. (cj == ci .and. has_mass)
                     end if
-                else if (j <= n_node_local) then
-                    mask(i, j) = .true.
                 else
-                    mask(i, j) = mod(i - n_node_local - 1, 6) == mod(j - n_node_local - 1, 6)
+                    si = i - n_node_local
+                    if (.not. stress_active(this, si)) then
+                        mask(i, j) = i == j
+                    else if (j <= n_node_local) then
+                        mask(i, j) = mod(j - 1, 24) + 1 <= 12
+                    else
+                        sj = j - n_node_local
+                        mask(i, j) = mod(si - 1, 6) == mod(sj - 1, 6) .and. &
+                            (si - 1) / (6 * this%degree) == (sj - 1) / (6 * this%degree)
+                    end if
                 end if
             end do
         end do
@@ -418,7 +581,7 @@ contains
     subroutine unpack(this, x, q, v, lambda, s)
         class(ph_director_t), intent(in) :: this
         real(rk), intent(in) :: x(:)
-        real(rk), intent(out) :: q(:, :), v(:, :), lambda(:, :), s(:, :, :)
+        real(rk), intent(out) :: q(:, :), v(:, :), lambda(:, :), s(:, :, 0:, :)
         integer :: k, e, i
         do k = 1, this%n_nodes
             if (this%clamped(k)) then
@@ -436,7 +599,8 @@ contains
             end if
         end do
         do e = 1, this%n_elements
-            s(:, :, e) = reshape(x(this%stress_dof(:, e)), [6, this%degree])
+            s(:, :, :, e) = reshape(x(this%stress_dof(:, e)), &
+                [6, this%degree, 1 + this%material%n_branches])
         end do
     end subroutine unpack
 
@@ -447,6 +611,14 @@ contains
         integer :: range(2)
         range = [(e - 1) * this%degree + 1, e * this%degree + 1]
     end function element_nodes
+
+    !> Time at which a step evaluates its loads and actuators: the mid time (methods §5.1), or
+    !> the load time of the endpoint equilibrium.
+    pure real(rk) function load_time(this, t_n, h)
+        type(ph_director_t), intent(in) :: this
+        real(rk), intent(in) :: t_n, h
+        load_time = merge(this%t_static, t_n + 0.5_rk * h, this%static)
+    end function load_time
 
     !> Distributed force and moment per unit length at time t (gravity included).
     pure subroutine distributed_loads(this, t, force, moment)
@@ -525,17 +697,19 @@ contains
         real(rk) :: r_e(this%n_local), j_e(this%n_local, this%n_local)
         real(rk) :: r_k(node_dofs), j_k(node_dofs, node_dofs)
         real(rk) :: nbar(3), mbar(3), force(3), moment(3), t_mid
+        type(ph_director_actuation_t) :: actuation
         integer :: e, k, i, j, p, nodes(2), dofs(this%n_local)
         call this%unpack(x_n, this%q_n, this%v_n, this%lambda, this%s_n)
         call this%unpack(y, this%q_1, this%v_1, this%lambda, this%s_1)
-        t_mid = t_n + 0.5_rk * h
+        t_mid = load_time(this, t_n, h)
         call distributed_loads(this, t_mid, nbar, mbar)
+        actuation = actuation_at(this, t_mid)
         if (present(f)) f = 0.0_rk
         if (present(values)) values = 0.0_rk
         do e = 1, this%n_elements
             nodes = this%element_nodes(e)
             if (present(values)) then
-                call element_kernel(this, e, h, nbar, mbar, r_e, j_e)
+                call element_kernel(this, e, h, nbar, mbar, actuation, r_e, j_e)
                 do j = 1, this%n_local
                     do i = 1, this%n_local
                         p = this%element_map(i, j, e)
@@ -543,7 +717,7 @@ contains
                     end do
                 end do
             else
-                call element_kernel(this, e, h, nbar, mbar, r_e)
+                call element_kernel(this, e, h, nbar, mbar, actuation, r_e)
             end if
             if (present(f)) then
                 dofs = element_dofs(this, e)
@@ -556,8 +730,8 @@ contains
             if (this%clamped(k)) cycle
             call node_loads(this, k, t_mid, force, moment)
             if (present(values)) then
-                call ph_director_node_residual(h, this%q_n(:, k), this%q_1(:, k), this%v_n(:, k), &
-                    this%v_1(:, k), this%lambda(:, k), .true., force, moment, r_k, j_k)
+                call ph_director_node_residual(h, this%static, this%q_n(:, k), this%q_1(:, k), &
+                    this%v_n(:, k), this%v_1(:, k), this%lambda(:, k), .true., force, moment, r_k, j_k)
                 do j = 1, node_dofs
                     do i = 1, node_dofs
                         p = this%node_map(i, j, k)
@@ -565,8 +739,8 @@ contains
                     end do
                 end do
             else
-                call ph_director_node_residual(h, this%q_n(:, k), this%q_1(:, k), this%v_n(:, k), &
-                    this%v_1(:, k), this%lambda(:, k), .true., force, moment, r_k)
+                call ph_director_node_residual(h, this%static, this%q_n(:, k), this%q_1(:, k), &
+                    this%v_n(:, k), this%v_1(:, k), this%lambda(:, k), .true., force, moment, r_k)
             end if
             if (present(f)) f(this%node_dof(:, k)) = f(this%node_dof(:, k)) + r_k
         end do
@@ -599,7 +773,7 @@ contains
     !> C_e^{-1} of every element, read off the kernel's stress block (R_S is linear in sigma).
     subroutine invert_compliances(this)
         type(ph_director_t), intent(inout) :: this
-        real(rk) :: q(12, this%degree + 1), v(12, this%degree + 1), s(6, this%degree)
+        real(rk) :: q(12, this%degree + 1), v(12, this%degree + 1), s(6, this%degree, 0:0)
         real(rk) :: r_e(this%n_local), j_e(this%n_local, this%n_local)
         integer :: e, m, first
         m = 6 * this%degree
@@ -610,7 +784,8 @@ contains
         s = 0.0_rk
         do e = 1, this%n_elements
             call ph_director_element_residual(this%basis, this%material, this%element_length(e), &
-                1.0_rk, q, q, v, v, s, s, [0.0_rk, 0.0_rk, 0.0_rk], [0.0_rk, 0.0_rk, 0.0_rk], r_e, j_e)
+                1.0_rk, .false., q, q, v, v, s, s, [0.0_rk, 0.0_rk, 0.0_rk], &
+                [0.0_rk, 0.0_rk, 0.0_rk], ph_director_actuation_t(), r_e, j_e)
             this%compliance_inverse(:, :, e) = inverse(j_e(first:, first:))
         end do
         call number_condensed(this)
@@ -730,7 +905,7 @@ contains
             x_1(this%node_dof(25:30, k)) = this%lambda(:, k)
         end do
         do e = 1, this%n_elements
-            x_1(this%stress_dof(:, e)) = reshape(this%s_1(:, :, e), [6 * this%degree])
+            x_1(this%stress_dof(:, e)) = reshape(this%s_1(:, :, :, e), [n_stress(this)])
         end do
     end subroutine ph_director_update
 
@@ -762,29 +937,29 @@ contains
         zero = 0.0_rk
         do e = 1, this%n_elements
             nodes = this%element_nodes(e)
-            ! R_S at sigma_{n+1} = sigma_n is -h int psi eps_dot; C_e (sigma_{n+1} - sigma_n)
-            ! must cancel it.
-            this%s_1(:, :, e) = this%s_n(:, :, e)
-            call element_kernel(this, e, h, zero, zero, r_e)
-            this%s_1(:, :, e) = this%s_n(:, :, e) - reshape(matmul(this%compliance_inverse(:, :, e), &
-                r_e(first:)), [6, this%degree])
+            ! R_S is linear in sigma_{n+1} with the matrix C_e: one correction from sigma_n.
+            this%s_1(:, :, :, e) = this%s_n(:, :, :, e)
+            call element_kernel(this, e, h, zero, zero, ph_director_actuation_t(), r_e)
+            this%s_1(:, :, 0, e) = this%s_n(:, :, 0, e) - reshape(matmul( &
+                this%compliance_inverse(:, :, e), r_e(first:)), [6, this%degree])
         end do
     end subroutine condensed_fields
 
     !> The element kernel (methods §5.6 rows R_M, R_S) of element e on the workspace fields at
     !> t_n and t_{n+1}, with its Jacobian when `j_e` is present.
-    subroutine element_kernel(this, e, h, nbar, mbar, r_e, j_e)
+    subroutine element_kernel(this, e, h, nbar, mbar, actuation, r_e, j_e)
         type(ph_director_t), intent(in) :: this
         integer, intent(in) :: e
         real(rk), intent(in) :: h, nbar(3), mbar(3)
+        type(ph_director_actuation_t), intent(in) :: actuation
         real(rk), intent(out) :: r_e(:)
         real(rk), intent(out), optional :: j_e(:, :)
         integer :: nodes(2)
         nodes = this%element_nodes(e)
         call ph_director_element_residual(this%basis, this%material, this%element_length(e), h, &
-            this%q_n(:, nodes(1):nodes(2)), this%q_1(:, nodes(1):nodes(2)), &
-            this%v_n(:, nodes(1):nodes(2)), this%v_1(:, nodes(1):nodes(2)), this%s_n(:, :, e), &
-            this%s_1(:, :, e), nbar, mbar, r_e, j_e)
+            this%static, this%q_n(:, nodes(1):nodes(2)), this%q_1(:, nodes(1):nodes(2)), &
+            this%v_n(:, nodes(1):nodes(2)), this%v_1(:, nodes(1):nodes(2)), this%s_n(:, :, :, e), &
+            this%s_1(:, :, :, e), nbar, mbar, actuation, r_e, j_e)
     end subroutine element_kernel
 
     !> Residual (and, if `values` is present, the Schur-complement Jacobian) of the condensed
@@ -798,12 +973,14 @@ contains
         real(rk) :: coupling(6 * this%degree, 12 * (this%degree + 1))
         real(rk) :: r_k(node_dofs), j_k(node_dofs, node_dofs)
         real(rk) :: nbar(3), mbar(3), force(3), moment(3), t_mid
+        type(ph_director_actuation_t) :: actuation
         integer :: rows_m(12 * (this%degree + 1)), cols_q(12 * (this%degree + 1))
         integer :: cols_v(12 * (this%degree + 1))
         integer :: e, k, a, i, j, p, nodes(2), nq, first
         call condensed_fields(this, h, x_n, y)
-        t_mid = t_n + 0.5_rk * h
+        t_mid = load_time(this, t_n, h)
         call distributed_loads(this, t_mid, nbar, mbar)
+        actuation = actuation_at(this, t_mid)
         nq = 12 * (this%degree + 1)
         first = 24 * (this%degree + 1) + 1
         do a = 1, this%degree + 1
@@ -818,7 +995,7 @@ contains
         do e = 1, this%n_elements
             nodes = this%element_nodes(e)
             if (present(values)) then
-                call element_kernel(this, e, h, nbar, mbar, r_e, j_e)
+                call element_kernel(this, e, h, nbar, mbar, actuation, r_e, j_e)
                 ! d/dq_{n+1} through v_{n+1} = 2 (q_{n+1} - q_n)/h - v_n, then the Schur
                 ! complement of the stress block: A - B C_e^{-1} C.
                 schur = j_e(rows_m, cols_q) + (2.0_rk / h) * j_e(rows_m, cols_v)
@@ -832,7 +1009,7 @@ contains
                     end do
                 end do
             else
-                call element_kernel(this, e, h, nbar, mbar, r_e)
+                call element_kernel(this, e, h, nbar, mbar, actuation, r_e)
             end if
             if (present(f)) then
                 do a = 1, this%degree + 1
@@ -849,8 +1026,8 @@ contains
             if (this%clamped(k)) cycle
             call node_loads(this, k, t_mid, force, moment)
             if (present(values)) then
-                call ph_director_node_residual(h, this%q_n(:, k), this%q_1(:, k), this%v_n(:, k), &
-                    this%v_1(:, k), this%lambda(:, k), .true., force, moment, r_k, j_k)
+                call ph_director_node_residual(h, this%static, this%q_n(:, k), this%q_1(:, k), &
+                    this%v_n(:, k), this%v_1(:, k), this%lambda(:, k), .true., force, moment, r_k, j_k)
                 ! Condensed row i is node row 12 + i (momentum 13:24, constraint 25:30); column
                 ! j is q (1:12) or lambda (25:30). The node's momentum rows do not depend on v.
                 do j = 1, 18
@@ -860,8 +1037,8 @@ contains
                     end do
                 end do
             else
-                call ph_director_node_residual(h, this%q_n(:, k), this%q_1(:, k), this%v_n(:, k), &
-                    this%v_1(:, k), this%lambda(:, k), .true., force, moment, r_k)
+                call ph_director_node_residual(h, this%static, this%q_n(:, k), this%q_1(:, k), &
+                    this%v_n(:, k), this%v_1(:, k), this%lambda(:, k), .true., force, moment, r_k)
             end if
             if (present(f)) then
                 f(this%node_unknown(1:12, k)) = f(this%node_unknown(1:12, k)) + r_k(13:24)
@@ -884,32 +1061,49 @@ contains
             kinetic = kinetic + ph_director_element_kinetic_energy(this%basis, this%material, &
                 this%element_length(e), this%v_1(:, nodes(1):nodes(2)))
             strain = strain + ph_director_element_complementary_energy(this%basis, &
-                this%material, this%element_length(e), this%s_1(:, :, e))
+                this%material, this%element_length(e), this%s_1(:, :, :, e))
         end do
     end subroutine ph_director_energy
 
-    !> Work of the loads over the accepted step and the energy-balance error
-    !> H_{n+1} - H_n - W_n (methods §5.3 item 1), accumulated until the next record.
+    !> Work of the loads and actuators and the dissipation over the accepted step, and the
+    !> energy-balance error H_{n+1} - H_n - W_n - W_act,n + D_n (methods §5.3 item 1, §3.1,
+    !> §9 item 7), accumulated until the next record. The endpoint equilibrium of a
+    !> quasistatic run is not a time step: it only counts its Newton iterations.
     subroutine ph_director_accept_step(this, t_n, h, x_n, x_1, newton_iterations, residual_norm)
         class(ph_director_t), intent(inout) :: this
         real(rk), intent(in) :: t_n, h, x_n(:), x_1(:)
         integer, intent(in) :: newton_iterations
         real(rk), intent(in) :: residual_norm
-        real(rk) :: work, nbar(3), mbar(3), force(3), moment(3), t_mid
+        real(rk) :: work, actuator_work, dissipated, nbar(3), mbar(3), force(3), moment(3), t_mid
         real(rk) :: kinetic_n, strain_n, kinetic_1, strain_1
+        type(ph_director_actuation_t) :: actuation
         integer :: e, k, nodes(2)
+        this%iterations_since_record = this%iterations_since_record + newton_iterations
+        this%last_residual = residual_norm
+        if (this%static) return
         call this%energy(x_n, kinetic_n, strain_n)
         call this%energy(x_1, kinetic_1, strain_1)
         call this%unpack(x_n, this%q_n, this%v_n, this%lambda, this%s_n)
         call this%unpack(x_1, this%q_1, this%v_1, this%lambda, this%s_1)
         t_mid = t_n + 0.5_rk * h
         call distributed_loads(this, t_mid, nbar, mbar)
+        actuation = actuation_at(this, t_mid)
         work = 0.0_rk
+        actuator_work = 0.0_rk
+        dissipated = 0.0_rk
         do e = 1, this%n_elements
             nodes = this%element_nodes(e)
-            work = work + ph_director_element_external_work(this%basis, this%element_length(e), &
-                h, this%q_n(:, nodes(1):nodes(2)), this%q_1(:, nodes(1):nodes(2)), &
-                this%v_n(:, nodes(1):nodes(2)), this%v_1(:, nodes(1):nodes(2)), nbar, mbar)
+            associate (q_n => this%q_n(:, nodes(1):nodes(2)), q_1 => this%q_1(:, nodes(1):nodes(2)), &
+                    v_n => this%v_n(:, nodes(1):nodes(2)), v_1 => this%v_1(:, nodes(1):nodes(2)))
+                work = work + ph_director_element_external_work(this%basis, &
+                    this%element_length(e), h, q_n, q_1, v_n, v_1, nbar, mbar)
+                if (size(this%actuators) > 0) actuator_work = actuator_work + &
+                    ph_director_element_actuator_work(this%basis, this%element_length(e), h, &
+                    q_n, q_1, v_n, v_1, actuation)
+            end associate
+            if (this%material%n_branches > 0) dissipated = dissipated + &
+                ph_director_element_dissipation(this%basis, this%material, &
+                this%element_length(e), h, this%s_n(:, :, :, e), this%s_1(:, :, :, e))
         end do
         do k = 1, this%n_nodes
             if (this%clamped(k)) cycle
@@ -919,12 +1113,28 @@ contains
                 this%v_n(:, k), this%v_1(:, k), force, moment)
         end do
         this%work_since_record = this%work_since_record + work
+        this%actuator_work_since_record = this%actuator_work_since_record + actuator_work
+        this%dissipated_since_record = this%dissipated_since_record + dissipated
         this%balance_since_record = this%balance_since_record + &
-            ((kinetic_1 + strain_1) - (kinetic_n + strain_n) - work)
-        this%iterations_since_record = this%iterations_since_record + newton_iterations
+            ((kinetic_1 + strain_1) - (kinetic_n + strain_n) - work - actuator_work + dissipated)
         this%smallest_step = min(this%smallest_step, h)
-        this%last_residual = residual_norm
     end subroutine ph_director_accept_step
+
+    !> Quasistatic runs end with the endpoint equilibrium (DESIGN.md §3).
+    pure logical function ph_director_wants_endpoint_solve(this)
+        class(ph_director_t), intent(in) :: this
+        ph_director_wants_endpoint_solve = this%quasistatic
+    end function ph_director_wants_endpoint_solve
+
+    !> Make the next steps the endpoint equilibrium at load time t_load (`on`), or time steps:
+    !> the kernels' `static` variant, methods §2.8 eqs. 96e-g with the reference strains.
+    subroutine ph_director_set_endpoint_solve(this, on, t_load)
+        class(ph_director_t), intent(inout) :: this
+        logical, intent(in) :: on
+        real(rk), intent(in) :: t_load
+        this%static = on
+        this%t_static = t_load
+    end subroutine ph_director_set_endpoint_solve
 
     subroutine ph_director_init_history(this, history, capacity)
         class(ph_director_t), intent(in) :: this
@@ -932,7 +1142,7 @@ contains
         integer, intent(in) :: capacity
         integer :: e, b
         call history%init(this%name, 'ph_director', this%n_nodes, this%n_elements * this%degree, &
-            capacity)
+            capacity, n_branches=this%material%n_branches)
         history%mesh = this%node_s
         do e = 1, this%n_elements
             do b = 1, this%degree
@@ -950,7 +1160,8 @@ contains
         type(rod_history_t), intent(inout) :: history
         real(rk), intent(in) :: t, x(:)
         real(rk) :: kinetic, strain, linear(3), angular(3), l_e(3), a_e(3), position(3)
-        integer :: r, e, k, i, nodes(2)
+        real(rk) :: gamma(3, this%degree), kappa(3, this%degree)
+        integer :: r, e, k, i, nodes(2), first, last, br
         r = history%next_record()
         if (r == 0) return
         call this%energy(x, kinetic, strain)
@@ -986,14 +1197,29 @@ contains
                 maxval(abs(ph_director_node_constraint(this%q_1(:, k)))))
         end do
         do e = 1, this%n_elements
-            history%stress(:, (e - 1) * this%degree + 1 : e * this%degree, r) = this%s_1(:, :, e)
+            first = (e - 1) * this%degree + 1
+            last = e * this%degree
+            ! The total stress is the sum of the branches (methods §3.1 eq. 49).
+            history%stress(:, first:last, r) = sum(this%s_1(:, :, :, e), dim=3)
+            do br = 1, this%material%n_branches
+                history%branch_stress(:, first:last, br, r) = this%s_1(:, :, br, e)
+            end do
+            nodes = this%element_nodes(e)
+            call ph_director_element_strains(this%basis, this%element_length(e), &
+                this%q_1(:, nodes(1):nodes(2)), gamma, kappa)
+            history%strains(1:3, first:last, r) = gamma
+            history%strains(4:6, first:last, r) = kappa
         end do
         history%external_work(r) = this%work_since_record
+        history%actuator_work(r) = this%actuator_work_since_record
+        history%dissipated(r) = this%dissipated_since_record
         history%balance_error(r) = this%balance_since_record
         history%newton_iterations(r) = this%iterations_since_record
         history%newton_residual(r) = this%last_residual
         history%dt(r) = merge(0.0_rk, this%smallest_step, this%smallest_step == huge(1.0_rk))
         this%work_since_record = 0.0_rk
+        this%actuator_work_since_record = 0.0_rk
+        this%dissipated_since_record = 0.0_rk
         this%balance_since_record = 0.0_rk
         this%iterations_since_record = 0
         this%smallest_step = huge(1.0_rk)

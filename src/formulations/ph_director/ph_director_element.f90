@@ -9,19 +9,23 @@
 !> - An element of degree p in {1, 2} has nen = p + 1 nodes, ordered along s as the nodes of
 !>   `rs_math_lagrange` (xi = -1, 1 for p = 1; xi = -1, 0, 1 for p = 2); ds = le/2 dxi with le
 !>   the reference arc length of the element.
-!> - Stresses are discontinuous P^{p-1} (methods §4.1): p coefficients per component, s(6, p)
-!>   with components (N1, N2, N3, M1, M2, M3) in the material frame. Basis: psi = 1 for p = 1;
+!> - Stresses are discontinuous P^{p-1} (methods §4.1): p coefficients per component and branch,
+!>   s(6, p, 0:m) with components (N1, N2, N3, M1, M2, M3) in the material frame, branch 0 the
+!>   elastic one and 1..m the generalized-Maxwell branches (§3.1). Basis: psi = 1 for p = 1;
 !>   for p = 2 the linear Lagrange functions of the stress points xi = -1/sqrt(3), +1/sqrt(3), so
 !>   coefficients are values there and the 2-point Gauss compliance matrix is diagonal (§4.4).
-!> - Element local layout, size nloc = 24 nen + 6 p: entries 24(a-1) + 1..12 are q_a,
-!>   24(a-1) + 13..24 are v_a, then 24 nen + 6(b-1) + k is stress component k of coefficient b.
-!>   Residual rows use the same layout: the q rows of an element are zero (the kinematic rows
-!>   are nodal), the v rows hold the momentum residual R_M, the stress rows R_S (§5.6).
+!> - Element local layout, size nloc = 24 nen + 6 p (1 + m): entries 24(a-1) + 1..12 are q_a,
+!>   24(a-1) + 13..24 are v_a, then 24 nen + 6 p br + 6(b-1) + k is stress component k of
+!>   coefficient b of branch br. Residual rows use the same layout: the q rows of an element
+!>   are zero (the kinematic rows are nodal), the v rows hold the momentum residual R_M, the
+!>   stress rows R_S (§5.6).
 !> - Node local layout, size 30: q (1:12), v (13:24), the midpoint multiplier
 !>   lambda = (l11, l22, l33, l12, l23, l31) (25:30) (§2.1 order, §5.2 last bullet).
 !> - Time step: implicit midpoint (§5.1, §5.2). Kernels take endpoint values at t_n (`_n`) and
 !>   t_{n+1} (`_1`) and form midpoint values themselves; Jacobians are derivatives with respect
-!>   to the t_{n+1} unknowns (and lambda_mid), so they contain the 1/2 of the midpoint.
+!>   to the t_{n+1} unknowns (and lambda_mid), so they contain the 1/2 of the midpoint. A
+!>   `static` step evaluates the same rows at t_{n+1} instead (the endpoint equilibrium of a
+!>   quasistatic run, DESIGN.md §3).
 !> - Straight stress-free reference: Gamma_0 = (0, 0, 1), K_0 = 0 (methods §2.1, Remark 2.1).
 !> - Loads (nbar, mbar distributed per unit length, force and moment at nodes) are spatial
 !>   vectors at t_mid; a moment m acts on director i as 1/2 m x d_i (T(d) m, methods §2.5).
@@ -35,7 +39,7 @@ module rs_ph_director_element
     implicit none
     private
 
-    public :: ph_director_material_t, ph_director_basis_t
+    public :: ph_director_material_t, ph_director_basis_t, ph_director_actuation_t
     public :: ph_director_basis_init, ph_director_basis_shape, ph_director_stress_shape
     public :: ph_director_local_size
     public :: ph_director_element_residual, ph_director_node_residual
@@ -43,6 +47,7 @@ module rs_ph_director_element
     public :: ph_director_element_momenta, ph_director_element_position_integral
     public :: ph_director_element_external_work, ph_director_node_external_work
     public :: ph_director_element_strains, ph_director_node_constraint
+    public :: ph_director_element_dissipation, ph_director_element_actuator_work
 
     !> Largest element degree (quadratic elements).
     integer, parameter, public :: ph_director_max_degree = 2
@@ -50,6 +55,12 @@ module rs_ph_director_element
     integer, parameter, public :: ph_director_max_nodes = ph_director_max_degree + 1
     !> Size of the node local layout: q (12), v (12), lambda (6).
     integer, parameter, public :: ph_director_node_size = 30
+    !> Largest number of generalized-Maxwell branches of a rod.
+    integer, parameter, public :: ph_director_max_branches = 8
+    !> Largest number of tendons of a rod.
+    integer, parameter, public :: ph_director_max_tendons = 16
+    !> Strains of the straight stress-free reference, (Gamma_0, K_0) (methods §2.1).
+    real(rk), parameter :: eps_0(6) = [0.0_rk, 0.0_rk, 1.0_rk, 0.0_rk, 0.0_rk, 0.0_rk]
 
     !> Section properties of a rod (methods §2.3, §2.4): line density rhoA, director inertias
     !> rhoI = (M_rho^11, M_rho^22) (the d3 block has no mass), and the diagonal compliance
@@ -60,9 +71,25 @@ module rs_ph_director_element
         real(rk) :: rhoA = 0.0_rk
         !> Second moments of mass M_rho^11, M_rho^22 of the cross-section (principal axes).
         real(rk) :: rhoI(2) = 0.0_rk
-        !> Diagonal of C = blockdiag(C_N, C_M), material frame.
+        !> Diagonal of C = blockdiag(C_N, C_M) of the elastic branch, material frame.
         real(rk) :: compliance(6) = 0.0_rk
+        !> Generalized-Maxwell branches (methods §3.1): number, compliance C_i = (f_i k)^{-1}
+        !> and fluidity F_i = V_i^{-1} = (tau f_i k)^{-1} per component, and which components
+        !> have a branch (not the rigid ones, whose stress is a multiplier).
+        integer :: n_branches = 0
+        real(rk) :: branch_compliance(6, ph_director_max_branches) = 0.0_rk
+        real(rk) :: branch_fluidity(6, ph_director_max_branches) = 0.0_rk
+        logical :: branch_active(6, ph_director_max_branches) = .false.
     end type ph_director_material_t
+
+    !> The actuators of a rod at one time (methods §3.2): the constant material stress of the
+    !> pneumatic chambers, sum_k tau_k (0, 0, 1, rho_k^2, -rho_k^1, 0), and the tendons as
+    !> (tau, rho^1, rho^2) columns.
+    type :: ph_director_actuation_t
+        real(rk) :: pneumatic(6) = 0.0_rk
+        integer :: n_tendons = 0
+        real(rk) :: tendon(3, ph_director_max_tendons) = 0.0_rk
+    end type ph_director_actuation_t
 
     !> Reference-element data of one (degree, Gauss rule) pair, built by ph_director_basis_init.
     !> Arrays have the maximal size; only the leading nen, n_gauss and degree entries are used.
@@ -90,14 +117,15 @@ module rs_ph_director_element
 contains
 
     !> Build the reference-element data for `degree` (1 or 2) and an `n_gauss`-point Gauss
-    !> rule (1 .. max_gauss_points); `ok` is false (and `basis` empty) for other values.
+    !> rule (degree .. max_gauss_points); `ok` is false (and `basis` empty) for other values.
     pure subroutine ph_director_basis_init(basis, degree, n_gauss, ok)
         type(ph_director_basis_t), intent(out) :: basis
         integer, intent(in) :: degree, n_gauss
         logical, intent(out) :: ok
         real(rk) :: points(2), weights(2)
         integer :: g
-        ok = degree >= 1 .and. degree <= ph_director_max_degree .and. n_gauss >= 1 &
+        ! n_gauss >= degree: fewer points leave the P^{p-1} stress block singular.
+        ok = degree >= 1 .and. degree <= ph_director_max_degree .and. n_gauss >= degree &
             .and. n_gauss <= max_gauss_points
         if (.not. ok) return
         basis%degree = degree
@@ -146,50 +174,71 @@ contains
         end if
     end subroutine ph_director_stress_shape
 
-    !> Size 24 nen + 6 p of the element local layout.
-    pure integer function ph_director_local_size(basis) result(nloc)
+    !> Size 24 nen + 6 p (1 + n_branches) of the element local layout.
+    pure integer function ph_director_local_size(basis, material) result(nloc)
         type(ph_director_basis_t), intent(in) :: basis
-        nloc = 24 * basis%nen + 6 * basis%degree
+        type(ph_director_material_t), intent(in) :: material
+        nloc = 24 * basis%nen + 6 * basis%degree * (1 + material%n_branches)
     end function ph_director_local_size
 
     !> Residual (and optionally Jacobian with respect to q_1, v_1, s_1) of one element in one
-    !> implicit-midpoint step, methods/ph_director_3d.md §5.2 (M1), (M2), (S1), (S2) and §5.6:
-    !>   R_M = M_e (v_1 - v_n) + h [f_int(q_mid, s_mid) - f_ext(nbar, mbar, q_mid)]   (v rows)
-    !>   R_S = C_e (s_1 - s_n) - h int psi_b eps_dot(q_mid, v_mid) ds             (stress rows)
-    !> q rows are zero. nbar, mbar: distributed spatial force and moment per unit length at
-    !> t_mid, constant over the element (gravity: nbar = rhoA g).
-    pure subroutine ph_director_element_residual(basis, material, le, h, q_n, q_1, v_n, v_1, &
-            s_n, s_1, nbar, mbar, residual, jacobian)
+    !> implicit-midpoint step, methods/ph_director_3d.md §5.2 (M1), (M2), (S1), (S2), §5.6, with
+    !> the generalized-Maxwell branches of §3.1 and the actuation of §3.2:
+    !>   R_M = M_e (v_1 - v_n) + h [int B(q_t)^T (sigma_t + dsigma_act(q_t)) - f_ext]  (v rows)
+    !>   R_S = C_e s_1 - int psi (eps(q_1) - eps_0)                     (elastic stress rows)
+    !>   R_i = C_i (s_1 - s_n) - int psi (eps(q_1) - eps(q_n)) + h F_i s_mid  (branch i rows)
+    !> with q_t = q_n + theta (q_1 - q_n), sigma_t the sum over the branches of
+    !> s_n + theta (s_1 - s_n), B the strain-variation operator (eps_dot = B v), C_i and
+    !> F_i = V_i^{-1} the branch compliance and fluidity. theta = 1/2 (midpoint step) or 1 with
+    !> the viscous term off (`static`: the endpoint equilibrium of a quasistatic run, methods
+    !> §2.8 eqs. 96e-g, DESIGN.md §3). q rows are zero.
+    !>
+    !> The elastic stress rows are the non-rate (Hellinger-Reissner) form of (S1), (S2): since
+    !> eps is bilinear, int psi (eps(q_1) - eps(q_n)) = h int psi eps_dot(q_mid, v_mid) exactly
+    !> when (K1), (K2) hold, so the two forms have the same solutions (methods §5.3 item 3), but
+    !> this one keeps strain consistency, and a zero compliance (a constrained component, §2.3,
+    !> whose stress is then a multiplier) at the level of the Newton residual at every step
+    !> instead of accumulating it (DESIGN.md §3, "constraints at the right level"). A component
+    !> that is rigid has no Maxwell branch: its branch rows are s_1 = 0.
+    !> nbar, mbar: distributed spatial force and moment per unit length at t_mid, constant over
+    !> the element (gravity: nbar = rhoA g).
+    pure subroutine ph_director_element_residual(basis, material, le, h, static, q_n, q_1, v_n, &
+            v_1, s_n, s_1, nbar, mbar, actuation, residual, jacobian)
         type(ph_director_basis_t), intent(in) :: basis
         type(ph_director_material_t), intent(in) :: material
         real(rk), intent(in) :: le, h
+        logical, intent(in) :: static
         real(rk), intent(in) :: q_n(12, basis%nen), q_1(12, basis%nen)
         real(rk), intent(in) :: v_n(12, basis%nen), v_1(12, basis%nen)
-        real(rk), intent(in) :: s_n(6, basis%degree), s_1(6, basis%degree)
+        real(rk), intent(in) :: s_n(6, basis%degree, 0:material%n_branches)
+        real(rk), intent(in) :: s_1(6, basis%degree, 0:material%n_branches)
         real(rk), intent(in) :: nbar(3), mbar(3)
-        real(rk), intent(out) :: residual(24 * basis%nen + 6 * basis%degree)
-        real(rk), intent(out), optional :: jacobian(24 * basis%nen + 6 * basis%degree, &
-            24 * basis%nen + 6 * basis%degree)
-        real(rk) :: q_mid(12, ph_director_max_nodes), v_mid(12, ph_director_max_nodes)
-        real(rk) :: dv(12, ph_director_max_nodes), s_mid(6, ph_director_max_degree)
-        real(rk) :: ds_(6, ph_director_max_degree), mass(12)
+        type(ph_director_actuation_t), intent(in) :: actuation
+        real(rk), intent(out) :: residual(:)
+        real(rk), intent(out), optional :: jacobian(:, :)
+        real(rk) :: q_t(12, ph_director_max_nodes), dv(12, ph_director_max_nodes), mass(12)
         real(rk) :: nn(ph_director_max_nodes), bb(ph_director_max_nodes)
         real(rk) :: psi(ph_director_max_degree)
-        ! Midpoint fields at a Gauss point: phi', d_i, d_i', v_phi', v_i, v_i' (columns i).
-        real(rk) :: phi_s(3), d(3, 3), d_s(3, 3), vphi_s(3), vd(3, 3), vd_s(3, 3)
-        real(rk) :: sig(6), force(12), rate(6), n_spatial(3), m_hat(3, 3), eye(3, 3)
-        real(rk) :: wds, c, mab, wab, cpsi
-        integer :: nen, p, g, a, b, cc, i, j, k, ra, rb, rs, cs, l
+        ! Fields at the Gauss point: phi', d_i, d_i' (columns i), at q_t and at q_1.
+        real(rk) :: phi_s(3), d(3, 3), d_s(3, 3), phi_s1(3), d1(3, 3), d_s1(3, 3)
+        ! Strains and their derivatives with respect to the values (x) and s-derivatives (xs)
+        ! of (phi, d1, d2, d3): d eps = e_x dx + e_xs dxs (methods §2.2, §4.4).
+        real(rk) :: eps(6), e_x(6, 12), e_xs(6, 12), eps_1(6), e_x1(6, 12), e_xs1(6, 12)
+        real(rk) :: phi_sn(3), dn(3, 3), d_sn(3, 3), eps_n(6), e_xn(6, 12), e_xsn(6, 12)
+        real(rk) :: act(6), act_x(6, 12), act_xs(6, 12), b_a(6, 12), b_b(6, 12)
+        real(rk) :: sig(6), force(12), m_hat(3, 3), eye(3, 3), comp(6), visc(6)
+        real(rk) :: theta, h_visc, wds, c, mab, wab, cpsi
+        integer :: nen, p, nb, g, a, b, cc, i, j, k, ra, rb, rs, cs, l, br
         logical :: with_jacobian
 
         nen = basis%nen
         p = basis%degree
+        nb = material%n_branches
         with_jacobian = present(jacobian)
-        q_mid(:, 1:nen) = 0.5_rk * (q_n + q_1)
-        v_mid(:, 1:nen) = 0.5_rk * (v_n + v_1)
+        theta = merge(1.0_rk, 0.5_rk, static)
+        h_visc = merge(0.0_rk, h, static)
+        q_t(:, 1:nen) = q_n + theta * (q_1 - q_n)
         dv(:, 1:nen) = v_1 - v_n
-        s_mid(:, 1:p) = 0.5_rk * (s_n + s_1)
-        ds_(:, 1:p) = s_1 - s_n
         ! M_o = blockdiag(rhoA I, M^11 I, M^22 I, 0) (methods §2.4, §2.6 eq. 20)
         mass(1:3) = material%rhoA
         mass(4:6) = material%rhoI(1)
@@ -203,35 +252,37 @@ contains
 
         residual = 0.0_rk
         if (with_jacobian) jacobian = 0.0_rk
+        ! Branch components of rigid (constrained) components: s_1 = 0.
+        do br = 1, nb
+            do b = 1, p
+                rs = stress_row(basis, br, b)
+                do l = 1, 6
+                    if (material%branch_active(l, br)) cycle
+                    residual(rs + l) = s_1(l, b, br)
+                    if (with_jacobian) jacobian(rs + l, rs + l) = 1.0_rk
+                end do
+            end do
+        end do
 
         do g = 1, basis%n_gauss
             nn(1:nen) = basis%shape(1:nen, g)
             bb(1:nen) = basis%dshape(1:nen, g) * (2.0_rk / le)
             psi(1:p) = basis%psi(1:p, g)
             wds = basis%w(g) * 0.5_rk * le
-            c = 0.5_rk * h * wds
-            ! Midpoint fields and their s-derivatives at the Gauss point (methods §4.4).
-            phi_s = matmul(q_mid(1:3, 1:nen), bb(1:nen))
-            d = reshape(matmul(q_mid(4:12, 1:nen), nn(1:nen)), [3, 3])
-            d_s = reshape(matmul(q_mid(4:12, 1:nen), bb(1:nen)), [3, 3])
-            vphi_s = matmul(v_mid(1:3, 1:nen), bb(1:nen))
-            vd = reshape(matmul(v_mid(4:12, 1:nen), nn(1:nen)), [3, 3])
-            vd_s = reshape(matmul(v_mid(4:12, 1:nen), bb(1:nen)), [3, 3])
-            sig = matmul(s_mid(:, 1:p), psi(1:p))
-            ! n = R N = N_i d_i (methods §2.3 eq. 7)
-            n_spatial = matmul(d, sig(1:3))
-
-            ! Strain rates eps_dot = (Gamma_dot, K_dot) at q_mid, v_mid (methods §2.2, §2.6
-            ! eq. 18): Gamma_dot_i = d_i . v_phi' + phi' . v_i and, with (i, j, k) cyclic,
-            ! K_dot_i = 1/2 [(d_j' . v_k - d_j . v_k') - (d_k' . v_j - d_k . v_j')].
-            do i = 1, 3
-                j = mod(i, 3) + 1
-                k = mod(i + 1, 3) + 1
-                rate(i) = dot_product(d(:, i), vphi_s) + dot_product(phi_s, vd(:, i))
-                rate(3 + i) = 0.5_rk * (dot_product(d_s(:, j), vd(:, k)) &
-                    - dot_product(d(:, j), vd_s(:, k)) - dot_product(d_s(:, k), vd(:, j)) &
-                    + dot_product(d(:, k), vd_s(:, j)))
+            c = theta * h * wds
+            call gauss_fields(q_t(:, 1:nen), nn(1:nen), bb(1:nen), phi_s, d, d_s)
+            call strain_operator(phi_s, d, d_s, eps, e_x, e_xs)
+            call gauss_fields(q_1, nn(1:nen), bb(1:nen), phi_s1, d1, d_s1)
+            call strain_operator(phi_s1, d1, d_s1, eps_1, e_x1, e_xs1)
+            ! Total stress at q_t: all branches plus the actuators (methods §3.1 eq. 49, §3.2).
+            sig = matmul(s_n(:, 1:p, 0) + theta * (s_1(:, 1:p, 0) - s_n(:, 1:p, 0)), psi(1:p))
+            do br = 1, nb
+                ! A rigid component has no branch: its branch unknown is not a stress.
+                sig = sig + merge(matmul(s_n(:, 1:p, br) + theta * (s_1(:, 1:p, br) &
+                    - s_n(:, 1:p, br)), psi(1:p)), 0.0_rk, material%branch_active(:, br))
             end do
+            call actuation_stress(actuation, phi_s, d, d_s, act, act_x, act_xs)
+            sig = sig + act
 
             do a = 1, nen
                 ra = 24 * (a - 1) + 12
@@ -246,38 +297,53 @@ contains
                         end do
                     end if
                 end do
-                ! Internal forces (methods §4.4): r_phi,a = int N_a' n;
-                ! r_di,a = int N_a N_i phi' + N_a (L(d')^T M)_i - N_a' (L(d)^T M)_i with
-                ! (L(d)^T M)_i = 1/2 (M_j d_k - M_k d_j), (i, j, k) cyclic (methods §2.2).
+                ! Internal force int B_a^T sigma with B_a = N_a e_x + N_a' e_xs: the adjoint of
+                ! the strain rate, i.e. r_phi,a = int N_a' n and r_di,a = int N_a N_i phi'
+                ! + N_a (L(d')^T M)_i - N_a' (L(d)^T M)_i (methods §2.6 J_v = J_sigma^*, §4.4).
                 ! External: - int N_a nbar, - int N_a 1/2 mbar x d_i (T(d) mbar, §2.5, §4.3).
-                force(1:3) = bb(a) * n_spatial - nn(a) * nbar
+                b_a = nn(a) * e_x + bb(a) * e_xs
+                force = matmul(sig, b_a)
+                force(1:3) = force(1:3) - nn(a) * nbar
                 do i = 1, 3
-                    j = mod(i, 3) + 1
-                    k = mod(i + 1, 3) + 1
-                    force(3 * i + 1:3 * i + 3) = nn(a) * sig(i) * phi_s &
-                        + 0.5_rk * sig(3 + j) * (nn(a) * d_s(:, k) - bb(a) * d(:, k)) &
-                        - 0.5_rk * sig(3 + k) * (nn(a) * d_s(:, j) - bb(a) * d(:, j)) &
+                    force(3 * i + 1:3 * i + 3) = force(3 * i + 1:3 * i + 3) &
                         - 0.5_rk * nn(a) * cross(mbar, d(:, i))
                 end do
                 residual(ra + 1:ra + 12) = residual(ra + 1:ra + 12) + h * wds * force
             end do
 
-            ! Compliance-rate rows (methods §4.4, §5.2 (S1), (S2)).
+            ! Stress rows (methods §4.4, §5.2 (S1), (S2), §3.1 eq. 52 with the midpoint rule).
+            if (nb > 0) then
+                call gauss_fields(q_n, nn(1:nen), bb(1:nen), phi_sn, dn, d_sn)
+                call strain_operator(phi_sn, dn, d_sn, eps_n, e_xn, e_xsn)
+            end if
             do b = 1, p
-                rs = 24 * nen + 6 * (b - 1)
-                residual(rs + 1:rs + 6) = residual(rs + 1:rs + 6) - h * wds * psi(b) * rate
+                rs = stress_row(basis, 0, b)
+                residual(rs + 1:rs + 6) = residual(rs + 1:rs + 6) - wds * psi(b) * (eps_1 - eps_0)
                 do cc = 1, p
                     residual(rs + 1:rs + 6) = residual(rs + 1:rs + 6) &
-                        + wds * psi(b) * psi(cc) * material%compliance * ds_(:, cc)
+                        + wds * psi(b) * psi(cc) * material%compliance * s_1(:, cc, 0)
+                end do
+                do br = 1, nb
+                    rs = stress_row(basis, br, b)
+                    do cc = 1, p
+                        where (material%branch_active(:, br)) residual(rs + 1:rs + 6) = &
+                            residual(rs + 1:rs + 6) + wds * psi(b) * psi(cc) &
+                            * (material%branch_compliance(:, br) * (s_1(:, cc, br) - s_n(:, cc, br)) &
+                            + 0.5_rk * h_visc * material%branch_fluidity(:, br) &
+                            * (s_1(:, cc, br) + s_n(:, cc, br)))
+                    end do
+                    where (material%branch_active(:, br)) residual(rs + 1:rs + 6) = &
+                        residual(rs + 1:rs + 6) - wds * psi(b) * (eps_1 - eps_n)
                 end do
             end do
 
             if (.not. with_jacobian) cycle
 
-            ! Jacobian (methods §5.6): every midpoint quantity enters with the factor 1/2, hence
-            ! c = h wds / 2 on the geometric and stress-coupling blocks.
+            ! Jacobian (methods §5.6): q_t and sigma_t enter with the factor theta, hence
+            ! c = theta h wds on the geometric, actuation and stress-coupling blocks.
             do a = 1, nen
                 ra = 24 * (a - 1) + 12
+                b_a = nn(a) * e_x + bb(a) * e_xs
                 do b = 1, nen
                     rb = 24 * (b - 1)
                     wab = nn(a) * bb(b) - bb(a) * nn(b)
@@ -297,61 +363,61 @@ contains
                         call add_block(jacobian, ra + 3 * i, rb + 3 * j, &
                             -0.5_rk * c * sig(3 + k) * wab * eye)
                     end do
+                    ! State-dependent actuation (tendons): B_a^T d(dsigma_act)/dq_b (§5.6 end).
+                    if (actuation%n_tendons > 0) jacobian(ra + 1:ra + 12, rb + 1:rb + 12) = &
+                        jacobian(ra + 1:ra + 12, rb + 1:rb + 12) &
+                        + c * matmul(transpose(b_a), nn(b) * act_x + bb(b) * act_xs)
                 end do
-                ! Stress columns: psi_c times the coefficient of sigma in f (methods §5.6).
-                do cc = 1, p
-                    cs = 24 * nen + 6 * (cc - 1)
-                    cpsi = c * psi(cc)
-                    do i = 1, 3
-                        j = mod(i, 3) + 1
-                        k = mod(i + 1, 3) + 1
-                        ! f_phi,a = N_a' N_i d_i and f_di,a = N_a N_i phi' + ...
-                        call add_column(jacobian, ra, cs + i, cpsi * bb(a) * d(:, i))
-                        call add_column(jacobian, ra + 3 * i, cs + i, cpsi * nn(a) * phi_s)
-                        ! ... + 1/2 M_j (N_a d_k' - N_a' d_k) - 1/2 M_k (N_a d_j' - N_a' d_j)
-                        call add_column(jacobian, ra + 3 * i, cs + 3 + j, &
-                            0.5_rk * cpsi * (nn(a) * d_s(:, k) - bb(a) * d(:, k)))
-                        call add_column(jacobian, ra + 3 * i, cs + 3 + k, &
-                            -0.5_rk * cpsi * (nn(a) * d_s(:, j) - bb(a) * d(:, j)))
+                ! Stress columns: psi_c B_a^T for every branch (sigma = sum of the branches).
+                do br = 0, nb
+                    do cc = 1, p
+                        cs = stress_row(basis, br, cc)
+                        cpsi = c * psi(cc)
+                        do l = 1, 6
+                            if (br > 0) then
+                                if (.not. material%branch_active(l, br)) cycle
+                            end if
+                            jacobian(ra + 1:ra + 12, cs + l) = jacobian(ra + 1:ra + 12, cs + l) &
+                                + cpsi * b_a(l, :)
+                        end do
                     end do
                 end do
             end do
 
-            ! Stress rows: -h/2 psi_c d(eps_dot)/d(q_mid, v_mid), and C_e.
+            ! Stress rows: -psi_c d eps(q_1)/dq_1 and the branch matrices.
             do cc = 1, p
-                rs = 24 * nen + 6 * (cc - 1)
-                cpsi = -c * psi(cc)
                 do b = 1, nen
                     rb = 24 * (b - 1)
-                    do i = 1, 3
-                        j = mod(i, 3) + 1
-                        k = mod(i + 1, 3) + 1
-                        ! Gamma_dot_i: d/d d_i = N_b v_phi'^T, d/d phi = N_b' v_i^T,
-                        ! d/d v_phi = N_b' d_i^T, d/d v_i = N_b phi'^T
-                        call add_row(jacobian, rs + i, rb + 3 * i, cpsi * nn(b) * vphi_s)
-                        call add_row(jacobian, rs + i, rb, cpsi * bb(b) * vd(:, i))
-                        call add_row(jacobian, rs + i, rb + 12, cpsi * bb(b) * d(:, i))
-                        call add_row(jacobian, rs + i, rb + 12 + 3 * i, cpsi * nn(b) * phi_s)
-                        ! K_dot_i: d/d d_j = 1/2 (N_b' v_k - N_b v_k')^T,
-                        ! d/d d_k = -1/2 (N_b' v_j - N_b v_j')^T,
-                        ! d/d v_k = 1/2 (N_b d_j' - N_b' d_j)^T,
-                        ! d/d v_j = -1/2 (N_b d_k' - N_b' d_k)^T
-                        call add_row(jacobian, rs + 3 + i, rb + 3 * j, &
-                            0.5_rk * cpsi * (bb(b) * vd(:, k) - nn(b) * vd_s(:, k)))
-                        call add_row(jacobian, rs + 3 + i, rb + 3 * k, &
-                            -0.5_rk * cpsi * (bb(b) * vd(:, j) - nn(b) * vd_s(:, j)))
-                        call add_row(jacobian, rs + 3 + i, rb + 12 + 3 * k, &
-                            0.5_rk * cpsi * (nn(b) * d_s(:, j) - bb(b) * d(:, j)))
-                        call add_row(jacobian, rs + 3 + i, rb + 12 + 3 * j, &
-                            -0.5_rk * cpsi * (nn(b) * d_s(:, k) - bb(b) * d(:, k)))
+                    b_b = nn(b) * e_x1 + bb(b) * e_xs1
+                    do br = 0, nb
+                        rs = stress_row(basis, br, cc)
+                        do l = 1, 6
+                            if (br > 0) then
+                                if (.not. material%branch_active(l, br)) cycle
+                            end if
+                            jacobian(rs + l, rb + 1:rb + 12) = jacobian(rs + l, rb + 1:rb + 12) &
+                                - wds * psi(cc) * b_b(l, :)
+                        end do
                     end do
                 end do
-                ! C_e = int psi_b psi_c diag(compliance) ds (methods §4.3 eq. 113)
                 do b = 1, p
-                    cs = 24 * nen + 6 * (b - 1)
+                    ! C_e = int psi_b psi_c diag(compliance) ds (methods §4.3 eq. 113)
+                    rs = stress_row(basis, 0, cc)
+                    cs = stress_row(basis, 0, b)
                     do l = 1, 6
                         jacobian(rs + l, cs + l) = jacobian(rs + l, cs + l) &
                             + wds * psi(cc) * psi(b) * material%compliance(l)
+                    end do
+                    do br = 1, nb
+                        rs = stress_row(basis, br, cc)
+                        cs = stress_row(basis, br, b)
+                        comp = material%branch_compliance(:, br)
+                        visc = material%branch_fluidity(:, br)
+                        do l = 1, 6
+                            if (.not. material%branch_active(l, br)) cycle
+                            jacobian(rs + l, cs + l) = jacobian(rs + l, cs + l) &
+                                + wds * psi(cc) * psi(b) * (comp(l) + 0.5_rk * h_visc * visc(l))
+                        end do
                     end do
                 end do
             end do
@@ -361,28 +427,36 @@ contains
     !> Residual (and optionally Jacobian with respect to q_1, v_1, lambda) of the nodal rows of
     !> one node in one implicit-midpoint step (methods §5.2 (K1), (K2), §5.6, DESIGN.md §3):
     !>   q rows: R_K = q_1 - q_n - h/2 (v_1 + v_n)
-    !>   v rows: + h G_d(d_mid)^T lambda - h force (phi) - h 1/2 moment x d_i,mid (director i)
+    !>   v rows: + h G_d(d_t)^T lambda - h force (phi) - h 1/2 moment x d_i,t (director i)
     !>   lambda rows: g(d_1) (the constraint imposed at the endpoint, methods §5.3 item 2).
-    !> lambda is the midpoint multiplier. force and moment are the concentrated spatial loads at
-    !> t_mid (zero at interior nodes). Without `with_lambda` (a clamped node, methods §4.6(c))
-    !> the lambda rows are identity rows with residual lambda and lambda does not enter the v rows.
-    pure subroutine ph_director_node_residual(h, q_n, q_1, v_n, v_1, lambda, with_lambda, force, &
-            moment, residual, jacobian)
+    !> d_t is the midpoint d_mid, or d_1 in a `static` (endpoint equilibrium) step, where the
+    !> q rows become -h/2 (v_1 - v_n) (velocities are kept). lambda is the multiplier of the
+    !> step. force and moment are the concentrated spatial loads at the load time (zero at
+    !> interior nodes). Without `with_lambda` (a clamped node, methods §4.6(c)) the lambda rows
+    !> are identity rows with residual lambda and lambda does not enter the v rows.
+    pure subroutine ph_director_node_residual(h, static, q_n, q_1, v_n, v_1, lambda, with_lambda, &
+            force, moment, residual, jacobian)
         real(rk), intent(in) :: h
+        logical, intent(in) :: static
         real(rk), intent(in) :: q_n(12), q_1(12), v_n(12), v_1(12), lambda(6)
         logical, intent(in) :: with_lambda
         real(rk), intent(in) :: force(3), moment(3)
         real(rk), intent(out) :: residual(ph_director_node_size)
         real(rk), intent(out), optional :: jacobian(ph_director_node_size, ph_director_node_size)
-        real(rk) :: d_mid(9), lam(3, 3), gd(6, 9), m_hat(3, 3)
+        real(rk) :: d_t(9), lam(3, 3), gd(6, 9), m_hat(3, 3), theta
         integer :: i, j, l
 
-        d_mid = 0.5_rk * (q_n(4:12) + q_1(4:12))
-        residual(1:12) = q_1 - q_n - 0.5_rk * h * (v_1 + v_n)
+        theta = merge(1.0_rk, 0.5_rk, static)
+        d_t = q_n(4:12) + theta * (q_1(4:12) - q_n(4:12))
+        if (static) then
+            residual(1:12) = -0.5_rk * h * (v_1 - v_n)
+        else
+            residual(1:12) = q_1 - q_n - 0.5_rk * h * (v_1 + v_n)
+        end if
         residual(13:15) = -h * force
         do i = 1, 3
             residual(12 + 3 * i + 1:12 + 3 * i + 3) = &
-                -0.5_rk * h * cross(moment, d_mid(3 * i - 2:3 * i))
+                -0.5_rk * h * cross(moment, d_t(3 * i - 2:3 * i))
         end do
         if (with_lambda) then
             ! G_d(d)^T lambda, block i = sum_j S_ij d_j with the symmetric S of methods §5.6
@@ -391,7 +465,7 @@ contains
                 do j = 1, 3
                     residual(12 + 3 * i + 1:12 + 3 * i + 3) = &
                         residual(12 + 3 * i + 1:12 + 3 * i + 3) &
-                        + h * lam(i, j) * d_mid(3 * j - 2:3 * j)
+                        + h * lam(i, j) * d_t(3 * j - 2:3 * j)
                 end do
             end do
             residual(25:30) = ph_director_node_constraint(q_1)
@@ -402,24 +476,24 @@ contains
         if (.not. present(jacobian)) return
         jacobian = 0.0_rk
         do l = 1, 12
-            jacobian(l, l) = 1.0_rk
+            if (.not. static) jacobian(l, l) = 1.0_rk
             jacobian(l, 12 + l) = -0.5_rk * h
         end do
-        ! moment term: d(-h/2 moment x d_i,mid)/d d_i,1 = -h/4 moment^
+        ! moment term: d(-h/2 moment x d_i,t)/d d_i,1 = -theta h/2 moment^
         m_hat = hat(moment)
         do i = 1, 3
-            jacobian(12 + 3 * i + 1:12 + 3 * i + 3, 3 * i + 1:3 * i + 3) = -0.25_rk * h * m_hat
+            jacobian(12 + 3 * i + 1:12 + 3 * i + 3, 3 * i + 1:3 * i + 3) = -0.5_rk * theta * h * m_hat
         end do
         if (with_lambda) then
             do i = 1, 3
                 do j = 1, 3
                     do l = 1, 3
                         jacobian(12 + 3 * i + l, 3 * j + l) = jacobian(12 + 3 * i + l, 3 * j + l) &
-                            + 0.5_rk * h * lam(i, j)
+                            + theta * h * lam(i, j)
                     end do
                 end do
             end do
-            gd = constraint_jacobian(d_mid)
+            gd = constraint_jacobian(d_t)
             jacobian(16:24, 25:30) = h * transpose(gd)
             jacobian(25:30, 4:12) = constraint_jacobian(q_1(4:12))
         else
@@ -447,22 +521,81 @@ contains
         end do
     end function ph_director_element_kinetic_energy
 
-    !> Complementary energy 1/2 s^T C_e s of one element with the element's Gauss rule
-    !> (methods §2.3 eq. 9, §4.3 eq. 35); s(6, p) stress coefficients.
+    !> Complementary energy 1/2 s^T C_e s of one element, summed over the elastic and the Maxwell
+    !> branches, with the element's Gauss rule (methods §2.3 eq. 9, §3.1 eq. 55-58, §4.3 eq. 35);
+    !> s(6, p, 0:n_branches) stress coefficients (0: the elastic branch).
     pure function ph_director_element_complementary_energy(basis, material, le, s) result(energy)
         type(ph_director_basis_t), intent(in) :: basis
         type(ph_director_material_t), intent(in) :: material
         real(rk), intent(in) :: le
-        real(rk), intent(in) :: s(6, basis%degree)
+        real(rk), intent(in) :: s(6, basis%degree, 0:material%n_branches)
         real(rk) :: energy
         real(rk) :: sig(6)
-        integer :: g
+        integer :: g, br
         energy = 0.0_rk
         do g = 1, basis%n_gauss
-            sig = matmul(s, basis%psi(1:basis%degree, g))
+            sig = matmul(s(:, :, 0), basis%psi(1:basis%degree, g))
             energy = energy + 0.25_rk * le * basis%w(g) * sum(material%compliance * sig**2)
+            do br = 1, material%n_branches
+                sig = matmul(s(:, :, br), basis%psi(1:basis%degree, g))
+                energy = energy + 0.25_rk * le * basis%w(g) &
+                    * sum(material%branch_compliance(:, br) * sig**2)
+            end do
         end do
     end function ph_director_element_complementary_energy
+
+    !> Energy dissipated by the Maxwell branches of one element in one step,
+    !> D_n = h int sum_i s_mid^(i) . F_i s_mid^(i) ds >= 0 with the fluidity F_i = V_i^{-1}
+    !> (methods §3.1 eqs. 59-61, §5.3 item 1, §9 item 7).
+    pure function ph_director_element_dissipation(basis, material, le, h, s_n, s_1) result(energy)
+        type(ph_director_basis_t), intent(in) :: basis
+        type(ph_director_material_t), intent(in) :: material
+        real(rk), intent(in) :: le, h
+        real(rk), intent(in) :: s_n(6, basis%degree, 0:material%n_branches)
+        real(rk), intent(in) :: s_1(6, basis%degree, 0:material%n_branches)
+        real(rk) :: energy
+        real(rk) :: sig(6)
+        integer :: g, br
+        energy = 0.0_rk
+        do g = 1, basis%n_gauss
+            do br = 1, material%n_branches
+                sig = 0.5_rk * matmul(s_n(:, :, br) + s_1(:, :, br), basis%psi(1:basis%degree, g))
+                energy = energy + 0.5_rk * le * basis%w(g) &
+                    * sum(material%branch_fluidity(:, br) * sig**2)
+            end do
+        end do
+        energy = h * energy
+    end function ph_director_element_dissipation
+
+    !> Work of the actuators on one element in one step, W_act = -h int dsigma_act(q_mid) .
+    !> eps_dot(q_mid, v_mid) ds: the power of the actuation port (methods §3.2 eq. 66, §10 V9),
+    !> which is what the momentum rows put into the energy balance.
+    pure function ph_director_element_actuator_work(basis, le, h, q_n, q_1, v_n, v_1, actuation) &
+            result(work)
+        type(ph_director_basis_t), intent(in) :: basis
+        real(rk), intent(in) :: le, h
+        real(rk), intent(in) :: q_n(12, basis%nen), q_1(12, basis%nen)
+        real(rk), intent(in) :: v_n(12, basis%nen), v_1(12, basis%nen)
+        type(ph_director_actuation_t), intent(in) :: actuation
+        real(rk) :: work
+        real(rk) :: q_mid(12, basis%nen), v_mid(12, basis%nen), bb(basis%nen)
+        real(rk) :: phi_s(3), d(3, 3), d_s(3, 3), eps(6), e_x(6, 12), e_xs(6, 12)
+        real(rk) :: act(6), act_x(6, 12), act_xs(6, 12), rate(6)
+        integer :: g
+        q_mid = 0.5_rk * (q_n + q_1)
+        v_mid = 0.5_rk * (v_n + v_1)
+        work = 0.0_rk
+        do g = 1, basis%n_gauss
+            bb = basis%dshape(1:basis%nen, g) * (2.0_rk / le)
+            call gauss_fields(q_mid, basis%shape(1:basis%nen, g), bb, phi_s, d, d_s)
+            call strain_operator(phi_s, d, d_s, eps, e_x, e_xs)
+            call actuation_stress(actuation, phi_s, d, d_s, act, act_x, act_xs)
+            rate = matmul(e_x, matmul(v_mid, basis%shape(1:basis%nen, g))) &
+                + matmul(e_xs, matmul(v_mid, bb))
+            work = work - 0.5_rk * le * basis%w(g) * dot_product(act, rate)
+        end do
+        work = h * work
+    end function ph_director_element_actuator_work
 
     !> Linear and angular momentum (about the origin) of one element in the bilinear mass-matrix
     !> form the scheme conserves (methods §5.3 items 4, 5; §9 item 3):
@@ -591,6 +724,101 @@ contains
         g(5) = 0.5_rk * dot_product(q(7:9), q(10:12))
         g(6) = 0.5_rk * dot_product(q(10:12), q(4:6))
     end function ph_director_node_constraint
+
+    ! Offset of the rows (and columns) of stress coefficient b of branch br (0: elastic) in the
+    ! element local layout.
+    pure integer function stress_row(basis, br, b)
+        type(ph_director_basis_t), intent(in) :: basis
+        integer, intent(in) :: br, b
+        stress_row = 24 * basis%nen + 6 * basis%degree * br + 6 * (b - 1)
+    end function stress_row
+
+    ! phi', d_i and d_i' (columns i) at a point from nodal q(12, nen), shape values nn and
+    ! s-derivatives bb.
+    pure subroutine gauss_fields(q, nn, bb, phi_s, d, d_s)
+        real(rk), intent(in) :: q(:, :), nn(:), bb(:)
+        real(rk), intent(out) :: phi_s(3), d(3, 3), d_s(3, 3)
+        phi_s = matmul(q(1:3, :), bb)
+        d = reshape(matmul(q(4:12, :), nn), [3, 3])
+        d_s = reshape(matmul(q(4:12, :), bb), [3, 3])
+    end subroutine gauss_fields
+
+    ! Strains eps = (Gamma, K) at a point (methods §2.2): Gamma_i = d_i . phi',
+    ! K_i = 1/2 (d_k . d_j' - d_j . d_k') with (i, j, k) cyclic, and the constant-coefficient
+    ! operators of their variation, d eps = e_x d(phi, d) + e_xs d(phi', d'): eps is bilinear,
+    ! so the same operators give the strain rate eps_dot = e_x v + e_xs v' (eq. 18) and, by
+    ! adjointness, the internal force of a node, int (N_a e_x + N_a' e_xs)^T sigma ds.
+    pure subroutine strain_operator(phi_s, d, d_s, eps, e_x, e_xs)
+        real(rk), intent(in) :: phi_s(3), d(3, 3), d_s(3, 3)
+        real(rk), intent(out) :: eps(6), e_x(6, 12), e_xs(6, 12)
+        integer :: i, j, k
+        e_x = 0.0_rk
+        e_xs = 0.0_rk
+        do i = 1, 3
+            j = mod(i, 3) + 1
+            k = mod(i + 1, 3) + 1
+            eps(i) = dot_product(d(:, i), phi_s)
+            eps(3 + i) = 0.5_rk * (dot_product(d(:, k), d_s(:, j)) - dot_product(d(:, j), d_s(:, k)))
+            e_x(i, 3 * i + 1:3 * i + 3) = phi_s
+            e_xs(i, 1:3) = d(:, i)
+            e_x(3 + i, 3 * k + 1:3 * k + 3) = 0.5_rk * d_s(:, j)
+            e_x(3 + i, 3 * j + 1:3 * j + 3) = -0.5_rk * d_s(:, k)
+            e_xs(3 + i, 3 * j + 1:3 * j + 3) = 0.5_rk * d(:, k)
+            e_xs(3 + i, 3 * k + 1:3 * k + 3) = -0.5_rk * d(:, j)
+        end do
+    end subroutine strain_operator
+
+    ! Additional material stresses of the actuators at a point (methods §3.2 eqs. 62-65):
+    ! dN = R^T n_u, dM = R^T m_u with n_u = sum_k tau_k t_k and m_u = sum_k rho_k x tau_k t_k.
+    ! Pneumatic chambers (t = d3) give the constant `pneumatic`; a tendon at material offset
+    ! (rho^1, rho^2) has rho = rho^a d_a and t = r'/|r'| with r' = phi' + rho^a d_a', so
+    ! dN_i = tau d_i . t and dM_i = tau d_i . (rho x t). Derivatives as for the strains:
+    ! d(dsigma) = act_x d(phi, d) + act_xs d(phi', d'), with dt = (I - t t^T)/|r'| dr'.
+    pure subroutine actuation_stress(actuation, phi_s, d, d_s, act, act_x, act_xs)
+        type(ph_director_actuation_t), intent(in) :: actuation
+        real(rk), intent(in) :: phi_s(3), d(3, 3), d_s(3, 3)
+        real(rk), intent(out) :: act(6), act_x(6, 12), act_xs(6, 12)
+        real(rk) :: tau, rho_c(2), rho(3), r_s(3), length, t(3), proj(3, 3), w(3), u(3)
+        integer :: n, i, a, l
+        act = actuation%pneumatic
+        act_x = 0.0_rk
+        act_xs = 0.0_rk
+        do n = 1, actuation%n_tendons
+            tau = actuation%tendon(1, n)
+            rho_c = actuation%tendon(2:3, n)
+            rho = rho_c(1) * d(:, 1) + rho_c(2) * d(:, 2)
+            r_s = phi_s + rho_c(1) * d_s(:, 1) + rho_c(2) * d_s(:, 2)
+            length = norm2(r_s)
+            t = r_s / length
+            proj = -spread(t, 2, 3) * spread(t, 1, 3) / length
+            do l = 1, 3
+                proj(l, l) = proj(l, l) + 1.0_rk / length
+            end do
+            do i = 1, 3
+                ! force: dN_i = tau d_i . t
+                act(i) = act(i) + tau * dot_product(d(:, i), t)
+                act_x(i, 3 * i + 1:3 * i + 3) = act_x(i, 3 * i + 1:3 * i + 3) + tau * t
+                w = tau * matmul(proj, d(:, i))
+                act_xs(i, 1:3) = act_xs(i, 1:3) + w
+                do a = 1, 2
+                    act_xs(i, 3 * a + 1:3 * a + 3) = act_xs(i, 3 * a + 1:3 * a + 3) + rho_c(a) * w
+                end do
+                ! moment: dM_i = tau d_i . (rho x t) = tau t . (d_i x rho) = tau rho . (t x d_i)
+                act(3 + i) = act(3 + i) + tau * dot_product(d(:, i), cross(rho, t))
+                act_x(3 + i, 3 * i + 1:3 * i + 3) = act_x(3 + i, 3 * i + 1:3 * i + 3) &
+                    + tau * cross(rho, t)
+                u = tau * cross(t, d(:, i))
+                w = tau * matmul(proj, cross(d(:, i), rho))
+                act_xs(3 + i, 1:3) = act_xs(3 + i, 1:3) + w
+                do a = 1, 2
+                    act_x(3 + i, 3 * a + 1:3 * a + 3) = act_x(3 + i, 3 * a + 1:3 * a + 3) &
+                        + rho_c(a) * u
+                    act_xs(3 + i, 3 * a + 1:3 * a + 3) = act_xs(3 + i, 3 * a + 1:3 * a + 3) &
+                        + rho_c(a) * w
+                end do
+            end do
+        end do
+    end subroutine actuation_stress
 
     ! G_d(d) = dg/dd (6 x 9), methods §2.1 eq. 15.
     pure function constraint_jacobian(d) result(gd)

@@ -1,7 +1,9 @@
 """Reads the files test_result_file.F90 wrote (argument: their directory) with h5py and checks
 them against the closed form the Fortran test used: shapes, every value, units and
 descriptions on every dataset, the root attributes, chunking along the steps, the sums in
-/series/, and the attributes written through the HDF5 layer. Also exercises
+/series/ (the new dissipated and actuator_work included), the strain and branch_stress datasets
+(branch_stress only for the rod with Maxwell branches) with their units and components, and the
+attributes written through the HDF5 layer. Also exercises
 scripts/rodresults.py (on PYTHONPATH). Exit status 1 with a list of failures.
 """
 
@@ -21,9 +23,29 @@ import rodresults  # noqa: E402
 # The closed form of test_result_file.F90 (synthetic_rod and synthetic_meta).
 N_STORED = 8
 TIME_STEP = 0.25
-RODS = {  # name: (k, formulation, nodes, stress points)
-    "arm": (1, "ph_director", 5, 8),
-    "tail": (2, "se3_strand", 7, 6),
+RODS = {  # name: (k, formulation, nodes, stress points, Maxwell branches)
+    "arm": (1, "ph_director", 5, 8, 2),
+    "tail": (2, "se3_strand", 7, 6, 0),
+}
+STRESS_UNIT = "N (N1, N2, N3); N m (M1, M2, M3)"
+STRESS_COMPONENTS = "N1 N2 N3 M1 M2 M3"
+STRAIN_UNIT = "1 (Gamma); 1/m (K)"
+STRAIN_COMPONENTS = "Gamma1 Gamma2 Gamma3 K1 K2 K3"
+# Fragments the descriptions must hold (issue 4; methods/ph_director_3d.md §3.1, §5.3, §9.7).
+DESCRIPTIONS = {
+    "stress": "total stress resultants (elastic branch plus all Maxwell branches)",
+    "strain": "strains computed from the displacements at the stress points (straight "
+              "reference: Gamma0 = (0, 0, 1), K0 = 0); strain consistency: C sigma_elastic = "
+              "strain - strain0",
+    "branch_stress": "generalized-Maxwell branches",
+    "series/energy/dissipated": "energy dissipated by the Maxwell branches, D_n = h sum_i int "
+                                "sigma_mid^(i) . V^(i)^-1 sigma_mid^(i) ds >= 0, summed over "
+                                "the steps since the previous record",
+    "series/energy/actuator_work": "work of the pneumatic and tendon actuators, W_act = -h int "
+                                   "Delta sigma_act . eps_dot(q_mid, v_mid) ds, summed over the "
+                                   "steps since the previous record",
+    "series/energy/balance_error": "H_{n+1} - H_n - W_ext - W_act + D summed over the steps "
+                                   "since the previous record",
 }
 META = {
     "title": "two synthetic rods",
@@ -67,8 +89,8 @@ def rotation_rate(psi):
     return np.array([[-s, -c, 0.0], [c, -s, 0.0], [0.0, 0.0, 0.0]])
 
 
-def expected_rod(k, n_nodes, n_points):
-    """The arrays in h5py layout ([step, ...])."""
+def expected_rod(k, n_nodes, n_points, n_branches):
+    """The arrays in h5py layout ([step, ...]); branch_stress only with n_branches > 0."""
     length, omega, rise = float(k), 0.5 * k, 0.1 * k
     t = TIME_STEP * np.arange(N_STORED)
     j = np.arange(1, N_STORED + 1)
@@ -80,6 +102,7 @@ def expected_rod(k, n_nodes, n_points):
     directors = np.zeros((N_STORED, n_nodes, 3, 3))
     director_velocity = np.zeros((N_STORED, n_nodes, 3, 3))
     stress = np.zeros((N_STORED, n_points, 6))
+    strain = np.zeros((N_STORED, n_points, 6))
     for step in range(N_STORED):
         th = omega * t[step]
         for a in range(n_nodes):
@@ -94,13 +117,20 @@ def expected_rod(k, n_nodes, n_points):
         for p in range(n_points):
             for c in range(6):
                 stress[step, p, c] = (c + 1) + 10.0 * (p + 1) + 100.0 * t[step] + 1000.0 * k
+                strain[step, p, c] = 1.0e-3 * ((c + 1) + 10.0 * (p + 1)) + 0.1 * t[step] * k
     e.update(position=position, velocity=velocity, directors=directors,
-             director_velocity=director_velocity, stress=stress)
+             director_velocity=director_velocity, stress=stress, strain=strain)
+    if n_branches > 0:
+        # h5py [step, branch, point, k]: branch b (1-based) holds 0.1 b stress.
+        b = np.arange(1, n_branches + 1)
+        e["branch_stress"] = 0.1 * b[None, :, None, None] * stress[:, None, :, :]
     series = {
         "energy/kinetic": k * (1.0 + t**2),
         "energy/strain": k * np.cos(t),
         "energy/external_work": 0.01 * k * (j - 1),
         "energy/balance_error": 1.0e-14 * k * j * (-1.0)**j,
+        "energy/dissipated": 0.001 * k * j,
+        "energy/actuator_work": -0.002 * k * (j - 1),
         "momentum/linear": k * np.outer(1.0 + t, [1.0, 2.0, 3.0]),
         "momentum/angular": k * np.stack([0.5 + 0 * t, -0.5 + 0 * t, t], axis=1),
         "center_of_mass": np.stack([k * t, 0 * t, 0.5 * length + 0 * t], axis=1),
@@ -153,10 +183,32 @@ def check_result(path):
 
         check(sorted(f["rods"].keys()) == sorted(RODS), "rods: %s" % list(f["rods"].keys()))
         sums = {}
-        for name, (k, formulation, n_nodes, n_points) in RODS.items():
+        for name, (k, formulation, n_nodes, n_points, n_branches) in RODS.items():
             g = f["rods"][name]
             check(g.attrs.get("formulation") == formulation, "%s formulation" % name)
-            fields, series = expected_rod(k, n_nodes, n_points)
+            fields, series = expected_rod(k, n_nodes, n_points, n_branches)
+            check(("branch_stress" in g) == (n_branches > 0),
+                  "%s: branch_stress present exactly with Maxwell branches (%d)"
+                  % (name, n_branches))
+            if "branch_stress" in g:
+                check(g["branch_stress"].shape == (N_STORED, n_branches, n_points, 6),
+                      "%s/branch_stress shape %s" % (name, g["branch_stress"].shape))
+                check(g["branch_stress"].attrs.get("unit") == STRESS_UNIT,
+                      "%s/branch_stress unit" % name)
+                check(g["branch_stress"].attrs.get("components") == STRESS_COMPONENTS,
+                      "%s/branch_stress components" % name)
+            check(g["strain"].shape == (N_STORED, n_points, 6),
+                  "%s/strain shape %s" % (name, g["strain"].shape))
+            check(g["strain"].attrs.get("unit") == STRAIN_UNIT, "%s/strain unit" % name)
+            check(g["strain"].attrs.get("components") == STRAIN_COMPONENTS,
+                  "%s/strain components: %r" % (name, g["strain"].attrs.get("components")))
+            check(g["stress"].attrs.get("unit") == STRESS_UNIT, "%s/stress unit" % name)
+            for key, fragment in DESCRIPTIONS.items():
+                if key in g:
+                    check(fragment in str(g[key].attrs.get("description", "")),
+                          "%s/%s description holds %r" % (name, key, fragment))
+                elif key != "branch_stress":
+                    failures.append("%s/%s missing" % (name, key))
             if name == "tail":  # the formulation left these out
                 del fields["director_velocity"]
                 del series["constraint_residual"]
@@ -178,8 +230,9 @@ def check_result(path):
                   "%s/stress components" % name)
             check(g["series/newton/iterations"].dtype.kind == "i", "iterations are integers")
             # Chunked along the steps and extendable there; the meshes are contiguous.
-            for key in ("position", "directors", "stress", "time", "series/dt",
-                        "series/momentum/linear"):
+            for key in ("position", "directors", "stress", "strain", "time", "series/dt",
+                        "series/momentum/linear", "series/energy/dissipated") + \
+                    (("branch_stress",) if n_branches > 0 else ()):
                 ds = g[key]
                 check(ds.chunks is not None and ds.chunks[0] == min(N_STORED, 64)
                       and ds.chunks[1:] == ds.shape[1:],
@@ -190,6 +243,9 @@ def check_result(path):
 
         # Root series: the shared time grid and the sums over the rods.
         check_close(f["series/time"][()], TIME_STEP * np.arange(N_STORED), "/series/time")
+        for key in ("energy/dissipated", "energy/actuator_work", "energy/balance_error"):
+            check(key in sums, "rod series %s summed" % key)
+            check(key in f["series"], "/series/%s exists" % key)
         for key, value in sums.items():
             ds = f["series"].get(key)
             check(ds is not None, "/series/%s exists" % key)
@@ -212,8 +268,15 @@ def check_reader(path):
         check(tail.unit("position") == "m", "rodresults unit")
         check("energy/balance_error" in tail.series_names(), "rodresults series names")
         check_close(res.series("energy/kinetic"),
-                    sum(expected_rod(k, n, p)[1]["energy/kinetic"]
-                        for k, _, n, p in RODS.values()), "rodresults root series")
+                    sum(expected_rod(k, n, p, b)[1]["energy/kinetic"]
+                        for k, _, n, p, b in RODS.values()), "rodresults root series")
+        check_close(res.series("energy/dissipated"),
+                    sum(expected_rod(k, n, p, b)[1]["energy/dissipated"]
+                        for k, _, n, p, b in RODS.values()), "rodresults root dissipated")
+        check({"energy/dissipated", "energy/actuator_work"} <= set(res.series_names()),
+              "rodresults root series names: %s" % res.series_names())
+        check(not tail.has("branch_stress") and res.rod("arm").has("branch_stress"),
+              "rodresults: branch_stress only for the rod with branches")
         try:
             res.rod("nope")
             failures.append("rodresults: unknown rod raises")

@@ -171,6 +171,12 @@ contains
         CHECK_CLOSE(scene%loads(1)%acceleration, zero, 0.0_rk, 0.0_rk, 'acceleration')
         CHECK_CLOSE(scene%loads(1)%t_on, 0.0_rk, 0.0_rk, 0.0_rk, 't_on')
         CHECK_TRUE(all(scene%loads(1)%table_times == unset_real), 'no table')
+        CHECK_TRUE(all(scene%rods(1)%maxwell_fraction == unset_real), 'no Maxwell branches')
+        CHECK_TRUE(all(scene%rods(2)%maxwell_tau_G == unset_real), 'no Maxwell relaxation times')
+        CHECK_TRUE(allocated(scene%actuators), 'actuators allocated')
+        if (allocated(scene%actuators)) then
+            CHECK_EQUAL(size(scene%actuators), 0, 'no actuators')
+        end if
     end subroutine test_defaults
 
     ! Choices are matched without case and stored in lower case; group and variable names too.

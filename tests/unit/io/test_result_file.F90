@@ -5,7 +5,8 @@
 !> working directory (the missing directories are created), and check_result_file.py reads it
 !> back with h5py and compares with the same closed form. Here: the return status of good
 !> writes, and the errors for an unwritable path, rods that do not share a time grid, duplicate
-!> or unusable names and a history with fewer records than n_stored.
+!> or unusable names and a history with fewer records than n_stored (stress, strains,
+!> branch_stress, dissipated).
 module rs_test_io_result_file
     use rs_core_kinds, only: rk
     use rs_core_error, only: error_t
@@ -39,18 +40,19 @@ contains
         call run_test('hdf5_layer', test_hdf5_layer)
     end subroutine run_all_tests
 
-    !> Rod k of the synthetic scene: 'arm' (k = 1: 5 nodes, 8 stress points, length 1, room
-    !> for 10 records, every array) or 'tail' (k = 2: 7 nodes, 6 stress points, length 2,
-    !> room for 12 records, no director velocity, an empty constraint residual). The records
-    !> after n_stored hold garbage that must not reach the file.
+    !> Rod k of the synthetic scene: 'arm' (k = 1: 5 nodes, 8 stress points, 2 Maxwell
+    !> branches, length 1, room for 10 records, every array) or 'tail' (k = 2: 7 nodes, 6 stress
+    !> points, no branches, length 2, room for 12 records, no director velocity, an empty
+    !> constraint residual). The records after n_stored hold garbage that must not reach the
+    !> file.
     function synthetic_rod(k) result(h)
         integer, intent(in) :: k
         type(rod_history_t) :: h
-        integer :: n_nodes, n_points, a, p, c, i, j
+        integer :: n_nodes, n_points, a, p, c, i, j, b
         real(rk) :: length, omega, rise, t, s, psi, rotation(3, 3), rate(3, 3)
 
         if (k == 1) then
-            call h%init('arm', 'ph_director', 5, 8, 10)
+            call h%init('arm', 'ph_director', 5, 8, 10, n_branches=2)
         else
             call h%init('tail', 'se3_strand', 7, 6, 12)
         end if
@@ -63,7 +65,10 @@ contains
         h%directors = -999.0_rk
         h%time = -999.0_rk
         h%kinetic = -999.0_rk
+        h%strains = -999.0_rk
+        h%dissipated = -999.0_rk
         h%newton_iterations = -999
+        if (allocated(h%branch_stress)) h%branch_stress = -999.0_rk
         do a = 1, n_nodes
             h%mesh(a) = length * (a - 1) / (n_nodes - 1)
         end do
@@ -92,6 +97,10 @@ contains
             do p = 1, n_points
                 do c = 1, 6
                     h%stress(c, p, j) = c + 10.0_rk * p + 100.0_rk * t + 1000.0_rk * k
+                    h%strains(c, p, j) = 1.0e-3_rk * (c + 10.0_rk * p) + 0.1_rk * t * k
+                    do b = 1, h%n_branches
+                        h%branch_stress(c, p, b, j) = 0.1_rk * b * h%stress(c, p, j)
+                    end do
                 end do
             end do
             h%kinetic(j) = k * (1.0_rk + t**2)
@@ -99,6 +108,8 @@ contains
             h%total(j) = h%kinetic(j) + h%strain(j)
             h%external_work(j) = 0.01_rk * k * (j - 1)
             h%balance_error(j) = 1.0e-14_rk * k * j * (-1)**j
+            h%dissipated(j) = 0.001_rk * k * j
+            h%actuator_work(j) = -0.002_rk * k * (j - 1)
             h%linear_momentum(:, j) = k * [1.0_rk, 2.0_rk, 3.0_rk] * (1.0_rk + t)
             h%angular_momentum(:, j) = k * [0.5_rk, -0.5_rk, t]
             h%center_of_mass(:, j) = [k * t, 0.0_rk, 0.5_rk * length]
@@ -219,14 +230,37 @@ contains
     subroutine test_short_history()
         type(rod_history_t) :: rods(1)
         type(error_t), allocatable :: err
+        logical :: exists
+        character(len=*), parameter :: path = out_dir // '/short.h5'
+        integer :: ns
         rods(1) = synthetic_rod(1)
+        ns = rods(1)%n_stress_points
         deallocate(rods(1)%stress)
-        allocate(rods(1)%stress(6, rods(1)%n_stress_points, n_stored - 2), source=0.0_rk)
-        call write_result_file(out_dir // '/short.h5', synthetic_meta(), rods, err)
-        CHECK_TRUE(allocated(err), 'a short array is an error')
-        if (allocated(err)) then
-            CHECK_CONTAINS(err%message, 'rod "arm" is inconsistent: stress', 'message')
-        end if
+        allocate(rods(1)%stress(6, ns, n_stored - 2), source=0.0_rk)
+        call expect_short('stress')
+        rods(1) = synthetic_rod(1)
+        deallocate(rods(1)%strains)
+        allocate(rods(1)%strains(6, ns, n_stored - 1), source=0.0_rk)
+        call expect_short('strains')
+        rods(1) = synthetic_rod(1)
+        deallocate(rods(1)%branch_stress)
+        allocate(rods(1)%branch_stress(6, ns, 2, n_stored - 1), source=0.0_rk)
+        call expect_short('branch_stress')
+        rods(1) = synthetic_rod(1)
+        rods(1)%dissipated = rods(1)%dissipated(1:n_stored - 1)
+        call expect_short('dissipated')
+        inquire(file=path, exist=exists)
+        CHECK_TRUE(.not. exists, 'no file for a short history')
+    contains
+        subroutine expect_short(what)
+            character(len=*), intent(in) :: what
+            if (allocated(err)) deallocate(err)
+            call write_result_file(path, synthetic_meta(), rods, err)
+            CHECK_TRUE(allocated(err), 'a short array is an error: ' // what)
+            if (allocated(err)) then
+                CHECK_CONTAINS(err%message, 'rod "arm" is inconsistent: ' // what // ' holds', what)
+            end if
+        end subroutine expect_short
     end subroutine test_short_history
 
     !> The HDF5 layer directly: attributes of every kind (replaced when written again), a

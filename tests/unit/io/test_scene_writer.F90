@@ -4,12 +4,16 @@
 !> compared through their bit patterns), and writing that second scene gives the identical text
 !> (DESIGN.md 6: "the resolved input ... is echoed and stored"; the module promises "a form
 !> rodsolve reads back to the same scene"). Also the form of the text: one block per group
-!> occurrence, reference spelling of names, unset variables and the hidden input_line left out.
+!> occurrence, reference spelling of names, unset variables and the hidden input_line left out,
+!> only the given entries of tables and Maxwell arrays; and tables filled to capacity
+!> (max_table points) round-trip.
 module rs_test_io_scene_writer
     use rs_core_kinds, only: rk, i8
     use rs_core_error, only: error_list_t
     use rs_test_assert, only: run_test, assert_true, assert_equal, assert_contains
-    use rs_model_scene, only: scene_t, rod_input_t, bc_input_t, load_input_t
+    use rs_core_strings, only: str
+    use rs_model_scene, only: scene_t, rod_input_t, bc_input_t, load_input_t, actuator_input_t, &
+        max_table
     use rs_io_input_file, only: parse_scene
     use rs_io_scene_writer, only: resolved_scene_text
     implicit none
@@ -28,6 +32,7 @@ contains
         call run_test('resolved_text_form', test_resolved_text_form)
         call run_test('round_trip_oblique_directors', test_round_trip_oblique_directors)
         call run_test('round_trip_section_rod', test_round_trip_section_rod)
+        call run_test('round_trip_full_tables', test_round_trip_full_tables)
     end subroutine run_all_tests
 
     !> A scene that sets (almost) every variable of every implemented group to a value other
@@ -48,7 +53,9 @@ contains
             '     GA1 = 3.3e150, GA2 = 0.7, EI1 = 0.1, EI2 = 0.3,' // nl // &
             '     GJ = 0.3333333333333333, rhoA = 0.2, rhoI1 = 1e-5, rhoI2 = 1.5e-120,' // nl // &
             "     shear_factor = 0.8333333333333334, torsion_constant = 'saint_venant'," // nl // &
-            "     prestressed = .true., constraint = 'inextensible' /" // nl // &
+            "     prestressed = .true., constraint = 'inextensible'," // nl // &
+            '     maxwell_fraction = 0.25, 0.125, 0.0625, maxwell_tau_E = 1e-3, 0.5, 20,' // nl // &
+            '     maxwell_tau_G(2) = 0.75 /' // nl // &
             '&rod n_elements = 3, length = 1, d1 = 0, 0, -2, EA = 1, GA1 = 2, GA2 = 3,' // nl // &
             '     EI1 = 4, EI2 = 5, GJ = 6, rhoA = 7, rhoI1 = 8, rhoI2 = 9 /' // nl // &
             "&bc rod = 'left', end = 'end', kind = 'pinned' /" // nl // &
@@ -58,7 +65,13 @@ contains
             '      table_times = 0, 0.1, 0.7, 3.5, table_values = 0, 1, -1, 2 /' // nl // &
             "&load rod = 'rod2', where = 'distributed', force = 0, 1, 0," // nl // &
             "      time_function = 'hat', t_on = 0.5, t_off = 1.25 /" // nl // &
-            "&load where = 'gravity', acceleration = 0, -9.81, 0 /" // nl
+            "&load where = 'gravity', acceleration = 0, -9.81, 0 /" // nl // &
+            "&actuator rod = 'left', kind = 'pneumatic', offset = 1e-3, -2.5e-3," // nl // &
+            '          area = 7.0685834705770345e-4, pressure = -12345.5,' // nl // &
+            "          time_function = 'pulse', t_on = 0.25, t_off = 1.75 /" // nl // &
+            "&actuator rod = 'rod2', kind = 'Tendon', offset = 0, 0.01, tension = 0.1," // nl // &
+            "          time_function = 'table', table_times = 0, 0.5, 3.5," // nl // &
+            '          table_values = 0, 1, 0.3333333333333333 /' // nl
     end function every_group
 
     !> Parse, write, parse the written text and write again: both parses without errors, the
@@ -117,7 +130,9 @@ contains
         CHECK_EQUAL(occurrences(text, nl // '&rod' // nl), 2, 'one &rod block per rod')
         CHECK_EQUAL(occurrences(text, nl // '&bc' // nl), 2, 'one &bc block per bc')
         CHECK_EQUAL(occurrences(text, nl // '&load' // nl), 3, 'one &load block per load')
-        CHECK_EQUAL(occurrences(text, nl // '/' // nl), 11, 'every block closed')
+        CHECK_EQUAL(occurrences(text, nl // '&actuator' // nl), 2, 'one &actuator block per actuator')
+        CHECK_EQUAL(occurrences(text, nl // '/' // nl), 13, 'every block closed')
+        CHECK_TRUE(index(text, '&load') < index(text, '&actuator'), 'loads before actuators')
         CHECK_TRUE(index(text, '&time') < index(text, '&solver'), 'time before solver')
         CHECK_TRUE(index(text, '&output') < index(text, '&rod'), 'output before rods')
         CHECK_TRUE(index(text, '&bc') < index(text, '&load'), 'bcs before loads')
@@ -130,7 +145,16 @@ contains
         CHECK_EQUAL(occurrences(text, 'input_line'), 0, 'input_line is not an input variable')
         CHECK_EQUAL(occurrences(text, 'radius'), 0, 'unset radius left out')
         CHECK_EQUAL(occurrences(text, 'density'), 0, 'unset density left out')
-        CHECK_EQUAL(occurrences(text, 't_off'), 1, 't_off only where it was given')
+        CHECK_EQUAL(occurrences(text, 't_off'), 2, 't_off only where it was given')
+        CHECK_CONTAINS(text, nl // '    table_times = 0.0, 0.1, 0.7, 3.5' // nl, 'given entries only')
+        CHECK_CONTAINS(text, nl // '    table_values = 0.0, 1.0, 0.3333333333333333' // nl, 'actuator table')
+        CHECK_CONTAINS(text, nl // '    maxwell_fraction = 0.25, 0.125, 0.0625' // nl, 'the branches only')
+        CHECK_CONTAINS(text, nl // '    maxwell_tau_G = 0.001, 0.75, 20.0' // nl, 'tau_G default')
+        CHECK_CONTAINS(text, nl // "    kind = 'tendon'" // nl, 'actuator kind in lower case')
+        CHECK_CONTAINS(text, nl // '    offset = 0.001, -0.0025' // nl, 'offset')
+        CHECK_EQUAL(occurrences(text, 'tension'), 1, 'no tension for the pneumatic chamber')
+        CHECK_EQUAL(occurrences(text, 'pressure'), 1, 'no pressure for the tendon')
+        CHECK_EQUAL(occurrences(text, 'maxwell'), 3, 'no Maxwell variables for the elastic rod')
         CHECK_EQUAL(occurrences(text, '%'), 0, 'no component prefixes')
     end subroutine test_resolved_text_form
 
@@ -166,6 +190,31 @@ contains
             "&rod n_elements = 8, length = 1, section = 'circle', radius = 0.01," // &
             ' E = 2.1e11, nu = 0.3, density = 7800 /' // nl, 'section.nml')
     end subroutine test_round_trip_section_rod
+
+    ! Tables of max_table points whose values need all 17 digits, on a load and an actuator:
+    ! every point is written and reads back to the same bits.
+    subroutine test_round_trip_full_tables()
+        character(len=:), allocatable :: times, values, text
+        integer :: k
+        times = ''
+        values = ''
+        do k = 1, max_table
+            if (k > 1) times = times // ', '
+            if (k > 1) values = values // ', '
+            times = times // str(real(k - 1, rk) / 3.0_rk)
+            values = values // str(sin(real(k, rk)))
+        end do
+        text = '&time t_end = 1, dt = 0.5 /' // nl // &
+            '&rod n_elements = 1, length = 1, EA = 1, GA1 = 1, GA2 = 1, EI1 = 1, EI2 = 1,' // &
+            ' GJ = 1, rhoA = 1, rhoI1 = 1, rhoI2 = 1 /' // nl // &
+            "&load rod = 'rod1', where = 'end', force = 1, 0, 0, time_function = 'table'," // nl // &
+            '      table_times = ' // times // ',' // nl // &
+            '      table_values = ' // values // ' /' // nl // &
+            "&actuator rod = 'rod1', kind = 'tendon', offset = 0, 0, tension = 1," // nl // &
+            "      time_function = 'table', table_times = " // times // ',' // nl // &
+            '      table_values = ' // values // ' /' // nl
+        call check_round_trip(text, 'full_tables.nml')
+    end subroutine test_round_trip_full_tables
 
     ! ---- field-by-field comparison ---------------------------------------------------------
 
@@ -214,8 +263,9 @@ contains
         CHECK_EQUAL(size(b%rods), size(a%rods), 'number of rods')
         CHECK_EQUAL(size(b%bcs), size(a%bcs), 'number of bcs')
         CHECK_EQUAL(size(b%loads), size(a%loads), 'number of loads')
+        CHECK_EQUAL(size(b%actuators), size(a%actuators), 'number of actuators')
         if (size(b%rods) /= size(a%rods) .or. size(b%bcs) /= size(a%bcs) .or. &
-            size(b%loads) /= size(a%loads)) return
+            size(b%loads) /= size(a%loads) .or. size(b%actuators) /= size(a%actuators)) return
         do i = 1, size(a%rods)
             call check_same_rod(a%rods(i), b%rods(i))
         end do
@@ -224,6 +274,9 @@ contains
         end do
         do i = 1, size(a%loads)
             call check_same_load(a%loads(i), b%loads(i))
+        end do
+        do i = 1, size(a%actuators)
+            call check_same_actuator(a%actuators(i), b%actuators(i))
         end do
     end subroutine check_same_scene
 
@@ -263,6 +316,9 @@ contains
         CHECK_EQUAL(b%torsion_constant, a%torsion_constant, r // 'torsion_constant')
         CHECK_EQUAL(b%prestressed, a%prestressed, r // 'prestressed')
         CHECK_EQUAL(b%constraint, a%constraint, r // 'constraint')
+        call check_reals(b%maxwell_fraction, a%maxwell_fraction, r // 'maxwell_fraction')
+        call check_reals(b%maxwell_tau_E, a%maxwell_tau_E, r // 'maxwell_tau_E')
+        call check_reals(b%maxwell_tau_G, a%maxwell_tau_G, r // 'maxwell_tau_G')
     end subroutine check_same_rod
 
     subroutine check_same_bc(a, b)
@@ -286,6 +342,21 @@ contains
         call check_reals(b%table_times, a%table_times, 'load table_times')
         call check_reals(b%table_values, a%table_values, 'load table_values')
     end subroutine check_same_load
+
+    subroutine check_same_actuator(a, b)
+        type(actuator_input_t), intent(in) :: a, b
+        CHECK_EQUAL(b%rod, a%rod, 'actuator rod')
+        CHECK_EQUAL(b%kind, a%kind, 'actuator kind')
+        call check_reals(b%offset, a%offset, 'actuator offset')
+        call check_real(b%area, a%area, 'actuator area')
+        call check_real(b%pressure, a%pressure, 'actuator pressure')
+        call check_real(b%tension, a%tension, 'actuator tension')
+        CHECK_EQUAL(b%time_function, a%time_function, 'actuator time_function')
+        call check_real(b%t_on, a%t_on, 'actuator t_on')
+        call check_real(b%t_off, a%t_off, 'actuator t_off')
+        call check_reals(b%table_times, a%table_times, 'actuator table_times')
+        call check_reals(b%table_values, a%table_values, 'actuator table_values')
+    end subroutine check_same_actuator
 
 end module rs_test_io_scene_writer
 

@@ -1,9 +1,9 @@
 #include "rs_assert.h"
 !> Unit tests of rs_model_capabilities: ph_director's row of the capability matrix (DESIGN.md
 !> §1, docs/user/capabilities.md) checked against every value the input language allows for
-!> each column (src/io/input_spec.f90: bc kind, load where, load frame, rod constraint), the
-!> rows of unknown and not yet available formulations, and `lists_name`, which matches whole
-!> '|'-separated names only.
+!> each column (src/io/input_spec.f90: bc kind, load where, load frame, rod constraint) and its
+!> logical columns (quasistatic, viscoelastic, actuation), the rows of unknown and not yet
+!> available formulations, and `lists_name`, which matches whole '|'-separated names only.
 module rs_test_model_capabilities
     use rs_test_assert, only: run_test, assert_true, assert_equal
     use rs_model_capabilities, only: capability_t, capability_of, lists_name
@@ -37,7 +37,8 @@ contains
     end subroutine check_column
 
     ! seed 000 §2.9, §6.1: clamped and free ends; end, distributed and gravity loads, dead
-    ! (spatial) only; no constraint; dynamic only.
+    ! (spatial) only; with the extensions of seed 000 §5 (issue 4): the shear-rigid and
+    ! inextensible constraints, quasistatics, Maxwell branches and actuators.
     subroutine test_ph_director_row()
         character(len=12), parameter :: kinds(4) = [character(len=12) :: 'clamped', 'pinned', 'free', &
             'driven']
@@ -46,7 +47,7 @@ contains
         character(len=12), parameter :: frames(2) = [character(len=12) :: 'spatial', 'follower']
         character(len=12), parameter :: constraints(3) = [character(len=12) :: 'none', 'kirchhoff', &
             'inextensible']
-        character(len=12) :: supported_kinds(2), supported_frames(1), supported_constraints(1)
+        character(len=12) :: supported_kinds(2), supported_frames(1)
         type(capability_t) :: row
         row = capability_of('ph_director')
         CHECK_TRUE(row%available, 'ph_director is available')
@@ -57,9 +58,10 @@ contains
         call check_column(row%load_places, places, places, 'load place')
         supported_frames(1) = 'spatial'
         call check_column(row%load_frames, frames, supported_frames, 'load frame')
-        supported_constraints(1) = 'none'
-        call check_column(row%constraints, constraints, supported_constraints, 'constraint')
-        CHECK_TRUE(.not. row%quasistatic, 'no quasistatic solves')
+        call check_column(row%constraints, constraints, constraints, 'constraint')
+        CHECK_TRUE(row%quasistatic, 'quasistatic runs')
+        CHECK_TRUE(row%viscoelastic, 'Maxwell branches')
+        CHECK_TRUE(row%actuation, 'pneumatic chambers and tendons')
     end subroutine test_ph_director_row
 
     ! Input strings are fixed-length and blank-padded.
@@ -85,6 +87,8 @@ contains
         CHECK_EQUAL(len_trim(row%load_frames), 0, 'no load frames: "' // name // '"')
         CHECK_EQUAL(len_trim(row%constraints), 0, 'no constraints: "' // name // '"')
         CHECK_TRUE(.not. row%quasistatic, 'not quasistatic: "' // name // '"')
+        CHECK_TRUE(.not. row%viscoelastic, 'not viscoelastic: "' // name // '"')
+        CHECK_TRUE(.not. row%actuation, 'no actuation: "' // name // '"')
         CHECK_TRUE(.not. lists_name(row%end_kinds, 'clamped'), 'clamped not listed: "' // name // '"')
         CHECK_TRUE(.not. lists_name(row%constraints, 'none'), 'none not listed: "' // name // '"')
         CHECK_TRUE(.not. lists_name(row%constraints, ''), 'blank not listed: "' // name // '"')

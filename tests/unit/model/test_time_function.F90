@@ -5,14 +5,17 @@
 !> (1 - cos(2 pi x)) / 2 = sin^2(pi x) with peak 1 at the centre, zero slope at both ends and
 !> integral (t_off - t_on) / 2; table interpolation and constant extrapolation), and the errors
 !> of time_function_from_load (unknown name listing the valid ones, t_off <= t_on, table
-!> without matching values). Loads are built as plain load_input_t values, without input files.
+!> without matching values). time_function_from_actuator gives the same function as a load with
+!> the same time variables, bit for bit, the same errors naming its own routine, and reads a
+!> table filled to capacity (max_table points). Loads and actuators are built as plain
+!> load_input_t and actuator_input_t values, without input files.
 module rs_test_model_time_function
     use rs_core_kinds, only: rk, pi
     use rs_core_error, only: error_t
     use rs_test_assert, only: run_test, assert_true, assert_close, assert_equal, assert_contains
-    use rs_model_scene, only: load_input_t
+    use rs_model_scene, only: load_input_t, actuator_input_t, max_table
     use rs_model_time_function, only: time_function_t, time_function_from_load, &
-        time_function_names
+        time_function_from_actuator, time_function_names
     implicit none
     private
 
@@ -39,6 +42,9 @@ contains
         call run_test('unknown_name_lists_valid', test_unknown_name_lists_valid)
         call run_test('t_off_not_after_t_on', test_t_off_not_after_t_on)
         call run_test('table_errors', test_table_errors)
+        call run_test('actuator_same_as_load', test_actuator_same_as_load)
+        call run_test('actuator_errors', test_actuator_errors)
+        call run_test('actuator_full_table', test_actuator_full_table)
     end subroutine run_all_tests
 
     !> The time function of `load`, recording a failure if it is rejected.
@@ -378,6 +384,117 @@ contains
         call time_function_from_load(table_load(times(1:2), [values, 5.0_rk]), tf, err)
         CHECK_TRUE(allocated(err), 'two times and three values is an error')
     end subroutine test_table_errors
+
+    !> The actuator with the time variables of `load` (a tendon, as the kind does not matter).
+    function actuator_like(load) result(actuator)
+        type(load_input_t), intent(in) :: load
+        type(actuator_input_t) :: actuator
+        actuator%rod = load%rod
+        actuator%kind = 'tendon'
+        actuator%offset = [0.0_rk, 0.01_rk]
+        actuator%tension = 3.0_rk
+        actuator%time_function = load%time_function
+        actuator%t_on = load%t_on
+        actuator%t_off = load%t_off
+        actuator%table_times = load%table_times
+        actuator%table_values = load%table_values
+    end function actuator_like
+
+    ! Every kind: an actuator's f(t) equals the load's bit for bit on a grid that covers both
+    ! sides of [t_on, t_off] and of the table.
+    subroutine test_actuator_same_as_load()
+        character(len=8), parameter :: names(5) = [character(len=8) :: 'constant', 'ramp', 'hat', &
+            'pulse', 'table']
+        type(load_input_t) :: load
+        type(time_function_t) :: from_load, from_actuator
+        type(error_t), allocatable :: err
+        real(rk) :: t
+        integer :: i, k
+        do k = 1, size(names)
+            load = load_of(trim(names(k)), 0.5_rk, 2.25_rk)
+            if (names(k) == 'table') load = table_load([0.0_rk, 1.0_rk, 3.0_rk], &
+                [0.0_rk, 2.0_rk, -1.0_rk])
+            from_load = make(load)
+            call time_function_from_actuator(actuator_like(load), from_actuator, err)
+            CHECK_TRUE(.not. allocated(err), 'actuator accepted: ' // trim(names(k)))
+            if (allocated(err)) cycle
+            do i = -10, 400
+                t = 0.01_rk * real(i, rk)
+                CHECK_TRUE(from_actuator%value(t) == from_load%value(t), 'same f(t): ' // trim(names(k)))
+            end do
+        end do
+        ! Spot values, so that equal but wrong functions cannot pass: ramp on [0.5, 2.25].
+        load = load_of('ramp', 0.5_rk, 2.25_rk)
+        call time_function_from_actuator(actuator_like(load), from_actuator, err)
+        CHECK_CLOSE(from_actuator%value(0.5_rk), 0.0_rk, 0.0_rk, 0.0_rk, 'ramp at t_on')
+        CHECK_CLOSE(from_actuator%value(1.375_rk), 0.5_rk, 0.0_rk, tight, 'ramp half way')
+        CHECK_CLOSE(from_actuator%value(3.0_rk), 1.0_rk, 0.0_rk, 0.0_rk, 'ramp after t_off')
+    end subroutine test_actuator_same_as_load
+
+    ! The errors of time_function_from_load, reported by time_function_from_actuator itself.
+    subroutine test_actuator_errors()
+        type(time_function_t) :: tf
+        type(error_t), allocatable :: err
+        type(actuator_input_t) :: actuator
+        character(len=:), allocatable :: message
+        call time_function_from_actuator(actuator_like(load_of('rampp', 0.0_rk, 1.0_rk)), tf, err)
+        CHECK_TRUE(allocated(err), 'unknown name is an error')
+        if (allocated(err)) then
+            message = "unknown time function 'rampp'; known: " // time_function_names
+            CHECK_CONTAINS(err%message, message, 'names the unknown one and lists the valid ones')
+            CHECK_EQUAL(err%routine, 'time_function_from_actuator', 'names the actuator routine')
+        end if
+        call time_function_from_load(load_of('rampp', 0.0_rk, 1.0_rk), tf, err)
+        if (allocated(err)) then
+            CHECK_EQUAL(err%routine, 'time_function_from_load', 'the load routine names itself')
+        end if
+        call time_function_from_actuator(actuator_like(load_of('pulse', 2.0_rk, 2.0_rk)), tf, err)
+        CHECK_TRUE(allocated(err), 't_off = t_on is an error')
+        if (allocated(err)) then
+            CHECK_CONTAINS(err%message, 't_off > t_on', 'says why')
+        end if
+        actuator = actuator_like(table_load([0.0_rk, 1.0_rk, 2.0_rk], [0.0_rk, 1.0_rk]))
+        call time_function_from_actuator(actuator, tf, err)
+        CHECK_TRUE(allocated(err), 'three times and two values is an error')
+        if (allocated(err)) then
+            CHECK_CONTAINS(err%message, 'as many table_values as table_times', 'says why')
+        end if
+        ! The default actuator: constant 1.
+        actuator = actuator_input_t()
+        call time_function_from_actuator(actuator, tf, err)
+        CHECK_TRUE(.not. allocated(err), 'default actuator accepted')
+        CHECK_CLOSE(tf%value(7.0_rk), 1.0_rk, 0.0_rk, 0.0_rk, 'default f = 1')
+    end subroutine test_actuator_errors
+
+    ! A table of max_table points, f(t_k) = t_k^2 at t_k = k / 8: every point is used,
+    ! including the last, and f is linear between points.
+    subroutine test_actuator_full_table()
+        type(actuator_input_t) :: actuator
+        type(time_function_t) :: tf
+        type(error_t), allocatable :: err
+        real(rk) :: t
+        integer :: k
+        actuator%kind = 'pneumatic'
+        actuator%time_function = 'table'
+        do k = 1, max_table
+            actuator%table_times(k) = real(k - 1, rk) / 8.0_rk
+            actuator%table_values(k) = actuator%table_times(k)**2
+        end do
+        call time_function_from_actuator(actuator, tf, err)
+        CHECK_TRUE(.not. allocated(err), 'full table accepted')
+        if (allocated(err)) return
+        CHECK_EQUAL(size(tf%times), max_table, 'every point kept')
+        do k = 1, max_table
+            t = actuator%table_times(k)
+            CHECK_CLOSE(tf%value(t), t**2, 0.0_rk, 0.0_rk, 'at a table point')
+        end do
+        do k = 1, max_table - 1
+            t = (real(k, rk) - 0.5_rk) / 8.0_rk
+            CHECK_CLOSE(tf%value(t), t**2 + 1.0_rk / 256.0_rk, 1.0e-12_rk, 1.0e-14_rk, 'chord midpoint')
+        end do
+        t = actuator%table_values(max_table)
+        CHECK_CLOSE(tf%value(1.0e3_rk), t, 0.0_rk, 0.0_rk, 'after the last')
+    end subroutine test_actuator_full_table
 
 end module rs_test_model_time_function
 
