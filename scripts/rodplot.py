@@ -3,6 +3,7 @@
 
     python3 scripts/rodplot.py energy out/flying_spaghetti.h5
     python3 scripts/rodplot.py snapshots out/flying_spaghetti.h5 -o spaghetti.png --rod spaghetti
+    python3 scripts/rodplot.py tip out/soft_arm_circle.h5 --plane xy
 
 Exit status 0 on success, 1 when the image cannot be written, 2 for a missing file, a file
 that is not a rodsolve result, an unknown rod or a missing dataset (the message names what is
@@ -148,7 +149,86 @@ def snapshots_plot(res, rod_name, out, dpi):
     plt.close(fig)
 
 
-COMMANDS = {"energy": energy_plot, "snapshots": snapshots_plot}
+#: Coordinate planes of the `tip` projection: name -> the two axes drawn.
+PLANES = {"xy": (0, 1), "xz": (0, 2), "yz": (1, 2)}
+AXIS_NAMES = ("x", "y", "z")
+
+
+def tip_path(rod):
+    """(time, position of the last node) of a rod: arrays (records,) and (records, 3)."""
+    time = rod.field("time")
+    position = rod.field("position")
+    if time.size == 0 or position.shape[0] == 0:
+        raise MissingData("rod '%s' has no stored records" % rod.name)
+    return time, position[:, -1, :]
+
+
+def projection_plane(paths, plane="auto"):
+    """The two axes of the projection: those of `plane` ('xy', 'xz', 'yz'), or for 'auto'
+    the plane normal to the coordinate axis along which the tip paths move least."""
+    if plane != "auto":
+        return PLANES[plane]
+    spread = np.ptp(np.concatenate(paths), axis=0)
+    normal = int(np.argmin(spread))
+    return tuple(axis for axis in range(3) if axis != normal)
+
+
+def tip_plot(res, rod_name, out, dpi, plane="auto"):
+    """Path of the last node (the tip) of each rod over time: in 3D (line, points coloured by
+    time, equal axis scaling, the view of seed 000's figures) and projected on a coordinate
+    plane (`plane`; 'auto': the plane across which the tip moves least, the e1-e2 plane for
+    the soft arm of seed 000 §6.4, where it shows the circle and the heart)."""
+    names = [rod_name] if rod_name is not None else res.rods()
+    if not names:
+        raise MissingData("%s: the file holds no rods" % res.path)
+    tracks = [(name,) + tip_path(res.rod(name)) for name in names]
+    axes = projection_plane([path for _, _, path in tracks], plane)
+    t_low = min(time[0] for _, time, _ in tracks)
+    t_high = max(time[-1] for _, time, _ in tracks)
+    norm = matplotlib.colors.Normalize(vmin=t_low, vmax=max(t_high, t_low + 1e-300))
+    cmap = matplotlib.colormaps["viridis"]
+
+    fig = plt.figure(figsize=(13, 5.5))
+    ax3 = fig.add_subplot(1, 2, 1, projection="3d")
+    ax2 = fig.add_subplot(1, 2, 2)
+    styles = ("-", "--", ":", "-.")
+    for number, (name, time, path) in enumerate(tracks):
+        style = styles[number % len(styles)]
+        label = name if len(tracks) > 1 else None
+        ax3.plot(path[:, 0], path[:, 1], path[:, 2], style, color="0.6", lw=1.0, label=label)
+        ax3.scatter(path[:, 0], path[:, 1], path[:, 2], c=time, cmap=cmap, norm=norm, s=8)
+        ax2.plot(path[:, axes[0]], path[:, axes[1]], style, color="0.6", lw=1.0, label=label)
+        ax2.scatter(path[:, axes[0]], path[:, axes[1]], c=time, cmap=cmap, norm=norm, s=8)
+        ax2.plot(path[0, axes[0]], path[0, axes[1]], "ko", ms=5, mfc="none")
+    points = np.concatenate([path for _, _, path in tracks])
+    low, high = points.min(axis=0), points.max(axis=0)
+    centre = 0.5 * (low + high)
+    half = 0.5 * max(float((high - low).max()), 1e-12)
+    ax3.set_xlim(centre[0] - half, centre[0] + half)
+    ax3.set_ylim(centre[1] - half, centre[1] + half)
+    ax3.set_zlim(centre[2] - half, centre[2] + half)
+    ax3.set_box_aspect((1, 1, 1))
+    ax3.view_init(elev=VIEW_ELEV, azim=VIEW_AZIM)
+    ax3.set_xlabel("x [m]")
+    ax3.set_ylabel("y [m]")
+    ax3.set_zlabel("z [m]")
+    ax3.set_title("%s: tip path" % (res.title or os.path.basename(res.path)))
+    ax2.set_aspect("equal", adjustable="datalim")
+    ax2.set_xlabel("%s [m]" % AXIS_NAMES[axes[0]])
+    ax2.set_ylabel("%s [m]" % AXIS_NAMES[axes[1]])
+    ax2.set_title("projected on the %s-%s plane (open circle: start)"
+                  % (AXIS_NAMES[axes[0]], AXIS_NAMES[axes[1]]))
+    ax2.grid(True, alpha=0.3)
+    if len(tracks) > 1:
+        ax2.legend(title="rod", loc="best")
+    bar = fig.colorbar(matplotlib.cm.ScalarMappable(norm=norm, cmap=cmap), ax=[ax3, ax2],
+                       shrink=0.7, pad=0.02)
+    bar.set_label("time [s]")
+    fig.savefig(out, dpi=dpi, bbox_inches="tight")
+    plt.close(fig)
+
+
+COMMANDS = {"energy": energy_plot, "snapshots": snapshots_plot, "tip": tip_plot}
 
 
 def parser():
@@ -161,7 +241,11 @@ def parser():
                "             on a log axis. Without --rod: the sums over all rods (/series).\n"
                "  snapshots  3D centrelines (position) at about 12 evenly spaced stored\n"
                "             times, coloured by time (viridis), equal axis scaling, view\n"
-               "             azimuth 55, elevation 15. Without --rod: every rod.\n\n"
+               "             azimuth 55, elevation 15. Without --rod: every rod.\n"
+               "  tip        path of the last node (the tip) over time: 3D (coloured by time,\n"
+               "             viridis) and projected on a coordinate plane (--plane; by\n"
+               "             default the one across which it moves least). Without --rod:\n"
+               "             every rod.\n\n"
                "exit status: 0 on success; 1 when the image cannot be written; 2 for a\n"
                "missing file, a file that is not a rodsolve result (no schema_version\n"
                "attribute), an unknown rod (the message lists the rods) or a missing\n"
@@ -173,6 +257,9 @@ def parser():
                    help="image to write (default: FILE_<command>.png next to FILE)")
     p.add_argument("--rod", metavar="NAME", help="plot only this rod")
     p.add_argument("--dpi", type=int, default=150, help="resolution of the image (default 150)")
+    p.add_argument("--plane", choices=["auto"] + sorted(PLANES), default="auto",
+                   help="tip only: the coordinate plane of the projection (default auto: the "
+                        "plane across which the tip moves least)")
     return p
 
 
@@ -185,7 +272,8 @@ def main(argv=None):
         with open_result(args.file) as res:
             if os.path.dirname(out):
                 os.makedirs(os.path.dirname(out), exist_ok=True)
-            COMMANDS[args.command](res, args.rod, out, args.dpi)
+            extra = {"plane": args.plane} if args.command == "tip" else {}
+            COMMANDS[args.command](res, args.rod, out, args.dpi, **extra)
     except ResultError as exc:
         print("rodplot.py: error: %s" % exc, file=sys.stderr)
         return 2
