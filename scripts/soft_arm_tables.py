@@ -22,11 +22,12 @@ choice and pressure = 5e5 Pa follows. Offsets: r = 6.5e-3 m (methods §9 item 8:
 printed lies outside the section), alpha_k = pi/6, 5 pi/6, 9 pi/6 from d1, offset
 (r cos alpha_k, r sin alpha_k) in the (d1, d2) basis.
 
-Circle (eq. 74, t1 = 0.5, t2 = 3.5, T = 4): f rises as 1/2 f_max (1 - cos(pi t/t1)), stays at
-f_max, falls as 1/2 f_max (1 + cos(pi (t - t2)/(T - t2))); phi = pi (1 - cos(pi (t - t1)/(t2 - t1)))
-on [t1, t2] (0 before, 2 pi after). Heart (eq. 75): with theta = 2 pi t/T, x = sin^3 theta,
-y = cos theta - cos 2 theta, r = |(x, y)|, f = f_max r/max r (max r = 2 at theta = pi) and
-phi = atan2(y, x); here 1/2 (f/f_max)(1 + cos(phi - alpha)) = (r + x cos alpha + y sin alpha)/(2 max r),
+Circle (eq. 74, t1 = 0.5, t2 = 3.5, T = 4): f rises as 1/2 f_max (1 - cos(pi t/t1)), stays
+at f_max, falls as 1/2 f_max (1 + cos(pi (t - t2)/(T - t2)));
+phi = pi (1 - cos(pi (t - t1)/(t2 - t1))) on [t1, t2] (0 before, 2 pi after).
+Heart (eq. 75): with theta = 2 pi t/T, x = sin^3 theta, y = cos theta - cos 2 theta,
+r = |(x, y)|: f = f_max r/max r (max r = 2 at theta = pi) and phi = atan2(y, x); here
+    1/2 (f/f_max)(1 + cos(phi - alpha)) = (r + x cos alpha + y sin alpha)/(2 max r),
 which needs no angle and is smooth where r = 0.
 
 The tables have 481 points, t = k/120 s on [0, 4] (at most 512 are allowed): every step
@@ -114,8 +115,9 @@ def actuator_groups(pattern, rod="arm", n_points=N_POINTS):
     value = VALUES[pattern]
     out = ["%s %s" % (BEGIN, pattern)]
     for k, alpha in enumerate(ALPHAS, start=1):
-        out += ["! chamber %d: alpha = %s, pressure * area * value(t) = 1/2 |f(t)| (1 + cos(phi(t) - alpha))"
-                % (k, ("pi/6", "5 pi/6", "9 pi/6")[k - 1]),
+        name = ("pi/6", "5 pi/6", "9 pi/6")[k - 1]
+        out += ["! chamber %d at alpha = %s: pressure * area * value = 1/2 |f| (1 + cos(phi - alpha))"
+                % (k, name),
                 "&actuator",
                 "    rod = '%s'" % rod,
                 "    kind = 'pneumatic'",

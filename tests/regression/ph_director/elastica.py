@@ -55,8 +55,8 @@ def orders(n_elements, errors):
 def planar_checks(checks, r, label):
     """The motion stays in the e1-e2 plane and the constraints hold at the last record."""
     checks.check(label + ": max |z| and |d3 . e3| (planar)",
-                 max(np.max(np.abs(r["position"][:, :, 2])), np.max(np.abs(r["directors"][:, :, 2, 2]))),
-                 1e-10)
+                 max(np.max(np.abs(r["position"][:, :, 2])),
+                     np.max(np.abs(r["directors"][:, :, 2, 2]))), 1e-10)
     checks.check(label + ": max nodal |g(d)|", np.max(r["series/constraint_residual"]), 1e-12)
 
 
@@ -74,8 +74,8 @@ def inextensible(args, checks):
         checks.check(f"n_e = {n}: max |Gamma - Gamma0| at the stress points, last record",
                      np.max(np.abs(r["strain"][-1, :, :3] - GAMMA_0[:3])), 1e-10)
         checks.check(f"n_e = {n}: max |C_M M - K(q)| at the stress points, last record",
-                     np.max(np.abs(r["stress"][-1, :, 3:] / STIFFNESS[3:] - r["strain"][-1, :, 3:])),
-                     1e-10)
+                     np.max(np.abs(r["stress"][-1, :, 3:] / STIFFNESS[3:]
+                                   - r["strain"][-1, :, 3:])), 1e-10)
         if n == 8:
             planar_checks(checks, r, "n_e = 8")
     observed = orders(n_elements, errors)
@@ -93,7 +93,8 @@ def extensible_order(args, checks):
     n_elements = (4, 8, 16, 32)
     errors, tips = {}, {}
     for n in n_elements:
-        r, tip = tip_run(args, "elastica_extensible.nml", f"extensible_n{n}", rod__n_elements=str(n))
+        r, tip = tip_run(args, "elastica_extensible.nml", f"extensible_n{n}",
+                         rod__n_elements=str(n))
         tips[n] = tip
         errors[n] = np.max(np.abs(tip - exact))
         print(f"info: n_e = {n}: tip ({tip[0]:.10f}, {tip[1]:.10f}), max component error "
@@ -124,12 +125,14 @@ def locking(args, checks):
     exact_stiff = reference.solve(ea=reference.EA * factor, ga=reference.GA * factor)["tip"]
     print(f"info: exact tips: inextensible {exact_inextensible}, EA, GA x 1e4 {exact_stiff} "
           f"(differ by {np.max(np.abs(exact_stiff - exact_inextensible)):.3e})")
-    stiff_values = {"rod__EA": repr(reference.EA * factor), "rod__GA1": repr(reference.GA * factor),
+    stiff_values = {"rod__EA": repr(reference.EA * factor),
+                    "rod__GA1": repr(reference.GA * factor),
                     "rod__GA2": repr(reference.GA * factor)}
     errors = {}
     for degree, n in ((2, 8), (1, 16)):
-        _, constrained = tip_run(args, "elastica_inextensible.nml", f"locking_constrained_p{degree}",
-                                 rod__degree=str(degree), rod__n_elements=str(n))
+        _, constrained = tip_run(args, "elastica_inextensible.nml",
+                                 f"locking_constrained_p{degree}", rod__degree=str(degree),
+                                 rod__n_elements=str(n))
         _, stiff = tip_run(args, "elastica_extensible.nml", f"locking_stiff_p{degree}",
                            rod__degree=str(degree), rod__n_elements=str(n), **stiff_values)
         e_constrained = np.max(np.abs(constrained - exact_inextensible))
@@ -143,7 +146,8 @@ def locking(args, checks):
     # p = 2 on the same nodes is far more accurate than p = 1 (order 4 against 2); a locking
     # p = 2 element would lose that.
     print(f"info: stiff-rod error p = 1 / p = 2 on the same 17 nodes: {errors[1] / errors[2]:.1f}")
-    checks.check("stiff rod: error(p = 2) / error(p = 1) on the same nodes", errors[2] / errors[1], 0.2)
+    checks.check("stiff rod: error(p = 2) / error(p = 1) on the same nodes", errors[2] / errors[1],
+                 0.2)
 
 
 def endpoint(args, checks):
@@ -152,19 +156,21 @@ def endpoint(args, checks):
     are midpoint-step states, which differ by O(dt^2)."""
     runs = {}
     for dt in (0.1, 0.05):
-        runs[dt], _ = tip_run(args, "elastica_inextensible.nml", f"endpoint_dt{dt}", time__dt=repr(dt))
+        runs[dt], _ = tip_run(args, "elastica_inextensible.nml", f"endpoint_dt{dt}",
+                              time__dt=repr(dt))
     a, b = runs[0.1], runs[0.05]
     final = max(np.max(np.abs(a["position"][-1] - b["position"][-1])),
                 np.max(np.abs(a["directors"][-1] - b["directors"][-1])))
-    checks.check("last record (t = 1), dt = 0.1 against 0.05: max |position|, |directors|", final, 1e-9)
+    checks.check("last record (t = 1), dt = 0.1 against 0.05: max |position|, |directors|",
+                 final, 1e-9)
     checks.check("last record: max |stress(dt = 0.1) - stress(dt = 0.05)|",
                  np.max(np.abs(a["stress"][-1] - b["stress"][-1])), 1e-9)
     i, j = int(np.argmin(np.abs(a["time"] - 0.5))), int(np.argmin(np.abs(b["time"] - 0.5)))
     path = np.max(np.abs(a["position"][i] - b["position"][j]))
     print(f"info: at t = 0.5 the path states differ by {path:.3e} (midpoint steps, O(dt^2)); "
           f"at t = 1 by {final:.3e}")
-    checks.check("the path states differ (the comparison can tell them apart): -difference at t = 0.5",
-                 -path, -1e-6)
+    checks.check("the path states differ (the comparison can tell them apart): "
+                 "-difference at t = 0.5", -path, -1e-6)
     # The endpoint equilibrium of the constrained rod also matches the analytic solution to the
     # discretization error of n_e = 8 (see inextensible).
     exact = reference.solve()["tip"]
@@ -173,8 +179,8 @@ def endpoint(args, checks):
 
 
 def main():
-    cases = {"inextensible": inextensible, "extensible_order": extensible_order, "locking": locking,
-             "endpoint": endpoint}
+    cases = {"inextensible": inextensible, "extensible_order": extensible_order,
+             "locking": locking, "endpoint": endpoint}
     parser = rs.common_arguments(__doc__)
     parser.add_argument("case", choices=sorted(cases))
     args = parser.parse_args()

@@ -1,4 +1,5 @@
-"""Reference solutions of the planar cantilever of seed 000 §6.3 (methods/ph_director_3d.md §6.3).
+"""Reference solutions of the planar cantilever of seed 000 §6.3 (methods/ph_director_3d.md
+§6.3).
 
 A straight rod along e1, clamped at s = 0, with a dead tip force F = (Fx, Fy) and a tip moment
 M e3 at s = L, bent in the e1-e2 plane. With θ the angle of d3 = (cos θ, sin θ) from e1 (and
@@ -292,8 +293,8 @@ def main():
     f, m = (0.0, -eps * P), eps * TIP_MOMENT
     small = solve(force=f, moment=m)["tip"]
     y_lin = f[1] * LENGTH**3 / (3 * EI) + m * LENGTH**2 / (2 * EI)
-    _report("inextensible |y - (F L^3/(3EI) + M L^2/(2EI))| / |y|", abs(small[1] - y_lin) / abs(y_lin),
-            1e-6, failures)
+    _report("inextensible |y - (F L^3/(3EI) + M L^2/(2EI))| / |y|",
+            abs(small[1] - y_lin) / abs(y_lin), 1e-6, failures)
     _report("inextensible |x - L| / |y| (second order)", abs(small[0] - LENGTH) / abs(y_lin), 1e-3,
             failures)
     small = solve(force=f, moment=m, ea=EA, ga=GA)["tip"]
@@ -306,7 +307,8 @@ def main():
             max(abs(stretched[0] - LENGTH * (1 + axial / EA)), abs(stretched[1])), 1e-12, failures)
     print("(c) pure tip moment M = 2.5 P: a circle of radius EI/M:")
     radius = EI / TIP_MOMENT
-    circle = np.array([radius * math.sin(LENGTH / radius), radius * (1 - math.cos(LENGTH / radius))])
+    circle = np.array([radius * math.sin(LENGTH / radius),
+                       radius * (1 - math.cos(LENGTH / radius))])
     moment_only = solve(force=(0.0, 0.0), moment=TIP_MOMENT)["tip"]
     _report("|tip - circle|", np.max(np.abs(moment_only - circle)), 1e-12, failures)
 

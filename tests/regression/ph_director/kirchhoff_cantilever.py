@@ -39,15 +39,15 @@ MAXWELL_FRACTION = 0.75
 
 def constraint_checks(checks, r, label=""):
     """Nodal orthonormality and the inextensible, shear-rigid constraint at the stress points."""
-    checks.check(label + "max nodal |g(d)| over all records", np.max(r["series/constraint_residual"]),
-                 1e-12)
+    checks.check(label + "max nodal |g(d)| over all records",
+                 np.max(r["series/constraint_residual"]), 1e-12)
     checks.check(label + "max |Gamma - Gamma0| (stress points, all records)",
                  np.max(np.abs(r["strain"][:, :, :3] - GAMMA_0)), 1e-10)
 
 
 def invariants(args, checks):
-    r = rs.rod(rs.run(args, rs.read_example(args.source, "kirchhoff_cantilever.nml"), "invariants"),
-               ROD)
+    text = rs.read_example(args.source, "kirchhoff_cantilever.nml")
+    r = rs.rod(rs.run(args, text, "invariants"), ROD)
     t = r["time"]
     checks.check("|t_last - T| (the run reaches T = 0.3)", abs(t[-1] - T_END), 1e-12)
     checks.check("records - 301 (one per step)", abs(float(t.size - 301)), 0.0)
@@ -61,9 +61,11 @@ def invariants(args, checks):
     free = t >= PULSE_END - 1e-12
     checks.check("free oscillation (t >= 0.05): (max H - min H) / max H",
                  np.ptp(total[free]) / np.max(total), 1e-10)
-    checks.check("the pulse puts energy in: -H(0.05) / max H", -total[free][0] / np.max(total), -0.5)
+    checks.check("the pulse puts energy in: -H(0.05) / max H", -total[free][0] / np.max(total),
+                 -0.5)
     tip = r["position"][:, -1, :]
-    print(f"info: tip amplitude max |tip(t) - tip(0)| = {np.max(np.linalg.norm(tip - tip[0], axis=1)):.6f} m, "
+    amplitude = np.max(np.linalg.norm(tip - tip[0], axis=1))
+    print(f"info: tip amplitude max |tip(t) - tip(0)| = {amplitude:.6f} m, "
           f"max |K| = {np.max(np.abs(curvature)):.4f} 1/m, H(0.3) = {total[-1]:.8e} J")
     print(f"info: Newton: max final residual {np.max(r['series/newton/residual']):.2e}, "
           f"{int(np.sum(r['series/newton/iterations']))} iterations in 300 steps")
@@ -110,10 +112,11 @@ def maxwell(args, checks):
     dissipated = r["series/energy/dissipated"]
     top = np.max(total)
     moving = kinetic[1:] > 1e-12 * top
-    checks.check("records with motion (kinetic energy > 1e-12 max H): -count", -float(np.sum(moving)),
-                 -100.0)
+    checks.check("records with motion (kinetic energy > 1e-12 max H): -count",
+                 -float(np.sum(moving)), -100.0)
     checks.check("D >= 0 everywhere: -min D", -np.min(dissipated), 0.0)
-    checks.check("steps with motion and D_n <= 0", float(np.sum(dissipated[1:][moving] <= 0.0)), 0.0)
+    checks.check("steps with motion and D_n <= 0", float(np.sum(dissipated[1:][moving] <= 0.0)),
+                 0.0)
     checks.check("max_n |H_{n+1} - H_n - W_n + D_n| / max H",
                  np.max(np.abs(r["series/energy/balance_error"])) / top, 1e-10)
     after = t >= PULSE_END - 1e-12
@@ -124,13 +127,15 @@ def maxwell(args, checks):
                  abs(total[after][0] - total[-1] - dissipated_after) / total[after][0], 1e-9)
     constraint_checks(checks, r)
     branch = r["branch_stress"]
-    checks.check("branch_stress has one branch: |branches - 1|", abs(float(branch.shape[1] - 1)), 0.0)
+    checks.check("branch_stress has one branch: |branches - 1|", abs(float(branch.shape[1] - 1)),
+                 0.0)
     elastic = r["stress"] - branch.sum(axis=1)
     compliance = C_M / (1.0 - MAXWELL_FRACTION)
     checks.check("elastic branch: max |C_inf M_inf - K(q)|, C_inf = (C_K/4)^-1",
                  np.max(np.abs(elastic[:, :, 3:] * compliance - r["strain"][:, :, 3:])), 1e-10)
     print(f"info: H(0.05) = {total[after][0]:.6e} J, H(0.3) = {total[-1]:.6e} J, dissipated "
-          f"{np.sum(dissipated):.6e} J, smallest D_n with motion {np.min(dissipated[1:][moving]):.3e} J")
+          f"{np.sum(dissipated):.6e} J, smallest D_n with motion "
+          f"{np.min(dissipated[1:][moving]):.3e} J")
 
 
 def main():

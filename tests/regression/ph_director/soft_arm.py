@@ -59,9 +59,11 @@ def common(args, checks, kind):
     total = r["series/energy/total"]
     top = np.max(total)
     balance = np.abs(r["series/energy/balance_error"])
-    checks.check("max_n |H_{n+1} - H_n - W_n - W_act,n + D_n| / max H", np.max(balance) / top, 1e-9)
+    checks.check("max_n |H_{n+1} - H_n - W_n - W_act,n + D_n| / max H", np.max(balance) / top,
+                 1e-9)
     work = r["series/energy/actuator_work"]
-    checks.check("the chambers do work: -max_n |W_act,n| / max H", -np.max(np.abs(work)) / top, -1e-3)
+    checks.check("the chambers do work: -max_n |W_act,n| / max H", -np.max(np.abs(work)) / top,
+                 -1e-3)
     print(f"info: max H = {top:.6e} J, largest |W_act,n| = {np.max(np.abs(work)):.4e} J, "
           f"largest |balance error| = {np.max(balance):.3e} J; "
           f"steps cut back: {int(np.sum(r['series/dt'][1:] < 0.05 - 1e-12))}, "
@@ -73,8 +75,9 @@ def common(args, checks, kind):
     image = os.path.join(args.workdir, f"soft_arm_{kind}_tip.png")
     if os.path.exists(image):
         os.remove(image)
-    plot = subprocess.run([sys.executable, os.path.join(args.source, "scripts", "rodplot.py"), "tip",
-                           path, "--plane", "xy", "-o", image], capture_output=True, text=True)
+    rodplot = os.path.join(args.source, "scripts", "rodplot.py")
+    plot = subprocess.run([sys.executable, rodplot, "tip", path, "--plane", "xy", "-o", image],
+                          capture_output=True, text=True)
     print(plot.stdout + plot.stderr, end="")
     checks.check("rodplot.py tip: exit status", float(plot.returncode), 0.0)
     head, size = b"", 0
@@ -104,8 +107,8 @@ def circle(args, checks):
     checks.check("one revolution during [0.5, 3.5]: 2 pi - 0.15 - angle covered",
                  2 * math.pi - 0.15 - covered, 0.0)
     checks.check("tip direction - (phi(t) + pi) during [0.5, 3.5], rad", np.max(lag), 0.15)
-    checks.check("roughly constant height during [0.5, 3.5]: (max - min) / L", np.ptp(height) / LENGTH,
-                 0.15)
+    checks.check("roughly constant height during [0.5, 3.5]: (max - min) / L",
+                 np.ptp(height) / LENGTH, 0.15)
 
 
 def heart(args, checks):

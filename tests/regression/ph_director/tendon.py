@@ -58,8 +58,8 @@ def curvature(args, checks):
               f"{np.max(np.abs(strain[:, others])):.2e}")
         checks.check(f"tendon at r {label}: max | |K{component - 2}| / (T r/EI) - 1 |",
                      np.max(np.abs(np.abs(k) / kappa - 1)), 1e-5)
-        checks.check(f"tendon at r {label}: sign of K{component - 2} (methods §3.2): -min(sign K / |K|)",
-                     -np.min(sign * k / np.abs(k)), -1.0)
+        checks.check(f"tendon at r {label}: sign of K{component - 2} (methods §3.2): "
+                     "-min(sign K / |K|)", -np.min(sign * k / np.abs(k)), -1.0)
         checks.check(f"tendon at r {label}: other curvature components / (T r/EI)",
                      np.max(np.abs(strain[:, others])) / kappa, 1e-6)
         checks.check(f"tendon at r {label}: max |Gamma - (0, 0, 1)| (inextensible)",
@@ -70,8 +70,8 @@ def curvature(args, checks):
         error = np.max(np.abs(r["position"][-1] - exact))
         print(f"info: tendon at r {label}: tip {r['position'][-1, -1]}, arc {exact[-1]}, "
               f"max nodal distance {error:.3e} m")
-        checks.check(f"tendon at r {label}: nodes on the arc of radius EI/(T r): max |phi - arc| / "
-                     "tip deflection", error / deflection, 1e-4)
+        checks.check(f"tendon at r {label}: nodes on the arc of radius EI/(T r): "
+                     "max |phi - arc| / tip deflection", error / deflection, 1e-4)
         checks.check(f"tendon at r {label}: max |N3 / T + 1| (N3 = -T)",
                      np.max(np.abs(r["stress"][-1, :, 2] / TENSION + 1)), 1e-5)
 

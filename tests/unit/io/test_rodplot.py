@@ -77,8 +77,9 @@ def tip_checks(rodplot, out_dir):
           "tip_path returns the time and the last node's positions")
     check(module.projection_plane([path]) == (0, 1),
           "auto plane of a flat helix is x-y: %s" % (module.projection_plane([path]),))
-    check(module.projection_plane([path[:, [0, 2, 1]]]) == (0, 2),
-          "auto plane of a helix in x-z is x-z: %s" % (module.projection_plane([path[:, [0, 2, 1]]]),))
+    swapped = path[:, [0, 2, 1]]
+    check(module.projection_plane([swapped]) == (0, 2),
+          "auto plane of a helix in x-z is x-z: %s" % (module.projection_plane([swapped]),))
     for plane in ("auto", "xy", "xz", "yz"):
         out = os.path.join(out_dir, "helix_tip_%s.png" % plane)
         if os.path.exists(out):
