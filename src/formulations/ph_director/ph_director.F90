@@ -688,6 +688,20 @@ contains
         end if
     end subroutine ph_director_step_jacobian
 
+    !> The node kernel (methods §5.2 (K1), (K2), the multiplier and end-load terms, and the
+    !> constraint g(d_{n+1})) of free node k on the workspace fields, loads at t_load.
+    subroutine node_kernel(this, k, h, t_load, r_k, j_k)
+        type(ph_director_t), intent(in) :: this
+        integer, intent(in) :: k
+        real(rk), intent(in) :: h, t_load
+        real(rk), intent(out) :: r_k(node_dofs)
+        real(rk), intent(out), optional :: j_k(node_dofs, node_dofs)
+        real(rk) :: force(3), moment(3)
+        call node_loads(this, k, t_load, force, moment)
+        call ph_director_node_residual(h, this%static, this%q_n(:, k), this%q_1(:, k), &
+            this%v_n(:, k), this%v_1(:, k), this%lambda(:, k), .true., force, moment, r_k, j_k)
+    end subroutine node_kernel
+
     !> Residual and/or Jacobian of the uncondensed step: element kernels scattered through the
     !> dof map, node kernels for the kinematic, multiplier and end-load rows.
     subroutine uncondensed_step(this, t_n, h, x_n, y, f, values)
@@ -696,7 +710,7 @@ contains
         real(rk), intent(out), optional :: f(:), values(:)
         real(rk) :: r_e(this%n_local), j_e(this%n_local, this%n_local)
         real(rk) :: r_k(node_dofs), j_k(node_dofs, node_dofs)
-        real(rk) :: nbar(3), mbar(3), force(3), moment(3), t_mid
+        real(rk) :: nbar(3), mbar(3), t_mid
         type(ph_director_actuation_t) :: actuation
         integer :: e, k, i, j, p, nodes(2), dofs(this%n_local)
         call this%unpack(x_n, this%q_n, this%v_n, this%lambda, this%s_n)
@@ -728,10 +742,8 @@ contains
         end do
         do k = 1, this%n_nodes
             if (this%clamped(k)) cycle
-            call node_loads(this, k, t_mid, force, moment)
             if (present(values)) then
-                call ph_director_node_residual(h, this%static, this%q_n(:, k), this%q_1(:, k), &
-                    this%v_n(:, k), this%v_1(:, k), this%lambda(:, k), .true., force, moment, r_k, j_k)
+                call node_kernel(this, k, h, t_mid, r_k, j_k)
                 do j = 1, node_dofs
                     do i = 1, node_dofs
                         p = this%node_map(i, j, k)
@@ -739,8 +751,7 @@ contains
                     end do
                 end do
             else
-                call ph_director_node_residual(h, this%static, this%q_n(:, k), this%q_1(:, k), &
-                    this%v_n(:, k), this%v_1(:, k), this%lambda(:, k), .true., force, moment, r_k)
+                call node_kernel(this, k, h, t_mid, r_k)
             end if
             if (present(f)) f(this%node_dof(:, k)) = f(this%node_dof(:, k)) + r_k
         end do
@@ -972,7 +983,7 @@ contains
         real(rk) :: schur(12 * (this%degree + 1), 12 * (this%degree + 1))
         real(rk) :: coupling(6 * this%degree, 12 * (this%degree + 1))
         real(rk) :: r_k(node_dofs), j_k(node_dofs, node_dofs)
-        real(rk) :: nbar(3), mbar(3), force(3), moment(3), t_mid
+        real(rk) :: nbar(3), mbar(3), t_mid
         type(ph_director_actuation_t) :: actuation
         integer :: rows_m(12 * (this%degree + 1)), cols_q(12 * (this%degree + 1))
         integer :: cols_v(12 * (this%degree + 1))
@@ -1024,10 +1035,8 @@ contains
         end do
         do k = 1, this%n_nodes
             if (this%clamped(k)) cycle
-            call node_loads(this, k, t_mid, force, moment)
             if (present(values)) then
-                call ph_director_node_residual(h, this%static, this%q_n(:, k), this%q_1(:, k), &
-                    this%v_n(:, k), this%v_1(:, k), this%lambda(:, k), .true., force, moment, r_k, j_k)
+                call node_kernel(this, k, h, t_mid, r_k, j_k)
                 ! Condensed row i is node row 12 + i (momentum 13:24, constraint 25:30); column
                 ! j is q (1:12) or lambda (25:30). The node's momentum rows do not depend on v.
                 do j = 1, 18
@@ -1037,8 +1046,7 @@ contains
                     end do
                 end do
             else
-                call ph_director_node_residual(h, this%static, this%q_n(:, k), this%q_1(:, k), &
-                    this%v_n(:, k), this%v_1(:, k), this%lambda(:, k), .true., force, moment, r_k)
+                call node_kernel(this, k, h, t_mid, r_k)
             end if
             if (present(f)) then
                 f(this%node_unknown(1:12, k)) = f(this%node_unknown(1:12, k)) + r_k(13:24)
