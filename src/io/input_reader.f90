@@ -284,17 +284,19 @@ contains
     pure function split_allowed(allowed) result(names)
         character(len=*), intent(in) :: allowed
         character(len=32), allocatable :: names(:)
-        integer :: start, bar
-        allocate(names(0))
+        integer :: start, bar, k
+        ! Counted first and filled in place: growing a character array by
+        ! constructor trips gfortran's length check (-fcheck=all).
+        allocate(names(count([(allowed(k:k) == '|', k = 1, len_trim(allowed))]) + 1))
         start = 1
-        do
+        do k = 1, size(names)
             bar = index(allowed(start:), '|')
             if (bar == 0) then
-                names = [names, allowed(start:len_trim(allowed))]
-                exit
+                names(k) = allowed(start:len_trim(allowed))
+            else
+                names(k) = allowed(start:start + bar - 2)
+                start = start + bar
             end if
-            names = [names, allowed(start:start + bar - 2)]
-            start = start + bar
         end do
     end function split_allowed
 
