@@ -1,18 +1,23 @@
 #!/usr/bin/env python3
-"""Plots of rodsolve result files (docs/user/output.md).
+"""Plots and a summary of rodsolve result files (docs/user/output.md,
+docs/user/postprocessing.md).
 
     python3 scripts/rodplot.py energy out/flying_spaghetti.h5
+    python3 scripts/rodplot.py momentum out/flying_spaghetti.h5
     python3 scripts/rodplot.py snapshots out/flying_spaghetti.h5 -o spaghetti.png --rod spaghetti
     python3 scripts/rodplot.py tip out/soft_arm_circle.h5 --plane xy
+    python3 scripts/rodplot.py animate out/flying_spaghetti.h5 -o spaghetti.gif
+    python3 scripts/rodplot.py summary out/flying_spaghetti.h5
 
-Exit status 0 on success, 1 when the image cannot be written, 2 for a missing file, a file
-that is not a rodsolve result, an unknown rod or a missing dataset (the message names what is
-available).
+Exit status 0 on success, 1 when the output cannot be written (or Pillow, needed for GIFs, is
+missing), 2 for a missing file, a file that is not a rodsolve result, an unknown rod or a
+missing dataset (the message names what is available) and for usage errors.
 """
 
 import argparse
 import os
 import sys
+import textwrap
 
 try:
     import matplotlib
@@ -39,19 +44,20 @@ ENERGY_CURVES = (
 )
 
 
-def energy_plot(res, rod_name, out, dpi):
-    """H, kinetic, strain and the accumulated external work; |balance error| on a log axis."""
+def series_source(res, rod_name):
+    """(time, series names, getter, description) of one rod's series (`rod_name`) or, for
+    None, of the sums over all rods in /series/."""
     if rod_name is not None:
         rod = res.rod(rod_name)
-        time = rod.field("time")
-        names = rod.series_names()
-        get = rod.series
-        what = "rod '%s' (%s)" % (rod_name, rod.formulation)
-    else:
-        time = res.time()
-        names = res.series_names()
-        get = res.series
-        what = "all rods" if len(res.rods()) != 1 else "rod '%s'" % res.rods()[0]
+        return (rod.field("time"), rod.series_names(), rod.series,
+                "rod '%s' (%s)" % (rod_name, rod.formulation))
+    what = "all rods" if len(res.rods()) != 1 else "rod '%s'" % res.rods()[0]
+    return res.time(), res.series_names(), res.series, what
+
+
+def energy_plot(res, rod_name, out, dpi):
+    """H, kinetic, strain and the accumulated external work; |balance error| on a log axis."""
+    time, names, get, what = series_source(res, rod_name)
     wanted = [c[0] for c in ENERGY_CURVES] + ["energy/external_work", "energy/balance_error"]
     if not any(name in names for name in wanted):
         raise MissingData("%s: %s has no energy series (it has: %s)"
@@ -85,10 +91,26 @@ def energy_plot(res, rod_name, out, dpi):
                     ha="center", va="center")
     bottom.set_xlabel("time [s]")
     bottom.grid(True, which="both", alpha=0.3)
-    bottom.set_title("|H$_{n+1}$ - H$_n$ - W$_n$| per record", fontsize="medium")
+    bottom.set_title("energy balance error |H$_{n+1}$ - H$_n$ - W$_{ext}$ - W$_{act}$ + D| "
+                     "per record", fontsize="medium")
     fig.tight_layout()
     fig.savefig(out, dpi=dpi)
     plt.close(fig)
+
+
+def equal_3d_axes(ax, points):
+    """Equal scaling on a 3D axis around `points` (n x 3), in the view of seed 000's figures."""
+    low, high = points.min(axis=0), points.max(axis=0)
+    centre = 0.5 * (low + high)
+    half = 0.5 * max(float((high - low).max()), 1e-12)
+    ax.set_xlim(centre[0] - half, centre[0] + half)
+    ax.set_ylim(centre[1] - half, centre[1] + half)
+    ax.set_zlim(centre[2] - half, centre[2] + half)
+    ax.set_box_aspect((1, 1, 1))
+    ax.view_init(elev=VIEW_ELEV, azim=VIEW_AZIM)
+    ax.set_xlabel("x [m]")
+    ax.set_ylabel("y [m]")
+    ax.set_zlabel("z [m]")
 
 
 def snapshot_indices(n_records, n_snapshots=N_SNAPSHOTS):
@@ -126,17 +148,7 @@ def snapshots_plot(res, rod_name, out, dpi):
         if len(rods) > 1:
             ax.plot([], [], style, color="0.3", label=rod.name)
     points = np.concatenate(points)
-    low, high = points.min(axis=0), points.max(axis=0)
-    centre = 0.5 * (low + high)
-    half = 0.5 * max(float((high - low).max()), 1e-12)
-    ax.set_xlim(centre[0] - half, centre[0] + half)
-    ax.set_ylim(centre[1] - half, centre[1] + half)
-    ax.set_zlim(centre[2] - half, centre[2] + half)
-    ax.set_box_aspect((1, 1, 1))
-    ax.view_init(elev=VIEW_ELEV, azim=VIEW_AZIM)
-    ax.set_xlabel("x [m]")
-    ax.set_ylabel("y [m]")
-    ax.set_zlabel("z [m]")
+    equal_3d_axes(ax, points)
     label = ", ".join("'%s'" % n for n in names)
     ax.set_title("%s: %s at %d times" % (res.title or os.path.basename(res.path), label,
                                           index.size))
@@ -201,17 +213,7 @@ def tip_plot(res, rod_name, out, dpi, plane="auto"):
         ax2.scatter(path[:, axes[0]], path[:, axes[1]], c=time, cmap=cmap, norm=norm, s=8)
         ax2.plot(path[0, axes[0]], path[0, axes[1]], "ko", ms=5, mfc="none")
     points = np.concatenate([path for _, _, path in tracks])
-    low, high = points.min(axis=0), points.max(axis=0)
-    centre = 0.5 * (low + high)
-    half = 0.5 * max(float((high - low).max()), 1e-12)
-    ax3.set_xlim(centre[0] - half, centre[0] + half)
-    ax3.set_ylim(centre[1] - half, centre[1] + half)
-    ax3.set_zlim(centre[2] - half, centre[2] + half)
-    ax3.set_box_aspect((1, 1, 1))
-    ax3.view_init(elev=VIEW_ELEV, azim=VIEW_AZIM)
-    ax3.set_xlabel("x [m]")
-    ax3.set_ylabel("y [m]")
-    ax3.set_zlabel("z [m]")
+    equal_3d_axes(ax3, points)
     ax3.set_title("%s: tip path" % (res.title or os.path.basename(res.path)))
     ax2.set_aspect("equal", adjustable="datalim")
     ax2.set_xlabel("%s [m]" % AXIS_NAMES[axes[0]])
@@ -228,59 +230,299 @@ def tip_plot(res, rod_name, out, dpi, plane="auto"):
     plt.close(fig)
 
 
-COMMANDS = {"energy": energy_plot, "snapshots": snapshots_plot, "tip": tip_plot}
+COMPONENT_STYLES = (("x", "tab:blue"), ("y", "tab:orange"), ("z", "tab:green"))
+
+
+def log_abs_panel(ax, time, values, label, color):
+    """|values| per record on a log axis (the largest |component| for vector series); a note
+    instead when all are exactly zero."""
+    values = np.asarray(values, dtype=float)
+    size = np.abs(values) if values.ndim == 1 else np.abs(values).max(axis=1)
+    positive = size > 0
+    if positive.any():
+        ax.semilogy(time[positive], size[positive], ".-", color=color, label=label)
+        return True
+    return False
+
+
+def momentum_plot(res, rod_name, out, dpi):
+    """Linear and angular momentum components and magnitudes against time; below, the
+    momentum balance series the file holds (e.g. momentum/angular_balance_error), |.| on a
+    log axis."""
+    time, names, get, what = series_source(res, rod_name)
+    parts = [(name, title, unit) for name, title, unit in (
+        ("momentum/linear", "linear momentum", "kg m/s"),
+        ("momentum/angular", "angular momentum about the origin", "kg m$^2$/s"))
+        if name in names]
+    if not parts:
+        raise MissingData("%s: %s has no momentum series (it has: %s)"
+                          % (res.path, what, ", ".join(names) or "nothing"))
+    balance = [name for name in names if name.startswith("momentum/") and "balance" in name]
+    rows = len(parts) + (1 if balance else 0)
+    fig, axes = plt.subplots(rows, 1, figsize=(8, 3.2 * rows + 0.6), sharex=True, squeeze=False)
+    axes = axes[:, 0]
+    for ax, (name, title, unit) in zip(axes, parts):
+        values = np.asarray(get(name), dtype=float).reshape(len(time), -1)
+        for c in range(values.shape[1]):
+            label, color = COMPONENT_STYLES[c % 3]
+            ax.plot(time, values[:, c], color=color, label=label)
+        ax.plot(time, np.linalg.norm(values, axis=1), "--", color="k", lw=1.0, label="magnitude")
+        ax.set_ylabel("%s [%s]" % (name.split("/")[1], unit))
+        ax.set_title(title, fontsize="medium")
+        ax.legend(loc="best", ncol=4, fontsize="small")
+        ax.grid(True, alpha=0.3)
+    if balance:
+        ax = axes[-1]
+        drawn = False
+        for number, name in enumerate(balance):
+            drawn |= log_abs_panel(ax, time, get(name), name,
+                                   ("tab:red", "tab:purple", "tab:brown")[number % 3])
+        if drawn:
+            ax.legend(loc="best", fontsize="small")
+        else:
+            ax.set_yscale("log")
+            ax.text(0.5, 0.5, "balance error is exactly zero at every record",
+                    transform=ax.transAxes, ha="center", va="center")
+        ax.set_ylabel("|balance error|")
+        ax.set_title("momentum balance per record (largest |component|)", fontsize="medium")
+        ax.grid(True, which="both", alpha=0.3)
+    axes[-1].set_xlabel("time [s]")
+    fig.suptitle("%s: momentum, %s" % (res.title or os.path.basename(res.path), what))
+    fig.tight_layout()
+    fig.savefig(out, dpi=dpi)
+    plt.close(fig)
+
+
+class PillowMissing(Exception):
+    """GIFs need Pillow."""
+
+
+#: Most frames of an animation (evenly spaced records, first and last included).
+N_FRAMES = 100
+
+
+def animate_plot(res, rod_name, out, dpi, frames=N_FRAMES, fps=10):
+    """3D centrelines of the rods over time, one frame per record (at most `frames`, evenly
+    spaced), fixed axes with equal scaling over the whole motion, written as a GIF with
+    matplotlib's PillowWriter."""
+    try:
+        import PIL  # noqa: F401 - PillowWriter needs it
+        from matplotlib.animation import PillowWriter
+    except ImportError:
+        raise PillowMissing("animate writes GIFs with Pillow, which is not installed "
+                            "(Debian: apt-get install python3-pil)") from None
+    names = [rod_name] if rod_name is not None else res.rods()
+    if not names:
+        raise MissingData("%s: the file holds no rods" % res.path)
+    rods = [res.rod(name) for name in names]
+    time = rods[0].field("time")
+    if time.size == 0:
+        raise MissingData("%s: no stored records" % res.path)
+    positions = [rod.field("position") for rod in rods]
+    index = snapshot_indices(time.size, frames)
+    points = np.concatenate([p[index].reshape(-1, 3) for p in positions])
+    fig = plt.figure(figsize=(6, 5.5))
+    ax = fig.add_subplot(projection="3d")
+    equal_3d_axes(ax, points)
+    colors = matplotlib.colormaps["tab10"]
+    lines = []
+    for number, (rod, position) in enumerate(zip(rods, positions)):
+        x = position[index[0]]
+        ax.plot(x[:, 0], x[:, 1], x[:, 2], color="0.8", lw=1.0)
+        lines.append(ax.plot(x[:, 0], x[:, 1], x[:, 2], "-", color=colors(number % 10), lw=2.0,
+                             label=rod.name)[0])
+    if len(rods) > 1:
+        ax.legend(loc="upper left", title="rod")
+    title = ax.set_title("")
+    heading = res.title or os.path.basename(res.path)
+    writer = PillowWriter(fps=fps)
+    with writer.saving(fig, out, dpi):
+        for k in index:
+            for line, position in zip(lines, positions):
+                x = position[k]
+                line.set_data_3d(x[:, 0], x[:, 1], x[:, 2])
+            title.set_text("%s\nt = %.6g s (record %d of %d)" % (heading, time[k], k + 1,
+                                                                  time.size))
+            writer.grab_frame()
+    plt.close(fig)
+    return index.size
+
+
+def number(value):
+    """A number as the summary prints it: 6 significant digits."""
+    return "%.6g" % value
+
+
+def rod_summary(rod):
+    """Lines describing one rod of a result file."""
+    lines = ["rod '%s' (%s)" % (rod.name, rod.formulation or "formulation not recorded")]
+    table = []
+    time = rod.field("time")
+    if rod.has("position"):
+        table.append(("nodes", str(rod.field("position").shape[1])))
+    if time.size:
+        table.append(("records", "%d, t = %s .. %s s"
+                      % (time.size, number(time[0]), number(time[-1]))))
+    else:
+        table.append(("records", "0"))
+    series = rod.series_names()
+    # Record 0 is the initial state: no step ended there.
+    steps = slice(1, None) if time.size > 1 else slice(None)
+    if "dt" in series and time.size:
+        dt = rod.series("dt")[steps]
+        table.append(("dt", "%s .. %s s" % (number(dt.min()), number(dt.max()))))
+    if "newton/iterations" in series and time.size:
+        iterations = rod.series("newton/iterations")
+        table.append(("Newton iterations", "%d total, %d max per step (stored records)"
+                      % (int(iterations.sum()), int(iterations.max()))))
+    if "energy/balance_error" in series and time.size:
+        error = float(np.abs(rod.series("energy/balance_error")).max())
+        text = "%s J" % number(error)
+        if "energy/total" in series:
+            scale = float(np.abs(rod.series("energy/total")).max())
+            text += (" = %s max |H|" % number(error / scale)) if scale > 0 else " (H = 0)"
+        table.append(("max |balance error|", text))
+    if "constraint_residual" in series and rod.series("constraint_residual").size:
+        table.append(("constraint residual",
+                      "max %s" % number(float(np.max(rod.series("constraint_residual"))))))
+    else:
+        table.append(("constraint residual", "not stored"))
+    table.append(("fields", ", ".join(rod.fields()) or "none"))
+    table.append(("series", ", ".join(series) or "none"))
+    width = max(len(key) for key, _ in table)
+    for key, value in table:
+        lines += textwrap.wrap(value, 96, initial_indent="  %-*s  " % (width, key),
+                               subsequent_indent=" " * (width + 4), break_on_hyphens=False)
+    return lines
+
+
+def summary_text(res, rod_name=None):
+    """What a result file holds: its origin, then per rod the formulation, records, time
+    span, dt range, Newton iterations, energy balance, constraint residual and fields."""
+    attrs = res.attrs
+    names = [rod_name] if rod_name is not None else res.rods()
+    rods = [res.rod(name) for name in names]
+    table = [("file", res.path), ("title", res.title or "(none)"),
+             ("creator", attrs.get("creator", "(not recorded)")),
+             ("schema version", str(res.schema_version)),
+             ("created", attrs.get("created", "(not recorded)")),
+             ("ranks", str(attrs.get("n_ranks", "(not recorded)"))),
+             ("rods", ", ".join(res.rods()) or "none")]
+    if "time" in res.series_names():
+        time = res.time()
+        if time.size:
+            table.append(("records", "%d, t = %s .. %s s"
+                          % (time.size, number(time[0]), number(time[-1]))))
+    width = max(len(key) for key, _ in table)
+    lines = ["%-*s  %s" % (width, key, value) for key, value in table]
+    for rod in rods:
+        lines.append("")
+        lines += rod_summary(rod)
+    return "\n".join(lines) + "\n"
+
+
+def summary_command(res, rod_name, out, dpi):
+    """Print the summary; also write it to `out` when given."""
+    text = summary_text(res, rod_name)
+    if out is not None:
+        with open(out, "w", encoding="utf-8") as f:
+            f.write(text)
+    sys.stdout.write(text)
+
+
+COMMANDS = {"energy": energy_plot, "momentum": momentum_plot, "snapshots": snapshots_plot,
+            "tip": tip_plot, "animate": animate_plot, "summary": summary_command}
+#: What each command writes by default, next to FILE (None: standard output only).
+DEFAULT_SUFFIX = {"animate": ".gif", "summary": None}
 
 
 def parser():
     p = argparse.ArgumentParser(
         prog="rodplot.py",
-        description="Plots of a rodsolve result file (HDF5; see docs/user/output.md).",
+        description="Plots and a summary of a rodsolve result file (HDF5; see "
+                    "docs/user/output.md and docs/user/postprocessing.md).",
         epilog="commands:\n"
                "  energy     total energy H, kinetic and strain energy and the accumulated\n"
                "             external work against time; below, |balance error| per record\n"
                "             on a log axis. Without --rod: the sums over all rods (/series).\n"
+               "  momentum   linear and angular momentum (components and magnitude) against\n"
+               "             time; below, the momentum balance series the file holds\n"
+               "             (e.g. momentum/angular_balance_error) on a log axis. Without\n"
+               "             --rod: the sums over all rods (/series).\n"
                "  snapshots  3D centrelines (position) at about 12 evenly spaced stored\n"
-               "             times, coloured by time (viridis), equal axis scaling, view\n"
-               "             azimuth 55, elevation 15. Without --rod: every rod.\n"
+               "             times, coloured by time (viridis, with a colour bar), equal axis\n"
+               "             scaling, view azimuth 55, elevation 15. Without --rod: every rod.\n"
                "  tip        path of the last node (the tip) over time: 3D (coloured by time,\n"
                "             viridis) and projected on a coordinate plane (--plane; by\n"
                "             default the one across which it moves least). Without --rod:\n"
-               "             every rod.\n\n"
-               "exit status: 0 on success; 1 when the image cannot be written; 2 for a\n"
-               "missing file, a file that is not a rodsolve result (no schema_version\n"
-               "attribute), an unknown rod (the message lists the rods) or a missing\n"
-               "dataset.",
+               "             every rod.\n"
+               "  animate    3D centrelines over time as a GIF (needs Pillow): one frame per\n"
+               "             record, at most --frames evenly spaced, --fps frames a second,\n"
+               "             fixed equal axes. Without --rod: every rod.\n"
+               "  summary    text: title, creator, schema version, ranks, and per rod the\n"
+               "             formulation, records, time span, dt range, Newton iterations\n"
+               "             (total, max), largest |energy balance error| (also relative to\n"
+               "             max |H|), largest constraint residual and the fields present.\n"
+               "             Printed; also written to -o when given.\n\n"
+               "output: -o, or by default FILE_<command>.png (.gif for animate) next to FILE;\n"
+               "summary prints to standard output.\n\n"
+               "exit status: 0 on success; 1 when the output cannot be written (or Pillow is\n"
+               "missing for animate); 2 for a missing file, a file that is not a rodsolve\n"
+               "result (no schema_version attribute), an unknown rod (the message lists the\n"
+               "rods), a missing dataset, or a usage error.",
         formatter_class=argparse.RawDescriptionHelpFormatter)
-    p.add_argument("command", choices=sorted(COMMANDS), help="what to plot (see below)")
+    p.add_argument("command", choices=list(COMMANDS), help="what to draw or print (see below)")
     p.add_argument("file", help="result file written by rodsolve (FILE.h5)")
-    p.add_argument("-o", "--output", metavar="OUT.png",
-                   help="image to write (default: FILE_<command>.png next to FILE)")
-    p.add_argument("--rod", metavar="NAME", help="plot only this rod")
-    p.add_argument("--dpi", type=int, default=150, help="resolution of the image (default 150)")
+    p.add_argument("-o", "--output", metavar="OUT.png|OUT.gif",
+                   help="file to write (default: FILE_<command>.png, .gif for animate, next "
+                        "to FILE; summary: standard output only)")
+    p.add_argument("--rod", metavar="NAME", help="only this rod")
+    p.add_argument("--dpi", type=int, default=None,
+                   help="resolution (default 150; 80 for animate)")
     p.add_argument("--plane", choices=["auto"] + sorted(PLANES), default="auto",
                    help="tip only: the coordinate plane of the projection (default auto: the "
                         "plane across which the tip moves least)")
+    p.add_argument("--frames", type=int, default=N_FRAMES,
+                   help="animate only: most frames (default %d)" % N_FRAMES)
+    p.add_argument("--fps", type=float, default=10.0,
+                   help="animate only: frames per second (default 10)")
     return p
 
 
 def main(argv=None):
-    args = parser().parse_args(argv)
+    p = parser()
+    args = p.parse_args(argv)
     out = args.output
-    if out is None:
-        out = os.path.splitext(args.file)[0] + "_" + args.command + ".png"
+    suffix = DEFAULT_SUFFIX.get(args.command, ".png")
+    if out is None and suffix is not None:
+        out = os.path.splitext(args.file)[0] + "_" + args.command + suffix
+    if args.command == "animate" and not out.lower().endswith(".gif"):
+        p.error("animate writes a GIF: give -o NAME.gif")
+    if args.frames < 1 or args.fps <= 0:
+        p.error("--frames must be at least 1 and --fps positive")
+    dpi = args.dpi if args.dpi is not None else (80 if args.command == "animate" else 150)
+    extra = {}
+    if args.command == "tip":
+        extra = {"plane": args.plane}
+    elif args.command == "animate":
+        extra = {"frames": args.frames, "fps": args.fps}
     try:
         with open_result(args.file) as res:
-            if os.path.dirname(out):
+            if out is not None and os.path.dirname(out):
                 os.makedirs(os.path.dirname(out), exist_ok=True)
-            extra = {"plane": args.plane} if args.command == "tip" else {}
-            COMMANDS[args.command](res, args.rod, out, args.dpi, **extra)
+            COMMANDS[args.command](res, args.rod, out, dpi, **extra)
     except ResultError as exc:
         print("rodplot.py: error: %s" % exc, file=sys.stderr)
         return 2
+    except PillowMissing as exc:
+        print("rodplot.py: error: %s" % exc, file=sys.stderr)
+        return 1
     except OSError as exc:
         print("rodplot.py: error: cannot write %s: %s" % (out, exc), file=sys.stderr)
         return 1
-    print("rodplot.py: wrote %s" % out)
+    if out is not None:
+        print("rodplot.py: wrote %s" % out, file=sys.stderr if args.command == "summary"
+              else sys.stdout)
     return 0
 
 

@@ -38,6 +38,7 @@ if [ $status -eq 0 ]; then
     if "$python" "$root/scripts/rodplot.py" energy "$output" -o "${base}_energy.png" &&
        "$python" "$root/scripts/rodplot.py" snapshots "$output" -o "${base}_snapshots.png"; then
         echo "run: plots in ${base}_energy.png and ${base}_snapshots.png"
+        [ -f "${base}.xdmf" ] && echo "run: for ParaView open ${base}.xdmf (XDMF Reader)"
     else
         echo "run: plotting failed (scripts/rodplot.py); the results are complete" >&2
     fi

@@ -16,6 +16,7 @@ program rodsolve
     use rs_io_cli, only: cli_t, parse_command_line, usage_text
     use rs_io_input_file, only: load_scene
     use rs_io_scene_writer, only: resolved_scene_text
+    use rs_formulations_plan, only: scene_plan_text
     use rs_io_input_reference, only: input_reference_markdown
     use rs_io_hdf5_info, only: hdf5_version
     use rs_solver_petsc_env, only: petsc_initialize, petsc_finalize, petsc_version, mumps_version
@@ -49,7 +50,7 @@ program rodsolve
         call logger_init(world_rank(), level=log_level_from_name(trim(scene%run%log_level)), &
             quiet=cli%quiet)
         if (cli%action == 'check') then
-            call print_root(resolved_scene_text(scene))
+            call print_root(resolved_scene_text(scene) // scene_plan_text(scene, world_size()))
             call log_info('rodsolve: ' // cli%scene_file // ' is valid (' // str(size(scene%rods)) // &
                 ' rod(s)); nothing was run (--check-input)')
         else

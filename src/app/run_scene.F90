@@ -1,31 +1,37 @@
 #include "rs_macros.h"
-!> The run of a validated scene (DESIGN.md §5 and §7): rods are dealt to ranks, each rank runs
-!> its rods with no communication, the records are gathered to rank 0 after the time loop and
-!> rank 0 writes the result file. A rod that fails stops only itself; what was computed is
-!> still written and the run ends with status 1.
+!> The run of a validated scene (DESIGN.md §5 and §7): rods are dealt to ranks round-robin and
+!> every rank steps its rods together, one step of the time grid at a time, with no
+!> communication between flushes. Every `flush_every` steps the new records and the checkpoint
+!> of every rod go to rank 0, which appends them to the result file and flushes it, so a killed
+!> run leaves a readable file with every record up to the last flush; `restart_from` continues
+!> from that checkpoint. A rod that fails stops only itself; what was computed is still written and
+!> the run ends with status 1.
 module rs_app_run_scene
-    use, intrinsic :: iso_fortran_env, only: error_unit
+    use, intrinsic :: iso_fortran_env, only: error_unit, int64
     use rs_core_kinds, only: rk
     use rs_core_error, only: error_t, set_error
-    use rs_core_logger, only: log_info
+    use rs_core_logger, only: log_info, log_debug
     use rs_core_strings, only: str, str_significant
     use rs_core_timer, only: wall_time
     use rs_model_scene, only: scene_t
+    use rs_parallel_mpi_env, only: world_rank, world_size, any_rank_true, mpi_library_version, &
+        broadcast_array, max_each_over_ranks, sum_over_ranks, max_over_ranks, barrier, &
+        send_array, receive_array
     use rs_model_rod_history, only: rod_history_t
-    use rs_parallel_mpi_env, only: world_rank, world_size, send_array, receive_array, &
-        any_rank_true, mpi_library_version
-    use rs_io_result_file, only: result_meta_t, write_result_file
+    use rs_io_result_file, only: result_meta_t, rod_layout_t, layout_of, pack_layout, &
+        unpack_layout, result_writer_t, prepare_result_file, finish_result_file, read_checkpoint
     use rs_io_hdf5_file, only: hdf5_file_t
     use rs_io_scene_writer, only: resolved_scene_text
+    use rs_io_xdmf_writer, only: xdmf_rod_t, write_xdmf_sidecar
     use rs_solver_petsc_env, only: petsc_version
     use rs_solver_rod_stepper, only: petsc_apply_options, petsc_options_text
-    use rs_solver_rod_run, only: run_rod
+    use rs_solver_rod_run, only: rod_runner_t, step_count
     implicit none
     private
 
     public :: run_scene
 
-    integer, parameter :: tag_header = 101, tag_values = 102
+    integer, parameter :: tag_header = 101, tag_values = 102, tag_checkpoint = 103
 
 contains
 
@@ -35,97 +41,442 @@ contains
         type(scene_t), intent(in) :: scene
         character(len=*), intent(in) :: command_line
         type(error_t), allocatable, intent(out) :: err
-        character(len=:), allocatable :: message
-        type(rod_history_t), allocatable :: histories(:)
-        type(error_t), allocatable :: rod_err, write_err
-        type(result_meta_t) :: meta
-        integer, allocatable :: header(:)
-        real(rk), allocatable :: values(:)
-        real(rk) :: started
-        integer :: i, owner
-        logical :: failed
+        type(rod_runner_t), allocatable :: runners(:)
+        type(rod_layout_t), allocatable :: layouts(:)
+        type(result_writer_t) :: writer
+        type(error_t), allocatable :: local_err
+        character(len=:), allocatable :: path, message
+        integer, allocatable :: records(:)
+        real(rk), allocatable :: record_times(:)
+        real(rk) :: started, output_seconds, last_report, t_flush
+        integer :: i, n, n_steps, first_step, capacity, n_times
+        logical :: restarting, failed
 
         call petsc_apply_options(scene_options(scene), trim(scene%solver%petsc_options), err)
         RS_RETURN_IF_ERROR(err)
-        ! Nothing computed may be lost to an output path that cannot be written: try it first.
-        if (world_rank() == 0) call probe_output(trim(scene%output%path), write_err)
-        if (any_rank_true(allocated(write_err))) then
-            if (allocated(write_err)) then
-                call move_alloc(write_err, err)
-            else
-                RS_SET_ERROR(err, 'run_scene', 'the output file cannot be written (see rank 0)')
-            end if
-            return
-        end if
+        path = trim(scene%output%path)
+        restarting = len_trim(scene%run%restart_from) > 0
         started = wall_time()
-        allocate(histories(size(scene%rods)))
-        failed = .false.
+        output_seconds = 0.0_rk
+        n_steps = step_count(scene)
+
+        ! Build this rank's rods. Records between two flushes: the flush window at the stride,
+        ! the initial record, an endpoint and a failure record.
+        capacity = scene%output%flush_every / scene%output%stride + 4
+        allocate(runners(size(scene%rods)))
         do i = 1, size(scene%rods)
             if (rod_owner(i) /= world_rank()) cycle
-            call run_rod(scene, i, histories(i), rod_err)
-            if (allocated(rod_err)) then
-                failed = .true.
-                write(error_unit, '(a)') 'rodsolve: rod ''' // trim(scene%rods(i)%name) // &
-                    ''' (rank ' // str(world_rank()) // '): ' // rod_err%describe()
-                flush(error_unit)
-            end if
+            call runners(i)%start(scene, i, capacity, restarting, local_err)
+            if (allocated(local_err)) exit
         end do
+        if (collective_failure(local_err, err, 'a rod could not be built (see above)')) return
 
-        ! Gather the records to rank 0 (DESIGN.md §7: rank 0 writes).
-        do i = 1, size(scene%rods)
-            owner = rod_owner(i)
-            if (owner == 0) cycle
-            if (world_rank() == owner) then
-                call histories(i)%pack(header, values)
-                call send_array(header, 0, tag_header)
-                call send_array(values, 0, tag_values)
-                call histories(i)%free()
-            else if (world_rank() == 0) then
-                call receive_array(header, owner, tag_header)
-                call receive_array(values, owner, tag_values)
-                call histories(i)%unpack(header, values)
-            end if
-        end do
+        ! Every rank knows every rod's layout (the file's datasets are the same on all ranks).
+        allocate(layouts(size(scene%rods)))
+        call share_layouts(runners, layouts)
 
+        ! A restart: each owner reads its rods' checkpoints before the file is touched.
+        allocate(records(size(scene%rods)), source=0)
+        first_step = 1
+        if (restarting) then
+            call restore_checkpoints(scene, runners, records, first_step, local_err)
+            if (collective_failure(local_err, err, 'the restart failed (see above)')) return
+        end if
+
+        ! Rank 0 creates the file (or carries the restart file over); then every rank opens it.
+        ! Nothing computed can be lost to a path that cannot be written: this is before the
+        ! time loop.
         if (world_rank() == 0) then
-            meta%command_line = command_line
-            meta%n_ranks = world_size()
-            meta%petsc_version = petsc_version()
-            meta%mpi_version = mpi_library_version()
-            meta%input_text = scene%source_text
-            meta%input_resolved = resolved_scene_text(scene)
-            meta%petsc_options = petsc_options_text()
-            meta%title = trim(scene%run%title)
-            call write_result_file(trim(scene%output%path), meta, histories, write_err)
-            if (.not. allocated(write_err)) call log_info('rodsolve: ' // str(size(histories)) // &
-                ' rod(s) in ' // str_significant(wall_time() - started, 3) // ' s; results in ' // &
-                trim(scene%output%path))
+            if (restarting .and. trim(scene%run%restart_from) /= path) &
+                call copy_file(trim(scene%run%restart_from), path, local_err)
+            if (.not. allocated(local_err)) call prepare_result_file(path, run_meta(scene, &
+                command_line), layouts, trim(scene%output%fields), local_err, restart=restarting)
         end if
-        if (any_rank_true(allocated(write_err))) then
-            if (allocated(write_err)) then
-                call move_alloc(write_err, err)
-            else
-                RS_SET_ERROR(err, 'run_scene', 'the result file could not be written (see rank 0)')
+        if (collective_failure(local_err, err, 'the result file could not be created (see ' // &
+            'rank 0)')) return
+        if (world_rank() == 0) call writer%open(path, layouts, trim(scene%output%fields), records, &
+            local_err)
+        if (collective_failure(local_err, err, 'the result file could not be opened (see ' // &
+            'rank 0)')) return
+        if (restarting) call log_info('rodsolve: restarting from ' // &
+            trim(scene%run%restart_from) // ' after step ' // str(first_step - 1) // ' (t = ' // &
+            str(min(real(first_step - 1, rk) * scene%time%dt, scene%time%t_end)) // ')')
+
+        ! The times of the records (the same for every rod that has not failed), for the sidecar.
+        allocate(record_times(n_steps / scene%output%stride + 2))
+        n_times = 0
+        if (restarting) then
+            if (world_rank() == 0) call read_record_times(trim(scene%run%restart_from), &
+                layouts(1)%name, records(1), record_times, n_times, local_err)
+            if (collective_failure(local_err, err, 'the restart file has no times (see rank 0)')) &
+                return
+        else
+            n_times = 1
+            record_times(1) = 0.0_rk
+        end if
+
+        ! The time loop: every rank steps its rods; the ranks meet only at the flushes.
+        last_report = wall_time()
+        do n = first_step, n_steps
+            do i = 1, size(runners)
+                if (rod_owner(i) == world_rank()) call runners(i)%advance(scene, n)
+            end do
+            call log_debug('rodsolve: step ' // str(n) // ' done')
+            if (mod(n, scene%output%stride) == 0 .or. n == n_steps) then
+                n_times = n_times + 1
+                record_times(n_times) = min(real(n, rk) * scene%time%dt, scene%time%t_end)
             end if
-            return
+            if (mod(n, scene%output%flush_every) == 0 .or. n == n_steps) then
+                t_flush = wall_time()
+                call flush_records(scene, n, runners, layouts, writer, record_times(1:n_times), &
+                    local_err)
+                output_seconds = output_seconds + (wall_time() - t_flush)
+                if (collective_failure(local_err, err, 'the result file could not be ' // &
+                    'written (see above)')) return
+                call log_debug('rodsolve: flushed after step ' // str(n))
+            end if
+            if (wall_time() - last_report >= scene%run%progress_interval .or. n == n_steps) then
+                last_report = wall_time()
+                call report_progress(scene, n, first_step, runners, last_report - started)
+            end if
+        end do
+
+        failed = any_rank_true(any(runners%failed))
+        if (world_rank() == 0) call writer%close(local_err)
+        t_flush = wall_time()
+        if (world_rank() == 0 .and. .not. allocated(local_err)) then
+            if (failed) then
+                call finish_result_file(path, layouts, 'failed', local_err, trim(scene%run%units))
+            else
+                call finish_result_file(path, layouts, 'completed', local_err, &
+                    trim(scene%run%units))
+            end if
         end if
-        if (any_rank_true(failed)) then
-            message = 'a rod failed (message above); what was computed is in ' // &
-                trim(scene%output%path)
+        output_seconds = output_seconds + (wall_time() - t_flush)
+        if (collective_failure(local_err, err, 'the result file could not be completed')) return
+        call report_summary(runners, started, output_seconds, n_steps - first_step + 1, path)
+
+        if (failed) then
+            do i = 1, size(runners)
+                if (.not. runners(i)%failed) cycle
+                write(error_unit, '(a)') 'rodsolve: rod ''' // trim(scene%rods(i)%name) // &
+                    ''' (rank ' // str(world_rank()) // '): ' // runners(i)%err%describe()
+                flush(error_unit)
+            end do
+            call barrier()
+            message = 'a rod failed (message above); what was computed is in ' // path
             RS_SET_ERROR(err, 'run_scene', message)
         end if
     end subroutine run_scene
 
-    !> Create (and close) the result file, so that a path that cannot be written is reported
-    !> before the run rather than after it.
-    subroutine probe_output(path, err)
-        character(len=*), intent(in) :: path
+    !> Every rank gets every rod's layout from the rod's owner.
+    subroutine share_layouts(runners, layouts)
+        type(rod_runner_t), intent(in) :: runners(:)
+        type(rod_layout_t), intent(inout) :: layouts(:)
+        integer, allocatable :: header(:)
+        real(rk), allocatable :: values(:)
+        integer :: i
+        do i = 1, size(layouts)
+            if (rod_owner(i) == world_rank()) then
+                layouts(i) = layout_of(runners(i)%history, size(runners(i)%x), &
+                    runners(i)%formulation%n_internal())
+                call pack_layout(layouts(i), header, values)
+            end if
+            call broadcast_array(header, rod_owner(i))
+            call broadcast_array(values, rod_owner(i))
+            if (rod_owner(i) /= world_rank()) call unpack_layout(header, values, layouts(i))
+        end do
+    end subroutine share_layouts
+
+    !> Each owner restores its rods from the checkpoint of `restart_from`; every rank learns the
+    !> records each rod has there and the first step to take (the same for all rods).
+    subroutine restore_checkpoints(scene, runners, records, first_step, err)
+        type(scene_t), intent(in) :: scene
+        type(rod_runner_t), intent(inout) :: runners(:)
+        integer, intent(inout) :: records(:)
+        integer, intent(out) :: first_step
+        type(error_t), allocatable, intent(out) :: err
+        real(rk), allocatable :: state(:), internal(:)
+        integer :: i, step, steps(2)
+        real(rk) :: time
+        character(len=:), allocatable :: message
+        steps = [-huge(1), -huge(1)]
+        do i = 1, size(runners)
+            if (rod_owner(i) /= world_rank()) cycle
+            call read_checkpoint(trim(scene%run%restart_from), trim(scene%rods(i)%name), state, &
+                internal, step, records(i), time, err)
+            if (.not. allocated(err)) call runners(i)%restore(scene, step, state, internal, err)
+            if (allocated(err)) exit
+            ! Largest and (negated) smallest step over this rank's rods.
+            steps = max(steps, [step, -step])
+        end do
+        if (any_rank_true(allocated(err))) then
+            first_step = 1
+            if (.not. allocated(err)) then
+                RS_SET_ERROR(err, 'run_scene', 'the restart failed on another rank (see above)')
+            end if
+            return
+        end if
+        call max_each_over_ranks(records)
+        call max_each_over_ranks(steps)
+        first_step = steps(1) + 1
+        if (steps(1) /= -steps(2)) then
+            message = 'the checkpoints of "' // trim(scene%run%restart_from) // '" are at ' // &
+                'different steps (' // str(-steps(2)) // ' to ' // str(steps(1)) // '): a rod ' // &
+                'failed before the last flush, so the run cannot be continued as a whole'
+            RS_SET_ERROR(err, 'run_scene', message)
+        else if (first_step > step_count(scene)) then
+            message = 'the checkpoint of "' // trim(scene%run%restart_from) // '" is at the ' // &
+                'last step already: nothing to continue (raise t_end to go further)'
+            RS_SET_ERROR(err, 'run_scene', message)
+        end if
+    end subroutine restore_checkpoints
+
+    !> Collective: gather every rod's buffered records and checkpoint to rank 0, which appends
+    !> them to the result file, flushes it and refreshes the XDMF sidecar (DESIGN.md §7).
+    subroutine flush_records(scene, n, runners, layouts, writer, record_times, err)
+        type(scene_t), intent(in) :: scene
+        integer, intent(in) :: n
+        type(rod_runner_t), intent(inout) :: runners(:)
+        type(rod_layout_t), intent(in) :: layouts(:)
+        type(result_writer_t), intent(inout) :: writer
+        real(rk), intent(in) :: record_times(:)
+        type(error_t), allocatable, intent(out) :: err
+        type(rod_history_t) :: received
+        integer, allocatable :: header(:)
+        real(rk), allocatable :: values(:), checkpoint(:)
+        integer :: i, owner, n_state
+        real(rk) :: t
+        t = min(real(n, rk) * scene%time%dt, scene%time%t_end)
+        do i = 1, size(runners)
+            owner = rod_owner(i)
+            if (world_rank() == owner .and. owner /= 0) then
+                ! The records, then the checkpoint (empty for a failed rod: it keeps the
+                ! checkpoint of its last flush before the failure).
+                call runners(i)%history%pack(header, values)
+                call send_array(header, 0, tag_header)
+                call send_array(values, 0, tag_values)
+                call runners(i)%history%clear()
+                if (runners(i)%failed) then
+                    call send_array([real(rk) ::], 0, tag_checkpoint)
+                else
+                    call send_array([runners(i)%x, runners(i)%internal()], 0, tag_checkpoint)
+                end if
+            else if (world_rank() == 0) then
+                if (owner == 0) then
+                    if (.not. allocated(err)) call writer%append(i, runners(i)%history, err)
+                    call runners(i)%history%clear()
+                    if (runners(i)%failed) then
+                        allocate(checkpoint(0))
+                    else
+                        checkpoint = [runners(i)%x, runners(i)%internal()]
+                    end if
+                else
+                    call receive_array(header, owner, tag_header)
+                    call receive_array(values, owner, tag_values)
+                    call received%unpack(header, values)
+                    if (.not. allocated(err)) call writer%append(i, received, err)
+                    call receive_array(checkpoint, owner, tag_checkpoint)
+                end if
+                n_state = layouts(i)%n_state
+                if (size(checkpoint) > 0 .and. .not. allocated(err)) call writer%write_checkpoint( &
+                    i, n, t, checkpoint(1:n_state), checkpoint(n_state + 1:), err)
+                deallocate(checkpoint)
+            end if
+        end do
+        if (world_rank() /= 0 .or. allocated(err)) return
+        call writer%flush(err)
+        if (allocated(err) .or. .not. scene%output%xdmf) return
+        ! A failed rod has fewer records than the others: the sidecar waits for the end.
+        if (all(writer%n_records == size(record_times))) &
+            call write_sidecar(writer, layouts, record_times, err)
+    end subroutine flush_records
+
+    !> The times of the first `n` records of rod `name` in the result file `path` (a restart).
+    subroutine read_record_times(path, name, n, times, n_times, err)
+        character(len=*), intent(in) :: path, name
+        integer, intent(in) :: n
+        real(rk), intent(inout) :: times(:)
+        integer, intent(out) :: n_times
         type(error_t), allocatable, intent(out) :: err
         type(hdf5_file_t) :: file
-        call file%create(path, err)
-        RS_RETURN_IF_ERROR(err)
-        call file%close(err)
-    end subroutine probe_output
+        type(error_t), allocatable :: close_err
+        real(rk), allocatable :: values(:)
+        n_times = 0
+        call file%open(path, err, writable=.false.)
+        if (allocated(err)) return
+        call file%read('/rods/' // name // '/time', values, err)
+        call file%close(close_err)
+        if (allocated(err)) return
+        n_times = min(n, size(values), size(times))
+        times(1:n_times) = values(1:n_times)
+    end subroutine read_record_times
+
+    !> The XDMF sidecar for the records in the file (rank 0; DESIGN.md §7).
+    subroutine write_sidecar(writer, layouts, times, err)
+        type(result_writer_t), intent(in) :: writer
+        type(rod_layout_t), intent(in) :: layouts(:)
+        real(rk), intent(in) :: times(:)
+        type(error_t), allocatable, intent(out) :: err
+        type(xdmf_rod_t) :: rods(size(layouts))
+        integer :: i, k
+        logical :: has_position
+        has_position = .true.
+        do i = 1, size(layouts)
+            rods(i)%name = layouts(i)%name
+            rods(i)%n_nodes = layouts(i)%n_nodes
+            has_position = has_position .and. any(writer%fields(i)%list%path == 'position')
+            do k = 1, size(writer%fields(i)%list)
+                select case (trim(writer%fields(i)%list(k)%path))
+                case ('velocity')
+                    rods(i)%has_velocity = .true.
+                case ('directors')
+                    rods(i)%has_directors = .true.
+                end select
+            end do
+        end do
+        ! ParaView needs the centrelines; without them there is nothing to show.
+        if (.not. has_position) return
+        call write_xdmf_sidecar(writer%file%path, rods, times, err)
+    end subroutine write_sidecar
+
+    !> One progress line on rank 0 (its own rods): time, step, dt, Newton iterations,
+    !> energy-balance error relative to the largest energy, estimated time left.
+    subroutine report_progress(scene, n, first_step, runners, elapsed)
+        type(scene_t), intent(in) :: scene
+        integer, intent(in) :: n, first_step
+        type(rod_runner_t), intent(in) :: runners(:)
+        real(rk), intent(in) :: elapsed
+        real(rk) :: balance, energy, left
+        integer :: i, iterations
+        if (world_rank() /= 0) return
+        balance = 0.0_rk
+        energy = 0.0_rk
+        iterations = 0
+        do i = 1, size(runners)
+            if (rod_owner(i) /= 0) cycle
+            balance = max(balance, runners(i)%max_balance)
+            energy = max(energy, runners(i)%max_energy)
+            iterations = iterations + runners(i)%total_iterations
+        end do
+        left = elapsed / real(n - first_step + 1, rk) * real(step_count(scene) - n, rk)
+        call log_info('rodsolve: t = ' // str(min(real(n, rk) * scene%time%dt, &
+            scene%time%t_end)) // ', step ' // str(n) // '/' // str(step_count(scene)) // &
+            ', dt = ' // str(scene%time%dt) // ', Newton iterations ' // &
+            str(iterations) // ', energy balance ' // str_significant(balance / max(energy, &
+            tiny(1.0_rk)), 2) // ' of max H, ' // str_significant(elapsed, 3) // ' s, ' // &
+            str_significant(left, 2) // ' s left')
+    end subroutine report_progress
+
+    !> The rods' summary lines and the run's: wall time, steps, rejected steps, Newton
+    !> iterations, and where the time went (slowest rank).
+    subroutine report_summary(runners, started, output_seconds, n_steps, path)
+        type(rod_runner_t), intent(inout) :: runners(:)
+        real(rk), intent(in) :: started, output_seconds
+        integer, intent(in) :: n_steps
+        character(len=*), intent(in) :: path
+        real(rk) :: assembly, solve, output
+        integer :: i, iterations, cutbacks
+        assembly = 0.0_rk
+        solve = 0.0_rk
+        iterations = 0
+        cutbacks = 0
+        do i = 1, size(runners)
+            if (rod_owner(i) /= world_rank()) cycle
+            call runners(i)%finish()
+            assembly = assembly + runners(i)%assembly_seconds()
+            solve = solve + runners(i)%solve_seconds - runners(i)%assembly_seconds()
+            iterations = iterations + runners(i)%total_iterations
+            cutbacks = cutbacks + runners(i)%total_cutbacks
+        end do
+        iterations = sum_over_ranks(iterations)
+        cutbacks = sum_over_ranks(cutbacks)
+        assembly = max_over_ranks(assembly)
+        solve = max_over_ranks(solve)
+        output = max_over_ranks(output_seconds)
+        call log_info('rodsolve: ' // str(size(runners)) // ' rod(s), ' // str(n_steps) // &
+            ' steps, ' // str(cutbacks) // ' rejected (cut-backs), ' // str(iterations) // &
+            ' Newton iterations; wall time ' // str_significant(wall_time() - started, 3) // &
+            ' s: assembly ' // str_significant(assembly, 3) // ' s, linear solves and Newton ' // &
+            str_significant(solve, 3) // ' s, output ' // str_significant(output, 3) // &
+            ' s (slowest rank); results in ' // path)
+    end subroutine report_summary
+
+    !> True (on every rank, with `err` set) if `local_err` is set on any rank.
+    logical function collective_failure(local_err, err, elsewhere)
+        type(error_t), allocatable, intent(inout) :: local_err
+        type(error_t), allocatable, intent(inout) :: err
+        character(len=*), intent(in) :: elsewhere
+        collective_failure = any_rank_true(allocated(local_err))
+        if (.not. collective_failure) return
+        if (allocated(local_err)) then
+            call move_alloc(local_err, err)
+        else
+            RS_SET_ERROR(err, 'run_scene', elsewhere)
+        end if
+    end function collective_failure
+
+    function run_meta(scene, command_line) result(meta)
+        type(scene_t), intent(in) :: scene
+        character(len=*), intent(in) :: command_line
+        type(result_meta_t) :: meta
+        meta%command_line = command_line
+        meta%n_ranks = world_size()
+        meta%petsc_version = petsc_version()
+        meta%mpi_version = mpi_library_version()
+        meta%input_text = scene%source_text
+        meta%input_resolved = resolved_scene_text(scene)
+        meta%petsc_options = petsc_options_text()
+        meta%title = trim(scene%run%title)
+        meta%units = trim(scene%run%units)
+    end function run_meta
+
+    !> Copy the file `source` to `target` (a restart into a new result file).
+    subroutine copy_file(source, target, err)
+        character(len=*), intent(in) :: source, target
+        type(error_t), allocatable, intent(out) :: err
+        type(hdf5_file_t) :: probe
+        character(len=:), allocatable :: message
+        character(len=1), allocatable :: buffer(:)
+        integer(int64) :: size_, at
+        integer :: input, output, status, chunk
+        ! Creating the target through the HDF5 layer makes its directories and checks them.
+        call probe%create(target, err)
+        if (allocated(err)) return
+        call probe%close(err)
+        if (allocated(err)) return
+        open(newunit=input, file=source, access='stream', form='unformatted', status='old', &
+            action='read', iostat=status)
+        if (status /= 0) then
+            message = 'cannot read the restart file "' // source // '"'
+            RS_SET_ERROR(err, 'copy_file', message)
+            return
+        end if
+        inquire(unit=input, size=size_)
+        open(newunit=output, file=target, access='stream', form='unformatted', &
+            status='replace', action='write', iostat=status)
+        if (status /= 0) then
+            close(input)
+            message = 'cannot write "' // target // '"'
+            RS_SET_ERROR(err, 'copy_file', message)
+            return
+        end if
+        allocate(buffer(8 * 1024 * 1024))
+        at = 0
+        do while (at < size_)
+            chunk = int(min(int(size(buffer), int64), size_ - at))
+            read(input, iostat=status) buffer(1:chunk)
+            if (status == 0) write(output, iostat=status) buffer(1:chunk)
+            if (status /= 0) exit
+            at = at + chunk
+        end do
+        close(input)
+        close(output)
+        if (status /= 0) then
+            message = 'copying "' // source // '" to "' // target // '" failed'
+            RS_SET_ERROR(err, 'copy_file', message)
+        end if
+    end subroutine copy_file
 
     !> Rank that runs rod i: round robin, so independent rods spread over the ranks.
     integer function rod_owner(i)

@@ -55,6 +55,13 @@ module rs_formulations_formulation
         !> Switch the step problem to (or back from) the endpoint equilibrium at load time
         !> `t_load`: the next step solves it instead of a time step; default: nothing to switch.
         procedure :: set_endpoint_solve => default_set_endpoint_solve
+        !> Length of the book-keeping a restart needs besides the state X (sums since the last
+        !> record, Newton statistics; DESIGN.md §7 /checkpoint); default 0.
+        procedure :: n_internal => default_n_internal
+        !> That book-keeping as reals (`values` has n_internal entries).
+        procedure :: save_internal => default_save_internal
+        !> Restore what save_internal gave.
+        procedure :: restore_internal => default_restore_internal
     end type rod_formulation_t
 
     abstract interface
@@ -140,6 +147,21 @@ contains
         logical, intent(in) :: on
         real(rk), intent(in) :: t_load
     end subroutine default_set_endpoint_solve
+
+    pure integer function default_n_internal(this)
+        class(rod_formulation_t), intent(in) :: this
+        default_n_internal = 0
+    end function default_n_internal
+
+    subroutine default_save_internal(this, values)
+        class(rod_formulation_t), intent(in) :: this
+        real(rk), intent(out) :: values(:)
+    end subroutine default_save_internal
+
+    subroutine default_restore_internal(this, values)
+        class(rod_formulation_t), intent(inout) :: this
+        real(rk), intent(in) :: values(:)
+    end subroutine default_restore_internal
 
     subroutine default_predictor(this, t_n, h, x_n, y)
         class(rod_formulation_t), intent(inout) :: this

@@ -1,6 +1,10 @@
-!> A thin, checked layer over the HDF5 Fortran API for writing one file from one rank (DESIGN.md
-!> §7; only src/io/ calls HDF5, STYLE.md item 6). The default (serial) file driver is used: the
-!> caller guarantees that only one rank calls it (rank 0 after a gather).
+!> A thin, checked layer over the HDF5 Fortran API (DESIGN.md §7; only src/io/ calls HDF5,
+!> STYLE.md item 6). `create` and `open` use the default (serial) driver: one rank calls them.
+!> `open(..., parallel=.true.)` opens a file on every rank with the MPI-IO driver, where every
+!> call that changes metadata is collective. rodsolve's runs do not use it: with Debian's Open
+!> MPI 4.1 (OMPIO) and HDF5 1.10, H5Dset_extent of a chunked dataset hangs (HDF5 writes fill
+!> blocks independently, OMPIO's MPI_File_set_view is collective), and with ROMIO H5Fopen
+!> fails; so result files are written by rank 0 (docs/user/output.md).
 !>
 !> Every HDF5 call is checked; a failure returns an `error_t` naming the HDF5 call, the object
 !> and the file, and HDF5's own error-stack printing is switched off so that the message is the
@@ -14,8 +18,9 @@
 !>   `str` for attributes and `bytes` for datasets (`ds.asstr()[()]` gives `str`). A string is
 !>   cut at its first NUL character.
 !> - A dataset whose last Fortran dimension counts stored steps (`series = .true.`) is chunked
-!>   along that dimension (min(n, 64) steps, fewer when one chunk would exceed 1 MiB; every other
-!>   dimension whole) and has an unlimited maximum there, so it can grow record by record.
+!>   along that dimension (64 steps, fewer when one chunk would exceed 1 MiB; every other
+!>   dimension whole), allocated early, with an unlimited maximum there, so it grows record by
+!>   record (`set_records`, `write_records`).
 !>   Other datasets are contiguous.
 module rs_io_hdf5_file
     use, intrinsic :: iso_c_binding, only: c_char, c_int, c_null_char, c_ptr, c_null_ptr, c_loc
@@ -25,9 +30,15 @@ module rs_io_hdf5_file
         h5adelete_f, h5acreate_f, h5awrite_f, h5aclose_f, h5pcreate_f, h5pset_chunk_f, &
         h5pclose_f, h5dcreate_f, h5dwrite_f, h5dclose_f, H5F_ACC_TRUNC_F, H5S_SCALAR_F, &
         H5S_UNLIMITED_F, H5P_DATASET_CREATE_F, H5T_STRING, H5T_CSET_UTF8_F, H5T_NATIVE_DOUBLE, &
-        H5T_NATIVE_INTEGER, H5T_IEEE_F64LE, H5T_STD_I32LE
+        H5T_NATIVE_INTEGER, H5T_IEEE_F64LE, H5T_STD_I32LE, h5fopen_f, h5fflush_f, &
+        H5F_ACC_RDWR_F, H5F_ACC_RDONLY_F, H5F_SCOPE_GLOBAL_F, H5P_FILE_ACCESS_F, H5P_DEFAULT_F, &
+        h5pset_fapl_mpio_f, h5dopen_f, h5dget_space_f, h5dset_extent_f, h5dread_f, &
+        h5sget_simple_extent_ndims_f, h5sget_simple_extent_dims_f, h5sselect_hyperslab_f, &
+        H5S_SELECT_SET_F, h5ldelete_f, h5pset_alloc_time_f, H5D_ALLOC_TIME_EARLY_F
+    use mpi, only: MPI_COMM_WORLD, MPI_INFO_NULL
     use rs_core_kinds, only: rk
     use rs_core_error, only: error_t, set_error
+    use rs_core_strings, only: str
     implicit none
     private
 
@@ -47,9 +58,37 @@ module rs_io_hdf5_file
         integer(hid_t) :: id = -1
         !> The file name as given to `create`, for messages.
         character(len=:), allocatable :: path
+        !> Opened on MPI_COMM_WORLD with the MPI-IO driver (`open(..., parallel=.true.)`).
+        logical :: parallel = .false.
     contains
         !> Create (or truncate) a file, creating missing parent directories.
         procedure :: create => file_create
+        !> Open an existing file for reading and writing (or reading only); `parallel` opens it
+        !> on every rank of MPI_COMM_WORLD with the MPI-IO driver, where every call that
+        !> changes metadata (set_records, flush, close, attributes) is collective and
+        !> `write_records` is independent.
+        procedure :: open => file_open
+        !> Flush everything written to the disk (collective when parallel).
+        procedure :: flush => file_flush
+        !> Whether an object (group or dataset) exists at `path`.
+        procedure :: exists => file_exists
+        !> Remove the link `path` (its storage is not reclaimed).
+        procedure :: delete => file_delete
+        !> Dimensions of a dataset in Fortran order (the last one counts records in series).
+        procedure :: dataset_dims => file_dataset_dims
+        !> Create an empty series dataset (no records yet) of real or integer (`integer_values`)
+        !> records of Fortran shape `record_dims`, with `unit` and `description`.
+        procedure :: create_series => file_create_series
+        !> Set the number of records (the last Fortran dimension) of a series dataset; grows or
+        !> shrinks it. Collective when parallel.
+        procedure :: set_records => file_set_records
+        !> Write records first .. first + n - 1 of a series dataset from a flat array of n whole
+        !> records (the dataset must hold them: see set_records). Collective when parallel.
+        generic :: write_records => write_records_real, write_records_integer
+        !> Read a whole real or integer dataset into a flat array (Fortran element order).
+        generic :: read => read_real, read_integer
+        procedure, private :: write_records_real, write_records_integer, write_records_buffer
+        procedure, private :: read_real, read_integer, read_buffer
         !> Close the file; does nothing when none is open.
         procedure :: close => file_close
         !> Whether a file is open.
@@ -162,6 +201,7 @@ contains
         if (.not. this%is_open()) return
         call h5fclose_f(this%id, status)
         this%id = -1
+        this%parallel = .false.
         if (this%failed(status, 'H5Fclose', '/', 'hdf5_file%close', __LINE__, err)) return
     end subroutine file_close
 
@@ -403,13 +443,19 @@ contains
             max_dims = dims
             if (series) then
                 ! DESIGN.md §7: chunked and extendable along the steps.
+                ! Records arrive a few at a time, so the chunk does not depend on how many
+                ! there are now. Early allocation: the chunks exist once the extent is set, so
+                ! ranks can write their records independently in a parallel file.
                 max_dims(rank) = H5S_UNLIMITED_F
                 chunk = max(dims, 1_hsize_t)
                 step_bytes = product(chunk(1:rank - 1)) * int(element_bytes, hsize_t)
-                chunk(rank) = max(1_hsize_t, min(dims(rank), int(max_chunk_steps, hsize_t), &
+                chunk(rank) = max(1_hsize_t, min(int(max_chunk_steps, hsize_t), &
                     int(max_chunk_bytes, hsize_t) / step_bytes))
                 call h5pset_chunk_f(properties, rank, chunk, status)
                 if (this%failed(status, 'H5Pset_chunk', path, routine, __LINE__, err)) exit body
+                call h5pset_alloc_time_f(properties, H5D_ALLOC_TIME_EARLY_F, status)
+                if (this%failed(status, 'H5Pset_alloc_time', path, routine, __LINE__, err)) &
+                    exit body
             end if
             call h5screate_simple_f(rank, dims, space, status, max_dims)
             if (this%failed(status, 'H5Screate_simple', path, routine, __LINE__, err)) exit body
@@ -484,6 +530,280 @@ contains
         if (this%failed(close_status, 'H5Aclose/H5Sclose/H5Oclose', what, routine, __LINE__, &
                 err)) return
     end subroutine write_attribute_buffer
+
+    !> Open the existing file `path`; `writable` (default true) for reading and writing.
+    subroutine file_open(this, path, err, writable, parallel)
+        class(hdf5_file_t), intent(inout) :: this
+        character(len=*), intent(in) :: path
+        type(error_t), allocatable, intent(out) :: err
+        logical, intent(in), optional :: writable, parallel
+        character(len=*), parameter :: routine = 'hdf5_file%open'
+        integer(hid_t) :: access
+        integer :: status, mode
+        if (this%is_open()) then
+            call set_error(err, 'cannot open "' // path // '": this object still has "' // &
+                this%path // '" open', routine, __FILE__, __LINE__)
+            return
+        end if
+        this%path = path
+        this%parallel = optional_true(parallel)
+        mode = H5F_ACC_RDWR_F
+        if (present(writable)) then
+            if (.not. writable) mode = H5F_ACC_RDONLY_F
+        end if
+        call h5open_f(status)
+        if (this%failed(status, 'H5open', '/', routine, __LINE__, err)) return
+        call h5eset_auto_f(0, status)
+        if (this%failed(status, 'H5Eset_auto', '/', routine, __LINE__, err)) return
+        access = H5P_DEFAULT_F
+        if (this%parallel) then
+            call h5pcreate_f(H5P_FILE_ACCESS_F, access, status)
+            if (this%failed(status, 'H5Pcreate', '/', routine, __LINE__, err)) return
+            call h5pset_fapl_mpio_f(access, MPI_COMM_WORLD, MPI_INFO_NULL, status)
+            if (this%failed(status, 'H5Pset_fapl_mpio', '/', routine, __LINE__, err)) return
+        end if
+        call h5fopen_f(path, mode, this%id, status, access_prp=access)
+        if (this%parallel) call h5pclose_f(access, mode)
+        if (status /= 0) then
+            this%id = -1
+            call set_error(err, 'cannot open the HDF5 file "' // path // &
+                '" (H5Fopen failed: missing, not an HDF5 file, or locked by a running program?)', &
+                routine, __FILE__, __LINE__)
+        end if
+    end subroutine file_open
+
+    subroutine file_flush(this, err)
+        class(hdf5_file_t), intent(inout) :: this
+        type(error_t), allocatable, intent(out) :: err
+        integer :: status
+        call this%check_open('/', 'hdf5_file%flush', err)
+        if (allocated(err)) return
+        call h5fflush_f(this%id, H5F_SCOPE_GLOBAL_F, status)
+        if (this%failed(status, 'H5Fflush', '/', 'hdf5_file%flush', __LINE__, err)) return
+    end subroutine file_flush
+
+    !> True if every link along `path` exists (false also when no file is open).
+    logical function file_exists(this, path)
+        class(hdf5_file_t), intent(inout) :: this
+        character(len=*), intent(in) :: path
+        integer :: status, i
+        logical :: exists
+        file_exists = .false.
+        if (.not. this%is_open()) return
+        do i = 2, len(path) + 1
+            if (i <= len(path)) then
+                if (path(i:i) /= '/') cycle
+            end if
+            if (path(i - 1:i - 1) == '/') cycle
+            call h5lexists_f(this%id, path(1:i - 1), exists, status)
+            if (status /= 0 .or. .not. exists) return
+        end do
+        file_exists = .true.
+    end function file_exists
+
+    subroutine file_delete(this, path, err)
+        class(hdf5_file_t), intent(inout) :: this
+        character(len=*), intent(in) :: path
+        type(error_t), allocatable, intent(out) :: err
+        integer :: status
+        call this%check_open(path, 'hdf5_file%delete', err)
+        if (allocated(err)) return
+        call h5ldelete_f(this%id, path, status)
+        if (this%failed(status, 'H5Ldelete', path, 'hdf5_file%delete', __LINE__, err)) return
+    end subroutine file_delete
+
+    subroutine file_dataset_dims(this, path, dims, err)
+        class(hdf5_file_t), intent(inout) :: this
+        character(len=*), intent(in) :: path
+        integer, allocatable, intent(out) :: dims(:)
+        type(error_t), allocatable, intent(out) :: err
+        character(len=*), parameter :: routine = 'hdf5_file%dataset_dims'
+        integer(hid_t) :: dataset, space
+        integer(hsize_t) :: h5_dims(8), h5_max(8)
+        integer :: status, rank, close_status
+        call this%check_open(path, routine, err)
+        if (allocated(err)) return
+        dataset = -1
+        space = -1
+        body: block
+            call h5dopen_f(this%id, path, dataset, status)
+            if (this%failed(status, 'H5Dopen', path, routine, __LINE__, err)) exit body
+            call h5dget_space_f(dataset, space, status)
+            if (this%failed(status, 'H5Dget_space', path, routine, __LINE__, err)) exit body
+            call h5sget_simple_extent_ndims_f(space, rank, status)
+            if (this%failed(status, 'H5Sget_simple_extent_ndims', path, routine, __LINE__, err)) &
+                exit body
+            call h5sget_simple_extent_dims_f(space, h5_dims(1:rank), h5_max(1:rank), status)
+            if (status < 0) then
+                status = -1
+                if (this%failed(status, 'H5Sget_simple_extent_dims', path, routine, __LINE__, &
+                    err)) exit body
+            end if
+            ! HDF5's Fortran API returns the dimensions in Fortran order already.
+            dims = int(h5_dims(1:rank))
+        end block body
+        call close_all(dataset, space, -1_hid_t, close_status)
+        if (allocated(err)) return
+        if (this%failed(close_status, 'H5Dclose/H5Sclose', path, routine, __LINE__, err)) return
+    end subroutine file_dataset_dims
+
+    subroutine file_create_series(this, path, record_dims, integer_values, unit, description, err)
+        class(hdf5_file_t), intent(inout) :: this
+        character(len=*), intent(in) :: path, unit, description
+        integer, intent(in) :: record_dims(:)
+        logical, intent(in) :: integer_values
+        type(error_t), allocatable, intent(out) :: err
+        integer(hsize_t) :: dims(size(record_dims) + 1)
+        dims(1:size(record_dims)) = int(record_dims, hsize_t)
+        dims(size(dims)) = 0
+        if (integer_values) then
+            call this%write_numeric_dataset(path, dims, H5T_STD_I32LE, H5T_NATIVE_INTEGER, 4, &
+                c_null_ptr, unit, description, .true., err)
+        else
+            call this%write_numeric_dataset(path, dims, H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, 8, &
+                c_null_ptr, unit, description, .true., err)
+        end if
+    end subroutine file_create_series
+
+    subroutine file_set_records(this, path, n_records, err)
+        class(hdf5_file_t), intent(inout) :: this
+        character(len=*), intent(in) :: path
+        integer, intent(in) :: n_records
+        type(error_t), allocatable, intent(out) :: err
+        character(len=*), parameter :: routine = 'hdf5_file%set_records'
+        integer, allocatable :: dims(:)
+        integer(hid_t) :: dataset
+        integer :: status, close_status
+        call this%dataset_dims(path, dims, err)
+        if (allocated(err)) return
+        if (dims(size(dims)) == n_records) return
+        dims(size(dims)) = n_records
+        call h5dopen_f(this%id, path, dataset, status)
+        if (this%failed(status, 'H5Dopen', path, routine, __LINE__, err)) return
+        call h5dset_extent_f(dataset, int(dims, hsize_t), status)
+        call h5dclose_f(dataset, close_status)
+        if (this%failed(status, 'H5Dset_extent', path, routine, __LINE__, err)) return
+        if (this%failed(close_status, 'H5Dclose', path, routine, __LINE__, err)) return
+    end subroutine file_set_records
+
+    subroutine write_records_real(this, path, first, values, err)
+        class(hdf5_file_t), intent(inout) :: this
+        character(len=*), intent(in) :: path
+        integer, intent(in) :: first
+        real(rk), intent(in), target, contiguous :: values(:)
+        type(error_t), allocatable, intent(out) :: err
+        if (size(values) == 0) return
+        call this%write_records_buffer(path, first, size(values), H5T_NATIVE_DOUBLE, &
+            c_loc(values), err)
+    end subroutine write_records_real
+
+    subroutine write_records_integer(this, path, first, values, err)
+        class(hdf5_file_t), intent(inout) :: this
+        character(len=*), intent(in) :: path
+        integer, intent(in) :: first
+        integer, intent(in), target, contiguous :: values(:)
+        type(error_t), allocatable, intent(out) :: err
+        if (size(values) == 0) return
+        call this%write_records_buffer(path, first, size(values), H5T_NATIVE_INTEGER, &
+            c_loc(values), err)
+    end subroutine write_records_integer
+
+    !> Write `count` values (whole records) into the series dataset `path` from record `first`.
+    subroutine write_records_buffer(this, path, first, count, memory_type, data, err)
+        class(hdf5_file_t), intent(inout) :: this
+        character(len=*), intent(in) :: path
+        integer, intent(in) :: first, count
+        integer(hid_t), intent(in) :: memory_type
+        type(c_ptr), intent(in) :: data
+        type(error_t), allocatable, intent(out) :: err
+        character(len=*), parameter :: routine = 'hdf5_file%write_records'
+        integer, allocatable :: dims(:)
+        integer(hsize_t), allocatable :: start(:), block_dims(:)
+        integer(hid_t) :: dataset, file_space, memory_space
+        integer :: status, close_status, rank, per_record, n
+        call this%dataset_dims(path, dims, err)
+        if (allocated(err)) return
+        rank = size(dims)
+        per_record = max(1, product(dims(1:rank - 1)))
+        n = count / per_record
+        if (n * per_record /= count .or. first < 1 .or. first + n - 1 > dims(rank)) then
+            call set_error(err, 'cannot write ' // str(count) // ' values as records ' // &
+                str(first) // '.. of "' // path // '" in "' // this%path // &
+                '": not whole records, or beyond its ' // str(dims(rank)) // ' records', &
+                routine, __FILE__, __LINE__)
+            return
+        end if
+        allocate(start(rank), source=0_hsize_t)
+        start(rank) = int(first - 1, hsize_t)
+        block_dims = int(dims, hsize_t)
+        block_dims(rank) = int(n, hsize_t)
+        dataset = -1
+        file_space = -1
+        memory_space = -1
+        body: block
+            call h5dopen_f(this%id, path, dataset, status)
+            if (this%failed(status, 'H5Dopen', path, routine, __LINE__, err)) exit body
+            call h5dget_space_f(dataset, file_space, status)
+            if (this%failed(status, 'H5Dget_space', path, routine, __LINE__, err)) exit body
+            call h5sselect_hyperslab_f(file_space, H5S_SELECT_SET_F, start, block_dims, status)
+            if (this%failed(status, 'H5Sselect_hyperslab', path, routine, __LINE__, err)) &
+                exit body
+            call h5screate_simple_f(rank, block_dims, memory_space, status)
+            if (this%failed(status, 'H5Screate_simple', path, routine, __LINE__, err)) exit body
+            call h5dwrite_f(dataset, memory_type, data, status, mem_space_id=memory_space, &
+                file_space_id=file_space)
+            if (this%failed(status, 'H5Dwrite', path, routine, __LINE__, err)) exit body
+        end block body
+        call close_all(dataset, file_space, -1_hid_t, close_status)
+        if (memory_space >= 0) call h5sclose_f(memory_space, status)
+        if (allocated(err)) return
+        if (this%failed(close_status, 'H5Dclose/H5Sclose', path, routine, __LINE__, err)) return
+    end subroutine write_records_buffer
+
+    subroutine read_real(this, path, values, err)
+        class(hdf5_file_t), intent(inout) :: this
+        character(len=*), intent(in) :: path
+        real(rk), allocatable, target, intent(out) :: values(:)
+        type(error_t), allocatable, intent(out) :: err
+        integer, allocatable :: dims(:)
+        call this%dataset_dims(path, dims, err)
+        if (allocated(err)) return
+        allocate(values(product(dims)))
+        if (size(values) == 0) return
+        call this%read_buffer(path, H5T_NATIVE_DOUBLE, c_loc(values), err)
+    end subroutine read_real
+
+    subroutine read_integer(this, path, values, err)
+        class(hdf5_file_t), intent(inout) :: this
+        character(len=*), intent(in) :: path
+        integer, allocatable, target, intent(out) :: values(:)
+        type(error_t), allocatable, intent(out) :: err
+        integer, allocatable :: dims(:)
+        call this%dataset_dims(path, dims, err)
+        if (allocated(err)) return
+        allocate(values(product(dims)))
+        if (size(values) == 0) return
+        call this%read_buffer(path, H5T_NATIVE_INTEGER, c_loc(values), err)
+    end subroutine read_integer
+
+    subroutine read_buffer(this, path, memory_type, data, err)
+        class(hdf5_file_t), intent(inout) :: this
+        character(len=*), intent(in) :: path
+        integer(hid_t), intent(in) :: memory_type
+        type(c_ptr), intent(in) :: data
+        type(error_t), allocatable, intent(out) :: err
+        integer(hid_t) :: dataset
+        integer :: status, close_status
+        type(c_ptr) :: buffer
+        buffer = data
+        call h5dopen_f(this%id, path, dataset, status)
+        if (this%failed(status, 'H5Dopen', path, 'hdf5_file%read', __LINE__, err)) return
+        call h5dread_f(dataset, memory_type, buffer, status)
+        call h5dclose_f(dataset, close_status)
+        if (this%failed(status, 'H5Dread', path, 'hdf5_file%read', __LINE__, err)) return
+        if (this%failed(close_status, 'H5Dclose', path, 'hdf5_file%read', __LINE__, err)) return
+    end subroutine read_buffer
+
 
     !> Before creating dataset `path`: the file is open, the groups above exist and the name is
     !> free (a clear message instead of H5Dcreate's failure).

@@ -1,16 +1,22 @@
 !> Resolution and cross-checks of a scene that was read without errors (DESIGN.md §6): fills
-!> derived defaults (rod names, formulations, directors, stiffnesses from section and material,
+!> derived defaults (rod names, formulations, the centreline's start, direction and length,
+!> directors, the centre of the initial rotation, stiffnesses from section and material,
 !> Maxwell shear relaxation times, output path) and checks what no single variable can (a &bc
 !> on a rod that does not exist, an end supported twice, a table that is not increasing, dt
 !> above t_end, Maxwell fractions that leave no elastic branch, an actuator without its force,
-!> ...). Every problem is added to `errors`, naming the file, line, group and variable.
+!> a helix length that contradicts its turns, a polyline that doubles back, an initial velocity
+!> at a clamped end, ...). Every problem is added to `errors`, naming the file, line, group and
+!> variable.
 module rs_io_input_check
     use rs_core_kinds, only: rk
     use rs_core_error, only: error_list_t
     use rs_core_strings, only: str
     use rs_model_scene, only: scene_t, rod_input_t, actuator_input_t, unset_real, section_derived_names
+    use rs_model_rod_geometry, only: rod_geometry_t, straight_geometry, helix_geometry, &
+        polyline_geometry, centreline_tangent, default_normal
     use rs_model_section, only: section_properties_t, circle_section, tube_section, rectangle_section
     use rs_model_capabilities, only: capability_t, capability_of, lists_name
+    use rs_io_result_file, only: unknown_fields, selectable_fields
     implicit none
     private
 
@@ -21,6 +27,10 @@ module rs_io_input_check
 
     !> Deviation from unit length or orthogonality that counts as round-off.
     real(rk), parameter :: round_off = 4.0_rk * epsilon(1.0_rk)
+    !> Relative difference below which a given length agrees with a derived one.
+    real(rk), parameter :: length_tolerance = 1.0e-9_rk
+    !> Largest |t_j + t_{j+1}| of consecutive polyline tangents that counts as a reversal.
+    real(rk), parameter :: reversal_tolerance = 1.0e-8_rk
 
 contains
 
@@ -35,6 +45,7 @@ contains
             if (scene%time%dt > scene%time%t_end) call errors%add(at(scene, 0) // '&time dt: ' // &
                 str(scene%time%dt) // ' is larger than t_end = ' // str(scene%time%t_end))
         end if
+        call check_output_and_restart(scene, errors)
         if (size(scene%rods) == 0) call errors%add(scene%source_file // ': the scene has no &rod group')
         do i = 1, size(scene%rods)
             call resolve_rod(scene, i, errors)
@@ -73,41 +84,186 @@ contains
         integer, intent(in) :: i
         type(error_list_t), intent(inout) :: errors
         character(len=:), allocatable :: here
+        type(rod_geometry_t) :: geometry
         real(rk) :: t(3), d1(3)
+        logical :: ok
 
         associate (rod => scene%rods(i))
             if (len_trim(rod%name) == 0) rod%name = 'rod' // str(i)
             here = at(scene, rod%input_line) // '&rod ''' // trim(rod%name) // ''' '
-            if (len_trim(rod%formulation) == 0) rod%formulation = scene%run%formulation_default
+            if (len_trim(rod%formulation) == 0) then
+                rod%formulation = scene%run%formulation_default
+                rod%formulation_origin = 'default'
+            else
+                rod%formulation_origin = 'rod'
+            end if
             ! 'auto' picks the planar formulation for planar scenes (DESIGN.md §4) once one is
             ! available; until then every scene runs on the 3D ph_director.
-            if (rod%formulation == 'auto') rod%formulation = 'ph_director'
-            if (norm2(rod%direction) == 0.0_rk) then
-                call errors%add(here // 'direction: must not be the zero vector')
-                return
+            if (rod%formulation == 'auto') then
+                rod%formulation = 'ph_director'
+                rod%formulation_origin = 'auto'
             end if
-            ! Vectors that are unit (and orthogonal) to round-off are kept bit for bit, so that
-            ! resolving a resolved scene changes nothing (the --check-input echo reads back).
-            t = rod%direction
-            if (abs(norm2(t) - 1.0_rk) > round_off) t = t / norm2(t)
-            rod%direction = t
+            call resolve_geometry(rod, here, geometry, ok, errors)
+            if (.not. ok) return
+            t = centreline_tangent(geometry, 0.0_rk)
             if (rod%d1(1) == unset_real) then
-                rod%d1 = default_d1(t)
+                rod%d1 = default_normal(t)
             else
                 ! Keep the given d1's orientation about the centreline, made orthonormal.
                 d1 = rod%d1
                 if (abs(dot_product(d1, t)) > round_off) d1 = d1 - dot_product(d1, t) * t
                 if (norm2(d1) <= 1.0e-8_rk * max(norm2(rod%d1), tiny(1.0_rk))) then
-                    call errors%add(here // 'd1: must not be parallel to direction')
+                    if (trim(rod%geometry) == 'straight') then
+                        call errors%add(here // 'd1: must not be parallel to direction')
+                    else
+                        call errors%add(here // 'd1: (' // vector_text(rod%d1) // ') must not be ' // &
+                            'parallel to the tangent of the ' // trim(rod%geometry) // ' at s = 0, (' // &
+                            vector_text(t) // ')')
+                    end if
                     return
                 end if
                 if (abs(norm2(d1) - 1.0_rk) > round_off) d1 = d1 / norm2(d1)
                 rod%d1 = d1
             end if
+            where (rod%rotation_center == unset_real) rod%rotation_center = rod%start
+            if (scene%time%quasistatic) then
+                if (any(rod%velocity /= 0.0_rk)) call errors%add(here // 'velocity: (' // &
+                    vector_text(rod%velocity) // ') given, but a quasistatic run (&time ' // &
+                    'quasistatic) has no inertia; allowed: 0, 0, 0')
+                if (any(rod%angular_velocity /= 0.0_rk)) call errors%add(here // &
+                    'angular_velocity: (' // vector_text(rod%angular_velocity) // ') given, ' // &
+                    'but a quasistatic run (&time quasistatic) has no inertia; allowed: 0, 0, 0')
+            end if
             call resolve_maxwell(rod, here, errors)
             call resolve_stiffness(rod, here, errors)
         end associate
     end subroutine resolve_rod
+
+    !> The reference centreline of `rod` (rs_model_rod_geometry): start and direction default
+    !> to the origin and e_x (a polyline derives both from its points and checks given ones), a
+    !> direction is normalized (kept bit for bit when unit to round-off, so that resolving a
+    !> resolved scene changes nothing), a helix or polyline derives its length and checks a
+    !> given one. `ok` is false if the geometry cannot be built.
+    subroutine resolve_geometry(rod, here, geometry, ok, errors)
+        type(rod_input_t), intent(inout) :: rod
+        character(len=*), intent(in) :: here
+        type(rod_geometry_t), intent(out) :: geometry
+        logical, intent(out) :: ok
+        type(error_list_t), intent(inout) :: errors
+        real(rk), allocatable :: points(:, :)
+        real(rk), parameter :: e_x(3) = [1.0_rk, 0.0_rk, 0.0_rk]
+        real(rk) :: t(3)
+        character(len=:), allocatable :: formula
+        integer :: n_values, n_points, j
+        logical :: start_given, direction_given
+
+        ok = .false.
+        ! Component by component, so that start(2) = 5 alone keeps the other defaults.
+        start_given = any(rod%start /= unset_real)
+        direction_given = any(rod%direction /= unset_real)
+        where (rod%start == unset_real) rod%start = 0.0_rk
+        where (rod%direction == unset_real) rod%direction = e_x
+        if (trim(rod%geometry) == 'polyline') then
+            n_values = leading_count(rod%points)
+            if (any(rod%points(n_values + 1:) /= unset_real)) then
+                call errors%add(here // 'points: entry ' // str(n_values + 1) // ' is not ' // &
+                    'given but a later one is; give the points from the first on without gaps')
+                return
+            end if
+            if (mod(n_values, 3) /= 0) then
+                call errors%add(here // 'points: ' // str(n_values) // ' values given; each ' // &
+                    'point takes 3 (x, y, z)')
+                return
+            end if
+            n_points = n_values / 3
+            if (n_points < 2) then
+                call errors%add(here // 'points: a polyline needs at least 2 points (' // &
+                    str(n_points) // ' given)')
+                return
+            end if
+            points = reshape(rod%points(1:n_values), [3, n_points])
+            do j = 1, n_points - 1
+                if (all(points(:, j + 1) == points(:, j))) then
+                    call errors%add(here // 'points: points ' // str(j) // ' and ' // str(j + 1) // &
+                        ' coincide at (' // vector_text(points(:, j)) // '); consecutive points ' // &
+                        'must be distinct')
+                    return
+                end if
+            end do
+            geometry = polyline_geometry(points)
+            do j = 1, n_points - 2
+                if (norm2(geometry%tangents(:, j) + geometry%tangents(:, j + 1)) < reversal_tolerance) then
+                    call errors%add(here // 'points: the segment from point ' // str(j + 1) // &
+                        ' to ' // str(j + 2) // ' reverses the one before it (a 180-degree turn ' // &
+                        'has no tangent or frame); allowed: turns of less than 180 degrees')
+                    return
+                end if
+            end do
+            if (start_given .and. any(rod%start /= points(:, 1))) then
+                call errors%add(here // 'start: (' // vector_text(rod%start) // ') given, but a ' // &
+                    'polyline starts at its first point (' // vector_text(points(:, 1)) // &
+                    '); leave start out or give that point')
+                return
+            end if
+            rod%start = points(:, 1)
+            if (direction_given) then
+                t = 0.0_rk
+                if (norm2(rod%direction) > 0.0_rk) t = rod%direction / norm2(rod%direction)
+                if (norm2(t - geometry%axis) > 1.0e-12_rk) then
+                    call errors%add(here // 'direction: (' // vector_text(rod%direction) // &
+                        ') given, but a polyline''s direction is that of its first segment, (' // &
+                        vector_text(geometry%axis) // '); leave direction out or give that')
+                    return
+                end if
+            end if
+            rod%direction = geometry%axis
+        else
+            if (norm2(rod%direction) == 0.0_rk) then
+                call errors%add(here // 'direction: must not be the zero vector')
+                return
+            end if
+            t = rod%direction
+            if (abs(norm2(t) - 1.0_rk) > round_off) t = t / norm2(t)
+            rod%direction = t
+            if (trim(rod%geometry) == 'helix') then
+                ! The reader reports missing helix variables; nothing to resolve without them.
+                if (any([rod%helix_radius, rod%helix_pitch, rod%helix_turns] == unset_real)) return
+                geometry = helix_geometry(rod%start, rod%direction, rod%helix_radius, &
+                    rod%helix_pitch, rod%helix_turns)
+            else
+                if (rod%length == unset_real) return
+                geometry = straight_geometry(rod%start, rod%direction, rod%length)
+            end if
+        end if
+        if (trim(rod%geometry) /= 'straight') then
+            if (rod%length /= unset_real .and. abs(rod%length - geometry%length) > &
+                    length_tolerance * geometry%length) then
+                if (trim(rod%geometry) == 'helix') then
+                    formula = 'helix_turns sqrt((2 pi helix_radius)^2 + helix_pitch^2)'
+                else
+                    formula = 'the sum of its segments'
+                end if
+                call errors%add(here // 'length: ' // str(rod%length) // ' given, but the ' // &
+                    trim(rod%geometry) // ' is ' // str(geometry%length) // ' long (' // formula // &
+                    '); leave length out or give that value')
+                return
+            end if
+            rod%length = geometry%length
+        end if
+        ok = .true.
+    end subroutine resolve_geometry
+
+    !> "x, y, z" in shortest exact form.
+    pure function vector_text(v) result(text)
+        real(rk), intent(in) :: v(:)
+        character(len=:), allocatable :: text
+        integer :: i
+        text = ''
+        do i = 1, size(v)
+            if (i > 1) text = text // ', '
+            text = text // str(v(i))
+        end do
+    end function vector_text
 
     !> Maxwell branches (methods/ph_director_3d.md §3.1): m = the number of leading given
     !> maxwell_fraction entries, with no gaps; one maxwell_tau_E per branch; maxwell_tau_G
@@ -167,19 +323,6 @@ contains
             n = n + 1
         end do
     end function leading_count
-
-    !> A unit vector normal to the unit tangent t: e_z x t normalized, or e_x when t is along
-    !> e_z. For a rod along e_x this is d1 = e_y, d2 = t x d1 = e_z.
-    pure function default_d1(t) result(d1)
-        real(rk), intent(in) :: t(3)
-        real(rk) :: d1(3)
-        d1 = [-t(2), t(1), 0.0_rk] + 0.0_rk   ! + 0 turns -0.0 into 0.0 for the echo
-        if (norm2(d1) < 1.0e-8_rk) then
-            d1 = [1.0_rk, 0.0_rk, 0.0_rk]
-        else
-            d1 = d1 / norm2(d1)
-        end if
-    end function default_d1
 
     !> Stiffnesses and inertias: given directly (section = 'none'), or from section and material.
     subroutine resolve_stiffness(rod, here, errors)
@@ -299,15 +442,35 @@ contains
         end do
     end function rod_names
 
+    !> Supports: an existing rod, each end supported once, and a clamped end starting at rest
+    !> (the rod's initial velocity field vanishes there only without velocity and
+    !> angular_velocity, since the director rates are angular_velocity x d_i).
     subroutine check_bcs(scene, errors)
         type(scene_t), intent(in) :: scene
         type(error_list_t), intent(inout) :: errors
-        integer :: i, j
+        character(len=:), allocatable :: where
+        integer :: i, j, r
         do i = 1, size(scene%bcs)
             associate (bc => scene%bcs(i))
-                if (len_trim(bc%rod) > 0 .and. rod_index(scene, bc%rod) == 0) call errors%add(at(scene, &
+                r = 0
+                if (len_trim(bc%rod) > 0) r = rod_index(scene, bc%rod)
+                if (len_trim(bc%rod) > 0 .and. r == 0) call errors%add(at(scene, &
                     bc%input_line) // '&bc rod: no rod is named ''' // trim(bc%rod) // '''; rods: ' // &
                     rod_names(scene))
+                if (r > 0 .and. trim(bc%kind) == 'clamped') then
+                    associate (rod => scene%rods(r))
+                        where = at(scene, rod%input_line) // '&rod ''' // trim(rod%name) // ''' '
+                        if (any(rod%velocity /= 0.0_rk)) call errors%add(where // 'velocity: (' // &
+                            vector_text(rod%velocity) // ') given, but the ''' // trim(bc%end) // &
+                            ''' end is clamped (&bc at line ' // str(bc%input_line) // ') and a ' // &
+                            'clamped end starts at rest; allowed: 0, 0, 0 (or free that end)')
+                        if (any(rod%angular_velocity /= 0.0_rk)) call errors%add(where // &
+                            'angular_velocity: (' // vector_text(rod%angular_velocity) // &
+                            ') given, but the ''' // trim(bc%end) // ''' end is clamped (&bc at ' // &
+                            'line ' // str(bc%input_line) // ') and its directors would start ' // &
+                            'turning; allowed: 0, 0, 0 (or free that end)')
+                    end associate
+                end if
                 do j = 1, i - 1
                     if (scene%bcs(j)%rod == bc%rod .and. scene%bcs(j)%end == bc%end .and. &
                             len_trim(bc%end) > 0) call errors%add(at(scene, bc%input_line) // &
@@ -376,6 +539,23 @@ contains
             end if
         end select
     end subroutine check_time_function
+
+    !> &output fields names only selectable fields (DESIGN.md §7); &run restart_from names an
+    !> existing file.
+    subroutine check_output_and_restart(scene, errors)
+        type(scene_t), intent(in) :: scene
+        type(error_list_t), intent(inout) :: errors
+        character(len=:), allocatable :: unknown
+        logical :: exists
+        unknown = unknown_fields(trim(scene%output%fields))
+        if (len(unknown) > 0) call errors%add(at(scene, 0) // '&output fields: ' // unknown // &
+            ' given; allowed are ''all'' or a comma-separated list of ' // selectable_fields)
+        if (len_trim(scene%run%restart_from) > 0) then
+            inquire(file=trim(scene%run%restart_from), exist=exists)
+            if (.not. exists) call errors%add(at(scene, 0) // '&run restart_from: the file ''' // &
+                trim(scene%run%restart_from) // ''' does not exist')
+        end if
+    end subroutine check_output_and_restart
 
     !> &actuator (seed 000 §5.2, methods/ph_director_3d.md §3.2): an existing rod; a pneumatic
     !> chamber takes area and pressure, a tendon tension, and neither takes the other's; the
@@ -486,6 +666,10 @@ contains
                 at(scene, rod%input_line) // '&rod maxwell_fraction: Maxwell branches ' // &
                 '(viscoelasticity) are not available for ' // what // ' (rod ''' // trim(rod%name) // &
                 ''')' // see_matrix)
+            if (trim(rod%geometry) /= 'straight' .and. .not. row%curved_reference) call errors%add( &
+                at(scene, rod%input_line) // '&rod geometry: a curved reference (''' // &
+                trim(rod%geometry) // ''') is not available for ' // what // ' (rod ''' // &
+                trim(rod%name) // '''); available: ''straight''' // see_matrix)
             if (scene%time%quasistatic .and. .not. row%quasistatic) call errors%add(at(scene, 0) // &
                 '&time quasistatic: not available for ' // what // ' (rod ''' // trim(rod%name) // &
                 ''')' // see_matrix)

@@ -11,7 +11,7 @@ module rs_io_input_reader
         rod_input_t, bc_input_t, load_input_t, actuator_input_t
     use rs_io_namelist_lexer, only: assignment_t, group_chunk_t, split_namelist
     use rs_io_input_spec, only: group_spec_t, variable_spec_t, input_groups, find_group, find_variable, &
-        range_description, in_range
+        range_description, in_range, split_condition
     implicit none
     private
 
@@ -115,6 +115,7 @@ contains
                 str(chunk%line) // ': &' // chunk%name // ' ' // trim(group%variables(v)%name) // &
                 ': required but not given')
         end do
+        call check_conditions(chunk, group, file, given, errors)
         select case (group%name)
         case ('rod')
             scene%rods = [scene%rods, rod]
@@ -126,6 +127,56 @@ contains
             scene%actuators = [scene%actuators, actuator]
         end select
     end subroutine read_chunk
+
+    !> The conditional variables of one group occurrence: one with `required_if` is required
+    !> when its condition holds, one with `only_if` may be given only when its condition holds
+    !> (e.g. helix_radius with geometry = 'helix'). A condition 'variable=value' holds when
+    !> `variable` is given with that value, or not given and that value is its default.
+    subroutine check_conditions(chunk, group, file, given, errors)
+        type(group_chunk_t), intent(in) :: chunk
+        type(group_spec_t), intent(in) :: group
+        character(len=*), intent(in) :: file
+        logical, intent(in) :: given(:)
+        type(error_list_t), intent(inout) :: errors
+        character(len=:), allocatable :: name, wanted, actual
+        integer :: v, k
+        do v = 1, size(group%variables)
+            associate (spec => group%variables(v))
+                if (len_trim(spec%required_if) > 0 .and. .not. given(v)) then
+                    call condition_values(spec%required_if, name, wanted, actual)
+                    if (actual == wanted) call errors%add(file // ':' // str(chunk%line) // ': &' // &
+                        chunk%name // ' ' // trim(spec%name) // ': required but not given (' // &
+                        name // " = '" // wanted // "')")
+                end if
+                if (len_trim(spec%only_if) > 0 .and. given(v)) then
+                    call condition_values(spec%only_if, name, wanted, actual)
+                    if (actual == wanted) cycle
+                    do k = 1, size(chunk%assignments)
+                        if (to_lower(chunk%assignments(k)%name) /= to_lower(trim(spec%name))) cycle
+                        call errors%add(file // ':' // str(chunk%assignments(k)%line) // ': &' // &
+                            chunk%name // ' ' // trim(spec%name) // ': only used with ' // name // &
+                            " = '" // wanted // "' (here " // name // " = '" // actual // &
+                            "'); remove it or set " // name // " = '" // wanted // "'")
+                        exit
+                    end do
+                end if
+            end associate
+        end do
+    contains
+        !> The variable and wanted value of `condition` and the variable's value in this chunk.
+        subroutine condition_values(condition, name, wanted, actual)
+            character(len=*), intent(in) :: condition
+            character(len=:), allocatable, intent(out) :: name, wanted, actual
+            integer :: c, j
+            call split_condition(condition, name, wanted)
+            c = find_variable(group, name)
+            actual = to_lower(unquote(trim(group%variables(c)%default_text)))
+            do j = 1, size(chunk%assignments)
+                if (to_lower(chunk%assignments(j)%name) == name) actual = &
+                    to_lower(unquote(trim(chunk%assignments(j)%value)))
+            end do
+        end subroutine condition_values
+    end subroutine check_conditions
 
     !> Generic checks of one assignment against its spec; `value` is the text handed to the
     !> namelist reader (allowed strings folded to lower case), `message` is '' when all is well.

@@ -3,6 +3,7 @@
 !> it and docs/user/input.md holds it between its GENERATED markers (checked by a test).
 module rs_io_input_reference
     use rs_core_strings, only: str
+    use rs_model_units, only: unit_systems, unit_in_system
     use rs_io_input_spec, only: group_spec_t, variable_spec_t, input_groups, range_description
     implicit none
     private
@@ -11,7 +12,8 @@ module rs_io_input_reference
 
 contains
 
-    !> One section per group, one table row per variable.
+    !> One section per group, one table row per variable, then the units of every variable
+    !> in each system of &run units.
     function input_reference_markdown() result(text)
         character(len=:), allocatable :: text
         type(group_spec_t), allocatable :: groups(:)
@@ -26,14 +28,59 @@ contains
                 text = text // ' *Not available in this version.*' // nl // nl
                 cycle
             end if
-            text = text // nl // nl // '| variable | type | unit | default | allowed | meaning |' // nl // &
-                '|---|---|---|---|---|---|' // nl
+            text = text // nl // nl // &
+                '| variable | type | unit | default | allowed | example | meaning |' // nl // &
+                '|---|---|---|---|---|---|---|' // nl
             do v = 1, size(groups(g)%variables)
                 text = text // row(groups(g)%variables(v)) // nl
             end do
             text = text // nl
         end do
+        text = text // units_table(groups)
     end function input_reference_markdown
+
+    !> "### Units": every unit of the tables above in each system of &run units.
+    function units_table(groups) result(text)
+        type(group_spec_t), intent(in) :: groups(:)
+        character(len=:), allocatable :: text, header, rule, systems, system
+        character(len=16), allocatable :: units(:)
+        character(len=*), parameter :: nl = new_line('a')
+        integer :: g, v, bar, u
+        allocate(units(0))
+        do g = 1, size(groups)
+            do v = 1, size(groups(g)%variables)
+                associate (unit => groups(g)%variables(v)%unit)
+                    if (trim(unit) == '-') cycle
+                    if (any(units == unit)) cycle
+                    units = [units, unit]
+                end associate
+            end do
+        end do
+        header = '|'
+        rule = '|'
+        systems = unit_systems // '|'
+        do while (len(systems) > 0)
+            bar = index(systems, '|')
+            header = header // ' `' // systems(1:bar - 1) // '` |'
+            rule = rule // '---|'
+            systems = systems(bar + 1:)
+        end do
+        text = '### Units' // nl // nl // &
+            '`&run units` names the system every number of a scene is in; rodsolve computes ' // &
+            'the same in any consistent system, so the choice only changes the unit names shown ' // &
+            '(the tables above give SI). Angles are in radians.' // nl // nl // header // nl // rule // nl
+        do u = 1, size(units)
+            systems = unit_systems // '|'
+            text = text // '|'
+            do while (len(systems) > 0)
+                bar = index(systems, '|')
+                system = systems(1:bar - 1)
+                text = text // ' ' // unit_in_system(trim(units(u)), system) // ' |'
+                systems = systems(bar + 1:)
+            end do
+            text = text // nl
+        end do
+    end function units_table
 
     function row(spec) result(text)
         type(variable_spec_t), intent(in) :: spec
@@ -53,7 +100,8 @@ contains
             allowed = range_description(spec)
         end if
         text = '| `' // trim(spec%name) // '` | ' // kind // ' | ' // trim(spec%unit) // ' | ' // &
-            trim(spec%default_text) // ' | ' // allowed // ' | ' // trim(spec%description) // ' |'
+            trim(spec%default_text) // ' | ' // allowed // ' | `' // trim(spec%example) // '` | ' // &
+            trim(spec%description) // ' |'
     end function row
 
     function quoted_list(allowed) result(text)

@@ -8,12 +8,13 @@
 module rs_io_input_spec
     use rs_core_kinds, only: rk
     use rs_core_strings, only: to_lower, str
-    use rs_model_scene, only: max_table, max_branches
+    use rs_model_scene, only: max_table, max_branches, max_polyline_points
+    use rs_model_units, only: unit_systems
     implicit none
     private
 
     public :: variable_spec_t, group_spec_t, input_groups, find_group, find_variable, spec_v
-    public :: range_description, in_range
+    public :: range_description, in_range, split_condition
 
     !> One input variable.
     type :: variable_spec_t
@@ -31,8 +32,15 @@ module rs_io_input_spec
         logical :: lower_inclusive = .true.
         logical :: upper_inclusive = .true.
         logical :: required = .false.
+        !> 'variable=value' (value unquoted, lower case): the variable is required when the
+        !> group's `variable` has that value (given or by default), e.g. 'geometry=helix'.
+        character(len=48) :: required_if = ''
+        !> 'variable=value': the variable may only be given when that condition holds.
+        character(len=48) :: only_if = ''
         character(len=48) :: default_text = ''
-        character(len=480) :: description = ''
+        !> A valid value as it would be written in a scene (docs/user/input.md).
+        character(len=48) :: example = ''
+        character(len=640) :: description = ''
     end type variable_spec_t
 
     !> One namelist group.
@@ -49,12 +57,14 @@ module rs_io_input_spec
 
 contains
 
-    !> A variable spec; optional arguments as in variable_spec_t.
+    !> A variable spec; optional arguments as in variable_spec_t. Every variable has an example
+    !> (a unit test reads each one back through the reader).
     pure function spec_v(name, kind, unit, default_text, description, count, max_count, allowed, &
-            lower, lower_inclusive, upper, upper_inclusive, required) result(v)
+            lower, lower_inclusive, upper, upper_inclusive, required, required_if, only_if, &
+            example) result(v)
         character(len=*), intent(in) :: name, kind, unit, default_text, description
         integer, intent(in), optional :: count, max_count
-        character(len=*), intent(in), optional :: allowed
+        character(len=*), intent(in), optional :: allowed, required_if, only_if, example
         real(rk), intent(in), optional :: lower, upper
         logical, intent(in), optional :: lower_inclusive, upper_inclusive, required
         type(variable_spec_t) :: v
@@ -63,6 +73,9 @@ contains
         v%unit = unit
         v%default_text = default_text
         v%description = description
+        if (present(example)) v%example = example
+        if (present(required_if)) v%required_if = required_if
+        if (present(only_if)) v%only_if = only_if
         if (present(count)) then
             v%min_count = count
             v%max_count = count
@@ -120,6 +133,16 @@ contains
         end do
     end function find_variable
 
+    !> The variable and value of a condition 'variable=value' (required_if, only_if).
+    pure subroutine split_condition(condition, variable, value)
+        character(len=*), intent(in) :: condition
+        character(len=:), allocatable, intent(out) :: variable, value
+        integer :: eq
+        eq = index(condition, '=')
+        variable = trim(condition(1:eq - 1))
+        value = trim(condition(eq + 1:))
+    end subroutine split_condition
+
     !> True if `value` lies in the allowed range of numeric variable `spec`.
     pure logical function in_range(spec, value)
         type(variable_spec_t), intent(in) :: spec
@@ -166,13 +189,29 @@ contains
         g%name = 'run'
         g%description = 'What the run is, and choices that hold for the whole scene.'
         g%variables = [ &
-            spec_v('title', 'string', '-', "''", 'A title stored in the output.'), &
+            spec_v('title', 'string', '-', "''", 'A title stored in the output.', &
+                example="'cantilever under a tip load'"), &
             spec_v('formulation_default', 'string', '-', "'ph_director'", &
-                'Formulation of rods that do not name one (DESIGN.md §1).', allowed=formulations), &
+                'Formulation of rods that do not name one (DESIGN.md §1).', allowed=formulations, &
+                example="'auto'"), &
             spec_v('seed', 'integer', '-', '1', 'Seed of random perturbations, where a scene asks for them.', &
-                lower=0.0_rk), &
+                lower=0.0_rk, example='42'), &
             spec_v('log_level', 'string', '-', "'info'", 'Most detailed messages printed.', &
-                allowed='error|warning|info|debug')]
+                allowed='error|warning|info|debug', example="'debug'"), &
+            spec_v('units', 'string', '-', "'si'", &
+                'System of units every number of the scene is in (see Units below). The ' // &
+                'solver uses the numbers as given, so any consistent system works; this only ' // &
+                'names the units shown by --check-input and stored with the results.', &
+                allowed=unit_systems, example="'mm_tonne_s'"), &
+            spec_v('progress_interval', 'real', 's', '5', &
+                'Wall-clock seconds between two progress lines (rank 0: time, step, dt, Newton ' // &
+                'iterations, energy-balance error, estimated time left); --quiet turns them off.', &
+                lower=0.0_rk, lower_inclusive=.false., example='60'), &
+            spec_v('restart_from', 'string', '-', "''", &
+                'Continue the run stored in this result file from its checkpoint (the last ' // &
+                'flush, DESIGN.md §7): the scene must build the same rods. The records up to the ' // &
+                'checkpoint are kept and the run goes on to t_end as an uninterrupted run ' // &
+                'would. The output path may be the restart file itself.', example="'out/run.h5'")]
     end function run_group
 
     function time_group() result(g)
@@ -181,15 +220,16 @@ contains
         g%description = 'The time interval and the time-stepping scheme.'
         g%variables = [ &
             spec_v('t_end', 'real', 's', '(required)', 'End time; in quasistatic runs the final load factor.', &
-                lower=0.0_rk, lower_inclusive=.false., required=.true.), &
+                lower=0.0_rk, lower_inclusive=.false., required=.true., example='2.0'), &
             spec_v('dt', 'real', 's', '(required)', 'Time step (halved on Newton failure, see &solver).', &
-                lower=0.0_rk, lower_inclusive=.false., required=.true.), &
-            spec_v('scheme', 'string', '-', "'midpoint'", 'Time integrator.', allowed='midpoint'), &
+                lower=0.0_rk, lower_inclusive=.false., required=.true., example='1e-3'), &
+            spec_v('scheme', 'string', '-', "'midpoint'", 'Time integrator.', allowed='midpoint', &
+                example="'midpoint'"), &
             spec_v('quasistatic', 'logical', '-', '.false.', &
                 'No inertia (mass terms dropped): time is a load factor (t_end usually 1). The ' // &
                 'loads are stepped with midpoint steps, then one endpoint (non-rate ' // &
                 'Hellinger-Reissner) equilibrium solve at t_end gives the last record (seed 000 ' // &
-                '§5, §6.3; methods/ph_director_3d.md §6.3).')]
+                '§5, §6.3; methods/ph_director_3d.md §6.3).', example='.true.')]
     end function time_group
 
     function solver_group() result(g)
@@ -199,19 +239,22 @@ contains
         g%variables = [ &
             spec_v('newton_atol', 'real', '-', '1e-10', &
                 'Newton stops when the scaled residual norm of the method document is at most this.', &
-                lower=0.0_rk, lower_inclusive=.false.), &
+                lower=0.0_rk, lower_inclusive=.false., example='1e-11'), &
             spec_v('newton_rtol', 'real', '-', '0', &
-                'Relative decrease that also stops Newton (0: off, as the papers).', lower=0.0_rk, upper=1.0_rk), &
+                'Relative decrease that also stops Newton (0: off, as the papers).', lower=0.0_rk, &
+                upper=1.0_rk, example='1e-8'), &
             spec_v('max_newton', 'integer', '-', '25', 'Newton iterations per step before a cut-back.', &
-                lower=1.0_rk), &
+                lower=1.0_rk, example='40'), &
             spec_v('max_cutbacks', 'integer', '-', '6', &
-                'Halvings of one step before the run stops with its last good state written.', lower=0.0_rk), &
+                'Halvings of one step before the run stops with its last good state written.', &
+                lower=0.0_rk, example='3'), &
             spec_v('condense_stresses', 'logical', '-', '.false.', &
                 'Eliminate element stresses and velocities from the Newton unknowns (methods/' // &
                 'ph_director_3d.md §5.5): same solution, fewer unknowns, but slower and with a ' // &
-                'higher round-off floor here (docs/performance.md).'), &
+                'higher round-off floor here (docs/performance.md).', example='.true.'), &
             spec_v('petsc_options', 'string', '-', "''", &
-                'PETSc options, applied after the scene values and before the command line.')]
+                'PETSc options, applied after the scene values and before the command line.', &
+                example="'-snes_monitor -snes_linesearch_type bt'")]
     end function solver_group
 
     function output_group() result(g)
@@ -219,90 +262,153 @@ contains
         g%name = 'output'
         g%description = 'Where results go and how often (HDF5, DESIGN.md §7).'
         g%variables = [ &
-            spec_v('path', 'string', '-', "'out/<scene>.h5'", 'Result file.'), &
-            spec_v('stride', 'integer', '-', '1', 'Write every stride-th step.', lower=1.0_rk), &
-            spec_v('fields', 'string', '-', "'all'", 'Comma-separated fields to write, or all.'), &
-            spec_v('flush_every', 'integer', '-', '10', 'Flush the file every this many steps.', lower=1.0_rk), &
-            spec_v('xdmf', 'logical', '-', '.true.', 'Write an XDMF sidecar for ParaView.')]
+            spec_v('path', 'string', '-', "'out/<scene>.h5'", 'Result file.', example="'out/run1.h5'"), &
+            spec_v('stride', 'integer', '-', '1', 'Write every stride-th step.', lower=1.0_rk, example='10'), &
+            spec_v('fields', 'string', '-', "'all'", 'Comma-separated fields to write, or all.', &
+                example="'position,energy'"), &
+            spec_v('flush_every', 'integer', '-', '10', 'Flush the file every this many steps.', &
+                lower=1.0_rk, example='50'), &
+            spec_v('xdmf', 'logical', '-', '.true.', 'Write an XDMF sidecar for ParaView.', &
+                example='.false.')]
     end function output_group
 
     function rod_group() result(g)
         type(group_spec_t) :: g
         g%name = 'rod'
         g%repeatable = .true.
-        g%description = 'One rod: geometry, cross-section, material and discretization.'
+        g%description = 'One rod: geometry, cross-section, material, discretization and initial velocity.'
         g%variables = [ &
-            spec_v('name', 'string', '-', "'rod<i>'", 'Name used by &bc and &load and in the output.'), &
+            spec_v('name', 'string', '-', "'rod<i>'", 'Name used by &bc and &load and in the output.', &
+                example="'beam'"), &
             spec_v('formulation', 'string', '-', 'formulation_default', 'Formulation of this rod.', &
-                allowed=formulations), &
+                allowed=formulations, example="'ph_director'"), &
             spec_v('n_elements', 'integer', '-', '(required)', 'Number of elements.', lower=1.0_rk, &
-                required=.true.), &
-            spec_v('degree', 'integer', '-', '2', 'Polynomial degree of the elements.', lower=1.0_rk, upper=2.0_rk), &
-            spec_v('n_gauss', 'integer', '-', '2', 'Gauss points per element.', lower=1.0_rk, upper=5.0_rk), &
-            spec_v('start', 'real', 'm', '0, 0, 0', 'Position of the end s = 0.', count=3), &
-            spec_v('direction', 'real', '-', '1, 0, 0', 'Direction of the straight centreline (normalized).', &
-                count=3), &
+                required=.true., example='16'), &
+            spec_v('degree', 'integer', '-', '2', 'Polynomial degree of the elements.', lower=1.0_rk, &
+                upper=2.0_rk, example='1'), &
+            spec_v('n_gauss', 'integer', '-', '2', 'Gauss points per element.', lower=1.0_rk, upper=5.0_rk, &
+                example='3'), &
+            spec_v('geometry', 'string', '-', "'straight'", &
+                "Shape of the reference centreline (stress-free unless prestressed): 'straight' " // &
+                "(start, direction, length), 'helix' (start, direction = its axis, helix_radius, " // &
+                "helix_pitch, helix_turns) or 'polyline' (points). The nodes are placed at equal " // &
+                'arc length along it.', allowed='straight|helix|polyline', example="'helix'"), &
+            spec_v('start', 'real', 'm', '0, 0, 0', &
+                'Position of the end s = 0. Polyline: derived, the first point (a given value must ' // &
+                'equal it).', count=3, example='0, 0, 1'), &
+            spec_v('direction', 'real', '-', '1, 0, 0', &
+                'Straight: the direction of the centreline; helix: the direction of its axis ' // &
+                '(normalized). Polyline: derived, the direction of the first segment (a given ' // &
+                'value must be parallel to it).', count=3, example='0, 0, 1'), &
             spec_v('d1', 'real', '-', '(derived)', &
-                'First cross-section director; default: a unit vector normal to direction.', count=3), &
-            spec_v('length', 'real', 'm', '(required)', 'Length of the rod.', lower=0.0_rk, &
-                lower_inclusive=.false., required=.true.), &
+                'First cross-section director at s = 0, made orthonormal to the tangent t(0) there ' // &
+                '(must not be parallel to it); default: e_z x t(0) normalized, or e_x when t(0) is ' // &
+                'along e_z. Along a curved centreline d1 is carried by parallel transport (no ' // &
+                'twist about d3 = the tangent); d2 = d3 x d1.', count=3, example='0, 1, 0'), &
+            spec_v('length', 'real', 'm', '(straight: required)', &
+                'Length of a straight rod. Derived for a helix, helix_turns sqrt((2 pi ' // &
+                'helix_radius)^2 + helix_pitch^2), and for a polyline, the sum of its segments; a ' // &
+                'given value must then agree to 1e-9 relative.', lower=0.0_rk, lower_inclusive=.false., &
+                required_if='geometry=straight', example='2.5'), &
+            spec_v('helix_radius', 'real', 'm', '(helix: required)', &
+                'Radius of the helix. The centreline starts at start; the axis is the line through ' // &
+                'start - helix_radius u along direction, with u = e_z x direction normalized (e_x ' // &
+                'when direction is along e_z).', lower=0.0_rk, lower_inclusive=.false., &
+                required_if='geometry=helix', only_if='geometry=helix', example='0.05'), &
+            spec_v('helix_pitch', 'real', 'm', '(helix: required)', &
+                'Rise of the helix along its axis per turn: > 0 winds right-handed about ' // &
+                'direction, < 0 left-handed, 0 gives a plane circle.', &
+                required_if='geometry=helix', only_if='geometry=helix', example='0.02'), &
+            spec_v('helix_turns', 'real', '-', '(helix: required)', 'Number of turns (need not be whole).', &
+                lower=0.0_rk, lower_inclusive=.false., required_if='geometry=helix', &
+                only_if='geometry=helix', example='3.5'), &
+            spec_v('points', 'real', 'm', '(polyline: required)', &
+                'Vertices of a polyline centreline, x1, y1, z1, x2, y2, z2, ... (2 to ' // &
+                str(max_polyline_points) // ' points): consecutive points distinct, no segment ' // &
+                'reversing the one before. At a vertex the tangent is the bisector of the two ' // &
+                'segments.', count=6, max_count=3 * max_polyline_points, &
+                required_if='geometry=polyline', only_if='geometry=polyline', &
+                example='0, 0, 0, 1, 0, 0, 1, 1, 0'), &
+            spec_v('velocity', 'real', 'm/s', '0, 0, 0', &
+                'Initial velocity of translation: the centreline starts with v(s) = velocity + ' // &
+                'angular_velocity x (phi(s) - rotation_center). A clamped end starts at rest, so ' // &
+                'a rod with a clamped end takes no initial velocity.', count=3, example='0, 0, 1.5'), &
+            spec_v('angular_velocity', 'real', 'rad/s', '0, 0, 0', &
+                'Initial angular velocity of a rigid rotation about rotation_center: the ' // &
+                'directors start with rates angular_velocity x d_i.', count=3, example='0, 0, 6.28'), &
+            spec_v('rotation_center', 'real', 'm', 'start', 'Point the initial rotation turns about.', &
+                count=3, example='0, 0, 0.5'), &
             spec_v('section', 'string', '-', "'none'", &
                 "Cross-section shape; 'none': stiffnesses and inertias are given directly.", &
-                allowed='none|circle|rectangle|tube'), &
+                allowed='none|circle|rectangle|tube', example="'circle'"), &
             spec_v('radius', 'real', 'm', '-', 'Radius of a circle, outer radius of a tube.', &
-                lower=0.0_rk, lower_inclusive=.false.), &
-            spec_v('inner_radius', 'real', 'm', '-', 'Inner radius of a tube.', lower=0.0_rk), &
-            spec_v('width', 'real', 'm', '-', 'Rectangle side along d1.', lower=0.0_rk, lower_inclusive=.false.), &
-            spec_v('height', 'real', 'm', '-', 'Rectangle side along d2.', lower=0.0_rk, lower_inclusive=.false.), &
-            spec_v('E', 'real', 'Pa', '-', "Young's modulus.", lower=0.0_rk, lower_inclusive=.false.), &
-            spec_v('G', 'real', 'Pa', 'E/(2(1+nu))', 'Shear modulus.', lower=0.0_rk, lower_inclusive=.false.), &
+                lower=0.0_rk, lower_inclusive=.false., example='0.01'), &
+            spec_v('inner_radius', 'real', 'm', '-', 'Inner radius of a tube.', lower=0.0_rk, &
+                example='0.008'), &
+            spec_v('width', 'real', 'm', '-', 'Rectangle side along d1.', lower=0.0_rk, &
+                lower_inclusive=.false., example='0.02'), &
+            spec_v('height', 'real', 'm', '-', 'Rectangle side along d2.', lower=0.0_rk, &
+                lower_inclusive=.false., example='0.005'), &
+            spec_v('E', 'real', 'Pa', '-', "Young's modulus.", lower=0.0_rk, lower_inclusive=.false., &
+                example='2.1e11'), &
+            spec_v('G', 'real', 'Pa', 'E/(2(1+nu))', 'Shear modulus.', lower=0.0_rk, lower_inclusive=.false., &
+                example='8.1e10'), &
             spec_v('nu', 'real', '-', '-', "Poisson's ratio (used when G is not given).", lower=-1.0_rk, &
-                lower_inclusive=.false., upper=0.5_rk), &
-            spec_v('density', 'real', 'kg/m^3', '-', 'Mass density.', lower=0.0_rk, lower_inclusive=.false.), &
-            spec_v('EA', 'real', 'N', '(section)', 'Axial stiffness.', lower=0.0_rk, lower_inclusive=.false.), &
+                lower_inclusive=.false., upper=0.5_rk, example='0.3'), &
+            spec_v('density', 'real', 'kg/m^3', '-', 'Mass density.', lower=0.0_rk, lower_inclusive=.false., &
+                example='7800'), &
+            spec_v('EA', 'real', 'N', '(section)', 'Axial stiffness.', lower=0.0_rk, lower_inclusive=.false., &
+                example='1e4'), &
             spec_v('GA1', 'real', 'N', '(section)', 'Shear stiffness along d1.', lower=0.0_rk, &
-                lower_inclusive=.false.), &
+                lower_inclusive=.false., example='1e4'), &
             spec_v('GA2', 'real', 'N', '(section)', 'Shear stiffness along d2.', lower=0.0_rk, &
-                lower_inclusive=.false.), &
+                lower_inclusive=.false., example='1e4'), &
             spec_v('EI1', 'real', 'N m^2', '(section)', 'Bending stiffness about d1.', lower=0.0_rk, &
-                lower_inclusive=.false.), &
+                lower_inclusive=.false., example='1e3'), &
             spec_v('EI2', 'real', 'N m^2', '(section)', 'Bending stiffness about d2.', lower=0.0_rk, &
-                lower_inclusive=.false.), &
+                lower_inclusive=.false., example='1e3'), &
             spec_v('GJ', 'real', 'N m^2', '(section)', 'Torsional stiffness.', lower=0.0_rk, &
-                lower_inclusive=.false.), &
-            spec_v('rhoA', 'real', 'kg/m', '(section)', 'Mass per unit length.', lower=0.0_rk), &
+                lower_inclusive=.false., example='1e3'), &
+            spec_v('rhoA', 'real', 'kg/m', '(section)', 'Mass per unit length.', lower=0.0_rk, &
+                example='1.0'), &
             spec_v('rhoI1', 'real', 'kg m', '(section)', 'Rotational inertia per length about d1.', &
-                lower=0.0_rk), &
+                lower=0.0_rk, example='10.0'), &
             spec_v('rhoI2', 'real', 'kg m', '(section)', 'Rotational inertia per length about d2.', &
-                lower=0.0_rk), &
+                lower=0.0_rk, example='10.0'), &
             spec_v('shear_factor', 'real', '-', '1', 'Shear correction factor k in GA = k G A.', &
-                lower=0.0_rk, lower_inclusive=.false.), &
+                lower=0.0_rk, lower_inclusive=.false., example='0.8333333333333334'), &
             spec_v('torsion_constant', 'string', '-', "'polar' (circle, tube)", &
                 'Torsion constant of a section: polar moment or Saint-Venant; required for a rectangle.', &
-                allowed='polar|saint_venant'), &
+                allowed='polar|saint_venant', example="'saint_venant'"), &
             spec_v('prestressed', 'logical', '-', '.false.', &
-                'False: the initial geometry is stress-free (DESIGN.md §1).'), &
+                'False: the initial geometry is stress-free (DESIGN.md §1): the reference strains ' // &
+                'are the discrete strains of the initial geometry at the Gauss points, so the rod ' // &
+                'starts with zero stress. True: the stress-free shape is straight (reference ' // &
+                'strains Gamma_0 = (0, 0, 1), K_0 = 0 everywhere), so a curved initial geometry ' // &
+                'starts prestressed, with the elastic stresses of its strains (the projection of ' // &
+                'methods/ph_director_3d.md §5.4); the stresses of constrained components and of ' // &
+                'Maxwell branches start at zero. Same as false for a straight rod.', example='.true.'), &
             spec_v('constraint', 'string', '-', "'none'", &
                 "Kinematic constraint: 'kirchhoff' = shear-rigid, 'inextensible' = shear-rigid " // &
                 'and inextensible (seed 000 §2.3, §5; methods/ph_director_3d.md §2.3). The ' // &
                 'constrained stress components become Lagrange multipliers; the stiffnesses of ' // &
                 "the constrained components (GA1, GA2, and EA for 'inextensible') are ignored, " // &
                 'so they may be given or derived from a section.', &
-                allowed='none|kirchhoff|inextensible'), &
+                allowed='none|kirchhoff|inextensible', example="'kirchhoff'"), &
             spec_v('maxwell_fraction', 'real', '-', '-', &
                 'Generalized Maxwell viscoelasticity (seed 000 §5.1, methods/ph_director_3d.md ' // &
                 '§3.1): the fraction of every stiffness taken by branch i = 1..m; the branches ' // &
                 'are the leading entries (no gaps) and the purely elastic branch keeps ' // &
                 '1 - sum > 0.', count=1, max_count=max_branches, lower=0.0_rk, &
-                lower_inclusive=.false., upper=1.0_rk, upper_inclusive=.false.), &
+                lower_inclusive=.false., upper=1.0_rk, upper_inclusive=.false., example='0.2, 0.1'), &
             spec_v('maxwell_tau_E', 'real', 's', '-', &
                 'Relaxation time of the dilatation and bending components of each Maxwell branch; ' // &
                 'exactly one per maxwell_fraction.', count=1, max_count=max_branches, lower=0.0_rk, &
-                lower_inclusive=.false.), &
+                lower_inclusive=.false., example='0.05, 1.0'), &
             spec_v('maxwell_tau_G', 'real', 's', 'maxwell_tau_E', &
                 'Relaxation time of the shear and torsion components of each Maxwell branch; a ' // &
                 'branch without one takes its maxwell_tau_E.', count=1, max_count=max_branches, &
-                lower=0.0_rk, lower_inclusive=.false.)]
+                lower=0.0_rk, lower_inclusive=.false., example='0.1, 2.0')]
     end function rod_group
 
     function bc_group() result(g)
@@ -311,10 +417,11 @@ contains
         g%repeatable = .true.
         g%description = 'The support at one end of a rod; ends without &bc are free.'
         g%variables = [ &
-            spec_v('rod', 'string', '-', '(required)', 'Name of the rod.', required=.true.), &
-            spec_v('end', 'string', '-', '(required)', 'Which end.', allowed='start|end', required=.true.), &
+            spec_v('rod', 'string', '-', '(required)', 'Name of the rod.', required=.true., example="'beam'"), &
+            spec_v('end', 'string', '-', '(required)', 'Which end.', allowed='start|end', required=.true., &
+                example="'start'"), &
             spec_v('kind', 'string', '-', '(required)', 'Kind of support.', &
-                allowed='clamped|pinned|free|driven', required=.true.)]
+                allowed='clamped|pinned|free|driven', required=.true., example="'clamped'")]
     end function bc_group
 
     function load_group() result(g)
@@ -323,15 +430,18 @@ contains
         g%repeatable = .true.
         g%description = 'An end load, a distributed load or gravity, scaled by a time function.'
         g%variables = [ &
-            spec_v('rod', 'string', '-', "'' (all rods, gravity only)", 'Name of the loaded rod.'), &
+            spec_v('rod', 'string', '-', "'' (all rods, gravity only)", 'Name of the loaded rod.', &
+                example="'beam'"), &
             spec_v('where', 'string', '-', '(required)', 'Point of application.', &
-                allowed='start|end|distributed|gravity', required=.true.), &
-            spec_v('force', 'real', 'N or N/m', '0, 0, 0', 'Force (per length when distributed).', count=3), &
-            spec_v('moment', 'real', 'N m or N', '0, 0, 0', 'Moment (per length when distributed).', count=3), &
+                allowed='start|end|distributed|gravity', required=.true., example="'end'"), &
+            spec_v('force', 'real', 'N or N/m', '0, 0, 0', 'Force (per length when distributed).', count=3, &
+                example='0, 0, -100'), &
+            spec_v('moment', 'real', 'N m or N', '0, 0, 0', 'Moment (per length when distributed).', count=3, &
+                example='0, 200, 100'), &
             spec_v('acceleration', 'real', 'm/s^2', '0, 0, 0', 'Gravitational acceleration (where = gravity).', &
-                count=3), &
+                count=3, example='0, 0, -9.81'), &
             spec_v('frame', 'string', '-', "'spatial'", 'Dead (spatial) or follower load.', &
-                allowed='spatial|follower'), &
+                allowed='spatial|follower', example="'spatial'"), &
             time_function_variables('load')]
     end function load_group
 
@@ -343,25 +453,27 @@ contains
             'methods/ph_director_3d.md §3.2): a force of magnitude tau(t) along its line of ' // &
             'action, added to the stress resultants of the momentum equations.'
         g%variables = [ &
-            spec_v('rod', 'string', '-', '(required)', 'Name of the actuated rod.', required=.true.), &
+            spec_v('rod', 'string', '-', '(required)', 'Name of the actuated rod.', required=.true., &
+                example="'arm'"), &
             spec_v('kind', 'string', '-', '(required)', &
                 "'pneumatic': a chamber, line of action d3 (normal to the section), tau(t) = " // &
                 "-pressure area f(t). 'tendon': a cable, line of action the tangent of its own line " // &
                 'r = phi + rho^1 d1 + rho^2 d2, tau(t) = tension f(t). f is the time function.', &
-                allowed='pneumatic|tendon', required=.true.), &
+                allowed='pneumatic|tendon', required=.true., example="'tendon'"), &
             spec_v('offset', 'real', 'm', '(required)', &
                 'Material coordinates (rho^1, rho^2) of the chamber centroid or tendon line in the ' // &
                 '(d1, d2) director basis; must lie inside a circle or tube section.', count=2, &
-                required=.true.), &
+                required=.true., example='0, -0.01'), &
             spec_v('area', 'real', 'm^2', '(pneumatic)', &
                 'Cross-section area of the chamber; required for a pneumatic chamber, an error for ' // &
-                'a tendon.', lower=0.0_rk, lower_inclusive=.false.), &
+                'a tendon.', lower=0.0_rk, lower_inclusive=.false., example='1e-4'), &
             spec_v('pressure', 'real', 'Pa', '(pneumatic)', &
                 'Gauge pressure of the chamber; required for a pneumatic chamber, an error for a ' // &
-                'tendon. Positive pressure pushes the end caps apart: tau < 0 elongates the rod.'), &
+                'tendon. Positive pressure pushes the end caps apart: tau < 0 elongates the rod.', &
+                example='5e5'), &
             spec_v('tension', 'real', 'N', '(tendon)', &
                 'Tension of the tendon (a tendon only pulls); required for a tendon, an error for ' // &
-                'a pneumatic chamber.', lower=0.0_rk), &
+                'a pneumatic chamber.', lower=0.0_rk, example='20'), &
             time_function_variables('actuator force')]
     end function actuator_group
 
@@ -371,13 +483,15 @@ contains
         type(variable_spec_t) :: variables(5)
         variables = [ &
             spec_v('time_function', 'string', '-', "'constant'", 'Scaling f(t) of the ' // what // &
-                ' in time.', allowed='constant|ramp|hat|pulse|table'), &
-            spec_v('t_on', 'real', 's', '0', 'Start of the ramp, hat or pulse.', lower=0.0_rk), &
-            spec_v('t_off', 'real', 's', '-', 'End of the ramp, hat or pulse.', lower=0.0_rk), &
+                ' in time.', allowed='constant|ramp|hat|pulse|table', example="'ramp'"), &
+            spec_v('t_on', 'real', 's', '0', 'Start of the ramp, hat or pulse.', lower=0.0_rk, &
+                example='0.5'), &
+            spec_v('t_off', 'real', 's', '-', 'End of the ramp, hat or pulse.', lower=0.0_rk, &
+                example='1.5'), &
             spec_v('table_times', 'real', 's', '-', 'Times of a piecewise-linear table (increasing).', &
-                count=2, max_count=max_table), &
+                count=2, max_count=max_table, example='0, 1, 2'), &
             spec_v('table_values', 'real', '-', '-', 'Factors f at table_times.', count=2, &
-                max_count=max_table)]
+                max_count=max_table, example='0, 1, 0.5')]
     end function time_function_variables
 
     function planned_group(name, description) result(g)

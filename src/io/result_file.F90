@@ -1,22 +1,28 @@
-!> The result file of a run (DESIGN.md §7, schema version 1), written from plain data: run
-!> metadata (`result_meta_t`) and the stored records of each rod (`rod_history_t`). One rank
-!> writes (the caller gathers to rank 0); see docs/user/output.md for the schema as built.
+!> The result file of a run (DESIGN.md §7, schema version 1); docs/user/output.md documents it
+!> field by field.
 !>
 !>     /                       attributes schema_version, creator, created, command_line,
-!>                             n_ranks, petsc_version, hdf5_version, mpi_version, title
+!>                             n_ranks, petsc_version, hdf5_version, mpi_version, title,
+!>                             status (at the end), restarted (after a restart)
 !>     /input/                 text, resolved, petsc_options
-!>     /rods/<name>/           attribute formulation; mesh, stress_mesh, time, position,
-!>                             directors, velocity, director_velocity, stress, strain,
-!>                             branch_stress (rods with Maxwell branches only)
+!>     /rods/<name>/           attribute formulation; mesh, stress_mesh, time, and the selected
+!>                             fields of position, directors, velocity, director_velocity,
+!>                             stress, strain, branch_stress (rods with Maxwell branches)
 !>     /rods/<name>/series/    energy/{kinetic,strain,total,external_work,actuator_work,
-!>                             dissipated,balance_error},
-!>                             momentum/{linear,angular}, center_of_mass,
-!>                             constraint_residual, newton/{iterations,residual}, dt
-!>     /series/                time, energy/..., momentum/... summed over all rods
+!>                             dissipated,balance_error}, momentum/{linear,angular},
+!>                             center_of_mass, constraint_residual, newton/{iterations,residual},
+!>                             dt
+!>     /checkpoint/<name>/     state, internal, step, records, time: what a restart needs
+!>     /series/                time, energy/..., momentum/... summed over all rods (at the end)
+!>
+!> A run writes the file in three stages on rank 0: it creates it with every dataset empty
+!> (`prepare_result_file`); at every flush (`result_writer_t`) the records and checkpoints of
+!> every rod, gathered from the ranks that own them, are appended and the file is flushed, so a
+!> killed run leaves a readable file with every record up to the last flush; at the end it adds
+!> /series/ (`finish_result_file`). Growing datasets are chunked along the records.
 !>
 !> Arrays are written in Fortran order, so h5py shows them reversed: position(:, node, step) is
-!> h5py's position[step, node, :]. A formulation that leaves an array unallocated or of size
-!> zero gets no dataset for it; the sums in /series/ cover the quantities every rod has.
+!> h5py's position[step, node, :].
 module rs_io_result_file
     use rs_core_kinds, only: rk
     use rs_core_error, only: error_t, set_error
@@ -25,10 +31,13 @@ module rs_io_result_file
     use rs_model_rod_history, only: rod_history_t
     use rs_io_hdf5_file, only: hdf5_file_t
     use rs_io_hdf5_info, only: hdf5_version
+    use rs_model_units, only: unit_in_system
     implicit none
     private
 
-    public :: result_meta_t, write_result_file
+    public :: result_meta_t, write_result_file, rod_layout_t, layout_of, pack_layout, unpack_layout
+    public :: result_writer_t, prepare_result_file, finish_result_file, read_checkpoint
+    public :: selectable_fields, unknown_fields
 
     !> Version of the layout written by this module; readers check it.
     integer, parameter, public :: result_schema_version = 1
@@ -52,27 +61,87 @@ module rs_io_result_file
         character(len=:), allocatable :: input_resolved
         !> The PETSc options in use, as option text.
         character(len=:), allocatable :: petsc_options
+        !> The scene's system of units (&run units); the `unit` attributes are written in it.
+        character(len=:), allocatable :: units
     end type result_meta_t
+
+    !> What the result file needs to know of a rod before its first record: the sizes that fix
+    !> its datasets, the reference meshes, and the sizes of its checkpoint (the state vector and
+    !> the formulation's internal book-keeping).
+    type, public :: rod_layout_t
+        character(len=:), allocatable :: name
+        character(len=:), allocatable :: formulation
+        integer :: n_nodes = 0
+        integer :: n_stress_points = 0
+        integer :: n_branches = 0
+        integer :: n_state = 0
+        integer :: n_internal = 0
+        real(rk), allocatable :: mesh(:)
+        real(rk), allocatable :: stress_mesh(:)
+        !> The fields the formulation records, as ',path,path,...,' (a formulation may leave
+        !> an array of the history unallocated: it gets no dataset).
+        character(len=:), allocatable :: recorded
+    end type rod_layout_t
+
+    !> One dataset of a rod that grows record by record, below /rods/<name>/.
+    type :: field_t
+        character(len=40) :: path = ''
+        !> Fortran shape of one record (empty for a scalar per record).
+        integer, allocatable :: dims(:)
+        logical :: integer_values = .false.
+        character(len=40) :: unit = ''
+        character(len=:), allocatable :: description
+        character(len=40) :: components = ''
+    end type field_t
+
+    type :: rod_fields_t
+        type(field_t), allocatable :: list(:)
+    end type rod_fields_t
+
+    !> The result file during a run (DESIGN.md §7), open on rank 0: at every flush it takes the
+    !> buffered records of every rod (gathered from their ranks) and each rod's checkpoint.
+    type, public :: result_writer_t
+        type(hdf5_file_t) :: file
+        type(rod_layout_t), allocatable :: layouts(:)
+        type(rod_fields_t), allocatable :: fields(:)
+        !> Records of each rod in the file.
+        integer, allocatable :: n_records(:)
+    contains
+        procedure :: open => writer_open
+        procedure :: append => writer_append
+        procedure :: write_checkpoint => writer_write_checkpoint
+        procedure :: flush => writer_flush
+        procedure :: close => writer_close
+    end type result_writer_t
+
+    !> The fields `&output fields` may select; the per-record series and `time` are always written.
+    character(len=*), parameter :: selectable_fields = &
+        'position,directors,velocity,director_velocity,stress,strain,branch_stress'
 
     character(len=*), parameter :: energy_names(7) = [character(len=13) :: 'kinetic', &
         'strain', 'total', 'external_work', 'actuator_work', 'dissipated', 'balance_error']
     character(len=*), parameter :: momentum_names(2) = [character(len=7) :: 'linear', 'angular']
+    character(len=*), parameter :: input_names(3) = [character(len=13) :: 'text', 'resolved', &
+        'petsc_options']
     !> Unit and components attribute of `stress` and `branch_stress`.
     character(len=*), parameter :: stress_unit = 'N (N1, N2, N3); N m (M1, M2, M3)'
     character(len=*), parameter :: stress_components = 'N1 N2 N3 M1 M2 M3'
 
 contains
 
-    !> Write the result file `path` (replacing an existing one; missing directories are
-    !> created): `meta` and the first `n_stored` records of each history. All rods must share
-    !> the time grid of their stored records. The histories are checked before the file is
-    !> created, so an inconsistent history leaves no file behind.
+    !> Write the whole result file `path` at once (replacing an existing one; missing
+    !> directories are created): `meta` and the first `n_stored` records of each history. All
+    !> rods must share the time grid of their stored records. The histories are checked before
+    !> the file is created, so an inconsistent history leaves no file behind. (A run writes
+    !> incrementally with prepare_result_file, result_writer_t and finish_result_file; this is
+    !> the same sequence on one rank.)
     subroutine write_result_file(path, meta, histories, err)
         character(len=*), intent(in) :: path
         type(result_meta_t), intent(in) :: meta
         type(rod_history_t), intent(in) :: histories(:)
         type(error_t), allocatable, intent(out) :: err
-        type(hdf5_file_t) :: file
+        type(rod_layout_t), allocatable :: layouts(:)
+        type(result_writer_t) :: writer
         type(error_t), allocatable :: close_err
         integer :: i
 
@@ -81,17 +150,611 @@ contains
             err%message = 'cannot write "' // path // '": ' // err%message
             return
         end if
-        call file%create(path, err)
-        if (allocated(err)) return
-        call write_root(file, meta, err)
-        call write_input(file, meta, err)
+        allocate(layouts(size(histories)))
         do i = 1, size(histories)
-            call write_rod(file, histories(i), err)
+            layouts(i) = layout_of(histories(i), 0, 0)
         end do
-        call write_root_series(file, histories, err)
+        call prepare_result_file(path, meta, layouts, 'all', err)
+        if (allocated(err)) return
+        call writer%open(path, layouts, 'all', [(0, i = 1, size(layouts))], err)
+        if (allocated(err)) return
+        do i = 1, size(histories)
+            call writer%append(i, histories(i), err)
+            if (allocated(err)) exit
+        end do
+        call writer%close(close_err)
+        if (.not. allocated(err) .and. allocated(close_err)) call move_alloc(close_err, err)
+        if (allocated(err)) return
+        call finish_result_file(path, layouts, 'completed', err)
+    end subroutine write_result_file
+
+    !> The layout of a rod from its (initialized) history and its checkpoint sizes.
+    function layout_of(h, n_state, n_internal) result(layout)
+        type(rod_history_t), intent(in) :: h
+        integer, intent(in) :: n_state, n_internal
+        type(rod_layout_t) :: layout
+        layout%name = h%name
+        layout%formulation = h%formulation
+        layout%n_nodes = h%n_nodes
+        layout%n_stress_points = h%n_stress_points
+        layout%n_branches = h%n_branches
+        layout%n_state = n_state
+        layout%n_internal = n_internal
+        layout%mesh = h%mesh
+        layout%stress_mesh = h%stress_mesh
+        layout%recorded = ','
+        if (allocated(h%time)) call note('time')
+        if (has_3(h%position)) call note('position')
+        if (has_4(h%directors)) call note('directors')
+        if (has_3(h%velocity)) call note('velocity')
+        if (has_4(h%director_velocity)) call note('director_velocity')
+        if (has_3(h%stress)) call note('stress')
+        if (has_3(h%strains)) call note('strain')
+        if (has_4(h%branch_stress)) call note('branch_stress')
+        if (has_1(h%kinetic)) call note('series/energy/kinetic')
+        if (has_1(h%strain)) call note('series/energy/strain')
+        if (has_1(h%total)) call note('series/energy/total')
+        if (has_1(h%external_work)) call note('series/energy/external_work')
+        if (has_1(h%actuator_work)) call note('series/energy/actuator_work')
+        if (has_1(h%dissipated)) call note('series/energy/dissipated')
+        if (has_1(h%balance_error)) call note('series/energy/balance_error')
+        if (has_2(h%linear_momentum)) call note('series/momentum/linear')
+        if (has_2(h%angular_momentum)) call note('series/momentum/angular')
+        if (has_2(h%center_of_mass)) call note('series/center_of_mass')
+        if (has_1(h%constraint_residual)) call note('series/constraint_residual')
+        if (allocated(h%newton_iterations)) then
+            if (size(h%newton_iterations) > 0) call note('series/newton/iterations')
+        end if
+        if (has_1(h%newton_residual)) call note('series/newton/residual')
+        if (has_1(h%dt)) call note('series/dt')
+    contains
+        subroutine note(path)
+            character(len=*), intent(in) :: path
+            layout%recorded = layout%recorded // path // ','
+        end subroutine note
+    end function layout_of
+
+    !> A layout as flat arrays, for a broadcast (`unpack_layout` inverts).
+    subroutine pack_layout(layout, header, values)
+        type(rod_layout_t), intent(in) :: layout
+        integer, allocatable, intent(out) :: header(:)
+        real(rk), allocatable, intent(out) :: values(:)
+        integer :: i
+        header = [layout%n_nodes, layout%n_stress_points, layout%n_branches, layout%n_state, &
+            layout%n_internal, len(layout%name), len(layout%formulation), size(layout%mesh), &
+            size(layout%stress_mesh), (ichar(layout%name(i:i)), i = 1, len(layout%name)), &
+            (ichar(layout%formulation(i:i)), i = 1, len(layout%formulation)), &
+            len(layout%recorded), (ichar(layout%recorded(i:i)), i = 1, len(layout%recorded))]
+        values = [layout%mesh, layout%stress_mesh]
+    end subroutine pack_layout
+
+    subroutine unpack_layout(header, values, layout)
+        integer, intent(in) :: header(:)
+        real(rk), intent(in) :: values(:)
+        type(rod_layout_t), intent(out) :: layout
+        integer :: i, at
+        layout%n_nodes = header(1)
+        layout%n_stress_points = header(2)
+        layout%n_branches = header(3)
+        layout%n_state = header(4)
+        layout%n_internal = header(5)
+        allocate(character(len=header(6)) :: layout%name)
+        allocate(character(len=header(7)) :: layout%formulation)
+        at = 9
+        do i = 1, header(6)
+            layout%name(i:i) = achar(header(at + i))
+        end do
+        at = at + header(6)
+        do i = 1, header(7)
+            layout%formulation(i:i) = achar(header(at + i))
+        end do
+        at = at + header(7) + 1
+        allocate(character(len=header(at)) :: layout%recorded)
+        do i = 1, len(layout%recorded)
+            layout%recorded(i:i) = achar(header(at + i))
+        end do
+        layout%mesh = values(1:header(8))
+        layout%stress_mesh = values(header(8) + 1:header(8) + header(9))
+    end subroutine unpack_layout
+
+    !> Names in the comma-separated `selection` that are not selectable fields ('' if none;
+    !> 'all' selects every field).
+    function unknown_fields(selection) result(unknown)
+        character(len=*), intent(in) :: selection
+        character(len=:), allocatable :: unknown, item
+        integer :: start, comma
+        unknown = ''
+        if (trim(adjustl(selection)) == 'all') return
+        start = 1
+        do
+            comma = index(selection(start:), ',')
+            if (comma == 0) then
+                item = trim(adjustl(selection(start:)))
+            else
+                item = trim(adjustl(selection(start:start + comma - 2)))
+            end if
+            if (.not. field_selected(selectable_fields, item) .or. len(item) == 0) then
+                if (len(unknown) > 0) unknown = unknown // ', '
+                unknown = unknown // "'" // item // "'"
+            end if
+            if (comma == 0) exit
+            start = start + comma
+        end do
+    end function unknown_fields
+
+    !> True if `name` is one of the comma-separated names of `selection` (or selection is 'all').
+    pure logical function field_selected(selection, name)
+        character(len=*), intent(in) :: selection, name
+        character(len=:), allocatable :: list
+        integer :: k
+        list = ',' // trim(adjustl(selection)) // ','
+        if (list == ',all,') then
+            field_selected = .true.
+            return
+        end if
+        ! Spaces after commas are allowed.
+        do
+            k = index(list, ', ')
+            if (k == 0) exit
+            list = list(1:k) // list(k + 2:)
+        end do
+        field_selected = index(list, ',' // trim(name) // ',') > 0
+    end function field_selected
+
+    !> The growing datasets of a rod: the selected nodal and stress fields, then the series.
+    function rod_fields(layout, selection) result(fields)
+        type(rod_layout_t), intent(in) :: layout
+        character(len=*), intent(in) :: selection
+        type(field_t), allocatable :: fields(:)
+        integer :: nn, ns, k
+        nn = layout%n_nodes
+        ns = layout%n_stress_points
+        allocate(fields(0))
+        call add('time', [integer ::], 's', 'time of each stored record, [step]')
+        if (field_selected(selection, 'position')) call add('position', [3, nn], 'm', &
+            'centreline position phi of the nodes in the spatial frame, [step, node, component]')
+        if (field_selected(selection, 'directors')) call add('directors', [3, 3, nn], '1', &
+            'directors of the nodes: [step, node, i, :] holds the spatial components of ' // &
+            'd_(i+1) (h5py index i = 0, 1, 2 for d1, d2, d3)')
+        if (field_selected(selection, 'velocity')) call add('velocity', [3, nn], 'm/s', &
+            'centreline velocity of the nodes in the spatial frame, [step, node, component]')
+        if (field_selected(selection, 'director_velocity')) call add('director_velocity', &
+            [3, 3, nn], '1/s', 'time derivative of the directors: [step, node, i, :] holds ' // &
+            'the spatial components of d(d_(i+1))/dt')
+        if (ns > 0 .and. field_selected(selection, 'stress')) call add('stress', [6, ns], &
+            stress_unit, 'total stress resultants (elastic branch plus all Maxwell branches) ' // &
+            'at the stress points in material (director) components, [step, point, k] with k ' // &
+            'over the attribute components: forces N and moments M; stress minus the sum of ' // &
+            'branch_stress over the branches is the elastic-branch stress', stress_components)
+        if (ns > 0 .and. field_selected(selection, 'strain')) call add('strain', [6, ns], &
+            '1 (Gamma); 1/m (K)', 'strains computed from the displacements at the stress ' // &
+            'points (straight reference: Gamma0 = (0, 0, 1), K0 = 0); strain consistency: ' // &
+            'C sigma_elastic = strain - strain0 (methods/ph_director_3d.md §2.2, §5.3 item 3), ' // &
+            '[step, point, k] with k over the attribute components', &
+            'Gamma1 Gamma2 Gamma3 K1 K2 K3')
+        if (ns > 0 .and. layout%n_branches > 0 .and. field_selected(selection, 'branch_stress')) &
+            call add('branch_stress', [6, ns, layout%n_branches], stress_unit, &
+            'stress resultants of the generalized-Maxwell branches at the stress points in ' // &
+            'material (director) components, [step, branch, point, k] with k over the ' // &
+            'attribute components (methods/ph_director_3d.md §3.1); stress minus their sum ' // &
+            'over the branches is the elastic-branch stress', stress_components)
+        do k = 1, size(energy_names)
+            call add('series/energy/' // trim(energy_names(k)), [integer ::], 'J', &
+                energy_description(energy_names(k)))
+        end do
+        do k = 1, size(momentum_names)
+            call add('series/momentum/' // trim(momentum_names(k)), [3], &
+                momentum_unit(momentum_names(k)), momentum_description(momentum_names(k)))
+        end do
+        call add('series/center_of_mass', [3], 'm', &
+            'centre of mass of the centreline (1/L) int phi ds, [step, component]')
+        call add('series/constraint_residual', [integer ::], '1', &
+            'largest nodal orthonormality residual max_k |g(d_k)| (d_i . d_j - delta_ij) at ' // &
+            'the record, [step]')
+        call add('series/newton/iterations', [integer ::], '1', &
+            'Newton iterations of the step that ended at this record, [step]', integer_values=.true.)
+        call add('series/newton/residual', [integer ::], 'as newton_atol', &
+            'final Newton residual norm of the step that ended at this record, in the row ' // &
+            'scaling of the formulation''s method document (DESIGN.md §3), [step]')
+        call add('series/dt', [integer ::], 's', 'time step that ended at this record ' // &
+            '(after cut-backs, the smallest substep), [step]')
+    contains
+        subroutine add(path, dims, unit, description, components, integer_values)
+            character(len=*), intent(in) :: path, unit, description
+            integer, intent(in) :: dims(:)
+            character(len=*), intent(in), optional :: components
+            logical, intent(in), optional :: integer_values
+            type(field_t) :: field
+            if (index(layout%recorded, ',' // path // ',') == 0) return
+            field%path = path
+            field%dims = dims
+            field%unit = unit
+            field%description = description
+            if (present(components)) field%components = components
+            if (present(integer_values)) field%integer_values = integer_values
+            fields = [fields, field]
+        end subroutine add
+    end function rod_fields
+
+    !> Records first..last of field `path` of a history, flattened (Fortran order).
+    function record_block(h, path, first, last) result(values)
+        type(rod_history_t), intent(in) :: h
+        character(len=*), intent(in) :: path
+        integer, intent(in) :: first, last
+        real(rk), allocatable :: values(:)
+        real(rk), allocatable :: series(:)
+        integer :: n
+        n = last - first + 1
+        select case (path)
+        case ('time')
+            values = h%time(first:last)
+        case ('position')
+            values = reshape(h%position(:, :, first:last), [3 * h%n_nodes * n])
+        case ('directors')
+            values = reshape(h%directors(:, :, :, first:last), [9 * h%n_nodes * n])
+        case ('velocity')
+            values = reshape(h%velocity(:, :, first:last), [3 * h%n_nodes * n])
+        case ('director_velocity')
+            values = reshape(h%director_velocity(:, :, :, first:last), [9 * h%n_nodes * n])
+        case ('stress')
+            values = reshape(h%stress(:, :, first:last), [6 * h%n_stress_points * n])
+        case ('strain')
+            values = reshape(h%strains(:, :, first:last), [6 * h%n_stress_points * n])
+        case ('branch_stress')
+            values = reshape(h%branch_stress(:, :, :, first:last), &
+                [6 * h%n_stress_points * h%n_branches * n])
+        case ('series/momentum/linear')
+            values = reshape(h%linear_momentum(:, first:last), [3 * n])
+        case ('series/momentum/angular')
+            values = reshape(h%angular_momentum(:, first:last), [3 * n])
+        case ('series/center_of_mass')
+            values = reshape(h%center_of_mass(:, first:last), [3 * n])
+        case ('series/constraint_residual')
+            values = h%constraint_residual(first:last)
+        case ('series/newton/residual')
+            values = h%newton_residual(first:last)
+        case ('series/dt')
+            values = h%dt(first:last)
+        case default
+            call energy_of(h, path(len('series/energy/') + 1:), series)
+            values = series(first:last)
+        end select
+    end function record_block
+
+    !> Rank 0, before the run: create the result file with its metadata, the input, every
+    !> rod's group, meshes and empty growing datasets, and the checkpoint datasets. With
+    !> `restart` (the file exists, copied from restart_from), keep the rods' records up to the
+    !> checkpoint instead, replace the input, and check that the file fits the layouts.
+    subroutine prepare_result_file(path, meta, layouts, selection, err, restart)
+        character(len=*), intent(in) :: path, selection
+        type(result_meta_t), intent(in) :: meta
+        type(rod_layout_t), intent(in) :: layouts(:)
+        type(error_t), allocatable, intent(out) :: err
+        logical, intent(in), optional :: restart
+        type(hdf5_file_t) :: file
+        type(error_t), allocatable :: close_err
+        logical :: restarting
+        integer :: i
+
+        restarting = .false.
+        if (present(restart)) restarting = restart
+        if (restarting) then
+            call file%open(path, err)
+            if (allocated(err)) return
+            call restart_in_place(file, meta, layouts, selection, err)
+        else
+            call file%create(path, err)
+            if (allocated(err)) return
+            call write_root(file, meta, err)
+            call write_input(file, meta, err)
+            do i = 1, size(layouts)
+                call create_rod(file, layouts(i), selection, system_of(meta), err)
+            end do
+        end if
         call file%close(close_err)
         if (.not. allocated(err) .and. allocated(close_err)) call move_alloc(close_err, err)
-    end subroutine write_result_file
+    end subroutine prepare_result_file
+
+    !> /rods/<name>/ with its meshes and empty growing datasets; /checkpoint/<name>/.
+    subroutine create_rod(file, layout, selection, system, err)
+        type(hdf5_file_t), intent(inout) :: file
+        type(rod_layout_t), intent(in) :: layout
+        character(len=*), intent(in) :: selection, system
+        type(error_t), allocatable, intent(inout) :: err
+        type(field_t), allocatable :: fields(:)
+        character(len=:), allocatable :: group, checkpoint
+        integer :: k
+        if (allocated(err)) return
+        group = '/rods/' // layout%name
+        call file%create_group(group, err)
+        if (allocated(err)) return
+        call put_attribute(file, group, 'formulation', layout%formulation, err)
+        if (allocated(err)) return
+        if (size(layout%mesh) > 0) call file%write_dataset(group // '/mesh', layout%mesh, &
+            unit_in_system('m', system), 'reference arc length s of the nodes, [node]', err)
+        if (allocated(err)) return
+        if (size(layout%stress_mesh) > 0) call file%write_dataset(group // '/stress_mesh', &
+            layout%stress_mesh, unit_in_system('m', system), 'reference arc length of the stress points (the ' // &
+            'element stress coefficients, element by element), [point]', err)
+        if (allocated(err)) return
+        fields = rod_fields(layout, selection)
+        do k = 1, size(fields)
+            call file%create_series(group // '/' // trim(fields(k)%path), fields(k)%dims, &
+                fields(k)%integer_values, unit_text(trim(fields(k)%unit), system), &
+                fields(k)%description, err)
+            if (allocated(err)) return
+            if (len_trim(fields(k)%components) > 0) call put_attribute(file, group // '/' // &
+                trim(fields(k)%path), 'components', trim(fields(k)%components), err)
+            if (allocated(err)) return
+        end do
+        if (layout%n_state == 0) return
+        ! The checkpoint (DESIGN.md §7): written with data now, so that its storage exists and
+        ! each rank can rewrite its rods' part independently at every flush.
+        checkpoint = '/checkpoint/' // layout%name
+        call file%write_dataset(checkpoint // '/state', [(0.0_rk, k = 1, layout%n_state)], &
+            'mixed', 'state vector X of the formulation at the checkpoint step', err)
+        if (allocated(err)) return
+        if (layout%n_internal > 0) call file%write_dataset(checkpoint // '/internal', &
+            [(0.0_rk, k = 1, layout%n_internal)], 'mixed', 'the formulation''s book-keeping ' // &
+            'since the last record (work, balance, dissipation sums, Newton statistics)', err)
+        if (allocated(err)) return
+        call file%write_dataset(checkpoint // '/step', [-1], '1', &
+            'time step the checkpoint holds the state after (-1: none yet)', err)
+        if (allocated(err)) return
+        call file%write_dataset(checkpoint // '/records', [0], '1', &
+            'records of the rod in the file at the checkpoint', err)
+        if (allocated(err)) return
+        call file%write_dataset(checkpoint // '/time', [0.0_rk], unit_in_system('s', system), &
+            'time of the checkpoint', err)
+    end subroutine create_rod
+
+    !> A restart in the result file itself: check the rods against the layouts, cut each rod's
+    !> datasets back to its checkpoint, drop /series (rebuilt at the end), replace the input and
+    !> the run's root attributes.
+    subroutine restart_in_place(file, meta, layouts, selection, err)
+        type(hdf5_file_t), intent(inout) :: file
+        type(result_meta_t), intent(in) :: meta
+        type(rod_layout_t), intent(in) :: layouts(:)
+        character(len=*), intent(in) :: selection
+        type(error_t), allocatable, intent(inout) :: err
+        type(field_t), allocatable :: fields(:)
+        integer, allocatable :: dims(:), records(:)
+        character(len=:), allocatable :: group
+        integer :: i, k
+        do i = 1, size(layouts)
+            group = '/rods/' // layouts(i)%name
+            if (.not. file%exists('/checkpoint/' // layouts(i)%name // '/state')) then
+                call set_error(err, 'the restart file "' // file%path // '" has no checkpoint ' // &
+                    'of rod "' // layouts(i)%name // '"', 'prepare_result_file', __FILE__, __LINE__)
+                return
+            end if
+            call file%dataset_dims('/checkpoint/' // layouts(i)%name // '/state', dims, err)
+            if (allocated(err)) return
+            if (dims(1) /= layouts(i)%n_state) then
+                call set_error(err, 'the restart file "' // file%path // '" holds rod "' // &
+                    layouts(i)%name // '" with ' // str(dims(1)) // ' state values, the scene ' // &
+                    'gives it ' // str(layouts(i)%n_state) // ' (a different discretization?)', &
+                    'prepare_result_file', __FILE__, __LINE__)
+                return
+            end if
+            call file%read('/checkpoint/' // layouts(i)%name // '/records', records, err)
+            if (allocated(err)) return
+            fields = rod_fields(layouts(i), selection)
+            do k = 1, size(fields)
+                if (.not. file%exists(group // '/' // trim(fields(k)%path))) then
+                    call set_error(err, 'the restart file "' // file%path // '" has no ' // &
+                        group // '/' // trim(fields(k)%path) // ' (&output fields differ?)', &
+                        'prepare_result_file', __FILE__, __LINE__)
+                    return
+                end if
+                call file%set_records(group // '/' // trim(fields(k)%path), records(1), err)
+                if (allocated(err)) return
+            end do
+        end do
+        if (file%exists('/series')) call file%delete('/series', err)
+        if (allocated(err)) return
+        do k = 1, 3
+            group = '/input/' // trim(input_names(k))
+            if (file%exists(group)) call file%delete(group, err)
+            if (allocated(err)) return
+        end do
+        call write_input(file, meta, err)
+        call put_attribute(file, '/', 'command_line', text_of(meta%command_line), err)
+        call put_attribute_int(file, '/', 'n_ranks', meta%n_ranks, err)
+        call put_attribute(file, '/', 'restarted', iso_8601_now(), err)
+    end subroutine restart_in_place
+
+    !> Read the checkpoint of rod `name` from `path` (rank that owns the rod; serial driver).
+    subroutine read_checkpoint(path, name, state, internal, step, records, time, err)
+        character(len=*), intent(in) :: path, name
+        real(rk), allocatable, intent(out) :: state(:), internal(:)
+        integer, intent(out) :: step, records
+        real(rk), intent(out) :: time
+        type(error_t), allocatable, intent(out) :: err
+        type(hdf5_file_t) :: file
+        type(error_t), allocatable :: close_err
+        character(len=:), allocatable :: group
+        integer, allocatable :: values(:)
+        real(rk), allocatable :: times(:)
+        step = -1
+        records = 0
+        time = 0.0_rk
+        call file%open(path, err, writable=.false.)
+        if (allocated(err)) return
+        group = '/checkpoint/' // name
+        body: block
+            if (.not. file%exists(group // '/state')) then
+                call set_error(err, 'the restart file "' // path // '" has no checkpoint of ' // &
+                    'rod "' // name // '"', 'read_checkpoint', __FILE__, __LINE__)
+                exit body
+            end if
+            call file%read(group // '/state', state, err)
+            if (allocated(err)) exit body
+            allocate(internal(0))
+            if (file%exists(group // '/internal')) call file%read(group // '/internal', internal, err)
+            if (allocated(err)) exit body
+            call file%read(group // '/step', values, err)
+            if (allocated(err)) exit body
+            step = values(1)
+            call file%read(group // '/records', values, err)
+            if (allocated(err)) exit body
+            records = values(1)
+            call file%read(group // '/time', times, err)
+            if (allocated(err)) exit body
+            time = times(1)
+            if (step < 0) call set_error(err, 'the restart file "' // path // '" holds no ' // &
+                'checkpoint yet (the run stopped before its first flush)', 'read_checkpoint', &
+                __FILE__, __LINE__)
+        end block body
+        call file%close(close_err)
+        if (.not. allocated(err) .and. allocated(close_err)) call move_alloc(close_err, err)
+    end subroutine read_checkpoint
+
+    !> Rank 0, after the run: /series/ (the time grid and the energies and momenta summed over
+    !> the rods, over the records every rod has) and the run's status.
+    subroutine finish_result_file(path, layouts, status, err, units)
+        character(len=*), intent(in) :: path, status
+        type(rod_layout_t), intent(in) :: layouts(:)
+        type(error_t), allocatable, intent(out) :: err
+        character(len=*), intent(in), optional :: units
+        type(hdf5_file_t) :: file
+        type(error_t), allocatable :: close_err
+        real(rk), allocatable :: time(:), values(:), total(:)
+        character(len=:), allocatable :: name, system
+        integer :: i, k, n
+        logical :: everywhere
+        system = 'si'
+        if (present(units)) system = units
+        call file%open(path, err)
+        if (allocated(err)) return
+        body: block
+            n = huge(1)
+            do i = 1, size(layouts)
+                call file%read('/rods/' // layouts(i)%name // '/time', values, err)
+                if (allocated(err)) exit body
+                if (size(values) < n) time = values
+                n = min(n, size(values))
+            end do
+            if (file%exists('/series')) call file%delete('/series', err)
+            if (allocated(err)) exit body
+            call file%write_dataset('/series/time', time, unit_in_system('s', system), &
+                'time of each stored record, shared by all rods, [step]', err, series=.true.)
+            if (allocated(err)) exit body
+            do k = 1, size(energy_names) + size(momentum_names)
+                if (k <= size(energy_names)) then
+                    name = 'energy/' // trim(energy_names(k))
+                    allocate(total(n), source=0.0_rk)
+                else
+                    name = 'momentum/' // trim(momentum_names(k - size(energy_names)))
+                    allocate(total(3 * n), source=0.0_rk)
+                end if
+                everywhere = .true.
+                do i = 1, size(layouts)
+                    everywhere = file%exists('/rods/' // layouts(i)%name // '/series/' // name)
+                    if (.not. everywhere) exit
+                    call file%read('/rods/' // layouts(i)%name // '/series/' // name, values, err)
+                    if (allocated(err)) exit body
+                    total = total + values(1:size(total))
+                end do
+                if (.not. everywhere) then
+                    ! A sum only of what every rod has.
+                    deallocate(total)
+                    cycle
+                end if
+                if (k <= size(energy_names)) then
+                    call file%write_dataset('/series/' // name, total, unit_in_system('J', system), &
+                        'sum over all rods: ' // &
+                        energy_description(energy_names(k)), err, series=.true.)
+                else
+                    call file%write_dataset('/series/' // name, reshape(total, [3, n]), &
+                        unit_in_system(momentum_unit(name(10:)), system), 'sum over all rods: ' // &
+                        momentum_description(name(10:)), err, series=.true.)
+                end if
+                deallocate(total)
+                if (allocated(err)) exit body
+            end do
+            call put_attribute(file, '/', 'status', status, err)
+        end block body
+        call file%close(close_err)
+        if (.not. allocated(err) .and. allocated(close_err)) call move_alloc(close_err, err)
+    end subroutine finish_result_file
+
+    ! ---- the writer of a run ------------------------------------------------------------------
+
+    !> Open the prepared result file with the layouts of all rods and the records each has in
+    !> the file already.
+    subroutine writer_open(this, path, layouts, selection, n_records, err)
+        class(result_writer_t), intent(inout) :: this
+        character(len=*), intent(in) :: path, selection
+        type(rod_layout_t), intent(in) :: layouts(:)
+        integer, intent(in) :: n_records(:)
+        type(error_t), allocatable, intent(out) :: err
+        integer :: i
+        this%layouts = layouts
+        allocate(this%fields(size(layouts)))
+        do i = 1, size(layouts)
+            this%fields(i)%list = rod_fields(layouts(i), selection)
+        end do
+        this%n_records = n_records
+        call this%file%open(path, err)
+    end subroutine writer_open
+
+    !> Append the stored records of history `h` to rod i's datasets.
+    subroutine writer_append(this, i, h, err)
+        class(result_writer_t), intent(inout) :: this
+        integer, intent(in) :: i
+        type(rod_history_t), intent(in) :: h
+        type(error_t), allocatable, intent(out) :: err
+        character(len=:), allocatable :: path
+        integer :: k, first
+        if (h%n_stored == 0) return
+        first = this%n_records(i) + 1
+        do k = 1, size(this%fields(i)%list)
+            path = '/rods/' // this%layouts(i)%name // '/' // trim(this%fields(i)%list(k)%path)
+            call this%file%set_records(path, this%n_records(i) + h%n_stored, err)
+            if (allocated(err)) return
+            if (this%fields(i)%list(k)%integer_values) then
+                call this%file%write_records(path, first, h%newton_iterations(1:h%n_stored), err)
+            else
+                call this%file%write_records(path, first, &
+                    record_block(h, trim(this%fields(i)%list(k)%path), 1, h%n_stored), err)
+            end if
+            if (allocated(err)) return
+        end do
+        this%n_records(i) = this%n_records(i) + h%n_stored
+    end subroutine writer_append
+
+    !> Rod i's checkpoint: its state and the formulation's book-keeping after `step`, at `time`.
+    subroutine writer_write_checkpoint(this, i, step, time, state, internal, err)
+        class(result_writer_t), intent(inout) :: this
+        integer, intent(in) :: i, step
+        real(rk), intent(in) :: time, state(:), internal(:)
+        type(error_t), allocatable, intent(out) :: err
+        character(len=:), allocatable :: group
+        group = '/checkpoint/' // this%layouts(i)%name
+        call this%file%write_records(group // '/state', 1, state, err)
+        if (allocated(err)) return
+        if (this%layouts(i)%n_internal > 0) &
+            call this%file%write_records(group // '/internal', 1, internal, err)
+        if (allocated(err)) return
+        call this%file%write_records(group // '/step', 1, [step], err)
+        if (allocated(err)) return
+        call this%file%write_records(group // '/records', 1, [this%n_records(i)], err)
+        if (allocated(err)) return
+        call this%file%write_records(group // '/time', 1, [time], err)
+    end subroutine writer_write_checkpoint
+
+    subroutine writer_flush(this, err)
+        class(result_writer_t), intent(inout) :: this
+        type(error_t), allocatable, intent(out) :: err
+        call this%file%flush(err)
+    end subroutine writer_flush
+
+    subroutine writer_close(this, err)
+        class(result_writer_t), intent(inout) :: this
+        type(error_t), allocatable, intent(out) :: err
+        call this%file%close(err)
+    end subroutine writer_close
 
     !> Rod names usable as group names and unique; each stored array holds `n_stored` records;
     !> one time grid for all rods.
@@ -214,7 +877,31 @@ contains
         call put_attribute(file, '/', 'hdf5_version', hdf5_version(), err)
         call put_attribute(file, '/', 'mpi_version', text_of(meta%mpi_version), err)
         call put_attribute(file, '/', 'title', text_of(meta%title), err)
+        call put_attribute(file, '/', 'units', system_of(meta), err)
     end subroutine write_root
+
+    !> The scene's system of units ('si' when not given).
+    pure function system_of(meta) result(system)
+        type(result_meta_t), intent(in) :: meta
+        character(len=:), allocatable :: system
+        system = 'si'
+        if (allocated(meta%units)) then
+            if (len_trim(meta%units) > 0) system = trim(meta%units)
+        end if
+    end function system_of
+
+    !> A field's SI unit text in `system`; the stress unit names its components, which are
+    !> not units.
+    pure function unit_text(si_unit, system) result(text)
+        character(len=*), intent(in) :: si_unit, system
+        character(len=:), allocatable :: text
+        if (si_unit == stress_unit) then
+            text = unit_in_system('N', system) // ' (N1, N2, N3); ' // &
+                unit_in_system('N m', system) // ' (M1, M2, M3)'
+        else
+            text = unit_in_system(si_unit, system)
+        end if
+    end function unit_text
 
     subroutine write_input(file, meta, err)
         type(hdf5_file_t), intent(inout) :: file
@@ -233,129 +920,6 @@ contains
             'the PETSc options in use: scene values, then the scene''s petsc_options, then ' // &
             'the command line, later ones winning (DESIGN.md §3)', err)
     end subroutine write_input
-
-    !> /rods/<name>/ with the rod's fields and /rods/<name>/series/.
-    subroutine write_rod(file, h, err)
-        type(hdf5_file_t), intent(inout) :: file
-        type(rod_history_t), intent(in) :: h
-        type(error_t), allocatable, intent(inout) :: err
-        character(len=:), allocatable :: group, series
-        real(rk), allocatable :: values_1(:), values_2(:, :)
-        integer :: n, k
-
-        if (allocated(err)) return
-        n = h%n_stored
-        group = '/rods/' // h%name
-        series = group // '/series'
-        call file%create_group(group, err)
-        if (allocated(err)) return
-        call put_attribute(file, group, 'formulation', h%formulation, err)
-
-        call put_mesh(file, group // '/mesh', h%mesh, &
-            'reference arc length s of the nodes, [node]', err)
-        call put_mesh(file, group // '/stress_mesh', h%stress_mesh, &
-            'reference arc length of the stress points (the element stress coefficients, ' // &
-            'element by element), [point]', err)
-        call put_1(file, group // '/time', h%time, n, 's', 'time of each stored record, [step]', &
-            err)
-        call put_3(file, group // '/position', h%position, n, 'm', &
-            'centreline position phi of the nodes in the spatial frame, [step, node, component]', &
-            err)
-        call put_4(file, group // '/directors', h%directors, n, '1', &
-            'directors of the nodes: [step, node, i, :] holds the spatial components of ' // &
-            'd_(i+1) (h5py index i = 0, 1, 2 for d1, d2, d3)', err)
-        call put_3(file, group // '/velocity', h%velocity, n, 'm/s', &
-            'centreline velocity of the nodes in the spatial frame, [step, node, component]', &
-            err)
-        call put_4(file, group // '/director_velocity', h%director_velocity, n, '1/s', &
-            'time derivative of the directors: [step, node, i, :] holds the spatial ' // &
-            'components of d(d_(i+1))/dt', err)
-        call put_3(file, group // '/stress', h%stress, n, stress_unit, &
-            'total stress resultants (elastic branch plus all Maxwell branches) at the ' // &
-            'stress points in material (director) components, [step, point, k] with k over ' // &
-            'the attribute components: forces N and moments M; stress minus the sum of ' // &
-            'branch_stress over the branches is the elastic-branch stress', err, &
-            stress_components)
-        call put_3(file, group // '/strain', h%strains, n, '1 (Gamma); 1/m (K)', &
-            'strains computed from the displacements at the stress points (straight ' // &
-            'reference: Gamma0 = (0, 0, 1), K0 = 0); strain consistency: C sigma_elastic = ' // &
-            'strain - strain0 (methods/ph_director_3d.md §2.2, §5.3 item 3), ' // &
-            '[step, point, k] with k over the attribute components', err, &
-            'Gamma1 Gamma2 Gamma3 K1 K2 K3')
-        call put_4(file, group // '/branch_stress', h%branch_stress, n, stress_unit, &
-            'stress resultants of the generalized-Maxwell branches at the stress points in ' // &
-            'material (director) components, [step, branch, point, k] with k over the ' // &
-            'attribute components (methods/ph_director_3d.md §3.1); stress minus their sum ' // &
-            'over the branches is the elastic-branch stress', err, stress_components)
-
-        do k = 1, size(energy_names)
-            call energy_of(h, energy_names(k), values_1)
-            call put_1(file, series // '/energy/' // trim(energy_names(k)), values_1, n, 'J', &
-                energy_description(energy_names(k)), err)
-        end do
-        do k = 1, size(momentum_names)
-            call momentum_of(h, momentum_names(k), values_2)
-            call put_2(file, series // '/momentum/' // trim(momentum_names(k)), values_2, n, &
-                momentum_unit(momentum_names(k)), momentum_description(momentum_names(k)), err)
-        end do
-        call put_2(file, series // '/center_of_mass', h%center_of_mass, n, 'm', &
-            'centre of mass of the centreline (1/L) int phi ds, [step, component]', err)
-        call put_1(file, series // '/constraint_residual', h%constraint_residual, n, '1', &
-            'largest nodal orthonormality residual max_k |g(d_k)| (d_i . d_j - delta_ij) at ' // &
-            'the record, [step]', err)
-        if (allocated(h%newton_iterations) .and. .not. allocated(err)) then
-            if (size(h%newton_iterations) > 0) call file%write_dataset( &
-                series // '/newton/iterations', h%newton_iterations(1:n), '1', &
-                'Newton iterations of the step that ended at this record, [step]', err, &
-                series=.true.)
-        end if
-        call put_1(file, series // '/newton/residual', h%newton_residual, n, &
-            'as newton_atol', 'final Newton residual norm of the step that ended at this ' // &
-            'record, in the row scaling of the formulation''s method document ' // &
-            '(DESIGN.md §3), [step]', err)
-        call put_1(file, series // '/dt', h%dt, n, 's', 'time step that ended at this ' // &
-            'record (after cut-backs, the smallest substep), [step]', err)
-    end subroutine write_rod
-
-    !> /series/: the time grid and the energies and momenta summed over the rods (each sum only
-    !> when every rod has the quantity).
-    subroutine write_root_series(file, histories, err)
-        type(hdf5_file_t), intent(inout) :: file
-        type(rod_history_t), intent(in) :: histories(:)
-        type(error_t), allocatable, intent(inout) :: err
-        real(rk), allocatable :: sum_1(:), sum_2(:, :), values_1(:), values_2(:, :)
-        integer :: n, i, k
-        logical :: everywhere
-
-        n = histories(1)%n_stored
-        call put_1(file, '/series/time', histories(1)%time, n, 's', &
-            'time of each stored record, shared by all rods, [step]', err)
-        do k = 1, size(energy_names)
-            everywhere = .true.
-            allocate(sum_1(n), source=0.0_rk)
-            do i = 1, size(histories)
-                call energy_of(histories(i), energy_names(k), values_1)
-                everywhere = everywhere .and. has_1(values_1)
-                if (everywhere) sum_1 = sum_1 + values_1(1:n)
-            end do
-            if (everywhere) call put_1(file, '/series/energy/' // trim(energy_names(k)), sum_1, &
-                n, 'J', 'sum over all rods: ' // energy_description(energy_names(k)), err)
-            deallocate(sum_1)
-        end do
-        do k = 1, size(momentum_names)
-            everywhere = .true.
-            allocate(sum_2(3, n), source=0.0_rk)
-            do i = 1, size(histories)
-                call momentum_of(histories(i), momentum_names(k), values_2)
-                everywhere = everywhere .and. has_2(values_2)
-                if (everywhere) sum_2 = sum_2 + values_2(:, 1:n)
-            end do
-            if (everywhere) call put_2(file, '/series/momentum/' // trim(momentum_names(k)), &
-                sum_2, n, momentum_unit(momentum_names(k)), 'sum over all rods: ' // &
-                momentum_description(momentum_names(k)), err)
-            deallocate(sum_2)
-        end do
-    end subroutine write_root_series
 
     !> A copy of the energy series `name` of `h`; unallocated when the rod does not have it.
     pure subroutine energy_of(h, name, values)
@@ -447,7 +1011,7 @@ contains
     end function momentum_description
 
     ! The put_* helpers do nothing once `err` is set, so a sequence of writes needs one check
-    ! at its end; absent arrays (unallocated or of size zero) are skipped.
+    ! at its end.
 
     subroutine put_attribute(file, object, name, value, err)
         type(hdf5_file_t), intent(inout) :: file
@@ -466,64 +1030,6 @@ contains
         call file%write_attribute(object, name, value, err)
     end subroutine put_attribute_int
 
-    subroutine put_mesh(file, path, values, description, err)
-        type(hdf5_file_t), intent(inout) :: file
-        character(len=*), intent(in) :: path, description
-        real(rk), allocatable, intent(in) :: values(:)
-        type(error_t), allocatable, intent(inout) :: err
-        if (allocated(err) .or. .not. has_1(values)) return
-        call file%write_dataset(path, values, 'm', description, err)
-    end subroutine put_mesh
-
-    subroutine put_1(file, path, values, n, unit, description, err)
-        type(hdf5_file_t), intent(inout) :: file
-        character(len=*), intent(in) :: path, unit, description
-        real(rk), allocatable, intent(in) :: values(:)
-        integer, intent(in) :: n
-        type(error_t), allocatable, intent(inout) :: err
-        if (allocated(err) .or. .not. has_1(values)) return
-        call file%write_dataset(path, values(1:n), unit, description, err, series=.true.)
-    end subroutine put_1
-
-    subroutine put_2(file, path, values, n, unit, description, err)
-        type(hdf5_file_t), intent(inout) :: file
-        character(len=*), intent(in) :: path, unit, description
-        real(rk), allocatable, intent(in) :: values(:, :)
-        integer, intent(in) :: n
-        type(error_t), allocatable, intent(inout) :: err
-        if (allocated(err) .or. .not. has_2(values)) return
-        call file%write_dataset(path, values(:, 1:n), unit, description, err, series=.true.)
-    end subroutine put_2
-
-    ! put_3 and put_4 also write the attribute `components` when it is given.
-
-    subroutine put_3(file, path, values, n, unit, description, err, components)
-        type(hdf5_file_t), intent(inout) :: file
-        character(len=*), intent(in) :: path, unit, description
-        real(rk), allocatable, intent(in) :: values(:, :, :)
-        integer, intent(in) :: n
-        type(error_t), allocatable, intent(inout) :: err
-        character(len=*), intent(in), optional :: components
-        if (allocated(err) .or. .not. has_3(values)) return
-        call file%write_dataset(path, values(:, :, 1:n), unit, description, err, series=.true.)
-        if (present(components)) call put_attribute(file, path, 'components', components, err)
-    end subroutine put_3
-
-    subroutine put_4(file, path, values, n, unit, description, err, components)
-        type(hdf5_file_t), intent(inout) :: file
-        character(len=*), intent(in) :: path, unit, description
-        real(rk), allocatable, intent(in) :: values(:, :, :, :)
-        integer, intent(in) :: n
-        type(error_t), allocatable, intent(inout) :: err
-        character(len=*), intent(in), optional :: components
-        if (allocated(err)) return
-        if (.not. allocated(values)) return
-        if (size(values) == 0) return
-        call file%write_dataset(path, values(:, :, :, 1:n), unit, description, err, &
-            series=.true.)
-        if (present(components)) call put_attribute(file, path, 'components', components, err)
-    end subroutine put_4
-
     pure logical function has_1(values)
         real(rk), allocatable, intent(in) :: values(:)
         has_1 = .false.
@@ -541,6 +1047,12 @@ contains
         has_3 = .false.
         if (allocated(values)) has_3 = size(values) > 0
     end function has_3
+
+    pure logical function has_4(values)
+        real(rk), allocatable, intent(in) :: values(:, :, :, :)
+        has_4 = .false.
+        if (allocated(values)) has_4 = size(values) > 0
+    end function has_4
 
     ! A present array (allocated, not empty) with fewer than n records in its last dimension.
 

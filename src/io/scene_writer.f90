@@ -3,8 +3,9 @@
 !> scene. Printed by `--check-input` and stored in the output as /input/resolved.
 !>
 !> Each group is written with Fortran's namelist output (so no variable can be forgotten) and
-!> then tidied: component prefixes dropped, names in lower case, reals in their shortest exact
-!> form, padding inside strings removed, variables that are still unset left out.
+!> then tidied: component prefixes dropped, names in the reference's spelling, reals in their
+!> shortest exact form, padding inside strings removed, variables that are still unset and
+!> components that are not input variables left out.
 module rs_io_scene_writer
     use rs_core_kinds, only: rk
     use rs_core_strings, only: to_lower, str
@@ -140,9 +141,14 @@ contains
                     'abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ_') == 0) then
                 text = text // variable_line(name, value)
                 name = to_lower(trim(line(pct + 1:eq - 1)))
-                ! The spelling of the reference (EA, rhoI1), not the namelist's upper case.
+                ! The spelling of the reference (EA, rhoI1), not the namelist's upper case;
+                ! components that are not input variables (input_line) are left out.
                 v = find_variable(groups(g), name)
-                if (v > 0) name = trim(groups(g)%variables(v)%name)
+                if (v > 0) then
+                    name = trim(groups(g)%variables(v)%name)
+                else
+                    name = ''
+                end if
                 value = line(eq + 1:)
             else
                 value = value // ' ' // line
@@ -151,15 +157,15 @@ contains
         text = text // variable_line(name, value) // '/' // new_line('a')
     end function tidy_group
 
-    !> "    name = v1, v2" with values tidied; '' for no name, the hidden input_line, or a value
-    !> whose every entry is still unset.
+    !> "    name = v1, v2" with values tidied; '' for no name (a component that is not an input
+    !> variable) or a value whose every entry is still unset.
     function variable_line(name, raw) result(text)
         character(len=*), intent(in) :: name, raw
         character(len=:), allocatable :: text, token, values
         character(len=:), allocatable :: tokens(:)
         integer :: i, n_kept
         text = ''
-        if (len(name) == 0 .or. name == 'input_line') return
+        if (len(name) == 0) return
         call split_tokens(raw, tokens)
         values = ''
         n_kept = 0

@@ -23,6 +23,8 @@ module rs_model_capabilities
         logical :: viscoelastic = .false.
         !> Pneumatic chambers and tendons (&actuator).
         logical :: actuation = .false.
+        !> A curved stress-free reference (&rod geometry = 'helix' or 'polyline').
+        logical :: curved_reference = .false.
     end type capability_t
 
 contains
@@ -35,13 +37,14 @@ contains
         select case (trim(name))
         case ('ph_director')
             ! seed 000 §2.9 and §6.1: clamped (Dirichlet) and free (Neumann) ends; dead end
-            ! loads, distributed loads and gravity; the straight stress-free reference. The
-            ! extensions of seed 000 §5 (methods/ph_director_3d.md §2.3, §3, §6.3): shear-rigid
-            ! and inextensible constraints, quasistatics, Maxwell branches, actuators.
+            ! loads, distributed loads and gravity. The extensions of seed 000 §5
+            ! (methods/ph_director_3d.md §2.3, §3, §6.3): shear-rigid and inextensible
+            ! constraints, quasistatics, Maxwell branches, actuators; and a curved stress-free
+            ! reference (the reference strains at the Gauss points, docs/theory/ph_director.md).
             row = capability_t(formulation='ph_director', available=.true., end_kinds='clamped|free', &
                 load_places='start|end|distributed|gravity', load_frames='spatial', &
                 constraints='none|kirchhoff|inextensible', quasistatic=.true., viscoelastic=.true., &
-                actuation=.true.)
+                actuation=.true., curved_reference=.true.)
         end select
     end function capability_of
 

@@ -63,6 +63,8 @@ module rs_model_rod_history
         procedure :: init => rod_history_init
         procedure :: free => rod_history_free
         procedure :: next_record => rod_history_next_record
+        !> Forget the stored records (after they went to the file); the capacity stays.
+        procedure :: clear => rod_history_clear
         procedure :: pack => rod_history_pack
         procedure :: unpack => rod_history_unpack
     end type rod_history_t
@@ -149,6 +151,11 @@ contains
             record = this%n_stored
         end if
     end function rod_history_next_record
+
+    subroutine rod_history_clear(this)
+        class(rod_history_t), intent(inout) :: this
+        this%n_stored = 0
+    end subroutine rod_history_clear
 
     !> The stored records as two flat arrays, for sending to another rank (`unpack` inverts).
     subroutine rod_history_pack(this, header, values)

@@ -19,6 +19,8 @@ module rs_model_scene
     integer, parameter, public :: max_table = 512
     !> Capacity of generalized-Maxwell branches per rod (&rod maxwell_*).
     integer, parameter, public :: max_branches = 8
+    !> Capacity of polyline centrelines (&rod points: 3 coordinates per point).
+    integer, parameter, public :: max_polyline_points = 64
     !> Length of name-like strings (rod names, formulation names, kinds).
     integer, parameter, public :: name_len = 64
     !> Length of free text (titles, paths, option strings).
@@ -34,6 +36,13 @@ module rs_model_scene
         character(len=name_len) :: formulation_default = 'ph_director'
         integer :: seed = 1
         character(len=name_len) :: log_level = 'info'
+        !> System of units the scene's numbers are in (rs_model_units); the solver is
+        !> unit-agnostic, only the unit names shown change.
+        character(len=name_len) :: units = 'si'
+        !> Seconds between two progress lines of a long run.
+        real(rk) :: progress_interval = 5.0_rk
+        !> A result file whose checkpoint the run continues from ('' = start at t = 0).
+        character(len=text_len) :: restart_from = ''
     end type run_input_t
 
     !> &time: the time interval and the time-stepping scheme.
@@ -72,10 +81,28 @@ module rs_model_scene
         integer :: n_elements = unset_int
         integer :: degree = 2
         integer :: n_gauss = 2
-        real(rk) :: start(3) = 0.0_rk
-        real(rk) :: direction(3) = [1.0_rk, 0.0_rk, 0.0_rk]
+        !> Formulation as resolved from: 'rod' (given in &rod), 'default' (&run
+        !> formulation_default) or 'auto' (set by the resolver; not an input variable).
+        character(len=name_len) :: formulation_origin = ''
+        !> Reference centreline (rs_model_rod_geometry): 'straight', 'helix' or 'polyline'.
+        character(len=name_len) :: geometry = 'straight'
+        !> Start, direction (helix: axis) and rotation_center default to (0, 0, 0), e_x and
+        !> start; they are unset until resolved so that a value given for a polyline, where
+        !> they are derived, can be checked against the points.
+        real(rk) :: start(3) = unset_real
+        real(rk) :: direction(3) = unset_real
         real(rk) :: d1(3) = unset_real
         real(rk) :: length = unset_real
+        real(rk) :: helix_radius = unset_real
+        real(rk) :: helix_pitch = unset_real
+        real(rk) :: helix_turns = unset_real
+        !> Polyline vertices x1, y1, z1, x2, ... (the leading given entries).
+        real(rk) :: points(3 * max_polyline_points) = unset_real
+        !> Initial rigid-body velocity field: v(s) = velocity + angular_velocity x
+        !> (phi(s) - rotation_center), director rates angular_velocity x d_i.
+        real(rk) :: velocity(3) = 0.0_rk
+        real(rk) :: angular_velocity(3) = 0.0_rk
+        real(rk) :: rotation_center(3) = unset_real
         character(len=name_len) :: section = 'none'
         real(rk) :: radius = unset_real
         real(rk) :: inner_radius = unset_real

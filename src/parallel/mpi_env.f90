@@ -10,7 +10,7 @@ module rs_parallel_mpi_env
 
     public :: world_rank, world_size, is_root, broadcast_text, broadcast_flag, barrier
     public :: mpi_library_version, any_rank_true, send_array, receive_array, sum_over_ranks
-    public :: max_over_ranks
+    public :: max_over_ranks, broadcast_array, max_each_over_ranks
 
     !> Blocking point-to-point transfer of a whole real or integer array, for gathering results
     !> to rank 0 after the time loop (DESIGN.md §5: no communication inside it).
@@ -22,6 +22,11 @@ module rs_parallel_mpi_env
     interface receive_array
         module procedure receive_reals, receive_integers
     end interface receive_array
+
+    !> Give every rank the whole array `root` holds (allocated to its length on the others).
+    interface broadcast_array
+        module procedure broadcast_reals, broadcast_integers
+    end interface broadcast_array
 
 contains
 
@@ -121,6 +126,41 @@ contains
         call MPI_Allreduce(value, max_over_ranks, 1, MPI_DOUBLE_PRECISION, MPI_MAX, &
             MPI_COMM_WORLD, ierr)
     end function max_over_ranks
+
+    subroutine broadcast_reals(values, root)
+        real(kind(1.0d0)), allocatable, intent(inout) :: values(:)
+        integer, intent(in) :: root
+        integer :: n, ierr
+        if (world_rank() == root) n = size(values)
+        call MPI_Bcast(n, 1, MPI_INTEGER, root, MPI_COMM_WORLD, ierr)
+        if (world_rank() /= root) then
+            if (allocated(values)) deallocate(values)
+            allocate(values(n))
+        end if
+        if (n > 0) call MPI_Bcast(values, n, MPI_DOUBLE_PRECISION, root, MPI_COMM_WORLD, ierr)
+    end subroutine broadcast_reals
+
+    subroutine broadcast_integers(values, root)
+        integer, allocatable, intent(inout) :: values(:)
+        integer, intent(in) :: root
+        integer :: n, ierr
+        if (world_rank() == root) n = size(values)
+        call MPI_Bcast(n, 1, MPI_INTEGER, root, MPI_COMM_WORLD, ierr)
+        if (world_rank() /= root) then
+            if (allocated(values)) deallocate(values)
+            allocate(values(n))
+        end if
+        if (n > 0) call MPI_Bcast(values, n, MPI_INTEGER, root, MPI_COMM_WORLD, ierr)
+    end subroutine broadcast_integers
+
+    !> Element by element, the largest value over all ranks, on every rank (in place).
+    subroutine max_each_over_ranks(values)
+        integer, intent(inout) :: values(:)
+        integer :: ierr
+        if (size(values) == 0) return
+        call MPI_Allreduce(MPI_IN_PLACE, values, size(values), MPI_INTEGER, MPI_MAX, &
+            MPI_COMM_WORLD, ierr)
+    end subroutine max_each_over_ranks
 
     !> Wait for all ranks.
     subroutine barrier()

@@ -1,7 +1,7 @@
 #include "rs_macros.h"
-!> Runs the rods of a scene through time (DESIGN.md §3 and §5): each rank takes its share of
-!> the rods, builds each rod's formulation, solves it with its own sequential rodmid stepper on
-!> PETSC_COMM_SELF (no communication in the time loop), and keeps the records for the output.
+!> Runs one rod of a scene through time (DESIGN.md §3 and §5): builds the rod's formulation,
+!> solves it with its own sequential rodmid stepper on PETSC_COMM_SELF (no communication in the
+!> time loop), and keeps the records until the caller writes them.
 !>
 !> PETSc calls back into the formulation through `bind(C)` procedures that receive a plain,
 !> non-polymorphic context holding a pointer to the formulation (DESIGN.md §3: a polymorphic
@@ -21,7 +21,7 @@ module rs_solver_rod_run
     implicit none
     private
 
-    public :: run_rod, step_count
+    public :: step_count
 
     !> What PETSc's callbacks receive: the formulation and the vector sizes.
     type :: callback_context_t
@@ -31,10 +31,53 @@ module rs_solver_rod_run
         integer :: n_values = 0
         !> End of the last accepted (sub)step: where a failed step leaves the state.
         real(rk) :: t_reached = 0.0_rk
+        !> Wall time spent in the residual and Jacobian callbacks (assembly).
+        real(rk) :: assembly_seconds = 0.0_rk
     end type callback_context_t
 
-    !> Seconds between two progress lines of one rod.
-    real(rk), parameter :: progress_interval = 5.0_rk
+    !> One rod through time (DESIGN.md §3, §5): its formulation, its own sequential stepper on
+    !> PETSC_COMM_SELF, its state and the records not yet written. The caller steps all rods of
+    !> its rank together, one step at a time, so that the ranks meet at the flushes.
+    type, public :: rod_runner_t
+        integer :: rod_index = 0
+        class(rod_formulation_t), pointer :: formulation => null()
+        type(callback_context_t), pointer :: context => null()
+        type(rod_stepper_t) :: stepper
+        type(rod_history_t) :: history
+        !> The state X after the last accepted step.
+        real(rk), allocatable :: x(:)
+        !> The rod stopped: its solver failed (`err` says where and why).
+        logical :: failed = .false.
+        type(error_t), allocatable :: err
+        !> Last step done (the time grid's index) and the time of the last record.
+        integer :: step = 0
+        real(rk) :: t_recorded = 0.0_rk
+        integer :: steps_done = 0
+        integer :: total_iterations = 0
+        integer :: total_cutbacks = 0
+        !> Wall time in `advance` (Newton: assembly and linear solves).
+        real(rk) :: solve_seconds = 0.0_rk
+        !> Largest |energy-balance error| and |H| of the records so far.
+        real(rk) :: max_balance = 0.0_rk
+        real(rk) :: max_energy = 0.0_rk
+    contains
+        !> Build the formulation and the stepper; record the initial state unless restarting.
+        procedure :: start => runner_start
+        !> Continue from a checkpoint: the state after step `step` and the formulation's
+        !> book-keeping.
+        procedure :: restore => runner_restore
+        !> Take step n of the scene's time grid (and the endpoint solve after the last one of a
+        !> quasistatic run); record at the output stride. A failure records the last good state
+        !> and stops the rod.
+        procedure :: advance => runner_advance
+        !> The formulation's book-keeping for a checkpoint.
+        procedure :: internal => runner_internal
+        !> Wall time spent assembling residuals and Jacobians.
+        procedure :: assembly_seconds => runner_assembly_seconds
+        !> Destroy the stepper and print the rod's summary line.
+        procedure :: finish => runner_finish
+        procedure, private :: stop_here, note_record
+    end type rod_runner_t
 
 contains
 
@@ -44,106 +87,164 @@ contains
         step_count = max(1, ceiling(scene%time%t_end / scene%time%dt - 1.0e-9_rk))
     end function step_count
 
-    !> Run rod `rod_index` from t = 0 to t_end and fill its history. On a solver failure the
-    !> history ends with the last good state and `err` says where and why.
-    subroutine run_rod(scene, rod_index, history, err)
+    !> Build rod `rod_index` of the scene with room for `capacity` records between two writes.
+    subroutine runner_start(this, scene, rod_index, capacity, restarting, err)
+        class(rod_runner_t), intent(inout) :: this
         type(scene_t), intent(in) :: scene
-        integer, intent(in) :: rod_index
-        type(rod_history_t), intent(inout) :: history
+        integer, intent(in) :: rod_index, capacity
+        logical, intent(in) :: restarting
         type(error_t), allocatable, intent(out) :: err
-        class(rod_formulation_t), allocatable, target :: formulation
-        type(callback_context_t), target :: context
-        type(rod_stepper_t) :: stepper
+        class(rod_formulation_t), allocatable :: built
         integer, allocatable :: row_ptr(:), cols(:)
-        real(rk), allocatable :: x(:)
-        real(rk) :: t_n, h, fnorm, started, last_report, elapsed, t_recorded
-        integer :: n, n_steps, stride, substeps, cutbacks, iterations, total_iterations
-        integer :: total_cutbacks
 
-        call create_formulation(scene%rods(rod_index)%formulation, formulation, err)
+        this%rod_index = rod_index
+        call create_formulation(scene%rods(rod_index)%formulation, built, err)
         RS_RETURN_IF_ERROR(err)
-        call formulation%init(scene, rod_index, err)
+        allocate(this%formulation, source=built)
+        call this%formulation%init(scene, rod_index, err)
         RS_RETURN_IF_ERROR(err)
-        call log_info(formulation%describe())
+        call log_info(this%formulation%describe())
 
-        n_steps = step_count(scene)
-        stride = scene%output%stride
-        call formulation%init_history(history, n_steps / stride + 2)
-        allocate(x(formulation%n_state()))
-        call formulation%initial_state(x)
-        call formulation%record(history, 0.0_rk, x)
-        t_recorded = 0.0_rk
+        call this%formulation%init_history(this%history, capacity)
+        allocate(this%x(this%formulation%n_state()))
+        call this%formulation%initial_state(this%x)
+        if (.not. restarting) call this%formulation%record(this%history, 0.0_rk, this%x)
+        call this%note_record()
 
-        call formulation%jacobian_pattern(row_ptr, cols)
-        context%formulation => formulation
-        context%n_state = formulation%n_state()
-        context%n_unknown = formulation%n_unknown()
-        context%n_values = size(cols)
-        call stepper%create(context%n_state, context%n_unknown, row_ptr, cols, &
+        call this%formulation%jacobian_pattern(row_ptr, cols)
+        allocate(this%context)
+        this%context%formulation => this%formulation
+        this%context%n_state = this%formulation%n_state()
+        this%context%n_unknown = this%formulation%n_unknown()
+        this%context%n_values = size(cols)
+        call this%stepper%create(this%context%n_state, this%context%n_unknown, row_ptr, cols, &
             c_funloc(residual_callback), c_funloc(jacobian_callback), &
             c_funloc(predictor_callback), c_funloc(update_callback), c_funloc(poststep_callback), &
-            c_loc(context), scene%solver%newton_atol, scene%solver%newton_rtol, &
+            c_loc(this%context), scene%solver%newton_atol, scene%solver%newton_rtol, &
             scene%solver%max_newton, scene%solver%max_cutbacks, err)
-        RS_RETURN_IF_ERROR(err)
+    end subroutine runner_start
 
+    subroutine runner_restore(this, scene, step, state, internal, err)
+        class(rod_runner_t), intent(inout) :: this
+        type(scene_t), intent(in) :: scene
+        integer, intent(in) :: step
+        real(rk), intent(in) :: state(:), internal(:)
+        type(error_t), allocatable, intent(out) :: err
+        character(len=:), allocatable :: message
+        if (size(state) /= size(this%x) .or. size(internal) /= this%formulation%n_internal()) then
+            message = 'the checkpoint of rod "' // this%history%name // '" holds ' // &
+                str(size(state)) // ' state and ' // str(size(internal)) // ' internal ' // &
+                'values; the scene builds ' // str(size(this%x)) // ' and ' // &
+                str(this%formulation%n_internal()) // ' (a different discretization?)'
+            RS_SET_ERROR(err, 'rod_runner%restore', message)
+            return
+        end if
+        this%x = state
+        call this%formulation%restore_internal(internal)
+        this%step = step
+        this%t_recorded = min(real(step, rk) * scene%time%dt, scene%time%t_end)
+        this%context%t_reached = this%t_recorded
+    end subroutine runner_restore
+
+    subroutine runner_advance(this, scene, n)
+        class(rod_runner_t), intent(inout) :: this
+        type(scene_t), intent(in) :: scene
+        integer, intent(in) :: n
+        real(rk) :: t_n, h, fnorm, started
+        integer :: n_steps, substeps, cutbacks, iterations
+
+        if (this%failed) return
+        n_steps = step_count(scene)
+        t_n = real(n - 1, rk) * scene%time%dt
+        h = min(scene%time%dt, scene%time%t_end - t_n)
         started = wall_time()
-        last_report = started
-        total_iterations = 0
-        total_cutbacks = 0
-        do n = 1, n_steps
-            t_n = real(n - 1, rk) * scene%time%dt
-            h = min(scene%time%dt, scene%time%t_end - t_n)
-            call stepper%advance(t_n, h, x, substeps, cutbacks, iterations, fnorm, err)
-            total_iterations = total_iterations + iterations
-            total_cutbacks = total_cutbacks + cutbacks
-            if (allocated(err)) then
-                ! The stepper left x at the last good state (after any accepted substeps of
-                ! this step); record it so it is written.
-                if (context%t_reached > t_recorded) &
-                    call formulation%record(history, context%t_reached, x)
-                call stepper%destroy()
+        call this%stepper%advance(t_n, h, this%x, substeps, cutbacks, iterations, fnorm, this%err)
+        this%solve_seconds = this%solve_seconds + (wall_time() - started)
+        this%total_iterations = this%total_iterations + iterations
+        this%total_cutbacks = this%total_cutbacks + cutbacks
+        if (allocated(this%err)) then
+            ! The stepper left x at the last good state (after any accepted substeps of this
+            ! step); record it so it is written.
+            call this%stop_here()
+            return
+        end if
+        if (n == n_steps .and. this%formulation%wants_endpoint_solve()) then
+            ! Quasistatics (DESIGN.md §3): the midpoint steps are equilibria at the mid loads;
+            ! the last record is the equilibrium at the final load itself.
+            call this%formulation%set_endpoint_solve(.true., scene%time%t_end)
+            started = wall_time()
+            call this%stepper%advance(t_n, h, this%x, substeps, cutbacks, iterations, fnorm, &
+                this%err)
+            this%solve_seconds = this%solve_seconds + (wall_time() - started)
+            call this%formulation%set_endpoint_solve(.false., scene%time%t_end)
+            this%total_iterations = this%total_iterations + iterations
+            this%total_cutbacks = this%total_cutbacks + cutbacks
+            if (allocated(this%err)) then
+                this%err%message = 'endpoint equilibrium at t = ' // str(scene%time%t_end) // &
+                    ': ' // this%err%message
+                call this%stop_here()
                 return
             end if
-            if (n == n_steps .and. formulation%wants_endpoint_solve()) then
-                ! Quasistatics (DESIGN.md §3): the midpoint steps are equilibria at the mid
-                ! loads; the last record is the equilibrium at the final load itself.
-                call formulation%set_endpoint_solve(.true., scene%time%t_end)
-                call stepper%advance(t_n, h, x, substeps, cutbacks, iterations, fnorm, err)
-                call formulation%set_endpoint_solve(.false., scene%time%t_end)
-                total_iterations = total_iterations + iterations
-                total_cutbacks = total_cutbacks + cutbacks
-                if (allocated(err)) then
-                    call formulation%record(history, context%t_reached, x)
-                    call stepper%destroy()
-                    err%message = 'endpoint equilibrium at t = ' // str(scene%time%t_end) // &
-                        ': ' // err%message
-                    return
-                end if
-                call log_info('  ' // history%name // ': endpoint equilibrium at t = ' // &
-                    str(scene%time%t_end) // ' in ' // str(iterations) // ' Newton iterations')
-            end if
-            if (mod(n, stride) == 0 .or. n == n_steps) then
-                ! n dt rather than t_n + h, so that stored times are the grid's own values.
-                t_recorded = min(real(n, rk) * scene%time%dt, scene%time%t_end)
-                call formulation%record(history, t_recorded, x)
-            end if
-            if (wall_time() - last_report >= progress_interval .or. n == n_steps) then
-                last_report = wall_time()
-                call log_info('  ' // history%name // ': t = ' // str(t_n + h) // ', step ' // &
-                    str(n) // '/' // str(n_steps) // ', Newton iterations ' // &
-                    str(total_iterations) // ', cut-backs ' // str(total_cutbacks) // ', ' // &
-                    str_significant(last_report - started, 3) // ' s')
-            end if
-        end do
-        call stepper%destroy()
+            call log_info('  ' // this%history%name // ': endpoint equilibrium at t = ' // &
+                str(scene%time%t_end) // ' in ' // str(iterations) // ' Newton iterations')
+        end if
+        this%step = n
+        this%steps_done = this%steps_done + 1
+        if (mod(n, scene%output%stride) == 0 .or. n == n_steps) then
+            ! n dt rather than t_n + h, so that stored times are the grid's own values.
+            this%t_recorded = min(real(n, rk) * scene%time%dt, scene%time%t_end)
+            call this%formulation%record(this%history, this%t_recorded, this%x)
+            call this%note_record()
+        end if
+    end subroutine runner_advance
+
+    !> After a failure: record the last good state (if it is new) and stop the rod.
+    subroutine stop_here(this)
+        class(rod_runner_t), intent(inout) :: this
+        this%failed = .true.
+        if (this%context%t_reached > this%t_recorded) then
+            call this%formulation%record(this%history, this%context%t_reached, this%x)
+            call this%note_record()
+        end if
+    end subroutine stop_here
+
+    !> Track the balance error and energy of the newest record (for the progress line).
+    subroutine note_record(this)
+        class(rod_runner_t), intent(inout) :: this
+        integer :: k
+        k = this%history%n_stored
+        if (k < 1) return
+        if (allocated(this%history%balance_error)) this%max_balance = max(this%max_balance, &
+            abs(this%history%balance_error(k)))
+        if (allocated(this%history%total)) this%max_energy = max(this%max_energy, &
+            abs(this%history%total(k)))
+    end subroutine note_record
+
+    function runner_internal(this) result(values)
+        class(rod_runner_t), intent(in) :: this
+        real(rk), allocatable :: values(:)
+        allocate(values(this%formulation%n_internal()))
+        call this%formulation%save_internal(values)
+    end function runner_internal
+
+    real(rk) function runner_assembly_seconds(this)
+        class(rod_runner_t), intent(in) :: this
+        runner_assembly_seconds = 0.0_rk
+        if (associated(this%context)) runner_assembly_seconds = this%context%assembly_seconds
+    end function runner_assembly_seconds
+
+    subroutine runner_finish(this)
+        class(rod_runner_t), intent(inout) :: this
+        real(rk) :: elapsed
+        call this%stepper%destroy()
         ! The summary line is also what tests/bench/ reads (time loop only, output excluded).
-        elapsed = wall_time() - started
-        call log_info('  ' // history%name // ': ' // str(n_steps) // ' steps, ' // &
-            str(total_iterations) // ' Newton iterations, ' // str(total_cutbacks) // &
+        elapsed = this%solve_seconds
+        call log_info('  ' // this%history%name // ': ' // str(this%steps_done) // ' steps, ' // &
+            str(this%total_iterations) // ' Newton iterations, ' // str(this%total_cutbacks) // &
             ' cut-backs; time loop ' // str_significant(elapsed, 4) // ' s, per step ' // &
-            str_significant(elapsed / n_steps, 4) // ' s, per Newton iteration ' // &
-            str_significant(elapsed / max(1, total_iterations), 4) // ' s')
-    end subroutine run_rod
+            str_significant(elapsed / max(1, this%steps_done), 4) // ' s, per Newton ' // &
+            'iteration ' // str_significant(elapsed / max(1, this%total_iterations), 4) // ' s')
+    end subroutine runner_finish
 
     ! ---- PETSc callbacks (src/solver/rod_stepper.c) -------------------------------------------
 
@@ -153,12 +254,15 @@ contains
         integer(c_int) :: status
         type(callback_context_t), pointer :: context
         real(rk), pointer :: x_n_(:), y_(:), f_(:)
+        real(rk) :: started
         integer :: state
         call c_f_pointer(ctx, context)
         call c_f_pointer(x_n, x_n_, [context%n_state])
         call c_f_pointer(y, y_, [context%n_unknown])
         call c_f_pointer(f, f_, [context%n_unknown])
+        started = wall_time()
         call context%formulation%step_residual(t_n, h, x_n_, y_, f_, state)
+        context%assembly_seconds = context%assembly_seconds + (wall_time() - started)
         status = int(state, c_int)
     end function residual_callback
 
@@ -168,12 +272,15 @@ contains
         integer(c_int) :: status
         type(callback_context_t), pointer :: context
         real(rk), pointer :: x_n_(:), y_(:), values_(:)
+        real(rk) :: started
         integer :: state
         call c_f_pointer(ctx, context)
         call c_f_pointer(x_n, x_n_, [context%n_state])
         call c_f_pointer(y, y_, [context%n_unknown])
         call c_f_pointer(values, values_, [context%n_values])
+        started = wall_time()
         call context%formulation%step_jacobian(t_n, h, x_n_, y_, values_, state)
+        context%assembly_seconds = context%assembly_seconds + (wall_time() - started)
         status = int(state, c_int)
     end function jacobian_callback
 

@@ -14,10 +14,19 @@ import tempfile
 
 
 def resolved_text(stdout):
-    """The resolved scene of --check-input: its groups, without the header and verdict lines."""
-    lines = stdout.splitlines()
-    return "\n".join(l for l in lines if not l.startswith("! resolved scene of")
-                     and not l.startswith("rodsolve: ")) + "\n"
+    """The resolved scene of --check-input: its groups, without the header and verdict lines and
+    without the plan (the comment block from "! plan:" on, which names the number of ranks and
+    so differs between the 2-rank check and the 1-rank re-read)."""
+    kept, in_plan = [], False
+    for line in stdout.splitlines():
+        if line.startswith("! plan:"):
+            in_plan = True
+        elif in_plan and not line.startswith("!"):
+            in_plan = False
+        if in_plan or line.startswith("! resolved scene of") or line.startswith("rodsolve: "):
+            continue
+        kept.append(line)
+    return "\n".join(kept) + "\n"
 
 
 def main():

@@ -110,3 +110,18 @@ class Checks:
     def finish(self):
         print(f"{self.failed} check(s) failed")
         sys.exit(1 if self.failed else 0)
+
+
+def run_restart(args, text, name, output, ranks=1):
+    """Like `run`, but the scene continues another run (restart_from) into `output`, which may
+    be the restart file itself, so nothing is removed first."""
+    text = set_variable(text, "output", "path", f"'{output}'")
+    scene = os.path.join(args.workdir, name + ".nml")
+    with open(scene, "w", encoding="utf-8") as f:
+        f.write(text)
+    command = [args.mpiexec, "--oversubscribe", "-np", str(ranks), args.rodsolve, scene]
+    result = subprocess.run(command, capture_output=True, text=True)
+    print(result.stdout + result.stderr)
+    if result.returncode != 0:
+        raise SystemExit(f"{' '.join(command)} failed with status {result.returncode}")
+    return output

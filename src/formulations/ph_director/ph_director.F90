@@ -17,6 +17,8 @@ module rs_ph_director
     use rs_core_error, only: error_t, set_error
     use rs_core_strings, only: str
     use rs_model_scene, only: scene_t, rod_input_t, unset_real
+    use rs_model_rod_geometry, only: rod_geometry_t, rod_geometry_of, centreline_point, &
+        centreline_frame
     use rs_core_logger, only: log_info
     use rs_model_time_function, only: time_function_t, time_function_from_load, &
         time_function_from_actuator
@@ -31,7 +33,8 @@ module rs_ph_director
         ph_director_element_external_work, ph_director_node_external_work, &
         ph_director_node_constraint, ph_director_element_strains, &
         ph_director_element_dissipation, ph_director_element_actuator_work, &
-        ph_director_local_size
+        ph_director_local_size, ph_director_element_reference_strains, &
+        ph_director_element_initial_stress, ph_director_straight_strain
     implicit none
     private
 
@@ -79,6 +82,10 @@ module rs_ph_director
         real(rk) :: t_static = 0.0_rk
         logical, allocatable :: clamped(:)
         real(rk), allocatable :: fixed_q(:, :)
+        !> Reference strains eps_0 at the Gauss points, eps_ref(6, n_gauss, element).
+        real(rk), allocatable :: eps_ref(:, :, :)
+        !> Initial nodal velocities (12, node) and elastic stresses (6, p, element).
+        real(rk), allocatable :: initial_v(:, :), initial_s(:, :, :)
         !> node_dof(i, k): unknown index of local dof i of node k (0: fixed or dropped).
         integer, allocatable :: node_dof(:, :)
         !> stress_dof(j, e): unknown index of stress coefficient j = 6 (b - 1) + component.
@@ -123,6 +130,9 @@ module rs_ph_director
         procedure :: describe => ph_director_describe
         procedure :: energy => ph_director_energy
         procedure :: wants_endpoint_solve => ph_director_wants_endpoint_solve
+        procedure :: n_internal => ph_director_n_internal
+        procedure :: save_internal => ph_director_save_internal
+        procedure :: restore_internal => ph_director_restore_internal
         procedure :: set_endpoint_solve => ph_director_set_endpoint_solve
         procedure :: unpack
         procedure :: element_nodes
@@ -157,7 +167,7 @@ contains
             RS_RETURN_IF_ERROR(err)
             this%n_local = ph_director_local_size(this%basis, this%material)
 
-            ! Uniform mesh of the straight reference; seed 000 §2.1, Remark 2.1.
+            ! Uniform mesh in the arc length of the reference centreline (seed 000 §2.1).
             allocate(this%node_s(this%n_nodes), this%element_length(this%n_elements))
             this%node_s = [(rod%length * real(k - 1, rk) / real(this%n_nodes - 1, rk), &
                 k = 1, this%n_nodes)]
@@ -304,23 +314,59 @@ contains
         end do
     end function actuation_at
 
-    !> The straight, stress-free reference: phi = start + s t, d3 = t, d1 given, d2 = d3 x d1.
+    !> The reference configuration from the rod's geometry (rs_model_rod_geometry): nodal
+    !> phi at equal arc length along the centreline, d3 the unit tangent, d1 parallel-transported
+    !> from its value at s = 0, d2 = d3 x d1. The reference strains at the Gauss points are
+    !> those of these nodes (stress-free, docs/theory/ph_director.md), or with `prestressed`
+    !> the straight Gamma_0 = (0, 0, 1), K_0 = 0 with the consistent elastic stresses as
+    !> initial stresses (methods §5.4). The initial velocity is the rigid motion v_phi =
+    !> velocity + omega x (phi - rotation_center), v_di = omega x d_i.
     subroutine reference_configuration(this, rod)
         type(ph_director_t), intent(inout) :: this
         type(rod_input_t), intent(in) :: rod
-        real(rk) :: d1(3), d2(3), d3(3)
-        integer :: k
-        d3 = rod%direction
-        d1 = rod%d1
-        d2 = [d3(2) * d1(3) - d3(3) * d1(2), d3(3) * d1(1) - d3(1) * d1(3), &
-            d3(1) * d1(2) - d3(2) * d1(1)]
-        allocate(this%fixed_q(12, this%n_nodes))
+        type(rod_geometry_t) :: geometry
+        real(rk) :: d(3, 3), center(3), omega(3)
+        integer :: k, e, g, i, nodes(2)
+        geometry = rod_geometry_of(rod)
+        allocate(this%fixed_q(12, this%n_nodes), this%initial_v(12, this%n_nodes))
         do k = 1, this%n_nodes
-            this%fixed_q(1:3, k) = rod%start + this%node_s(k) * d3
-            this%fixed_q(4:6, k) = d1
-            this%fixed_q(7:9, k) = d2
-            this%fixed_q(10:12, k) = d3
+            d = centreline_frame(geometry, this%node_s(k))
+            this%fixed_q(1:3, k) = centreline_point(geometry, this%node_s(k))
+            this%fixed_q(4:6, k) = d(:, 1)
+            this%fixed_q(7:9, k) = d(:, 2)
+            this%fixed_q(10:12, k) = d(:, 3)
         end do
+        allocate(this%eps_ref(6, this%basis%n_gauss, this%n_elements))
+        allocate(this%initial_s(6, this%degree, this%n_elements), source=0.0_rk)
+        do e = 1, this%n_elements
+            nodes = this%element_nodes(e)
+            if (rod%prestressed) then
+                do g = 1, this%basis%n_gauss
+                    this%eps_ref(:, g, e) = ph_director_straight_strain
+                end do
+                call ph_director_element_initial_stress(this%basis, this%material, &
+                    this%element_length(e), this%fixed_q(:, nodes(1):nodes(2)), &
+                    this%eps_ref(:, :, e), this%initial_s(:, :, e))
+            else
+                call ph_director_element_reference_strains(this%basis, this%element_length(e), &
+                    this%fixed_q(:, nodes(1):nodes(2)), this%eps_ref(:, :, e))
+            end if
+        end do
+        center = rod%rotation_center
+        if (center(1) == unset_real) center = rod%start
+        omega = rod%angular_velocity
+        do k = 1, this%n_nodes
+            this%initial_v(1:3, k) = rod%velocity + cross(omega, this%fixed_q(1:3, k) - center)
+            do i = 1, 3
+                this%initial_v(3 * i + 1:3 * i + 3, k) = cross(omega, this%fixed_q(3 * i + 1:3 * i + 3, k))
+            end do
+        end do
+    contains
+        pure function cross(a, b) result(c)
+            real(rk), intent(in) :: a(3), b(3)
+            real(rk) :: c(3)
+            c = [a(2) * b(3) - a(3) * b(2), a(3) * b(1) - a(1) * b(3), a(1) * b(2) - a(2) * b(1)]
+        end function cross
     end subroutine reference_configuration
 
     subroutine read_supports(this, scene, err)
@@ -564,16 +610,24 @@ contains
         call this%pattern%zero_based(row_ptr, cols)
     end subroutine ph_director_jacobian_pattern
 
-    !> At rest in the stress-free reference (methods §5.4): sigma = 0, v = 0.
+    !> The reference configuration with its initial velocity and consistent stresses (methods
+    !> §5.4): sigma = 0 in a stress-free reference, the projected elastic stresses of a
+    !> prestressed one (Maxwell branches at 0); v the initial rigid motion (0 at clamped nodes,
+    !> which the input check keeps at rest); lambda = 0.
     subroutine ph_director_initial_state(this, x)
         class(ph_director_t), intent(in) :: this
         real(rk), intent(out) :: x(:)
-        integer :: k, i
+        integer :: k, i, e
         x = 0.0_rk
         do k = 1, this%n_nodes
             do i = 1, 12
                 if (this%node_dof(i, k) > 0) x(this%node_dof(i, k)) = this%fixed_q(i, k)
+                if (this%node_dof(12 + i, k) > 0) x(this%node_dof(12 + i, k)) = this%initial_v(i, k)
             end do
+        end do
+        do e = 1, this%n_elements
+            x(this%stress_dof(1:6 * this%degree, e)) = reshape(this%initial_s(:, :, e), &
+                [6 * this%degree])
         end do
     end subroutine ph_director_initial_state
 
@@ -795,7 +849,7 @@ contains
         s = 0.0_rk
         do e = 1, this%n_elements
             call ph_director_element_residual(this%basis, this%material, this%element_length(e), &
-                1.0_rk, .false., q, q, v, v, s, s, [0.0_rk, 0.0_rk, 0.0_rk], &
+                this%eps_ref(:, :, e), 1.0_rk, .false., q, q, v, v, s, s, [0.0_rk, 0.0_rk, 0.0_rk], &
                 [0.0_rk, 0.0_rk, 0.0_rk], ph_director_actuation_t(), r_e, j_e)
             this%compliance_inverse(:, :, e) = inverse(j_e(first:, first:))
         end do
@@ -967,8 +1021,8 @@ contains
         real(rk), intent(out), optional :: j_e(:, :)
         integer :: nodes(2)
         nodes = this%element_nodes(e)
-        call ph_director_element_residual(this%basis, this%material, this%element_length(e), h, &
-            this%static, this%q_n(:, nodes(1):nodes(2)), this%q_1(:, nodes(1):nodes(2)), &
+        call ph_director_element_residual(this%basis, this%material, this%element_length(e), &
+            this%eps_ref(:, :, e), h, this%static, this%q_n(:, nodes(1):nodes(2)), this%q_1(:, nodes(1):nodes(2)), &
             this%v_n(:, nodes(1):nodes(2)), this%v_1(:, nodes(1):nodes(2)), this%s_n(:, :, :, e), &
             this%s_1(:, :, :, e), nbar, mbar, actuation, r_e, j_e)
     end subroutine element_kernel
@@ -1243,5 +1297,32 @@ contains
             trim(merge('stresses condensed', 'uncondensed       ', this%condensed)) // '), ' // &
             str(this%pattern%nnz()) // ' Jacobian non-zeros'
     end function ph_director_describe
+
+    ! ---- Checkpoint (DESIGN.md §7): the sums since the last record --------------------------
+
+    pure integer function ph_director_n_internal(this)
+        class(ph_director_t), intent(in) :: this
+        ph_director_n_internal = 7
+    end function ph_director_n_internal
+
+    subroutine ph_director_save_internal(this, values)
+        class(ph_director_t), intent(in) :: this
+        real(rk), intent(out) :: values(:)
+        values(1:7) = [this%work_since_record, this%balance_since_record, &
+            this%dissipated_since_record, this%actuator_work_since_record, this%smallest_step, &
+            this%last_residual, real(this%iterations_since_record, rk)]
+    end subroutine ph_director_save_internal
+
+    subroutine ph_director_restore_internal(this, values)
+        class(ph_director_t), intent(inout) :: this
+        real(rk), intent(in) :: values(:)
+        this%work_since_record = values(1)
+        this%balance_since_record = values(2)
+        this%dissipated_since_record = values(3)
+        this%actuator_work_since_record = values(4)
+        this%smallest_step = values(5)
+        this%last_residual = values(6)
+        this%iterations_since_record = nint(values(7))
+    end subroutine ph_director_restore_internal
 
 end module rs_ph_director

@@ -26,7 +26,11 @@
 !>   to the t_{n+1} unknowns (and lambda_mid), so they contain the 1/2 of the midpoint. A
 !>   `static` step evaluates the same rows at t_{n+1} instead (the endpoint equilibrium of a
 !>   quasistatic run, DESIGN.md §3).
-!> - Straight stress-free reference: Gamma_0 = (0, 0, 1), K_0 = 0 (methods §2.1, Remark 2.1).
+!> - Reference strains eps_0 = (Gamma_0, K_0) are given per element at its Gauss points
+!>   (eps_ref(6, n_gauss)): for a stress-free reference they are the strains of the reference
+!>   nodes, ph_director_element_reference_strains, so that a curved reference has eps(q_ref) -
+!>   eps_0 = 0 exactly at the Gauss points; the straight reference of methods §2.1 (Remark 2.1)
+!>   has Gamma_0 = (0, 0, 1), K_0 = 0 (ph_director_straight_strain) up to round-off.
 !> - Loads (nbar, mbar distributed per unit length, force and moment at nodes) are spatial
 !>   vectors at t_mid; a moment m acts on director i as 1/2 m x d_i (T(d) m, methods §2.5).
 !> - All integrals use the element's Gauss rule, including mass and compliance matrices, so the
@@ -48,6 +52,7 @@ module rs_ph_director_element
     public :: ph_director_element_external_work, ph_director_node_external_work
     public :: ph_director_element_strains, ph_director_node_constraint
     public :: ph_director_element_dissipation, ph_director_element_actuator_work
+    public :: ph_director_element_reference_strains, ph_director_element_initial_stress
 
     !> Largest element degree (quadratic elements).
     integer, parameter, public :: ph_director_max_degree = 2
@@ -60,7 +65,8 @@ module rs_ph_director_element
     !> Largest number of tendons of a rod.
     integer, parameter, public :: ph_director_max_tendons = 16
     !> Strains of the straight stress-free reference, (Gamma_0, K_0) (methods §2.1).
-    real(rk), parameter :: eps_0(6) = [0.0_rk, 0.0_rk, 1.0_rk, 0.0_rk, 0.0_rk, 0.0_rk]
+    real(rk), parameter, public :: ph_director_straight_strain(6) = &
+        [0.0_rk, 0.0_rk, 1.0_rk, 0.0_rk, 0.0_rk, 0.0_rk]
 
     !> Section properties of a rod (methods §2.3, §2.4): line density rhoA, director inertias
     !> rhoI = (M_rho^11, M_rho^22) (the d3 block has no mass), and the diagonal compliance
@@ -201,12 +207,14 @@ contains
     !> instead of accumulating it (DESIGN.md §3, "constraints at the right level"). A component
     !> that is rigid has no Maxwell branch: its branch rows are s_1 = 0.
     !> nbar, mbar: distributed spatial force and moment per unit length at t_mid, constant over
-    !> the element (gravity: nbar = rhoA g).
-    pure subroutine ph_director_element_residual(basis, material, le, h, static, q_n, q_1, v_n, &
-            v_1, s_n, s_1, nbar, mbar, actuation, residual, jacobian)
+    !> the element (gravity: nbar = rhoA g). eps_ref(:, g): the reference strains eps_0 at Gauss
+    !> point g (module header).
+    pure subroutine ph_director_element_residual(basis, material, le, eps_ref, h, static, q_n, &
+            q_1, v_n, v_1, s_n, s_1, nbar, mbar, actuation, residual, jacobian)
         type(ph_director_basis_t), intent(in) :: basis
         type(ph_director_material_t), intent(in) :: material
         real(rk), intent(in) :: le, h
+        real(rk), intent(in) :: eps_ref(6, basis%n_gauss)
         logical, intent(in) :: static
         real(rk), intent(in) :: q_n(12, basis%nen), q_1(12, basis%nen)
         real(rk), intent(in) :: v_n(12, basis%nen), v_1(12, basis%nen)
@@ -318,7 +326,7 @@ contains
             end if
             do b = 1, p
                 rs = stress_row(basis, 0, b)
-                residual(rs + 1:rs + 6) = residual(rs + 1:rs + 6) - wds * psi(b) * (eps_1 - eps_0)
+                residual(rs + 1:rs + 6) = residual(rs + 1:rs + 6) - wds * psi(b) * (eps_1 - eps_ref(:, g))
                 do cc = 1, p
                     residual(rs + 1:rs + 6) = residual(rs + 1:rs + 6) &
                         + wds * psi(b) * psi(cc) * material%compliance * s_1(:, cc, 0)
@@ -685,6 +693,67 @@ contains
         end do
         work = h * work
     end function ph_director_node_external_work
+
+    !> Strains eps(q) = (Gamma, K) of nodal q(12, nen) at the element's Gauss points, with the
+    !> strain operator of the residual (methods §2.2): the reference strains eps_0 of a
+    !> stress-free reference q (module header), so that eps(q_ref) - eps_0 = 0 there exactly.
+    pure subroutine ph_director_element_reference_strains(basis, le, q, eps_ref)
+        type(ph_director_basis_t), intent(in) :: basis
+        real(rk), intent(in) :: le
+        real(rk), intent(in) :: q(12, basis%nen)
+        real(rk), intent(out) :: eps_ref(6, basis%n_gauss)
+        real(rk) :: bb(ph_director_max_nodes), phi_s(3), d(3, 3), d_s(3, 3), e_x(6, 12), e_xs(6, 12)
+        integer :: g
+        do g = 1, basis%n_gauss
+            bb(1:basis%nen) = basis%dshape(1:basis%nen, g) * (2.0_rk / le)
+            call gauss_fields(q, basis%shape(1:basis%nen, g), bb(1:basis%nen), phi_s, d, d_s)
+            call strain_operator(phi_s, d, d_s, eps_ref(:, g), e_x, e_xs)
+        end do
+    end subroutine ph_director_element_reference_strains
+
+    !> Elastic stress coefficients s(6, p) consistent with nodal q and reference strains
+    !> eps_ref: the solution of the stress rows R_S = C_e s - int psi (eps(q) - eps_0) = 0
+    !> (methods §5.4, the projection of eqs. 96e-f), component by component (C_e is block
+    !> diagonal in the components). Rigid components (zero compliance, their stress a
+    !> multiplier) get 0.
+    pure subroutine ph_director_element_initial_stress(basis, material, le, q, eps_ref, s)
+        type(ph_director_basis_t), intent(in) :: basis
+        type(ph_director_material_t), intent(in) :: material
+        real(rk), intent(in) :: le
+        real(rk), intent(in) :: q(12, basis%nen), eps_ref(6, basis%n_gauss)
+        real(rk), intent(out) :: s(6, basis%degree)
+        real(rk) :: eps(6, basis%n_gauss), rhs(6, ph_director_max_degree)
+        real(rk) :: gram(ph_director_max_degree, ph_director_max_degree), wds, det
+        integer :: g, b, c, p
+        p = basis%degree
+        call ph_director_element_reference_strains(basis, le, q, eps)
+        rhs = 0.0_rk
+        gram = 0.0_rk
+        do g = 1, basis%n_gauss
+            wds = basis%w(g) * 0.5_rk * le
+            do b = 1, p
+                rhs(:, b) = rhs(:, b) + wds * basis%psi(b, g) * (eps(:, g) - eps_ref(:, g))
+                do c = 1, p
+                    gram(b, c) = gram(b, c) + wds * basis%psi(b, g) * basis%psi(c, g)
+                end do
+            end do
+        end do
+        ! C_e = gram x diag(compliance): solve gram y = rhs, then s = y / compliance.
+        if (p == 1) then
+            s(:, 1) = rhs(:, 1) / gram(1, 1)
+        else
+            det = gram(1, 1) * gram(2, 2) - gram(1, 2) * gram(2, 1)
+            s(:, 1) = (gram(2, 2) * rhs(:, 1) - gram(1, 2) * rhs(:, 2)) / det
+            s(:, 2) = (gram(1, 1) * rhs(:, 2) - gram(2, 1) * rhs(:, 1)) / det
+        end if
+        do b = 1, p
+            where (material%compliance > 0.0_rk)
+                s(:, b) = s(:, b) / material%compliance
+            elsewhere
+                s(:, b) = 0.0_rk
+            end where
+        end do
+    end subroutine ph_director_element_initial_stress
 
     !> Displacement-derived strains at the stress points (xi = 0 for p = 1, -+1/sqrt(3) for
     !> p = 2), methods §2.2: Gamma_i = d_i . phi' and

@@ -5,7 +5,10 @@
 !> the exact discrete energy balance of one step with Maxwell dissipation and actuator work,
 !> the angular-momentum balance, rigid-body and objectivity properties, strain consistency of
 !> the non-rate stress rows, the tendon stress against its closed form, momenta, energies and
-!> the reference-element data.
+!> the reference-element data; and the reference strains: every random case has its own
+!> (non-straight) reference strains at the Gauss points, a curved (helical) reference is
+!> stress-free (zero residual and zero consistent stress, so zero strain energy), and the
+!> prestressed initial stresses solve the stress rows.
 !>
 !> Without tendons the residuals are at most quadratic in the unknowns, so central differences
 !> are exact up to round-off; a tendon direction r'/|r'| adds an O(step^2) truncation error far
@@ -17,6 +20,8 @@ module rs_test_ph_director_element
     use rs_test_assert, only: run_test, assert_true, assert_close
     use rs_math_so3, only: exp_so3
     use rs_math_quadrature, only: max_gauss_points
+    use rs_model_rod_geometry, only: rod_geometry_t, helix_geometry, set_start_director, &
+        centreline_point, centreline_tangent, centreline_frame, default_normal
     use rs_ph_director_element, only: ph_director_material_t, ph_director_basis_t, &
         ph_director_actuation_t, ph_director_basis_init, ph_director_basis_shape, &
         ph_director_stress_shape, ph_director_local_size, ph_director_element_residual, &
@@ -26,7 +31,8 @@ module rs_test_ph_director_element
         ph_director_node_external_work, ph_director_element_strains, &
         ph_director_node_constraint, ph_director_element_dissipation, &
         ph_director_element_actuator_work, ph_director_max_nodes, ph_director_max_degree, &
-        ph_director_node_size
+        ph_director_node_size, ph_director_element_reference_strains, &
+        ph_director_element_initial_stress, ph_director_straight_strain
     implicit none
     private
 
@@ -60,6 +66,8 @@ module rs_test_ph_director_element
         real(rk) :: s_n(6, ph_director_max_degree, 0:max_br) = 0.0_rk
         real(rk) :: s_1(6, ph_director_max_degree, 0:max_br) = 0.0_rk
         real(rk) :: nbar(3) = 0.0_rk, mbar(3) = 0.0_rk
+        !> Reference strains eps_0 at the Gauss points.
+        real(rk) :: eps_ref(6, max_gauss_points) = 0.0_rk
     end type element_case_t
 
 contains
@@ -94,6 +102,9 @@ contains
         call run_test('momenta', test_momenta)
         call run_test('energies_and_mass', test_energies_and_mass)
         call run_test('constraint', test_constraint)
+        call run_test('reference_strains_straight', test_reference_strains_straight)
+        call run_test('curved_reference_stress_free', test_curved_reference_stress_free)
+        call run_test('prestressed_initial_stress', test_prestressed_initial_stress)
     end subroutine run_all_tests
 
     ! ---------------------------------------------------------------------------------------
@@ -154,7 +165,8 @@ contains
     end function random_material
 
     ! A random element step: both endpoint states independent and non-trivial; elastic
-    ! material without branches, no actuation, midpoint step.
+    ! material without branches, no actuation, midpoint step; reference strains those of a
+    ! straight rod perturbed at every Gauss point (a curved, sheared, twisted reference).
     function random_case(degree, n_gauss) result(ec)
         integer, intent(in) :: degree, n_gauss
         type(element_case_t) :: ec
@@ -176,6 +188,9 @@ contains
         ec%s_1(:, 1:degree, 0) = reshape(random_vector(6 * degree, 1.0_rk), [6, degree])
         ec%nbar = random_vector(3, 1.0_rk)
         ec%mbar = random_vector(3, 1.0_rk)
+        do a = 1, n_gauss
+            ec%eps_ref(:, a) = ph_director_straight_strain + random_vector(6, 0.2_rk)
+        end do
     end function random_case
 
     ! Give a case nb generalized-Maxwell branches (methods §3.1) with random compliances,
@@ -279,9 +294,10 @@ contains
         nen = ec%basis%nen
         s_n = ec%s_n(:, 1:ec%basis%degree, 0:ec%material%n_branches)
         s_1 = ec%s_1(:, 1:ec%basis%degree, 0:ec%material%n_branches)
-        call ph_director_element_residual(ec%basis, ec%material, ec%le, ec%h, ec%static, &
-            ec%q_n(:, 1:nen), ec%q_1(:, 1:nen), ec%v_n(:, 1:nen), ec%v_1(:, 1:nen), &
-            s_n, s_1, ec%nbar, ec%mbar, ec%actuation, residual, jacobian)
+        call ph_director_element_residual(ec%basis, ec%material, ec%le, &
+            ec%eps_ref(:, 1:ec%basis%n_gauss), ec%h, ec%static, ec%q_n(:, 1:nen), ec%q_1(:, 1:nen), &
+            ec%v_n(:, 1:nen), ec%v_1(:, 1:nen), s_n, s_1, ec%nbar, ec%mbar, ec%actuation, residual, &
+            jacobian)
     end subroutine element_residual
 
     ! Offset of the rows of stress coefficient b of branch br in the element local layout.
@@ -1493,7 +1509,7 @@ contains
     ! Strain consistency of the non-rate stress rows (methods §2.8 eqs. 96e-f, §5.3 item 3):
     ! with a stress basis that interpolates at the Gauss points (p = 2 with 2 points, p = 1
     ! with 1 point) the rows hold pointwise at each stress point b, with w_b = le/2 w_g,
-    !   elastic: w_b [C s_1 - (eps(q_1) - eps_0)]
+    !   elastic: w_b [C s_1 - (eps(q_1) - eps_0)]  (eps_0 the case's reference strain at b)
     !   branch:  w_b [C_i (s_1 - s_n) + h/2 F_i (s_1 + s_n) - (eps(q_1) - eps(q_n))]
     !            (no viscous term in a static step), s_1 for a rigid component,
     ! so a solved step has C s = eps - eps_0 at the stress points at every step. With the
@@ -1502,9 +1518,8 @@ contains
     subroutine test_strain_consistency()
         type(element_case_t) :: ec
         real(rk) :: residual(max_local), gamma_n(3, 2), kappa_n(3, 2), gamma_1(3, 2), kappa_1(3, 2)
-        real(rk) :: expected(6), eps_n(6), eps_1(6), eps_0(6), tol, r(6), wb, h_visc
+        real(rk) :: expected(6), eps_n(6), eps_1(6), tol, r(6), wb, h_visc
         integer :: p, sample, n, b, br, l
-        eps_0 = [0.0_rk, 0.0_rk, 1.0_rk, 0.0_rk, 0.0_rk, 0.0_rk]
         do p = 1, 2
             do sample = 1, 6
                 ec = random_case(p, p)
@@ -1522,7 +1537,8 @@ contains
                     eps_n = [gamma_n(:, b), kappa_n(:, b)]
                     eps_1 = [gamma_1(:, b), kappa_1(:, b)]
                     wb = 0.5_rk * ec%le * ec%basis%w(b)
-                    expected = wb * (ec%material%compliance * ec%s_1(:, b, 0) - (eps_1 - eps_0))
+                    expected = wb * (ec%material%compliance * ec%s_1(:, b, 0) &
+                        - (eps_1 - ec%eps_ref(:, b)))
                     tol = exact_tol * maxval(abs(expected))
                     r = s_rows(ec, residual, 0, b)
                     CHECK_CLOSE(r, expected, tol, 0.0_rk, 'strain consistency (elastic rows)')
@@ -1696,6 +1712,167 @@ contains
             CHECK_CLOSE(g, expected, 1.0e-14_rk, 0.0_rk, 'g of scaled, sheared directors')
         end do
     end subroutine test_constraint
+
+    ! ---------------------------------------------------------------------------------------
+    ! Reference strains (docs/theory/ph_director.md, "curved stress-free reference")
+
+    ! Nodes of one element of a helix with random axis, radius, pitch and start, its first node
+    ! at arc length s0 and reference length le; frame parallel-transported from default d1.
+    subroutine helix_element(nen, le, q)
+        integer, intent(in) :: nen
+        real(rk), intent(in) :: le
+        real(rk), intent(out) :: q(12, nen)
+        type(rod_geometry_t) :: helix
+        real(rk) :: d(3, 3), s0, s
+        integer :: a
+        helix = helix_geometry(random_vector(3, 1.0_rk), random_unit_vector(), &
+            uniform(0.2_rk, 1.0_rk), uniform(-0.5_rk, 0.5_rk), 2.0_rk)
+        call set_start_director(helix, default_normal(centreline_tangent(helix, 0.0_rk)))
+        s0 = uniform(0.0_rk, helix%length - le)
+        do a = 1, nen
+            s = s0 + le * real(a - 1, rk) / real(nen - 1, rk)
+            q(1:3, a) = centreline_point(helix, s)
+            d = centreline_frame(helix, s)
+            q(4:12, a) = reshape(d, [9])
+        end do
+    end subroutine helix_element
+
+    ! A rigidly placed straight element: its reference strains are Gamma_0 = (0, 0, 1), K_0 = 0
+    ! up to round-off, and at that state with zero stress and velocity the residual is zero.
+    subroutine test_reference_strains_straight()
+        type(element_case_t) :: ec
+        real(rk) :: residual(max_local), rot(3, 3), origin(3), expected(6)
+        integer :: p, ng, sample, a, g, n, nen
+        do p = 1, 2
+            do ng = p, 3
+                do sample = 1, 4
+                    ec = random_case(p, ng)
+                    nen = ec%basis%nen
+                    rot = random_rotation()
+                    origin = random_vector(3, 5.0_rk)
+                    do a = 1, nen
+                        ec%q_n(1:3, a) = origin + ec%le * real(a - 1, rk) / real(p, rk) * rot(:, 3)
+                        ec%q_n(4:12, a) = reshape(rot, [9])
+                    end do
+                    call ph_director_element_reference_strains(ec%basis, ec%le, ec%q_n(:, 1:nen), &
+                        ec%eps_ref(:, 1:ng))
+                    do g = 1, ng
+                        expected = ph_director_straight_strain
+                        CHECK_CLOSE(ec%eps_ref(:, g), expected, 1.0e-13_rk, 0.0_rk, 'straight reference strains')
+                    end do
+                    call rest_at_reference(ec)
+                    n = local_size(ec)
+                    call element_residual(ec, residual(1:n))
+                    CHECK_TRUE(maxval(abs(residual(1:n))) == 0.0_rk, 'straight reference: zero residual')
+                end do
+            end do
+        end do
+    end subroutine test_reference_strains_straight
+
+    ! q_1 = q_n, v = 0, s = 0, no loads or actuators.
+    subroutine rest_at_reference(ec)
+        type(element_case_t), intent(inout) :: ec
+        ec%q_1 = ec%q_n
+        ec%v_n = 0.0_rk
+        ec%v_1 = 0.0_rk
+        ec%s_n = 0.0_rk
+        ec%s_1 = 0.0_rk
+        ec%nbar = 0.0_rk
+        ec%mbar = 0.0_rk
+        ec%actuation = ph_director_actuation_t()
+    end subroutine rest_at_reference
+
+    ! A curved (helical, hence bent and twisted) reference with its own strains at the Gauss
+    ! points is stress-free: at rest there the residual (elastic and Maxwell rows, midpoint and
+    ! static steps) is exactly zero, the consistent stress is zero and so is the strain energy;
+    ! the strains are objective (a rotated helix has the same ones); the reference is really
+    ! curved (K differs from 0), and a deformation of it is not stress-free.
+    subroutine test_curved_reference_stress_free()
+        type(element_case_t) :: ec
+        real(rk) :: residual(max_local), s(6, ph_director_max_degree), eps_rot(6, max_gauss_points)
+        real(rk) :: q_rot(12, ph_director_max_nodes), rot(3, 3), energy, zero(6)
+        real(rk) :: s_all(6, ph_director_max_degree, 0:max_br)
+        integer :: p, ng, sample, a, n, nen
+        zero = 0.0_rk
+        do p = 1, 2
+            do ng = p, 3
+                do sample = 1, 4
+                    ec = random_case(p, ng)
+                    if (sample > 2) call add_branches(ec, 2, kirchhoff)
+                    ec%static = mod(sample, 2) == 0
+                    ! An element short against the radius of curvature, as in a converged mesh.
+                    ec%le = uniform(0.05_rk, 0.3_rk)
+                    nen = ec%basis%nen
+                    call helix_element(nen, ec%le, ec%q_n(:, 1:nen))
+                    call ph_director_element_reference_strains(ec%basis, ec%le, ec%q_n(:, 1:nen), &
+                        ec%eps_ref(:, 1:ng))
+                    CHECK_TRUE(maxval(abs(ec%eps_ref(4:6, 1:ng))) > 0.1_rk, 'the helix reference is curved (|K| > 0.1)')
+                    call rest_at_reference(ec)
+                    n = local_size(ec)
+                    call element_residual(ec, residual(1:n))
+                    CHECK_TRUE(maxval(abs(residual(1:n))) == 0.0_rk, 'curved stress-free reference: zero residual')
+                    call ph_director_element_initial_stress(ec%basis, ec%material, ec%le, &
+                        ec%q_n(:, 1:nen), ec%eps_ref(:, 1:ng), s(:, 1:p))
+                    do a = 1, p
+                        CHECK_CLOSE(s(:, a), zero, 0.0_rk, 0.0_rk, 'consistent stress is zero')
+                    end do
+                    s_all = 0.0_rk
+                    s_all(:, 1:p, 0) = s(:, 1:p)
+                    energy = ph_director_element_complementary_energy(ec%basis, ec%material, &
+                        ec%le, s_all(:, 1:p, 0:ec%material%n_branches))
+                    CHECK_TRUE(energy == 0.0_rk, 'zero strain energy in the reference')
+                    rot = random_rotation()
+                    do a = 1, nen
+                        q_rot(:, a) = rotate_blocks(rot, ec%q_n(:, a))
+                    end do
+                    call ph_director_element_reference_strains(ec%basis, ec%le, q_rot(:, 1:nen), &
+                        eps_rot(:, 1:ng))
+                    CHECK_CLOSE(eps_rot(:, 1:ng), ec%eps_ref(:, 1:ng), 1.0e-13_rk, 0.0_rk, 'objective strains')
+                    ec%q_1(1:3, nen) = ec%q_1(1:3, nen) + 0.01_rk * random_unit_vector()
+                    call element_residual(ec, residual(1:n))
+                    CHECK_TRUE(maxval(abs(residual(24 * nen + 1:n))) > 1.0e-6_rk, 'a deformed reference is not stress-free')
+                end do
+            end do
+        end do
+    end subroutine test_curved_reference_stress_free
+
+    ! prestressed: with the straight reference strains, a helical initial geometry gets the
+    ! consistent elastic stresses ph_director_element_initial_stress, which solve the elastic
+    ! stress rows at that geometry (to round-off) and are zero in rigid components.
+    subroutine test_prestressed_initial_stress()
+        type(element_case_t) :: ec
+        real(rk) :: residual(max_local), s(6, ph_director_max_degree), r(6), tol, zero(6)
+        integer :: p, ng, sample, n, nen, b, g
+        zero = 0.0_rk
+        do p = 1, 2
+            do ng = p, 3
+                do sample = 1, 4
+                    ec = random_case(p, ng)
+                    if (sample > 2) ec%material%compliance(1:2) = 0.0_rk
+                    nen = ec%basis%nen
+                    call helix_element(nen, ec%le, ec%q_n(:, 1:nen))
+                    do g = 1, ng
+                        ec%eps_ref(:, g) = ph_director_straight_strain
+                    end do
+                    call ph_director_element_initial_stress(ec%basis, ec%material, ec%le, &
+                        ec%q_n(:, 1:nen), ec%eps_ref(:, 1:ng), s(:, 1:p))
+                    call rest_at_reference(ec)
+                    ec%s_n(:, 1:p, 0) = s(:, 1:p)
+                    ec%s_1(:, 1:p, 0) = s(:, 1:p)
+                    CHECK_TRUE(maxval(abs(s(4:6, 1:p))) > 0.1_rk, 'a bent start is prestressed')
+                    if (sample > 2) CHECK_TRUE(all(s(1:2, 1:p) == 0.0_rk), 'rigid components: 0')
+                    n = local_size(ec)
+                    call element_residual(ec, residual(1:n))
+                    tol = exact_tol * ec%le * (1.0_rk + maxval(abs(s(:, 1:p))))
+                    do b = 1, p
+                        r = s_rows(ec, residual, 0, b)
+                        if (sample > 2) r(1:2) = 0.0_rk
+                        CHECK_CLOSE(r, zero, tol, 0.0_rk, 'prestress solves the stress rows')
+                    end do
+                end do
+            end do
+        end do
+    end subroutine test_prestressed_initial_stress
 
 end module rs_test_ph_director_element
 

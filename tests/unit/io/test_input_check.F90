@@ -5,7 +5,9 @@
 !> variables, offset inside a circle or tube section, time function), and the capability checks
 !> of a rod against a capability row built in the test, so that rows without constraints,
 !> quasistatics, Maxwell branches or actuation can be exercised although ph_director has them
-!> all. Each error is checked for its file, line, group and variable.
+!> all; and the reference geometry (helix and polyline lengths, start, direction and default d1
+!> derived, their errors), the curved-reference capability and the initial-velocity checks.
+!> Each error is checked for its file, line, group and variable.
 module rs_test_io_input_check
     use rs_core_kinds, only: rk
     use rs_core_error, only: error_list_t
@@ -47,6 +49,10 @@ contains
         call run_test('constraint_keeps_stiffnesses', test_constraint_keeps_stiffnesses)
         call run_test('ph_director_accepts_extensions', test_ph_director_accepts_extensions)
         call run_test('row_without_extensions', test_row_without_extensions)
+        call run_test('helix_resolution', test_helix_resolution)
+        call run_test('polyline_resolution', test_polyline_resolution)
+        call run_test('curved_reference_capability', test_curved_reference_capability)
+        call run_test('initial_velocity_checks', test_initial_velocity_checks)
     end subroutine run_all_tests
 
     !> Parse `text` as file 'c.nml' and check that it has exactly `n_errors` errors.
@@ -363,6 +369,109 @@ contains
         call check_rod_capabilities(scene, 2, row, errors)
         CHECK_EQUAL(errors%count, 0, 'a plain rod passes: ' // errors%joined())
     end subroutine test_row_without_extensions
+
+    ! A helix: length, direction, default d1 (normal to the tangent at s = 0) and the centre of
+    ! rotation derived; a given length that agrees is kept, one that does not is an error.
+    subroutine test_helix_resolution()
+        type(scene_t) :: scene
+        type(error_list_t) :: errors
+        real(rk) :: length, t(3), expected(3)
+        character(len=:), allocatable :: fragment
+        call parse(time // "&rod n_elements = 4, geometry = 'helix', direction = 0, 0, 2," // &
+            ' start = 1, 2, 3, helix_radius = 0.5, helix_pitch = 0.1, helix_turns = 2, ' // direct // &
+            ' /' // nl, scene, errors, 0)
+        length = 2.0_rk * sqrt((2.0_rk * acos(-1.0_rk) * 0.5_rk)**2 + 0.01_rk)
+        CHECK_CLOSE(scene%rods(1)%length, length, 0.0_rk, 1.0e-15_rk, 'derived length')
+        expected = [0.0_rk, 0.0_rk, 1.0_rk]
+        CHECK_CLOSE(scene%rods(1)%direction, expected, 0.0_rk, 0.0_rk, 'axis normalized')
+        ! u = e_x (axis e_z), w = e_y: t(0) = (0, R, b) / c, default d1 = e_z x t(0) normalized.
+        t = [0.0_rk, 0.5_rk, 0.1_rk / (2.0_rk * acos(-1.0_rk))]
+        t = t / norm2(t)
+        expected = [-1.0_rk, 0.0_rk, 0.0_rk]
+        CHECK_CLOSE(scene%rods(1)%d1, expected, 1.0e-15_rk, 0.0_rk, 'default d1 normal to t(0)')
+        CHECK_CLOSE(dot_product(scene%rods(1)%d1, t), 0.0_rk, 1.0e-15_rk, 0.0_rk, 'd1 . t(0) = 0')
+        expected = [1.0_rk, 2.0_rk, 3.0_rk]
+        CHECK_CLOSE(scene%rods(1)%rotation_center, expected, 0.0_rk, 0.0_rk, 'rotation_center = start')
+        call parse(time // "&rod n_elements = 4, geometry = 'helix', helix_radius = 0.5," // &
+            ' helix_pitch = 0.1, helix_turns = 2, length = 6.2863676, ' // direct // ' /' // nl, &
+            scene, errors, 0)
+        CHECK_CLOSE(scene%rods(1)%length, length, 0.0_rk, 1.0e-15_rk, 'agreeing length replaced')
+        call parse(time // "&rod n_elements = 4, geometry = 'helix', helix_radius = 0.5," // &
+            ' helix_pitch = 0.1, helix_turns = 2, length = 6.3, ' // direct // ' /' // nl, &
+            scene, errors, 1)
+        fragment = "c.nml:2: &rod 'rod1' length: 6.3 given, but the helix is 6.286367600161276 long"
+        CHECK_CONTAINS(errors%joined(), fragment, 'length contradicts the helix')
+    end subroutine test_helix_resolution
+
+    ! A polyline: start, direction and length from its points; errors for points that do not
+    ! make one.
+    subroutine test_polyline_resolution()
+        type(scene_t) :: scene
+        type(error_list_t) :: errors
+        real(rk) :: expected(3)
+        character(len=:), allocatable :: joined
+        call parse(time // "&rod n_elements = 4, geometry = 'polyline'," // &
+            ' points = 1, 1, 1, 4, 5, 1, 4, 5, 3, ' // direct // ' /' // nl, scene, errors, 0)
+        expected = [1.0_rk, 1.0_rk, 1.0_rk]
+        CHECK_CLOSE(scene%rods(1)%start, expected, 0.0_rk, 0.0_rk, 'start = first point')
+        expected = [0.6_rk, 0.8_rk, 0.0_rk]
+        CHECK_CLOSE(scene%rods(1)%direction, expected, 1.0e-16_rk, 0.0_rk, 'first segment direction')
+        CHECK_CLOSE(scene%rods(1)%length, 7.0_rk, 0.0_rk, 0.0_rk, 'length 5 + 2')
+        expected = [-0.8_rk, 0.6_rk, 0.0_rk]
+        CHECK_CLOSE(scene%rods(1)%d1, expected, 1.0e-16_rk, 0.0_rk, 'default d1')
+        call parse(time // &
+            "&rod n_elements = 4, geometry = 'polyline', points(4:9) = 0, 0, 0, 1, 0, 0," // nl // &
+            '     ' // direct // ' /' // nl // &
+            "&rod n_elements = 4, geometry = 'polyline', points = 0, 0, 0, 0, 0, 0, " // direct // &
+            ' /' // nl, scene, errors, 2)
+        joined = errors%joined()
+        CHECK_CONTAINS(joined, "c.nml:2: &rod 'rod1' points: entry 1 is not given but a later one is", 'gap')
+        CHECK_CONTAINS(joined, "c.nml:4: &rod 'rod2' points: points 1 and 2 coincide", 'coincide')
+    end subroutine test_polyline_resolution
+
+    ! A row without a curved reference rejects a helix or polyline rod, not a straight one.
+    subroutine test_curved_reference_capability()
+        type(scene_t) :: scene
+        type(error_list_t) :: errors
+        type(capability_t) :: row
+        character(len=:), allocatable :: fragment
+        call parse(time // "&rod n_elements = 4, geometry = 'helix', helix_radius = 0.5," // &
+            ' helix_pitch = 0.1, helix_turns = 2, ' // direct // ' /' // nl // arm, scene, errors, 0)
+        call check_capabilities(scene, errors)
+        CHECK_EQUAL(errors%count, 0, 'ph_director has a curved reference: ' // errors%joined())
+        row = capability_of('ph_director')
+        row%formulation = 'straight_only'
+        row%curved_reference = .false.
+        call check_rod_capabilities(scene, 1, row, errors)
+        fragment = "c.nml:2: &rod geometry: a curved reference ('helix') is not available for " // &
+            "formulation 'straight_only' (rod 'rod1'); available: 'straight'"
+        CHECK_CONTAINS(errors%joined(), fragment, 'helix rejected')
+        errors = error_list_t()
+        call check_rod_capabilities(scene, 2, row, errors)
+        CHECK_EQUAL(errors%count, 0, 'a straight rod passes')
+    end subroutine test_curved_reference_capability
+
+    ! Initial velocity: accepted on a free rod; on a rod with a clamped end (either end) and in a
+    ! quasistatic run it is an error naming the rod's line and variable.
+    subroutine test_initial_velocity_checks()
+        type(scene_t) :: scene
+        type(error_list_t) :: errors
+        character(len=:), allocatable :: joined, fragment
+        call parse(time // rod_x // "a', velocity = 1, 0, 0, angular_velocity = 0, 2, 0, " // &
+            direct // ' /' // nl, scene, errors, 0)
+        call parse(time // rod_x // "a', angular_velocity = 0, 2, 0, " // direct // ' /' // nl // &
+            "&bc rod = 'a', end = 'end', kind = 'clamped' /" // nl, scene, errors, 1)
+        joined = errors%joined()
+        fragment = "c.nml:2: &rod 'a' angular_velocity: (0.0, 2.0, 0.0) given, but the 'end' end is " // &
+            'clamped (&bc at line 3)'
+        CHECK_CONTAINS(joined, fragment, 'clamped')
+        call parse(time // rod_x // "a', velocity = 0, 0, 0, " // direct // ' /' // nl // &
+            "&bc rod = 'a', end = 'start', kind = 'clamped' /" // nl, scene, errors, 0)
+        call parse('&time t_end = 1, dt = 0.5, quasistatic = .true. /' // nl // rod_x // &
+            "a', velocity = 0, 1, 0, " // direct // ' /' // nl, scene, errors, 1)
+        fragment = "c.nml:2: &rod 'a' velocity: (0.0, 1.0, 0.0) given, but a quasistatic run"
+        CHECK_CONTAINS(errors%joined(), fragment, 'quasistatic')
+    end subroutine test_initial_velocity_checks
 
 end module rs_test_io_input_check
 

@@ -3,14 +3,17 @@
 !> rs_io_input_check): values land in their fields, defaults where nothing is given, choices
 !> folded to lower case, derived values (direction normalized, default d1, default names and
 !> output path, G from nu, stiffnesses and inertias from circle, tube and rectangle sections by
-!> hand formulas), and the count and text of errors for a few invalid scenes. The malformed
-!> scenes of tests/input/bad/ are not repeated here.
+!> hand formulas), the count and text of errors for a few invalid scenes, the variables
+!> required or allowed only under a condition (geometry), and that the example of every variable
+!> in the input reference reads. The malformed scenes of tests/input/bad/ are not repeated here.
 module rs_test_io_input_reader
     use rs_core_kinds, only: rk, pi
     use rs_core_error, only: error_list_t
     use rs_test_assert, only: run_test, assert_true, assert_equal, assert_contains, assert_close
     use rs_model_scene, only: scene_t, unset_real
     use rs_io_input_file, only: parse_scene
+    use rs_io_input_reader, only: read_scene_text
+    use rs_io_input_spec, only: group_spec_t, input_groups, split_condition
     implicit none
     private
 
@@ -43,6 +46,8 @@ contains
         call run_test('resolve_errors_all_reported', test_resolve_errors_all_reported)
         call run_test('read_errors_skip_cross_checks', test_read_errors_skip_cross_checks)
         call run_test('section_errors', test_section_errors)
+        call run_test('every_example_reads', test_every_example_reads)
+        call run_test('conditional_variables', test_conditional_variables)
     end subroutine run_all_tests
 
     !> Parse `text` as file `file` and check that it has exactly `n_errors` errors; on a
@@ -464,6 +469,58 @@ contains
         CHECK_CONTAINS(joined, fragment, 'height')
     end subroutine test_section_errors
 
+
+    ! Every variable of every implemented group has an example, which the reader accepts (with
+    ! the condition of an only_if variable given too); descriptions fit their field.
+    subroutine test_every_example_reads()
+        type(group_spec_t), allocatable :: groups(:)
+        type(scene_t) :: scene
+        type(error_list_t) :: errors
+        character(len=:), allocatable :: text, condition, variable, value, where
+        integer :: g, v
+        logical :: fits
+        groups = input_groups()
+        do g = 1, size(groups)
+            if (.not. groups(g)%implemented) cycle
+            do v = 1, size(groups(g)%variables)
+                associate (spec => groups(g)%variables(v))
+                    CHECK_TRUE(len_trim(spec%example) > 0, 'example of ' // trim(spec%name))
+                    fits = len_trim(spec%description) < len(spec%description)
+                    CHECK_TRUE(fits, 'description fits: ' // trim(spec%name))
+                    condition = ''
+                    if (len_trim(spec%only_if) > 0) then
+                        call split_condition(spec%only_if, variable, value)
+                        condition = variable // " = '" // value // "', "
+                    end if
+                    text = '&' // trim(groups(g)%name) // ' ' // condition // trim(spec%name) // ' = ' // &
+                        trim(spec%example) // ' /' // nl
+                    errors = error_list_t()
+                    call read_scene_text(text, 'example.nml', scene, errors)
+                    where = '&' // trim(groups(g)%name) // ' ' // trim(spec%name) // ':'
+                    if (errors%count > 0) then
+                        CHECK_TRUE(index(errors%joined(), where) == 0, 'example reads: ' // errors%joined())
+                    end if
+                end associate
+            end do
+        end do
+    end subroutine test_every_example_reads
+
+    ! required_if and only_if: a helix needs its three variables, a straight rod its length, and
+    ! helix or polyline variables are refused with another geometry; each names the condition.
+    subroutine test_conditional_variables()
+        type(scene_t) :: scene
+        type(error_list_t) :: errors
+        character(len=:), allocatable :: joined
+        call parse("&time t_end = 1, dt = 0.5 /" // nl // "&rod n_elements = 2, geometry = 'helix', " // &
+            direct // ' /' // nl // "&rod n_elements = 2, points = 0, 0, 0, 1, 0, 0, " // direct // &
+            ' /' // nl, scene, errors, 5, 'cond.nml')
+        joined = errors%joined()
+        CHECK_CONTAINS(joined, "cond.nml:2: &rod helix_radius: required but not given (geometry = 'helix')", 'r')
+        CHECK_CONTAINS(joined, "cond.nml:2: &rod helix_pitch: required but not given (geometry = 'helix')", 'p')
+        CHECK_CONTAINS(joined, "cond.nml:2: &rod helix_turns: required but not given (geometry = 'helix')", 't')
+        CHECK_CONTAINS(joined, "cond.nml:3: &rod length: required but not given (geometry = 'straight')", 'L')
+        CHECK_CONTAINS(joined, "cond.nml:3: &rod points: only used with geometry = 'polyline' (here geometry = 'straight')", 'pts')
+    end subroutine test_conditional_variables
 end module rs_test_io_input_reader
 
 !> Test program: runs the tests of rs_test_io_input_reader; exits non-zero if any failed.

@@ -13,7 +13,7 @@ module rs_test_io_scene_writer
     use rs_test_assert, only: run_test, assert_true, assert_equal, assert_contains
     use rs_core_strings, only: str
     use rs_model_scene, only: scene_t, rod_input_t, bc_input_t, load_input_t, actuator_input_t, &
-        max_table
+        max_table, max_polyline_points
     use rs_io_input_file, only: parse_scene
     use rs_io_scene_writer, only: resolved_scene_text
     implicit none
@@ -33,6 +33,7 @@ contains
         call run_test('round_trip_oblique_directors', test_round_trip_oblique_directors)
         call run_test('round_trip_section_rod', test_round_trip_section_rod)
         call run_test('round_trip_full_tables', test_round_trip_full_tables)
+        call run_test('round_trip_curved_rods', test_round_trip_curved_rods)
     end subroutine run_all_tests
 
     !> A scene that sets (almost) every variable of every implemented group to a value other
@@ -45,7 +46,7 @@ contains
             '&time t_end = 3.5, dt = 1e-3, quasistatic = .true. /' // nl // &
             '&solver newton_atol = 1e-12, newton_rtol = 1e-6, max_newton = 40,' // nl // &
             "  max_cutbacks = 3, petsc_options = '-ksp_type gmres -pc_type none' /" // nl // &
-            "&output path = 'res/every.h5', stride = 5, fields = 'position,energy'," // nl // &
+            "&output path = 'res/every.h5', stride = 5, fields = 'position,stress'," // nl // &
             '        flush_every = 3, xdmf = .false. /' // nl // &
             "&rod name = 'left', formulation = 'ph_planar', n_elements = 12," // nl // &
             '     degree = 1, n_gauss = 3, start = -1.5, 0.25, 1e-7,' // nl // &
@@ -183,6 +184,27 @@ contains
             'oblique.nml')
     end subroutine test_round_trip_oblique_directors
 
+    ! A helix with oblique axis, an initial rigid motion and units; a polyline of capacity points
+    ! whose derived start, direction and length (and the helix's length) must read back to the
+    ! same bits, being compared with the given ones on the second read.
+    subroutine test_round_trip_curved_rods()
+        character(len=:), allocatable :: points
+        integer :: k
+        points = ''
+        do k = 1, max_polyline_points
+            points = points // str(cos(0.3_rk * k) / 3.0_rk) // ', ' // str(sin(0.3_rk * k) / 7.0_rk) // &
+                ', ' // str(0.1_rk * k) // ', '
+        end do
+        call check_round_trip("&run units = 'mm_kg_ms' /" // nl // '&time t_end = 1, dt = 0.5 /' // nl // &
+            "&rod n_elements = 5, geometry = 'helix', start = 0.1, -0.2, 0.3, direction = 1, 2, 3," // nl // &
+            '     helix_radius = 0.3, helix_pitch = -0.07, helix_turns = 2.25, d1 = 1, 1, 0,' // nl // &
+            '     velocity = 0.1, 0.2, 0.3, angular_velocity = 1, -2, 3, rotation_center = 1, 1, 1,' // nl // &
+            '     EA = 1, GA1 = 1, GA2 = 1, EI1 = 1, EI2 = 1, GJ = 1, rhoA = 1, rhoI1 = 1, rhoI2 = 1 /' // nl // &
+            "&rod n_elements = 7, geometry = 'polyline', points = " // points // nl // &
+            '     EA = 1, GA1 = 1, GA2 = 1, EI1 = 1, EI2 = 1, GJ = 1, rhoA = 1, rhoI1 = 1, rhoI2 = 1 /' // nl, &
+            'curved.nml')
+    end subroutine test_round_trip_curved_rods
+
     ! A rod whose stiffnesses come from a section, E, nu and density (as in most scenes of
     ! input/): its resolved text must read back, too.
     subroutine test_round_trip_section_rod()
@@ -246,6 +268,7 @@ contains
         CHECK_EQUAL(b%run%formulation_default, a%run%formulation_default, 'formulation_default')
         CHECK_EQUAL(b%run%seed, a%run%seed, 'run%seed')
         CHECK_EQUAL(b%run%log_level, a%run%log_level, 'run%log_level')
+        CHECK_EQUAL(b%run%units, a%run%units, 'run%units')
         call check_real(b%time%t_end, a%time%t_end, 'time%t_end')
         call check_real(b%time%dt, a%time%dt, 'time%dt')
         CHECK_EQUAL(b%time%scheme, a%time%scheme, 'time%scheme')
@@ -294,6 +317,14 @@ contains
         call check_reals(b%direction, a%direction, r // 'direction')
         call check_reals(b%d1, a%d1, r // 'd1')
         call check_real(b%length, a%length, r // 'length')
+        CHECK_EQUAL(b%geometry, a%geometry, r // 'geometry')
+        call check_real(b%helix_radius, a%helix_radius, r // 'helix_radius')
+        call check_real(b%helix_pitch, a%helix_pitch, r // 'helix_pitch')
+        call check_real(b%helix_turns, a%helix_turns, r // 'helix_turns')
+        call check_reals(b%points, a%points, r // 'points')
+        call check_reals(b%velocity, a%velocity, r // 'velocity')
+        call check_reals(b%angular_velocity, a%angular_velocity, r // 'angular_velocity')
+        call check_reals(b%rotation_center, a%rotation_center, r // 'rotation_center')
         CHECK_EQUAL(b%section, a%section, r // 'section')
         call check_real(b%radius, a%radius, r // 'radius')
         call check_real(b%inner_radius, a%inner_radius, r // 'inner_radius')

@@ -2,8 +2,9 @@
 !> Unit tests of rs_model_capabilities: ph_director's row of the capability matrix (DESIGN.md
 !> §1, docs/user/capabilities.md) checked against every value the input language allows for
 !> each column (src/io/input_spec.f90: bc kind, load where, load frame, rod constraint) and its
-!> logical columns (quasistatic, viscoelastic, actuation), the rows of unknown and not yet
-!> available formulations, and `lists_name`, which matches whole '|'-separated names only.
+!> logical columns (quasistatic, viscoelastic, actuation, curved reference), the rows of
+!> unknown and not yet available formulations, and `lists_name`, which matches whole
+!> '|'-separated names only.
 module rs_test_model_capabilities
     use rs_test_assert, only: run_test, assert_true, assert_equal
     use rs_model_capabilities, only: capability_t, capability_of, lists_name
@@ -62,6 +63,7 @@ contains
         CHECK_TRUE(row%quasistatic, 'quasistatic runs')
         CHECK_TRUE(row%viscoelastic, 'Maxwell branches')
         CHECK_TRUE(row%actuation, 'pneumatic chambers and tendons')
+        CHECK_TRUE(row%curved_reference, 'curved stress-free reference (helix, polyline)')
     end subroutine test_ph_director_row
 
     ! Input strings are fixed-length and blank-padded.
@@ -89,6 +91,7 @@ contains
         CHECK_TRUE(.not. row%quasistatic, 'not quasistatic: "' // name // '"')
         CHECK_TRUE(.not. row%viscoelastic, 'not viscoelastic: "' // name // '"')
         CHECK_TRUE(.not. row%actuation, 'no actuation: "' // name // '"')
+        CHECK_TRUE(.not. row%curved_reference, 'no curved reference: "' // name // '"')
         CHECK_TRUE(.not. lists_name(row%end_kinds, 'clamped'), 'clamped not listed: "' // name // '"')
         CHECK_TRUE(.not. lists_name(row%constraints, 'none'), 'none not listed: "' // name // '"')
         CHECK_TRUE(.not. lists_name(row%constraints, ''), 'blank not listed: "' // name // '"')

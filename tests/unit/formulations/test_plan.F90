@@ -1,0 +1,184 @@
+#include "rs_assert.h"
+!> Unit tests of rs_formulations_plan and rs_ph_director_plan (the plan of --check-input,
+!> DESIGN.md §4) on parsed scenes: the counts of nodes, Newton unknowns, stresses and
+!> multipliers against hand counts, what is skipped (Maxwell variables without branches,
+!> constraint multipliers without a constraint, mass terms in a quasistatic run, actuators) and
+!> why condensation is ignored, the formulation's origin, steps and records, the round-robin
+!> ranks, the units; and that the plan is comments only: the resolved scene followed by its
+!> plan reads back to the same scene.
+module rs_test_formulations_plan
+    use rs_core_kinds, only: rk
+    use rs_core_error, only: error_list_t
+    use rs_test_assert, only: run_test, assert_true, assert_equal, assert_contains
+    use rs_model_scene, only: scene_t
+    use rs_io_input_file, only: parse_scene
+    use rs_io_scene_writer, only: resolved_scene_text
+    use rs_formulations_plan, only: scene_plan_text, plan_header
+    implicit none
+    private
+
+    public :: run_all_tests
+
+    character(len=*), parameter :: nl = new_line('a')
+
+contains
+
+    subroutine run_all_tests()
+        call run_test('cantilever_counts', test_cantilever_counts)
+        call run_test('condensed_counts', test_condensed_counts)
+        call run_test('extensions_and_skips', test_extensions_and_skips)
+        call run_test('ranks_and_origins', test_ranks_and_origins)
+        call run_test('helix_and_units', test_helix_and_units)
+        call run_test('plan_is_comments', test_plan_is_comments)
+    end subroutine run_all_tests
+
+    !> A clamped-free rod of 4 quadratic elements (9 nodes, 8 free) with an end load.
+    function cantilever(extra_rod, extra_groups) result(text)
+        character(len=*), intent(in) :: extra_rod, extra_groups
+        character(len=:), allocatable :: text
+        text = '&time t_end = 1, dt = 0.3 /' // nl // &
+            '&output stride = 3 /' // nl // &
+            "&rod name = 'beam', n_elements = 4, length = 2, EA = 1e4, GA1 = 1e4, GA2 = 1e4," // nl // &
+            '     EI1 = 10, EI2 = 10, GJ = 10, rhoA = 1, rhoI1 = 0.1, rhoI2 = 0.1' // extra_rod // ' /' // nl // &
+            "&bc rod = 'beam', end = 'start', kind = 'clamped' /" // nl // &
+            "&load rod = 'beam', where = 'end', force = 0, 0, -1 /" // nl // extra_groups
+    end function cantilever
+
+    function plan_of(text, n_ranks) result(plan)
+        character(len=*), intent(in) :: text
+        integer, intent(in) :: n_ranks
+        character(len=:), allocatable :: plan
+        type(scene_t) :: scene
+        type(error_list_t) :: errors
+        call parse_scene(text, 'plan.nml', scene, errors)
+        CHECK_EQUAL(errors%count, 0, 'scene valid: ' // errors%joined())
+        plan = ''
+        if (errors%count > 0) return
+        plan = scene_plan_text(scene, n_ranks)
+    end function plan_of
+
+    ! 8 free nodes x 30 + 4 elements x 12 stresses (6 components x 2 coefficients) = 288.
+    subroutine test_cantilever_counts()
+        character(len=:), allocatable :: plan
+        plan = plan_of(cantilever('', ''), 1)
+        CHECK_CONTAINS(plan, plan_header // nl, 'header')
+        CHECK_CONTAINS(plan, 'unknowns: 288 Newton unknowns = 8 free nodes x 30', 'unknowns')
+        CHECK_CONTAINS(plan, '+ 4 elements x 12 stresses', 'stresses')
+        CHECK_CONTAINS(plan, '4 elements of degree 2, 9 nodes', 'mesh')
+        CHECK_CONTAINS(plan, 'orthonormality multipliers: 6 per free node (48)', 'multipliers')
+        CHECK_CONTAINS(plan, 'constraint multipliers: none', 'no constraint')
+        CHECK_CONTAINS(plan, 'Maxwell internal variables: none', 'no branches')
+        CHECK_CONTAINS(plan, 'mass terms: consistent mass', 'dynamics has mass')
+        CHECK_CONTAINS(plan, 'actuators: none', 'no actuators')
+        CHECK_CONTAINS(plan, 'loads: 1 end load(s), 0 distributed, 0 gravity', 'loads')
+        CHECK_CONTAINS(plan, 'supports: start clamped', 'clamped start')
+        CHECK_CONTAINS(plan, 'initial velocity: at rest', 'at rest')
+        CHECK_CONTAINS(plan, 'stress condensation: off', 'condensation off')
+        ! t_end = 1, dt = 0.3: 4 steps (the last 0.1); stride 3: records at 0, step 3, step 4.
+        CHECK_CONTAINS(plan, 'time: 4 midpoint step(s) of dt = 0.3 s', 'steps')
+        CHECK_CONTAINS(plan, '3 record(s)', 'records')
+        CHECK_CONTAINS(plan, 'stress-free initial geometry', 'stress-free reference')
+    end subroutine test_cantilever_counts
+
+    ! Condensed: 18 unknowns per free node.
+    subroutine test_condensed_counts()
+        character(len=:), allocatable :: plan
+        plan = plan_of(cantilever('', '&solver condense_stresses = .true. /' // nl), 1)
+        CHECK_CONTAINS(plan, 'unknowns: 144 Newton unknowns = 8 free nodes x 18', 'condensed unknowns')
+        CHECK_CONTAINS(plan, 'stress condensation: on', 'condensation on')
+    end subroutine test_condensed_counts
+
+    ! Kirchhoff, two Maxwell branches, a tendon, quasistatic, condensation asked for:
+    ! 8 x 30 + 4 x (6 x 2 x 3) = 384 unknowns; 2 x 2 x 4 = 16 shear multipliers.
+    subroutine test_extensions_and_skips()
+        character(len=:), allocatable :: plan, expected
+        plan = plan_of(replace(cantilever(", constraint = 'kirchhoff', maxwell_fraction = 0.2, 0.1," // &
+            nl // '     maxwell_tau_E = 0.1, 1.0', &
+            '&solver condense_stresses = .true. /' // nl // &
+            "&actuator rod = 'beam', kind = 'tendon', offset = 0, 0.01, tension = 1 /" // nl), &
+            '&time t_end = 1, dt = 0.3 /', '&time t_end = 1, dt = 0.3, quasistatic = .true. /'), 1)
+        CHECK_CONTAINS(plan, 'unknowns: 384 Newton unknowns', 'unknowns with branches')
+        CHECK_CONTAINS(plan, 'kirchhoff: the shear stresses N1, N2 (16 coefficients)', 'shear multipliers')
+        CHECK_CONTAINS(plan, 'Maxwell internal variables: 2 branch(es), 24 branch stresses', 'branches')
+        CHECK_CONTAINS(plan, 'mass terms: skipped (quasistatic', 'no mass')
+        CHECK_CONTAINS(plan, 'actuators: 0 pneumatic chamber(s), 1 tendon(s)', 'tendon')
+        expected = 'requested but ignored: constrained components, Maxwell branches, a quasistatic run'
+        CHECK_CONTAINS(plan, expected, 'why condensation is ignored')
+        CHECK_CONTAINS(plan, 'time: quasistatic, 4 midpoint load step(s)', 'load steps')
+    end subroutine test_extensions_and_skips
+
+    ! Four rods on 3 ranks: rods 1 and 4 on rank 0; the origin of each formulation.
+    subroutine test_ranks_and_origins()
+        character(len=:), allocatable :: plan, rod
+        rod = ', n_elements = 2, length = 1, EA = 1, GA1 = 1, GA2 = 1, EI1 = 1, EI2 = 1, GJ = 1,' // &
+            ' rhoA = 1, rhoI1 = 1, rhoI2 = 1 /' // nl
+        plan = plan_of('&run formulation_default = ''auto'' /' // nl // '&time t_end = 1, dt = 0.5 /' // &
+            nl // "&rod name = 'a'" // rod // "&rod name = 'b', formulation = 'ph_director'" // rod // &
+            "&rod name = 'c'" // rod // "&rod name = 'd'" // rod, 3)
+        CHECK_CONTAINS(plan, 'ranks: 4 rod(s) on 3 rank(s)', 'ranks')
+        CHECK_CONTAINS(plan, "rod 'a' on rank 0: ph_director ('auto'", 'auto')
+        CHECK_CONTAINS(plan, "rod 'b' on rank 1: ph_director (given in &rod)", 'given')
+        CHECK_CONTAINS(plan, "rod 'c' on rank 2:", 'third rank')
+        CHECK_CONTAINS(plan, "rod 'd' on rank 0:", 'round robin')
+        plan = plan_of('&time t_end = 1, dt = 0.5 /' // nl // "&rod name = 'a'" // rod, 1)
+        CHECK_CONTAINS(plan, "rod 'a' on rank 0: ph_director (from &run formulation_default)", 'default')
+        CHECK_CONTAINS(plan, 'supports: start free', 'free ends')
+    end subroutine test_ranks_and_origins
+
+    ! A spinning helix in mm, tonne, s: geometry, initial rigid motion and unit names.
+    subroutine test_helix_and_units()
+        character(len=:), allocatable :: plan, expected
+        plan = plan_of("&run units = 'mm_tonne_s' /" // nl // '&time t_end = 1, dt = 0.5 /' // nl // &
+            "&rod name = 'spring', n_elements = 6, geometry = 'helix', helix_radius = 10," // nl // &
+            '     helix_pitch = 4, helix_turns = 2, direction = 0, 0, 1, angular_velocity = 0, 0, 3,' // nl // &
+            '     EA = 1, GA1 = 1, GA2 = 1, EI1 = 1, EI2 = 1, GJ = 1, rhoA = 1, rhoI1 = 1, rhoI2 = 1 /' // nl, 1)
+        expected = 'geometry: helix of radius 10.0 mm, pitch 4.0 mm, 2.0 turns, axis through ' // &
+            '(-10.0, 0.0, 0.0) along (0.0, 0.0, 1.0)'
+        CHECK_CONTAINS(plan, expected, 'helix')
+        expected = 'initial velocity: rigid motion v = (0.0, 0.0, 0.0) mm/s + (0.0, 0.0, 3.0) ' // &
+            'rad/s x (phi - (0.0, 0.0, 0.0))'
+        CHECK_CONTAINS(plan, expected, 'spin')
+        expected = "units: 'mm_tonne_s' (length mm, mass tonne, time s, force N, stress MPa)"
+        CHECK_CONTAINS(plan, expected, 'units')
+        CHECK_CONTAINS(plan, 'rhoI = 1.0, 1.0 tonne mm', 'inertia unit')
+    end subroutine test_helix_and_units
+
+    ! The plan is comments: every line starts with '!', and the resolved text followed by the
+    ! plan parses to a scene whose resolved text is the same.
+    subroutine test_plan_is_comments()
+        type(scene_t) :: scene, again
+        type(error_list_t) :: errors
+        character(len=:), allocatable :: plan, text
+        integer :: start, eol
+        call parse_scene(cantilever('', ''), 'plan.nml', scene, errors)
+        CHECK_EQUAL(errors%count, 0, 'valid')
+        plan = scene_plan_text(scene, 2)
+        start = 1
+        do while (start <= len(plan))
+            eol = index(plan(start:), nl)
+            CHECK_EQUAL(plan(start:start), '!', 'comment line: ' // plan(start:start + eol - 2))
+            start = start + eol
+        end do
+        text = resolved_scene_text(scene)
+        call parse_scene(text // plan, 'plan.nml', again, errors)
+        CHECK_EQUAL(errors%count, 0, 'resolved text with the plan parses: ' // errors%joined())
+        CHECK_TRUE(resolved_scene_text(again) == text, 'the plan does not change the scene')
+    end subroutine test_plan_is_comments
+
+    function replace(text, old, new) result(out)
+        character(len=*), intent(in) :: text, old, new
+        character(len=:), allocatable :: out
+        integer :: at
+        at = index(text, old)
+        out = text(1:at - 1) // new // text(at + len(old):)
+    end function replace
+
+end module rs_test_formulations_plan
+
+program test_formulations_plan
+    use rs_test_formulations_plan, only: run_all_tests
+    use rs_test_assert, only: finish_tests
+    implicit none
+    call run_all_tests()
+    call finish_tests()
+end program test_formulations_plan
