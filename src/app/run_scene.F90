@@ -48,7 +48,7 @@ contains
         character(len=:), allocatable :: path, message
         integer, allocatable :: records(:)
         real(rk), allocatable :: record_times(:)
-        real(rk) :: started, output_seconds, last_report, t_flush
+        real(rk) :: started, output_seconds, last_report, t_flush, last_sidecar
         integer :: i, n, n_steps, first_step, capacity, n_times
         logical :: restarting, failed
 
@@ -117,6 +117,7 @@ contains
 
         ! The time loop: every rank steps its rods; the ranks meet only at the flushes.
         last_report = wall_time()
+        last_sidecar = -huge(1.0_rk)
         do n = first_step, n_steps
             do i = 1, size(runners)
                 if (rod_owner(i) == world_rank()) call runners(i)%advance(scene, n)
@@ -129,7 +130,7 @@ contains
             if (mod(n, scene%output%flush_every) == 0 .or. n == n_steps) then
                 t_flush = wall_time()
                 call flush_records(scene, n, runners, layouts, writer, record_times(1:n_times), &
-                    local_err)
+                    last_sidecar, local_err)
                 output_seconds = output_seconds + (wall_time() - t_flush)
                 if (collective_failure(local_err, err, 'the result file could not be ' // &
                     'written (see above)')) return
@@ -234,9 +235,11 @@ contains
 
     !> Collective: gather every rod's buffered records and checkpoint to rank 0, which appends
     !> them to the result file, flushes it and refreshes the XDMF sidecar (DESIGN.md §7).
-    subroutine flush_records(scene, n, runners, layouts, writer, record_times, err)
+    subroutine flush_records(scene, n, runners, layouts, writer, record_times, last_sidecar, err)
         type(scene_t), intent(in) :: scene
         integer, intent(in) :: n
+        !> Wall time of the last rewrite of the XDMF sidecar (rank 0).
+        real(rk), intent(inout) :: last_sidecar
         type(rod_runner_t), intent(inout) :: runners(:)
         type(rod_layout_t), intent(in) :: layouts(:)
         type(result_writer_t), intent(inout) :: writer
@@ -287,9 +290,15 @@ contains
         if (world_rank() /= 0 .or. allocated(err)) return
         call writer%flush(err)
         if (allocated(err) .or. .not. scene%output%xdmf) return
-        ! A failed rod has fewer records than the others: the sidecar waits for the end.
-        if (all(writer%n_records == size(record_times))) &
+        ! The sidecar grows with the records, so it is rewritten at most once per
+        ! progress_interval, and at the last step. A failed rod has fewer records than the
+        ! others: then it is not rewritten.
+        if (n < step_count(scene) .and. wall_time() - last_sidecar < scene%run%progress_interval) &
+            return
+        if (all(writer%n_records == size(record_times))) then
             call write_sidecar(writer, layouts, record_times, err)
+            last_sidecar = wall_time()
+        end if
     end subroutine flush_records
 
     !> The times of the first `n` records of rod `name` in the result file `path` (a restart).
