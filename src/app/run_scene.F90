@@ -392,9 +392,9 @@ contains
         cutbacks = 0
         do i = 1, size(runners)
             if (rod_owner(i) /= world_rank()) cycle
-            call runners(i)%finish()
             assembly = assembly + runners(i)%assembly_seconds()
             solve = solve + runners(i)%solve_seconds - runners(i)%assembly_seconds()
+            call runners(i)%finish()
             iterations = iterations + runners(i)%total_iterations
             cutbacks = cutbacks + runners(i)%total_cutbacks
         end do

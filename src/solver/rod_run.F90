@@ -74,7 +74,7 @@ module rs_solver_rod_run
         procedure :: internal => runner_internal
         !> Wall time spent assembling residuals and Jacobians.
         procedure :: assembly_seconds => runner_assembly_seconds
-        !> Destroy the stepper and print the rod's summary line.
+        !> Destroy the stepper and the formulation and print the rod's summary line.
         procedure :: finish => runner_finish
         procedure, private :: stop_here, note_record
     end type rod_runner_t
@@ -237,6 +237,8 @@ contains
         class(rod_runner_t), intent(inout) :: this
         real(rk) :: elapsed
         call this%stepper%destroy()
+        if (associated(this%context)) deallocate(this%context)
+        if (associated(this%formulation)) deallocate(this%formulation)
         ! The summary line is also what tests/bench/ reads (time loop only, output excluded).
         elapsed = this%solve_seconds
         call log_info('  ' // this%history%name // ': ' // str(this%steps_done) // ' steps, ' // &
