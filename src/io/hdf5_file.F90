@@ -1,10 +1,8 @@
 !> A thin, checked layer over the HDF5 Fortran API (DESIGN.md §7; only src/io/ calls HDF5,
 !> STYLE.md item 6). `create` and `open` use the default (serial) driver: one rank calls them.
 !> `open(..., parallel=.true.)` opens a file on every rank with the MPI-IO driver, where every
-!> call that changes metadata is collective. rodsolve's runs do not use it: with Debian's Open
-!> MPI 4.1 (OMPIO) and HDF5 1.10, H5Dset_extent of a chunked dataset hangs (HDF5 writes fill
-!> blocks independently, OMPIO's MPI_File_set_view is collective), and with ROMIO H5Fopen
-!> fails; so result files are written by rank 0 (docs/user/output.md).
+!> call that changes metadata is collective. rodsolve's runs do not use it yet: result files are
+!> written by rank 0 (docs/user/output.md says why).
 !>
 !> Every HDF5 call is checked; a failure returns an `error_t` naming the HDF5 call, the object
 !> and the file, and HDF5's own error-stack printing is switched off so that the message is the
