@@ -1,10 +1,10 @@
 #include "rs_macros.h"
 !> The run of a validated scene (DESIGN.md §5 and §7): rods are dealt to ranks round-robin and
 !> every rank steps its rods together, one step of the time grid at a time, with no
-!> communication between flushes. Every `flush_every` steps the new records and the checkpoint
-!> of every rod go to rank 0, which appends them to the result file and flushes it, so a killed
-!> run leaves a readable file with every record up to the last flush; `restart_from` continues
-!> from that checkpoint. A rod that fails stops only itself; what was computed is still written and
+!> communication between flushes. Every `flush_every` steps the ranks meet at the result file
+!> (parallel HDF5 when there are several): it is extended, each rank writes the new records and
+!> the checkpoint of its own rods, and it is flushed, so a killed run leaves a readable file with
+!> every record up to the last flush; `restart_from` continues from that checkpoint. A rod that fails stops only itself; what was computed is still written and
 !> the run ends with status 1.
 module rs_app_run_scene
     use, intrinsic :: iso_fortran_env, only: error_unit, int64
@@ -15,9 +15,7 @@ module rs_app_run_scene
     use rs_core_timer, only: wall_time
     use rs_model_scene, only: scene_t
     use rs_parallel_mpi_env, only: world_rank, world_size, any_rank_true, mpi_library_version, &
-        broadcast_array, max_each_over_ranks, sum_over_ranks, max_over_ranks, barrier, &
-        send_array, receive_array
-    use rs_model_rod_history, only: rod_history_t
+        broadcast_array, max_each_over_ranks, sum_over_ranks, max_over_ranks, barrier
     use rs_io_result_file, only: result_meta_t, rod_layout_t, layout_of, pack_layout, &
         unpack_layout, result_writer_t, prepare_result_file, finish_result_file, read_checkpoint
     use rs_io_hdf5_file, only: hdf5_file_t
@@ -30,8 +28,6 @@ module rs_app_run_scene
     private
 
     public :: run_scene
-
-    integer, parameter :: tag_header = 101, tag_values = 102, tag_checkpoint = 103
 
 contains
 
@@ -94,10 +90,9 @@ contains
         end if
         if (collective_failure(local_err, err, 'the result file could not be created (see ' // &
             'rank 0)')) return
-        if (world_rank() == 0) call writer%open(path, layouts, trim(scene%output%fields), records, &
+        call writer%open(path, layouts, trim(scene%output%fields), records, world_size() > 1, &
             local_err)
-        if (collective_failure(local_err, err, 'the result file could not be opened (see ' // &
-            'rank 0)')) return
+        if (collective_failure(local_err, err, 'the result file could not be opened')) return
         if (restarting) call log_info('rodsolve: restarting from ' // &
             trim(scene%run%restart_from) // ' after step ' // str(first_step - 1) // ' (t = ' // &
             str(min(real(first_step - 1, rk) * scene%time%dt, scene%time%t_end)) // ')')
@@ -129,7 +124,7 @@ contains
             end if
             if (mod(n, scene%output%flush_every) == 0 .or. n == n_steps) then
                 t_flush = wall_time()
-                call flush_records(scene, n, runners, layouts, writer, record_times(1:n_times), &
+                call flush_records(scene, n, runners, writer, record_times(1:n_times), &
                     last_sidecar, local_err)
                 output_seconds = output_seconds + (wall_time() - t_flush)
                 if (collective_failure(local_err, err, 'the result file could not be ' // &
@@ -143,7 +138,7 @@ contains
         end do
 
         failed = any_rank_true(any(runners%failed))
-        if (world_rank() == 0) call writer%close(local_err)
+        call writer%close(local_err)
         t_flush = wall_time()
         if (world_rank() == 0 .and. .not. allocated(local_err)) then
             if (failed) then
@@ -233,70 +228,60 @@ contains
         end if
     end subroutine restore_checkpoints
 
-    !> Collective: gather every rod's buffered records and checkpoint to rank 0, which appends
-    !> them to the result file, flushes it and refreshes the XDMF sidecar (DESIGN.md §7).
-    subroutine flush_records(scene, n, runners, layouts, writer, record_times, last_sidecar, err)
+    !> Collective: the file makes room for every rod's new records, the ranks write the records
+    !> and checkpoints of their own rods, the file is flushed, and rank 0 refreshes the XDMF
+    !> sidecar (DESIGN.md §7).
+    subroutine flush_records(scene, n, runners, writer, record_times, last_sidecar, err)
         type(scene_t), intent(in) :: scene
         integer, intent(in) :: n
-        !> Wall time of the last rewrite of the XDMF sidecar (rank 0).
-        real(rk), intent(inout) :: last_sidecar
         type(rod_runner_t), intent(inout) :: runners(:)
-        type(rod_layout_t), intent(in) :: layouts(:)
         type(result_writer_t), intent(inout) :: writer
         real(rk), intent(in) :: record_times(:)
+        !> Wall time of the last rewrite of the XDMF sidecar (rank 0).
+        real(rk), intent(inout) :: last_sidecar
         type(error_t), allocatable, intent(out) :: err
-        type(rod_history_t) :: received
-        integer, allocatable :: header(:)
-        real(rk), allocatable :: values(:), checkpoint(:)
-        integer :: i, owner, n_state
+        type(error_t), allocatable :: flush_err
+        integer :: totals(size(runners)), failed(size(runners)), i
         real(rk) :: t
+        ! Every rank learns every rod's record count and whether it failed.
+        totals = 0
+        failed = 0
+        do i = 1, size(runners)
+            if (rod_owner(i) /= world_rank()) cycle
+            totals(i) = writer%n_records(i) + runners(i)%history%n_stored
+            if (runners(i)%failed) failed(i) = 1
+        end do
+        call max_each_over_ranks(totals)
+        call max_each_over_ranks(failed)
+        call writer%extend(totals, err)
+        ! Every write is collective: all ranks take part for every rod, the owner with its data.
+        ! A failed rod keeps the checkpoint of its last flush before the failure.
         t = min(real(n, rk) * scene%time%dt, scene%time%t_end)
         do i = 1, size(runners)
-            owner = rod_owner(i)
-            if (world_rank() == owner .and. owner /= 0) then
-                ! The records, then the checkpoint (empty for a failed rod: it keeps the
-                ! checkpoint of its last flush before the failure).
-                call runners(i)%history%pack(header, values)
-                call send_array(header, 0, tag_header)
-                call send_array(values, 0, tag_values)
+            if (allocated(err)) exit
+            if (rod_owner(i) == world_rank()) then
+                call writer%write_records(i, err, runners(i)%history)
                 call runners(i)%history%clear()
-                if (runners(i)%failed) then
-                    call send_array([real(rk) ::], 0, tag_checkpoint)
-                else
-                    call send_array([runners(i)%x, runners(i)%internal()], 0, tag_checkpoint)
-                end if
-            else if (world_rank() == 0) then
-                if (owner == 0) then
-                    if (.not. allocated(err)) call writer%append(i, runners(i)%history, err)
-                    call runners(i)%history%clear()
-                    if (runners(i)%failed) then
-                        allocate(checkpoint(0))
-                    else
-                        checkpoint = [runners(i)%x, runners(i)%internal()]
-                    end if
-                else
-                    call receive_array(header, owner, tag_header)
-                    call receive_array(values, owner, tag_values)
-                    call received%unpack(header, values)
-                    if (.not. allocated(err)) call writer%append(i, received, err)
-                    call receive_array(checkpoint, owner, tag_checkpoint)
-                end if
-                n_state = layouts(i)%n_state
-                if (size(checkpoint) > 0 .and. .not. allocated(err)) call writer%write_checkpoint( &
-                    i, n, t, checkpoint(1:n_state), checkpoint(n_state + 1:), err)
-                deallocate(checkpoint)
+            else
+                call writer%write_records(i, err)
+            end if
+            if (allocated(err) .or. failed(i) == 1) cycle
+            if (rod_owner(i) == world_rank()) then
+                call writer%write_checkpoint(i, n, t, err, runners(i)%x, runners(i)%internal())
+            else
+                call writer%write_checkpoint(i, n, t, err)
             end if
         end do
-        if (world_rank() /= 0 .or. allocated(err)) return
-        call writer%flush(err)
-        if (allocated(err) .or. .not. scene%output%xdmf) return
+        call writer%flush(flush_err)
+        if (.not. allocated(err) .and. allocated(flush_err)) call move_alloc(flush_err, err)
+        if (world_rank() /= 0 .or. allocated(err) .or. .not. scene%output%xdmf) return
         ! The sidecar grows with the records, so it is rewritten at most once per
         ! progress_interval, and at the last step. A failed rod has fewer records than the
         ! others: then it is not rewritten.
         if (n < step_count(scene) .and. wall_time() - last_sidecar < scene%run%progress_interval) &
             return
-        if (all(writer%n_records == size(record_times))) then
-            call write_sidecar(writer, layouts, record_times, err)
+        if (all(totals == size(record_times))) then
+            call write_sidecar(writer, record_times, err)
             last_sidecar = wall_time()
         end if
     end subroutine flush_records
@@ -322,18 +307,17 @@ contains
     end subroutine read_record_times
 
     !> The XDMF sidecar for the records in the file (rank 0; DESIGN.md §7).
-    subroutine write_sidecar(writer, layouts, times, err)
+    subroutine write_sidecar(writer, times, err)
         type(result_writer_t), intent(in) :: writer
-        type(rod_layout_t), intent(in) :: layouts(:)
         real(rk), intent(in) :: times(:)
         type(error_t), allocatable, intent(out) :: err
-        type(xdmf_rod_t) :: rods(size(layouts))
+        type(xdmf_rod_t) :: rods(size(writer%layouts))
         integer :: i, k
         logical :: has_position
         has_position = .true.
-        do i = 1, size(layouts)
-            rods(i)%name = layouts(i)%name
-            rods(i)%n_nodes = layouts(i)%n_nodes
+        do i = 1, size(writer%layouts)
+            rods(i)%name = writer%layouts(i)%name
+            rods(i)%n_nodes = writer%layouts(i)%n_nodes
             has_position = has_position .and. any(writer%fields(i)%list%path == 'position')
             do k = 1, size(writer%fields(i)%list)
                 select case (trim(writer%fields(i)%list(k)%path))

@@ -1,8 +1,9 @@
 !> A thin, checked layer over the HDF5 Fortran API (DESIGN.md §7; only src/io/ calls HDF5,
 !> STYLE.md item 6). `create` and `open` use the default (serial) driver: one rank calls them.
 !> `open(..., parallel=.true.)` opens a file on every rank with the MPI-IO driver, where every
-!> call that changes metadata is collective. rodsolve's runs do not use it yet: result files are
-!> written by rank 0 (docs/user/output.md says why).
+!> call that changes metadata (set_records, attributes, flush, close) is collective (every rank,
+!> same arguments, same order), and so are raw-data writes: a rank with nothing to write to a
+!> dataset calls `write_no_records` on it.
 !>
 !> Every HDF5 call is checked; a failure returns an `error_t` naming the HDF5 call, the object
 !> and the file, and HDF5's own error-stack printing is switched off so that the message is the
@@ -32,7 +33,9 @@ module rs_io_hdf5_file
         H5F_ACC_RDWR_F, H5F_ACC_RDONLY_F, H5F_SCOPE_GLOBAL_F, H5P_FILE_ACCESS_F, H5P_DEFAULT_F, &
         h5pset_fapl_mpio_f, h5dopen_f, h5dget_space_f, h5dset_extent_f, h5dread_f, &
         h5sget_simple_extent_ndims_f, h5sget_simple_extent_dims_f, h5sselect_hyperslab_f, &
-        H5S_SELECT_SET_F, h5ldelete_f, h5pset_alloc_time_f, H5D_ALLOC_TIME_EARLY_F
+        H5S_SELECT_SET_F, h5ldelete_f, h5pset_alloc_time_f, H5D_ALLOC_TIME_EARLY_F, &
+        h5pset_fill_time_f, H5D_FILL_TIME_NEVER_F, h5pset_dxpl_mpio_f, H5FD_MPIO_COLLECTIVE_F, &
+        H5P_DATASET_XFER_F, h5sselect_none_f
     use mpi, only: MPI_COMM_WORLD, MPI_INFO_NULL
     use rs_core_kinds, only: rk
     use rs_core_error, only: error_t, set_error
@@ -83,6 +86,9 @@ module rs_io_hdf5_file
         !> Write records first .. first + n - 1 of a series dataset from a flat array of n whole
         !> records (the dataset must hold them: see set_records). Collective when parallel.
         generic :: write_records => write_records_real, write_records_integer
+        !> A rank's part of a collective `write_records` in a parallel file when it has nothing
+        !> to write (does nothing in a serial file).
+        procedure :: write_no_records => file_write_no_records
         !> Read a whole real or integer dataset into a flat array (Fortran element order).
         generic :: read => read_real, read_integer
         procedure, private :: write_records_real, write_records_integer, write_records_buffer
@@ -454,6 +460,10 @@ contains
                 call h5pset_alloc_time_f(properties, H5D_ALLOC_TIME_EARLY_F, status)
                 if (this%failed(status, 'H5Pset_alloc_time', path, routine, __LINE__, err)) &
                     exit body
+                ! No fill values: every record is written anyway.
+                call h5pset_fill_time_f(properties, H5D_FILL_TIME_NEVER_F, status)
+                if (this%failed(status, 'H5Pset_fill_time', path, routine, __LINE__, err)) &
+                    exit body
             end if
             call h5screate_simple_f(rank, dims, space, status, max_dims)
             if (this%failed(status, 'H5Screate_simple', path, routine, __LINE__, err)) exit body
@@ -537,7 +547,7 @@ contains
         logical, intent(in), optional :: writable, parallel
         character(len=*), parameter :: routine = 'hdf5_file%open'
         integer(hid_t) :: access
-        integer :: status, mode
+        integer :: status, mode, close_status
         if (this%is_open()) then
             call set_error(err, 'cannot open "' // path // '": this object still has "' // &
                 this%path // '" open', routine, __FILE__, __LINE__)
@@ -545,12 +555,13 @@ contains
         end if
         this%path = path
         this%parallel = optional_true(parallel)
+        ! First: the Fortran API's constants (H5F_ACC_RDWR_F, ...) are set by H5open.
+        call h5open_f(status)
+        if (this%failed(status, 'H5open', '/', routine, __LINE__, err)) return
         mode = H5F_ACC_RDWR_F
         if (present(writable)) then
             if (.not. writable) mode = H5F_ACC_RDONLY_F
         end if
-        call h5open_f(status)
-        if (this%failed(status, 'H5open', '/', routine, __LINE__, err)) return
         call h5eset_auto_f(0, status)
         if (this%failed(status, 'H5Eset_auto', '/', routine, __LINE__, err)) return
         access = H5P_DEFAULT_F
@@ -561,7 +572,7 @@ contains
             if (this%failed(status, 'H5Pset_fapl_mpio', '/', routine, __LINE__, err)) return
         end if
         call h5fopen_f(path, mode, this%id, status, access_prp=access)
-        if (this%parallel) call h5pclose_f(access, mode)
+        if (this%parallel) call h5pclose_f(access, close_status)
         if (status /= 0) then
             this%id = -1
             call set_error(err, 'cannot open the HDF5 file "' // path // &
@@ -674,7 +685,7 @@ contains
         integer :: status, close_status
         call this%dataset_dims(path, dims, err)
         if (allocated(err)) return
-        if (dims(size(dims)) == n_records) return
+        ! Called even for the same extent: collective in a parallel file.
         dims(size(dims)) = n_records
         call h5dopen_f(this%id, path, dataset, status)
         if (this%failed(status, 'H5Dopen', path, routine, __LINE__, err)) return
@@ -717,8 +728,9 @@ contains
         character(len=*), parameter :: routine = 'hdf5_file%write_records'
         integer, allocatable :: dims(:)
         integer(hsize_t), allocatable :: start(:), block_dims(:)
-        integer(hid_t) :: dataset, file_space, memory_space
+        integer(hid_t) :: dataset, file_space, memory_space, transfer
         integer :: status, close_status, rank, per_record, n
+        transfer = H5P_DEFAULT_F
         call this%dataset_dims(path, dims, err)
         if (allocated(err)) return
         rank = size(dims)
@@ -748,15 +760,69 @@ contains
                 exit body
             call h5screate_simple_f(rank, block_dims, memory_space, status)
             if (this%failed(status, 'H5Screate_simple', path, routine, __LINE__, err)) exit body
+            call transfer_properties(this%parallel, transfer, status)
+            if (this%failed(status, 'H5Pset_dxpl_mpio', path, routine, __LINE__, err)) exit body
             call h5dwrite_f(dataset, memory_type, data, status, mem_space_id=memory_space, &
-                file_space_id=file_space)
+                file_space_id=file_space, xfer_prp=transfer)
             if (this%failed(status, 'H5Dwrite', path, routine, __LINE__, err)) exit body
         end block body
         call close_all(dataset, file_space, -1_hid_t, close_status)
         if (memory_space >= 0) call h5sclose_f(memory_space, status)
+        if (transfer /= H5P_DEFAULT_F) call h5pclose_f(transfer, status)
         if (allocated(err)) return
         if (this%failed(close_status, 'H5Dclose/H5Sclose', path, routine, __LINE__, err)) return
     end subroutine write_records_buffer
+
+    subroutine file_write_no_records(this, path, err)
+        class(hdf5_file_t), intent(inout) :: this
+        character(len=*), intent(in) :: path
+        type(error_t), allocatable, intent(out) :: err
+        character(len=*), parameter :: routine = 'hdf5_file%write_no_records'
+        integer(hid_t) :: dataset, file_space, memory_space, transfer
+        integer :: status, close_status
+        real(rk), target :: dummy(1)
+        if (.not. this%parallel) return
+        dataset = -1
+        file_space = -1
+        memory_space = -1
+        transfer = H5P_DEFAULT_F
+        body: block
+            call h5dopen_f(this%id, path, dataset, status)
+            if (this%failed(status, 'H5Dopen', path, routine, __LINE__, err)) exit body
+            call h5dget_space_f(dataset, file_space, status)
+            if (this%failed(status, 'H5Dget_space', path, routine, __LINE__, err)) exit body
+            call h5sselect_none_f(file_space, status)
+            if (this%failed(status, 'H5Sselect_none', path, routine, __LINE__, err)) exit body
+            call h5screate_simple_f(1, [1_hsize_t], memory_space, status)
+            if (this%failed(status, 'H5Screate_simple', path, routine, __LINE__, err)) exit body
+            call h5sselect_none_f(memory_space, status)
+            if (this%failed(status, 'H5Sselect_none', path, routine, __LINE__, err)) exit body
+            call transfer_properties(.true., transfer, status)
+            if (this%failed(status, 'H5Pset_dxpl_mpio', path, routine, __LINE__, err)) exit body
+            call h5dwrite_f(dataset, H5T_NATIVE_DOUBLE, c_loc(dummy), status, &
+                mem_space_id=memory_space, file_space_id=file_space, xfer_prp=transfer)
+            if (this%failed(status, 'H5Dwrite', path, routine, __LINE__, err)) exit body
+        end block body
+        call close_all(dataset, file_space, -1_hid_t, close_status)
+        if (memory_space >= 0) call h5sclose_f(memory_space, status)
+        if (transfer /= H5P_DEFAULT_F) call h5pclose_f(transfer, status)
+        if (allocated(err)) return
+        if (this%failed(close_status, 'H5Dclose/H5Sclose', path, routine, __LINE__, err)) return
+    end subroutine file_write_no_records
+
+    !> Raw-data transfer properties: collective MPI-IO in a parallel file (every rank writes
+    !> every dataset, possibly nothing), the default otherwise.
+    subroutine transfer_properties(parallel, transfer, status)
+        logical, intent(in) :: parallel
+        integer(hid_t), intent(out) :: transfer
+        integer, intent(out) :: status
+        transfer = H5P_DEFAULT_F
+        status = 0
+        if (.not. parallel) return
+        call h5pcreate_f(H5P_DATASET_XFER_F, transfer, status)
+        if (status /= 0) return
+        call h5pset_dxpl_mpio_f(transfer, H5FD_MPIO_COLLECTIVE_F, status)
+    end subroutine transfer_properties
 
     subroutine read_real(this, path, values, err)
         class(hdf5_file_t), intent(inout) :: this

@@ -15,11 +15,12 @@
 !>     /checkpoint/<name>/     state, internal, step, records, time: what a restart needs
 !>     /series/                time, energy/..., momentum/... summed over all rods (at the end)
 !>
-!> A run writes the file in three stages on rank 0: it creates it with every dataset empty
-!> (`prepare_result_file`); at every flush (`result_writer_t`) the records and checkpoints of
-!> every rod, gathered from the ranks that own them, are appended and the file is flushed, so a
-!> killed run leaves a readable file with every record up to the last flush; at the end it adds
-!> /series/ (`finish_result_file`). Growing datasets are chunked along the records.
+!> A run writes the file in three stages: rank 0 creates it with every dataset empty
+!> (`prepare_result_file`); every rank opens it (`result_writer_t`, parallel HDF5 when there are
+!> several ranks) and at every flush the datasets are extended, each rank writes the records
+!> and checkpoints of its own rods (collectively) and the file is flushed, so a killed run
+!> leaves a readable file with every record up to the last flush; rank 0 finally adds /series/
+!> (`finish_result_file`). Growing datasets are chunked along the records.
 !>
 !> Arrays are written in Fortran order, so h5py shows them reversed: position(:, node, step) is
 !> h5py's position[step, node, :].
@@ -98,17 +99,20 @@ module rs_io_result_file
         type(field_t), allocatable :: list(:)
     end type rod_fields_t
 
-    !> The result file during a run (DESIGN.md §7), open on rank 0: at every flush it takes the
-    !> buffered records of every rod (gathered from their ranks) and each rod's checkpoint.
+    !> The result file during a run (DESIGN.md §7), open on every rank (with MPI-IO when there
+    !> are several). At every flush, all collective: `extend` makes room for every rod's new
+    !> records, `write_records` and `write_checkpoint` write them (the owner of a rod passes its
+    !> data, the others nothing), and `flush` puts them on disk.
     type, public :: result_writer_t
         type(hdf5_file_t) :: file
         type(rod_layout_t), allocatable :: layouts(:)
         type(rod_fields_t), allocatable :: fields(:)
-        !> Records of each rod in the file.
+        !> Records of each rod in the file (after the last `extend`).
         integer, allocatable :: n_records(:)
     contains
         procedure :: open => writer_open
-        procedure :: append => writer_append
+        procedure :: extend => writer_extend
+        procedure :: write_records => writer_write_records
         procedure :: write_checkpoint => writer_write_checkpoint
         procedure :: flush => writer_flush
         procedure :: close => writer_close
@@ -156,11 +160,12 @@ contains
         end do
         call prepare_result_file(path, meta, layouts, 'all', err)
         if (allocated(err)) return
-        call writer%open(path, layouts, 'all', [(0, i = 1, size(layouts))], err)
+        call writer%open(path, layouts, 'all', [(0, i = 1, size(layouts))], .false., err)
         if (allocated(err)) return
+        call writer%extend([(histories(i)%n_stored, i = 1, size(histories))], err)
         do i = 1, size(histories)
-            call writer%append(i, histories(i), err)
             if (allocated(err)) exit
+            call writer%write_records(i, err, histories(i))
         end do
         call writer%close(close_err)
         if (.not. allocated(err) .and. allocated(close_err)) call move_alloc(close_err, err)
@@ -683,11 +688,13 @@ contains
 
     !> Open the prepared result file with the layouts of all rods and the records each has in
     !> the file already.
-    subroutine writer_open(this, path, layouts, selection, n_records, err)
+    subroutine writer_open(this, path, layouts, selection, n_records, parallel, err)
         class(result_writer_t), intent(inout) :: this
         character(len=*), intent(in) :: path, selection
         type(rod_layout_t), intent(in) :: layouts(:)
         integer, intent(in) :: n_records(:)
+        !> Open on every rank of MPI_COMM_WORLD with MPI-IO.
+        logical, intent(in) :: parallel
         type(error_t), allocatable, intent(out) :: err
         integer :: i
         this%layouts = layouts
@@ -696,42 +703,72 @@ contains
             this%fields(i)%list = rod_fields(layouts(i), selection)
         end do
         this%n_records = n_records
-        call this%file%open(path, err)
+        call this%file%open(path, err, parallel=parallel)
     end subroutine writer_open
 
-    !> Append the stored records of history `h` to rod i's datasets.
-    subroutine writer_append(this, i, h, err)
+    !> Collective: every rod's growing datasets get `totals(rod)` records (the same on every
+    !> rank); the new records of a rod are the last ones of its history.
+    subroutine writer_extend(this, totals, err)
+        class(result_writer_t), intent(inout) :: this
+        integer, intent(in) :: totals(:)
+        type(error_t), allocatable, intent(out) :: err
+        integer :: i, k
+        do i = 1, size(this%layouts)
+            do k = 1, size(this%fields(i)%list)
+                call this%file%set_records('/rods/' // this%layouts(i)%name // '/' // &
+                    trim(this%fields(i)%list(k)%path), totals(i), err)
+                if (allocated(err)) return
+            end do
+        end do
+        this%n_records = totals
+    end subroutine writer_extend
+
+    !> Collective: write rod i's new records (the last ones of its history, after `extend`);
+    !> the rod's owner passes its history, every other rank none.
+    subroutine writer_write_records(this, i, err, h)
         class(result_writer_t), intent(inout) :: this
         integer, intent(in) :: i
-        type(rod_history_t), intent(in) :: h
         type(error_t), allocatable, intent(out) :: err
+        type(rod_history_t), intent(in), optional :: h
         character(len=:), allocatable :: path
         integer :: k, first
-        if (h%n_stored == 0) return
-        first = this%n_records(i) + 1
         do k = 1, size(this%fields(i)%list)
             path = '/rods/' // this%layouts(i)%name // '/' // trim(this%fields(i)%list(k)%path)
-            call this%file%set_records(path, this%n_records(i) + h%n_stored, err)
-            if (allocated(err)) return
-            if (this%fields(i)%list(k)%integer_values) then
+            if (.not. present(h)) then
+                call this%file%write_no_records(path, err)
+            else if (h%n_stored == 0) then
+                call this%file%write_no_records(path, err)
+            else if (this%fields(i)%list(k)%integer_values) then
+                first = this%n_records(i) - h%n_stored + 1
                 call this%file%write_records(path, first, h%newton_iterations(1:h%n_stored), err)
             else
+                first = this%n_records(i) - h%n_stored + 1
                 call this%file%write_records(path, first, &
                     record_block(h, trim(this%fields(i)%list(k)%path), 1, h%n_stored), err)
             end if
             if (allocated(err)) return
         end do
-        this%n_records(i) = this%n_records(i) + h%n_stored
-    end subroutine writer_append
+    end subroutine writer_write_records
 
-    !> Rod i's checkpoint: its state and the formulation's book-keeping after `step`, at `time`.
-    subroutine writer_write_checkpoint(this, i, step, time, state, internal, err)
+    !> Collective: rod i's checkpoint, its state and the formulation's book-keeping after
+    !> `step`, at `time`; the rod's owner passes them, every other rank neither.
+    subroutine writer_write_checkpoint(this, i, step, time, err, state, internal)
         class(result_writer_t), intent(inout) :: this
         integer, intent(in) :: i, step
-        real(rk), intent(in) :: time, state(:), internal(:)
+        real(rk), intent(in) :: time
         type(error_t), allocatable, intent(out) :: err
+        real(rk), intent(in), optional :: state(:), internal(:)
         character(len=:), allocatable :: group
         group = '/checkpoint/' // this%layouts(i)%name
+        if (.not. present(state)) then
+            call this%file%write_no_records(group // '/state', err)
+            if (.not. allocated(err) .and. this%layouts(i)%n_internal > 0) &
+                call this%file%write_no_records(group // '/internal', err)
+            if (.not. allocated(err)) call this%file%write_no_records(group // '/step', err)
+            if (.not. allocated(err)) call this%file%write_no_records(group // '/records', err)
+            if (.not. allocated(err)) call this%file%write_no_records(group // '/time', err)
+            return
+        end if
         call this%file%write_records(group // '/state', 1, state, err)
         if (allocated(err)) return
         if (this%layouts(i)%n_internal > 0) &
