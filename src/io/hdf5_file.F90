@@ -91,7 +91,8 @@ module rs_io_hdf5_file
         procedure :: write_no_records => file_write_no_records
         !> Read a whole real or integer dataset into a flat array (Fortran element order).
         generic :: read => read_real, read_integer
-        procedure, private :: write_records_real, write_records_integer, write_records_buffer
+        procedure, private :: write_records_real, write_records_integer, write_records_buffer, &
+            write_selection
         procedure, private :: read_real, read_integer, read_buffer
         !> Close the file; does nothing when none is open.
         procedure :: close => file_close
@@ -728,9 +729,7 @@ contains
         character(len=*), parameter :: routine = 'hdf5_file%write_records'
         integer, allocatable :: dims(:)
         integer(hsize_t), allocatable :: start(:), block_dims(:)
-        integer(hid_t) :: dataset, file_space, memory_space, transfer
-        integer :: status, close_status, rank, per_record, n
-        transfer = H5P_DEFAULT_F
+        integer :: rank, per_record, n
         call this%dataset_dims(path, dims, err)
         if (allocated(err)) return
         rank = size(dims)
@@ -747,19 +746,55 @@ contains
         start(rank) = int(first - 1, hsize_t)
         block_dims = int(dims, hsize_t)
         block_dims(rank) = int(n, hsize_t)
+        call this%write_selection(path, memory_type, data, err, start, block_dims)
+    end subroutine write_records_buffer
+
+    subroutine file_write_no_records(this, path, err)
+        class(hdf5_file_t), intent(inout) :: this
+        character(len=*), intent(in) :: path
+        type(error_t), allocatable, intent(out) :: err
+        real(rk), target :: dummy(1)
+        if (.not. this%parallel) return
+        call this%write_selection(path, H5T_NATIVE_DOUBLE, c_loc(dummy), err)
+    end subroutine file_write_no_records
+
+    !> Write `data` into the block of dataset `path` at `start` with dimensions `block_dims`,
+    !> or (both absent) nothing: this rank's part of a collective write.
+    subroutine write_selection(this, path, memory_type, data, err, start, block_dims)
+        class(hdf5_file_t), intent(inout) :: this
+        character(len=*), intent(in) :: path
+        integer(hid_t), intent(in) :: memory_type
+        type(c_ptr), intent(in) :: data
+        type(error_t), allocatable, intent(out) :: err
+        integer(hsize_t), intent(in), optional :: start(:), block_dims(:)
+        character(len=*), parameter :: routine = 'hdf5_file%write_records'
+        integer(hid_t) :: dataset, file_space, memory_space, transfer
+        integer :: status, close_status
         dataset = -1
         file_space = -1
         memory_space = -1
+        transfer = H5P_DEFAULT_F
         body: block
             call h5dopen_f(this%id, path, dataset, status)
             if (this%failed(status, 'H5Dopen', path, routine, __LINE__, err)) exit body
             call h5dget_space_f(dataset, file_space, status)
             if (this%failed(status, 'H5Dget_space', path, routine, __LINE__, err)) exit body
-            call h5sselect_hyperslab_f(file_space, H5S_SELECT_SET_F, start, block_dims, status)
-            if (this%failed(status, 'H5Sselect_hyperslab', path, routine, __LINE__, err)) &
-                exit body
-            call h5screate_simple_f(rank, block_dims, memory_space, status)
-            if (this%failed(status, 'H5Screate_simple', path, routine, __LINE__, err)) exit body
+            if (present(block_dims)) then
+                call h5sselect_hyperslab_f(file_space, H5S_SELECT_SET_F, start, block_dims, status)
+                if (this%failed(status, 'H5Sselect_hyperslab', path, routine, __LINE__, err)) &
+                    exit body
+                call h5screate_simple_f(size(block_dims), block_dims, memory_space, status)
+                if (this%failed(status, 'H5Screate_simple', path, routine, __LINE__, err)) &
+                    exit body
+            else
+                call h5sselect_none_f(file_space, status)
+                if (this%failed(status, 'H5Sselect_none', path, routine, __LINE__, err)) exit body
+                call h5screate_simple_f(1, [1_hsize_t], memory_space, status)
+                if (this%failed(status, 'H5Screate_simple', path, routine, __LINE__, err)) &
+                    exit body
+                call h5sselect_none_f(memory_space, status)
+                if (this%failed(status, 'H5Sselect_none', path, routine, __LINE__, err)) exit body
+            end if
             call transfer_properties(this%parallel, transfer, status)
             if (this%failed(status, 'H5Pset_dxpl_mpio', path, routine, __LINE__, err)) exit body
             call h5dwrite_f(dataset, memory_type, data, status, mem_space_id=memory_space, &
@@ -771,44 +806,7 @@ contains
         if (transfer /= H5P_DEFAULT_F) call h5pclose_f(transfer, status)
         if (allocated(err)) return
         if (this%failed(close_status, 'H5Dclose/H5Sclose', path, routine, __LINE__, err)) return
-    end subroutine write_records_buffer
-
-    subroutine file_write_no_records(this, path, err)
-        class(hdf5_file_t), intent(inout) :: this
-        character(len=*), intent(in) :: path
-        type(error_t), allocatable, intent(out) :: err
-        character(len=*), parameter :: routine = 'hdf5_file%write_no_records'
-        integer(hid_t) :: dataset, file_space, memory_space, transfer
-        integer :: status, close_status
-        real(rk), target :: dummy(1)
-        if (.not. this%parallel) return
-        dataset = -1
-        file_space = -1
-        memory_space = -1
-        transfer = H5P_DEFAULT_F
-        body: block
-            call h5dopen_f(this%id, path, dataset, status)
-            if (this%failed(status, 'H5Dopen', path, routine, __LINE__, err)) exit body
-            call h5dget_space_f(dataset, file_space, status)
-            if (this%failed(status, 'H5Dget_space', path, routine, __LINE__, err)) exit body
-            call h5sselect_none_f(file_space, status)
-            if (this%failed(status, 'H5Sselect_none', path, routine, __LINE__, err)) exit body
-            call h5screate_simple_f(1, [1_hsize_t], memory_space, status)
-            if (this%failed(status, 'H5Screate_simple', path, routine, __LINE__, err)) exit body
-            call h5sselect_none_f(memory_space, status)
-            if (this%failed(status, 'H5Sselect_none', path, routine, __LINE__, err)) exit body
-            call transfer_properties(.true., transfer, status)
-            if (this%failed(status, 'H5Pset_dxpl_mpio', path, routine, __LINE__, err)) exit body
-            call h5dwrite_f(dataset, H5T_NATIVE_DOUBLE, c_loc(dummy), status, &
-                mem_space_id=memory_space, file_space_id=file_space, xfer_prp=transfer)
-            if (this%failed(status, 'H5Dwrite', path, routine, __LINE__, err)) exit body
-        end block body
-        call close_all(dataset, file_space, -1_hid_t, close_status)
-        if (memory_space >= 0) call h5sclose_f(memory_space, status)
-        if (transfer /= H5P_DEFAULT_F) call h5pclose_f(transfer, status)
-        if (allocated(err)) return
-        if (this%failed(close_status, 'H5Dclose/H5Sclose', path, routine, __LINE__, err)) return
-    end subroutine file_write_no_records
+    end subroutine write_selection
 
     !> Raw-data transfer properties: collective MPI-IO in a parallel file (every rank writes
     !> every dataset, possibly nothing), the default otherwise.
