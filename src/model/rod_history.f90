@@ -65,8 +65,6 @@ module rs_model_rod_history
         procedure :: next_record => rod_history_next_record
         !> Forget the stored records (after they went to the file); the capacity stays.
         procedure :: clear => rod_history_clear
-        procedure :: pack => rod_history_pack
-        procedure :: unpack => rod_history_unpack
     end type rod_history_t
 
 contains
@@ -156,98 +154,5 @@ contains
         class(rod_history_t), intent(inout) :: this
         this%n_stored = 0
     end subroutine rod_history_clear
-
-    !> The stored records as two flat arrays, for sending to another rank (`unpack` inverts).
-    subroutine rod_history_pack(this, header, values)
-        class(rod_history_t), intent(in) :: this
-        integer, allocatable, intent(out) :: header(:)
-        real(rk), allocatable, intent(out) :: values(:)
-        real(rk), allocatable :: branches(:)
-        integer :: n, i
-        n = this%n_stored
-        header = [this%n_nodes, this%n_stress_points, n, len(this%name), len(this%formulation), &
-            this%n_branches, this%newton_iterations(1:n), &
-            (ichar(this%name(i:i)), i = 1, len(this%name)), &
-            (ichar(this%formulation(i:i)), i = 1, len(this%formulation))]
-        allocate(branches(0))
-        if (this%n_branches > 0) branches = reshape(this%branch_stress(:, :, :, 1:n), &
-            [6 * this%n_stress_points * this%n_branches * n])
-        values = [this%mesh, this%stress_mesh, this%time(1:n), &
-            reshape(this%position(:, :, 1:n), [3 * this%n_nodes * n]), &
-            reshape(this%directors(:, :, :, 1:n), [9 * this%n_nodes * n]), &
-            reshape(this%velocity(:, :, 1:n), [3 * this%n_nodes * n]), &
-            reshape(this%director_velocity(:, :, :, 1:n), [9 * this%n_nodes * n]), &
-            reshape(this%stress(:, :, 1:n), [6 * this%n_stress_points * n]), &
-            reshape(this%strains(:, :, 1:n), [6 * this%n_stress_points * n]), branches, &
-            this%kinetic(1:n), this%strain(1:n), this%total(1:n), this%external_work(1:n), &
-            this%balance_error(1:n), this%dissipated(1:n), this%actuator_work(1:n), &
-            reshape(this%linear_momentum(:, 1:n), [3 * n]), &
-            reshape(this%angular_momentum(:, 1:n), [3 * n]), &
-            reshape(this%center_of_mass(:, 1:n), [3 * n]), this%constraint_residual(1:n), &
-            this%newton_residual(1:n), this%dt(1:n)]
-    end subroutine rod_history_pack
-
-    !> Rebuild a history from what `pack` produced.
-    subroutine rod_history_unpack(this, header, values)
-        class(rod_history_t), intent(inout) :: this
-        integer, intent(in) :: header(:)
-        real(rk), intent(in) :: values(:)
-        integer :: n, nn, ns, nb, at, i
-        character(len=:), allocatable :: name, formulation
-        nn = header(1)
-        ns = header(2)
-        n = header(3)
-        allocate(character(len=header(4)) :: name)
-        allocate(character(len=header(5)) :: formulation)
-        nb = header(6)
-        at = 6 + n
-        do i = 1, len(name)
-            name(i:i) = achar(header(at + i))
-        end do
-        at = at + len(name)
-        do i = 1, len(formulation)
-            formulation(i:i) = achar(header(at + i))
-        end do
-        call this%init(name, formulation, nn, ns, max(n, 1), nb)
-        this%n_stored = n
-        this%newton_iterations(1:n) = header(7:6 + n)
-        at = 0
-        call take(this%mesh)
-        call take(this%stress_mesh)
-        call take(this%time(1:n))
-        this%position(:, :, 1:n) = reshape(next(3 * nn * n), [3, nn, n])
-        this%directors(:, :, :, 1:n) = reshape(next(9 * nn * n), [3, 3, nn, n])
-        this%velocity(:, :, 1:n) = reshape(next(3 * nn * n), [3, nn, n])
-        this%director_velocity(:, :, :, 1:n) = reshape(next(9 * nn * n), [3, 3, nn, n])
-        this%stress(:, :, 1:n) = reshape(next(6 * ns * n), [6, ns, n])
-        this%strains(:, :, 1:n) = reshape(next(6 * ns * n), [6, ns, n])
-        if (nb > 0) this%branch_stress(:, :, :, 1:n) = reshape(next(6 * ns * nb * n), &
-            [6, ns, nb, n])
-        call take(this%kinetic(1:n))
-        call take(this%strain(1:n))
-        call take(this%total(1:n))
-        call take(this%external_work(1:n))
-        call take(this%balance_error(1:n))
-        call take(this%dissipated(1:n))
-        call take(this%actuator_work(1:n))
-        this%linear_momentum(:, 1:n) = reshape(next(3 * n), [3, n])
-        this%angular_momentum(:, 1:n) = reshape(next(3 * n), [3, n])
-        this%center_of_mass(:, 1:n) = reshape(next(3 * n), [3, n])
-        call take(this%constraint_residual(1:n))
-        call take(this%newton_residual(1:n))
-        call take(this%dt(1:n))
-    contains
-        subroutine take(target)
-            real(rk), intent(out) :: target(:)
-            target = values(at + 1 : at + size(target))
-            at = at + size(target)
-        end subroutine take
-        function next(count) result(chunk)
-            integer, intent(in) :: count
-            real(rk) :: chunk(count)
-            chunk = values(at + 1 : at + count)
-            at = at + count
-        end function next
-    end subroutine rod_history_unpack
 
 end module rs_model_rod_history

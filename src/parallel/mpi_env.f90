@@ -9,19 +9,8 @@ module rs_parallel_mpi_env
     private
 
     public :: world_rank, world_size, is_root, broadcast_text, broadcast_flag, barrier
-    public :: mpi_library_version, any_rank_true, send_array, receive_array, sum_over_ranks
+    public :: mpi_library_version, any_rank_true, sum_over_ranks
     public :: max_over_ranks, broadcast_array, max_each_over_ranks
-
-    !> Blocking point-to-point transfer of a whole real or integer array, for gathering results
-    !> to rank 0 after the time loop (DESIGN.md §5: no communication inside it).
-    interface send_array
-        module procedure send_reals, send_integers
-    end interface send_array
-
-    !> Receive what `send_array` sent; the array is allocated to the sent length.
-    interface receive_array
-        module procedure receive_reals, receive_integers
-    end interface receive_array
 
     !> Give every rank the whole array `root` holds (allocated to its length on the others).
     interface broadcast_array
@@ -75,42 +64,6 @@ contains
         integer :: ierr
         call MPI_Allreduce(flag, any_rank_true, 1, MPI_LOGICAL, MPI_LOR, MPI_COMM_WORLD, ierr)
     end function any_rank_true
-
-    subroutine send_reals(values, destination, tag)
-        real(kind(1.0d0)), intent(in) :: values(:)
-        integer, intent(in) :: destination, tag
-        integer :: ierr
-        call MPI_Send(size(values), 1, MPI_INTEGER, destination, tag, MPI_COMM_WORLD, ierr)
-        call MPI_Send(values, size(values), MPI_DOUBLE_PRECISION, destination, tag, &
-            MPI_COMM_WORLD, ierr)
-    end subroutine send_reals
-
-    subroutine send_integers(values, destination, tag)
-        integer, intent(in) :: values(:)
-        integer, intent(in) :: destination, tag
-        integer :: ierr
-        call MPI_Send(size(values), 1, MPI_INTEGER, destination, tag, MPI_COMM_WORLD, ierr)
-        call MPI_Send(values, size(values), MPI_INTEGER, destination, tag, MPI_COMM_WORLD, ierr)
-    end subroutine send_integers
-
-    subroutine receive_reals(values, source, tag)
-        real(kind(1.0d0)), allocatable, intent(out) :: values(:)
-        integer, intent(in) :: source, tag
-        integer :: n, ierr
-        call MPI_Recv(n, 1, MPI_INTEGER, source, tag, MPI_COMM_WORLD, MPI_STATUS_IGNORE, ierr)
-        allocate(values(n))
-        call MPI_Recv(values, n, MPI_DOUBLE_PRECISION, source, tag, MPI_COMM_WORLD, &
-            MPI_STATUS_IGNORE, ierr)
-    end subroutine receive_reals
-
-    subroutine receive_integers(values, source, tag)
-        integer, allocatable, intent(out) :: values(:)
-        integer, intent(in) :: source, tag
-        integer :: n, ierr
-        call MPI_Recv(n, 1, MPI_INTEGER, source, tag, MPI_COMM_WORLD, MPI_STATUS_IGNORE, ierr)
-        allocate(values(n))
-        call MPI_Recv(values, n, MPI_INTEGER, source, tag, MPI_COMM_WORLD, MPI_STATUS_IGNORE, ierr)
-    end subroutine receive_integers
 
     !> Sum of an integer over all ranks, on every rank.
     integer function sum_over_ranks(value)
