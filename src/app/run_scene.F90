@@ -1,6 +1,7 @@
 #include "rs_macros.h"
-!> The run of a validated scene (DESIGN.md §5 and §7): rods are dealt to ranks round-robin and
-!> every rank steps its rods together, one step of the time grid at a time, with no
+!> The run of a validated scene (DESIGN.md §5 and §7): systems (one rod, or the rods joints
+!> couple; rs_model_coupling) are dealt to ranks round-robin and
+!> every rank steps its systems together, one step of the time grid at a time, with no
 !> communication between flushes. Every `flush_every` steps the ranks meet at the result file
 !> (parallel HDF5 when there are several): it is extended, each rank writes the new records and
 !> the checkpoint of its own rods, and it is flushed, so a killed run leaves a readable file with
@@ -24,10 +25,15 @@ module rs_app_run_scene
     use rs_solver_petsc_env, only: petsc_version
     use rs_solver_rod_stepper, only: petsc_apply_options, petsc_options_text
     use rs_solver_rod_run, only: rod_runner_t, step_count
+    use rs_model_coupling, only: coupled_systems
     implicit none
     private
 
     public :: run_scene
+
+    !> The system of each rod, the rod's place among the system's rods, and each system's rods
+    !> (members(first(k):first(k+1)-1)); set at the start of run_scene.
+    integer, allocatable :: rod_system(:), rod_slot(:), system_first(:), system_members(:)
 
 contains
 
@@ -56,13 +62,21 @@ contains
         output_seconds = 0.0_rk
         n_steps = step_count(scene)
 
-        ! Build this rank's rods. Records between two flushes: the flush window at the stride,
-        ! the initial record, an endpoint and a failure record.
+        ! Build this rank's systems. Records between two flushes: the flush window at the
+        ! stride, the initial record, an endpoint and a failure record.
+        call coupled_systems(scene, rod_system, system_first, system_members)
+        if (allocated(rod_slot)) deallocate(rod_slot)
+        allocate(rod_slot(size(scene%rods)))
+        do i = 1, size(system_first) - 1
+            rod_slot(system_members(system_first(i):system_first(i + 1) - 1)) = &
+                [(n, n = 1, system_first(i + 1) - system_first(i))]
+        end do
         capacity = scene%output%flush_every / scene%output%stride + 4
-        allocate(runners(size(scene%rods)))
-        do i = 1, size(scene%rods)
-            if (rod_owner(i) /= world_rank()) cycle
-            call runners(i)%start(scene, i, capacity, restarting, local_err)
+        allocate(runners(size(system_first) - 1))
+        do i = 1, size(runners)
+            if (system_owner(i) /= world_rank()) cycle
+            call runners(i)%start(scene, system_members(system_first(i):system_first(i + 1) - 1), &
+                capacity, restarting, local_err)
             if (allocated(local_err)) exit
         end do
         if (collective_failure(local_err, err, 'a rod could not be built (see above)')) return
@@ -115,7 +129,7 @@ contains
         last_sidecar = -huge(1.0_rk)
         do n = first_step, n_steps
             do i = 1, size(runners)
-                if (rod_owner(i) == world_rank()) call runners(i)%advance(scene, n)
+                if (system_owner(i) == world_rank()) call runners(i)%advance(scene, n)
             end do
             call log_debug('rodsolve: step ' // str(n) // ' done')
             if (mod(n, scene%output%stride) == 0 .or. n == n_steps) then
@@ -155,7 +169,7 @@ contains
         if (failed) then
             do i = 1, size(runners)
                 if (.not. runners(i)%failed) cycle
-                write(error_unit, '(a)') 'rodsolve: rod ''' // trim(scene%rods(i)%name) // &
+                write(error_unit, '(a)') 'rodsolve: rod ''' // runners(i)%name() // &
                     ''' (rank ' // str(world_rank()) // '): ' // runners(i)%err%describe()
                 flush(error_unit)
             end do
@@ -165,17 +179,25 @@ contains
         end if
     end subroutine run_scene
 
-    !> Every rank gets every rod's layout from the rod's owner.
+    !> Every rank gets every rod's layout from the rod's owner. A system's checkpoint (state and
+    !> book-keeping) is stored with its first rod; its other rods have none.
     subroutine share_layouts(runners, layouts)
-        type(rod_runner_t), intent(in) :: runners(:)
+        type(rod_runner_t), intent(in), target :: runners(:)
         type(rod_layout_t), intent(inout) :: layouts(:)
         integer, allocatable :: header(:)
         real(rk), allocatable :: values(:)
         integer :: i
         do i = 1, size(layouts)
             if (rod_owner(i) == world_rank()) then
-                layouts(i) = layout_of(runners(i)%history, size(runners(i)%x), &
-                    runners(i)%formulation%n_internal())
+                associate (runner => runners(rod_system(i)))
+                    if (rod_slot(i) == 1) then
+                        layouts(i) = layout_of(runner%histories(1), size(runner%x), &
+                            runner%formulation%n_internal())
+                    else
+                        layouts(i) = layout_of(runner%histories(rod_slot(i)), 0, 0)
+                        layouts(i)%checkpoint_rod = system_members(system_first(rod_system(i)))
+                    end if
+                end associate
                 call pack_layout(layouts(i), header, values)
             end if
             call broadcast_array(header, rod_owner(i))
@@ -197,11 +219,18 @@ contains
         real(rk) :: time
         character(len=:), allocatable :: message
         steps = [-huge(1), -huge(1)]
-        do i = 1, size(runners)
+        do i = 1, size(records)
             if (rod_owner(i) /= world_rank()) cycle
+            if (rod_slot(i) > 1) then
+                ! A system's state is in its first rod's checkpoint, read before (rod order);
+                ! every rod of the system has as many records.
+                records(i) = records(system_members(system_first(rod_system(i))))
+                cycle
+            end if
             call read_checkpoint(trim(scene%run%restart_from), trim(scene%rods(i)%name), state, &
                 internal, step, records(i), time, err)
-            if (.not. allocated(err)) call runners(i)%restore(scene, step, state, internal, err)
+            if (.not. allocated(err)) call runners(rod_system(i))%restore(scene, step, state, &
+                internal, err)
             if (allocated(err)) exit
             ! Largest and (negated) smallest step over this rank's rods.
             steps = max(steps, [step, -step])
@@ -241,15 +270,16 @@ contains
         real(rk), intent(inout) :: last_sidecar
         type(error_t), allocatable, intent(out) :: err
         type(error_t), allocatable :: flush_err
-        integer :: totals(size(runners)), failed(size(runners)), i
+        integer :: totals(size(rod_system)), failed(size(rod_system)), i
         real(rk) :: t
+        real(rk), allocatable :: no_values(:)
         ! Every rank learns every rod's record count and whether it failed.
         totals = 0
         failed = 0
-        do i = 1, size(runners)
+        do i = 1, size(totals)
             if (rod_owner(i) /= world_rank()) cycle
-            totals(i) = writer%n_records(i) + runners(i)%history%n_stored
-            if (runners(i)%failed) failed(i) = 1
+            totals(i) = writer%n_records(i) + runners(rod_system(i))%histories(rod_slot(i))%n_stored
+            if (runners(rod_system(i))%failed) failed(i) = 1
         end do
         call max_each_over_ranks(totals)
         call max_each_over_ranks(failed)
@@ -257,17 +287,24 @@ contains
         ! Every write is collective: all ranks take part for every rod, the owner with its data.
         ! A failed rod keeps the checkpoint of its last flush before the failure.
         t = min(real(n, rk) * scene%time%dt, scene%time%t_end)
-        do i = 1, size(runners)
+        allocate(no_values(0))
+        do i = 1, size(totals)
             if (allocated(err)) exit
             if (rod_owner(i) == world_rank()) then
-                call writer%write_records(i, err, runners(i)%history)
-                call runners(i)%history%clear()
+                associate (h => runners(rod_system(i))%histories(rod_slot(i)))
+                    call writer%write_records(i, err, h)
+                    call h%clear()
+                end associate
             else
                 call writer%write_records(i, err)
             end if
             if (allocated(err) .or. failed(i) == 1) cycle
-            if (rod_owner(i) == world_rank()) then
-                call writer%write_checkpoint(i, n, t, err, runners(i)%x, runners(i)%internal())
+            if (rod_owner(i) == world_rank() .and. rod_slot(i) == 1) then
+                call writer%write_checkpoint(i, n, t, err, runners(rod_system(i))%x, &
+                    runners(rod_system(i))%internal())
+            else if (rod_owner(i) == world_rank()) then
+                ! Coupled to the system's first rod, which holds the checkpoint.
+                call writer%write_checkpoint(i, n, t, err, no_values, no_values)
             else
                 call writer%write_checkpoint(i, n, t, err)
             end if
@@ -347,7 +384,7 @@ contains
         energy = 0.0_rk
         iterations = 0
         do i = 1, size(runners)
-            if (rod_owner(i) /= 0) cycle
+            if (system_owner(i) /= 0) cycle
             balance = max(balance, runners(i)%max_balance)
             energy = max(energy, runners(i)%max_energy)
             iterations = iterations + runners(i)%total_iterations
@@ -375,7 +412,7 @@ contains
         iterations = 0
         cutbacks = 0
         do i = 1, size(runners)
-            if (rod_owner(i) /= world_rank()) cycle
+            if (system_owner(i) /= world_rank()) cycle
             assembly = assembly + runners(i)%assembly_seconds()
             solve = solve + runners(i)%solve_seconds - runners(i)%assembly_seconds()
             call runners(i)%finish()
@@ -387,7 +424,7 @@ contains
         assembly = max_over_ranks(assembly)
         solve = max_over_ranks(solve)
         output = max_over_ranks(output_seconds)
-        call log_info('rodsolve: ' // str(size(runners)) // ' rod(s), ' // str(n_steps) // &
+        call log_info('rodsolve: ' // str(size(rod_system)) // ' rod(s), ' // str(n_steps) // &
             ' steps, ' // str(cutbacks) // ' rejected (cut-backs), ' // str(iterations) // &
             ' Newton iterations; wall time ' // str_significant(wall_time() - started, 3) // &
             ' s: assembly ' // str_significant(assembly, 3) // ' s, linear solves and Newton ' // &
@@ -471,14 +508,21 @@ contains
         end if
     end subroutine copy_file
 
-    !> Rank that runs rod i: round robin, so independent rods spread over the ranks.
+    !> Rank that runs system k: round robin, so independent rods spread over the ranks.
+    integer function system_owner(k)
+        integer, intent(in) :: k
+        system_owner = mod(k - 1, world_size())
+    end function system_owner
+
+    !> Rank that runs rod i (the owner of its system).
     integer function rod_owner(i)
         integer, intent(in) :: i
-        rod_owner = mod(i - 1, world_size())
+        rod_owner = system_owner(rod_system(i))
     end function rod_owner
 
     !> PETSc options that follow from the scene (DESIGN.md §3): the Newton stopping rule of the
-    !> method document with PETSc's relative tests off, and MUMPS LU. `petsc_options` and the
+    !> method document with PETSc's relative tests off, and LU (the package is chosen per system
+    !> by the stepper: MUMPS, or PETSc's LU where the formulation allows). `petsc_options` and the
     !> command line override them.
     function scene_options(scene) result(options)
         type(scene_t), intent(in) :: scene
@@ -486,7 +530,7 @@ contains
         options = '-snes_atol ' // str(scene%solver%newton_atol) // ' -snes_rtol ' // &
             str(scene%solver%newton_rtol) // ' -snes_stol 0 -snes_max_it ' // &
             str(scene%solver%max_newton) // ' -snes_max_funcs 1000000 -ksp_type preonly ' // &
-            '-pc_type lu -pc_factor_mat_solver_type mumps -mat_mumps_icntl_14 50'
+            '-pc_type lu -mat_mumps_icntl_14 50'
     end function scene_options
 
 end module rs_app_run_scene

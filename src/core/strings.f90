@@ -5,7 +5,7 @@ module rs_core_strings
     implicit none
     private
 
-    public :: str_significant, to_lower, str, edit_distance, closest_name
+    public :: str_significant, to_lower, str, edit_distance, closest_name, vector_text
 
     !> Shortest readable text of a number.
     interface str
@@ -141,5 +141,17 @@ contains
         end do
         if (best_distance > limit) best = ''
     end function closest_name
+
+    !> "x, y, z": the entries of `v` in shortest exact form (`str`), comma-separated.
+    pure function vector_text(v) result(text)
+        real(rk), intent(in) :: v(:)
+        character(len=:), allocatable :: text
+        integer :: i
+        text = ''
+        do i = 1, size(v)
+            if (i > 1) text = text // ', '
+            text = text // str(v(i))
+        end do
+    end function vector_text
 
 end module rs_core_strings

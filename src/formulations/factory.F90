@@ -5,13 +5,15 @@ module rs_formulations_factory
     use rs_core_error, only: error_t, set_error
     use rs_formulations_formulation, only: rod_formulation_t
     use rs_ph_director, only: ph_director_t
+    use rs_ph_planar, only: ph_planar_t
     implicit none
     private
 
     public :: create_formulation
 
     !> Formulations this build can run.
-    character(len=*), parameter, public :: available_formulations = 'ph_director'
+    character(len=*), parameter, public :: available_formulations = &
+        'ph_director, ph_planar, cl_em_planar'
 
 contains
 
@@ -25,6 +27,8 @@ contains
         select case (trim(name))
         case ('ph_director')
             allocate(ph_director_t :: formulation)
+        case ('ph_planar', 'cl_em_planar')
+            allocate(ph_planar_t :: formulation)
         case default
             message = 'formulation ''' // trim(name) // &
                 ''' is not available in this version; available: ' // available_formulations

@@ -23,7 +23,8 @@ module rs_formulations_formulation
     !> A rod formulation: one object per rod.
     type, abstract, public :: rod_formulation_t
     contains
-        !> Build the rod `rod_index` of the scene: mesh, unknowns, loads.
+        !> Build the rods `rods` of the scene (indices into scene%rods): one rod, or the rods a
+        !> set of joints couples into one system (the first leads): mesh, unknowns, loads.
         procedure(init_interface), deferred :: init
         !> Length of the state vector X.
         procedure(size_interface), deferred :: n_state
@@ -43,9 +44,9 @@ module rs_formulations_formulation
         procedure :: update => default_update
         !> Book-keeping after an accepted (sub)step: work of the loads, Newton statistics.
         procedure(accept_interface), deferred :: accept_step
-        !> Size the output record of this rod.
+        !> Size the output records of the rods (one history per rod, in the order of `rods`).
         procedure(history_init_interface), deferred :: init_history
-        !> Append the state X at time t to the history.
+        !> Append the state X at time t to the rods' histories.
         procedure(record_interface), deferred :: record
         !> A short description for the log ("ph_director: 10 elements, p = 2, 750 unknowns").
         procedure(describe_interface), deferred :: describe
@@ -62,14 +63,20 @@ module rs_formulations_formulation
         procedure :: save_internal => default_save_internal
         !> Restore what save_internal gave.
         procedure :: restore_internal => default_restore_internal
+        !> True if the step Jacobian needs no pivoting (no multipliers, a non-zero diagonal), so
+        !> PETSc's own LU may replace MUMPS (DESIGN.md §3); default false.
+        procedure :: native_lu => default_native_lu
+        !> True if the method document runs Newton undamped (full steps, no line search);
+        !> default false (backtracking).
+        procedure :: full_newton => default_full_newton
     end type rod_formulation_t
 
     abstract interface
-        subroutine init_interface(this, scene, rod_index, err)
+        subroutine init_interface(this, scene, rods, err)
             import :: rod_formulation_t, scene_t, error_t
             class(rod_formulation_t), intent(inout) :: this
             type(scene_t), intent(in) :: scene
-            integer, intent(in) :: rod_index
+            integer, intent(in) :: rods(:)
             type(error_t), allocatable, intent(out) :: err
         end subroutine init_interface
 
@@ -114,17 +121,17 @@ module rs_formulations_formulation
             real(rk), intent(in) :: residual_norm
         end subroutine accept_interface
 
-        subroutine history_init_interface(this, history, capacity)
+        subroutine history_init_interface(this, histories, capacity)
             import :: rod_formulation_t, rod_history_t
             class(rod_formulation_t), intent(in) :: this
-            type(rod_history_t), intent(inout) :: history
+            type(rod_history_t), intent(inout), target :: histories(:)
             integer, intent(in) :: capacity
         end subroutine history_init_interface
 
-        subroutine record_interface(this, history, t, x)
+        subroutine record_interface(this, histories, t, x)
             import :: rod_formulation_t, rod_history_t, rk
             class(rod_formulation_t), intent(inout) :: this
-            type(rod_history_t), intent(inout) :: history
+            type(rod_history_t), intent(inout), target :: histories(:)
             real(rk), intent(in) :: t, x(:)
         end subroutine record_interface
 
@@ -147,6 +154,16 @@ contains
         logical, intent(in) :: on
         real(rk), intent(in) :: t_load
     end subroutine default_set_endpoint_solve
+
+    pure logical function default_native_lu(this)
+        class(rod_formulation_t), intent(in) :: this
+        default_native_lu = .false.
+    end function default_native_lu
+
+    pure logical function default_full_newton(this)
+        class(rod_formulation_t), intent(in) :: this
+        default_full_newton = .false.
+    end function default_full_newton
 
     pure integer function default_n_internal(this)
         class(rod_formulation_t), intent(in) :: this

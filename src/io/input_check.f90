@@ -5,17 +5,22 @@
 !> on a rod that does not exist, an end supported twice, a table that is not increasing, dt
 !> above t_end, Maxwell fractions that leave no elastic branch, an actuator without its force,
 !> a helix length that contradicts its turns, a polyline that doubles back, an initial velocity
-!> at a clamped end, ...). Every problem is added to `errors`, naming the file, line, group and
-!> variable.
+!> at a clamped end, ...), resolves `formulation = 'auto'` per joint-connected system of rods
+!> (ph_planar when they lie in a plane, rs_model_planarity, else ph_director) and checks the
+!> joints (existing rods, no end tied to itself, no redundant joint, ends that coincide, one
+!> formulation per system). Every problem is added to `errors`, naming the file, line, group
+!> and variable.
 module rs_io_input_check
     use rs_core_kinds, only: rk
     use rs_core_error, only: error_list_t
-    use rs_core_strings, only: str
+    use rs_core_strings, only: str, vector_text
     use rs_model_scene, only: scene_t, rod_input_t, actuator_input_t, unset_real, section_derived_names
     use rs_model_rod_geometry, only: rod_geometry_t, straight_geometry, helix_geometry, &
-        polyline_geometry, centreline_tangent, default_normal
+        polyline_geometry, centreline_tangent, default_normal, rod_geometry_of, centreline_point
     use rs_model_section, only: section_properties_t, circle_section, tube_section, rectangle_section
     use rs_model_capabilities, only: capability_t, capability_of, lists_name
+    use rs_model_planarity, only: plane_t, plane_of_rods, plane_text
+    use rs_model_coupling, only: coupled_systems
     use rs_io_result_file, only: unknown_fields, selectable_fields
     implicit none
     private
@@ -31,6 +36,10 @@ module rs_io_input_check
     real(rk), parameter :: length_tolerance = 1.0e-9_rk
     !> Largest |t_j + t_{j+1}| of consecutive polyline tangents that counts as a reversal.
     real(rk), parameter :: reversal_tolerance = 1.0e-8_rk
+    !> Largest distance of two joined rod ends, relative to the longer rod's length.
+    real(rk), parameter :: joint_tolerance = 1.0e-9_rk
+    !> Largest initial speed of a pinned end relative to the rod's speed scale.
+    real(rk), parameter :: rest_tolerance = 1.0e-12_rk
 
 contains
 
@@ -38,6 +47,7 @@ contains
     subroutine resolve_scene(scene, errors)
         type(scene_t), intent(inout) :: scene
         type(error_list_t), intent(inout) :: errors
+        logical, allocatable :: geometry_ok(:)
         integer :: i
 
         if (len_trim(scene%output%path) == 0) scene%output%path = default_output_path(scene%source_file)
@@ -47,13 +57,20 @@ contains
         end if
         call check_output_and_restart(scene, errors)
         if (size(scene%rods) == 0) call errors%add(scene%source_file // ': the scene has no &rod group')
+        allocate(geometry_ok(size(scene%rods)))
         do i = 1, size(scene%rods)
-            call resolve_rod(scene, i, errors)
+            call resolve_rod(scene, i, geometry_ok(i), errors)
         end do
+        if (.not. allocated(scene%joints)) allocate(scene%joints(0))
         call check_unique_names(scene, errors)
-        call check_bcs(scene, errors)
+        call check_bcs(scene, geometry_ok, errors)
         call check_loads(scene, errors)
         call check_actuators(scene, errors)
+        call check_joints(scene, geometry_ok, errors)
+        ! 'auto' needs every rod, load and joint resolved: it looks at whole systems.
+        call resolve_auto_formulations(scene)
+        call resolve_formulation_options(scene)
+        call check_joint_formulations(scene, errors)
     end subroutine resolve_scene
 
     !> 'out/<scene name>.h5' for scene file '<dir>/<scene name>.nml'.
@@ -79,15 +96,19 @@ contains
         end if
     end function at
 
-    subroutine resolve_rod(scene, i, errors)
+    !> Resolve rod `i`: name, formulation origin, geometry, d1, rotation centre, Maxwell
+    !> branches and stiffnesses; `geometry_ok` is false if its reference geometry cannot be built.
+    subroutine resolve_rod(scene, i, geometry_ok, errors)
         type(scene_t), intent(inout) :: scene
         integer, intent(in) :: i
+        logical, intent(out) :: geometry_ok
         type(error_list_t), intent(inout) :: errors
         character(len=:), allocatable :: here
         type(rod_geometry_t) :: geometry
         real(rk) :: t(3), d1(3)
         logical :: ok
 
+        geometry_ok = .false.
         associate (rod => scene%rods(i))
             if (len_trim(rod%name) == 0) rod%name = 'rod' // str(i)
             here = at(scene, rod%input_line) // '&rod ''' // trim(rod%name) // ''' '
@@ -97,12 +118,9 @@ contains
             else
                 rod%formulation_origin = 'rod'
             end if
-            ! 'auto' picks the planar formulation for planar scenes (DESIGN.md §4) once one is
-            ! available; until then every scene runs on the 3D ph_director.
-            if (rod%formulation == 'auto') then
-                rod%formulation = 'ph_director'
-                rod%formulation_origin = 'auto'
-            end if
+            ! 'auto' is chosen per system of joined rods once the whole scene is resolved
+            ! (resolve_auto_formulations).
+            if (rod%formulation == 'auto') rod%formulation_origin = 'auto'
             call resolve_geometry(rod, here, geometry, ok, errors)
             if (.not. ok) return
             t = centreline_tangent(geometry, 0.0_rk)
@@ -125,6 +143,7 @@ contains
                 if (abs(norm2(d1) - 1.0_rk) > round_off) d1 = d1 / norm2(d1)
                 rod%d1 = d1
             end if
+            geometry_ok = .true.
             where (rod%rotation_center == unset_real) rod%rotation_center = rod%start
             if (scene%time%quasistatic) then
                 if (any(rod%velocity /= 0.0_rk)) call errors%add(here // 'velocity: (' // &
@@ -252,18 +271,6 @@ contains
         end if
         ok = .true.
     end subroutine resolve_geometry
-
-    !> "x, y, z" in shortest exact form.
-    pure function vector_text(v) result(text)
-        real(rk), intent(in) :: v(:)
-        character(len=:), allocatable :: text
-        integer :: i
-        text = ''
-        do i = 1, size(v)
-            if (i > 1) text = text // ', '
-            text = text // str(v(i))
-        end do
-    end function vector_text
 
     !> Maxwell branches (methods/ph_director_3d.md §3.1): m = the number of leading given
     !> maxwell_fraction entries, with no gaps; one maxwell_tau_E per branch; maxwell_tau_G
@@ -442,11 +449,13 @@ contains
         end do
     end function rod_names
 
-    !> Supports: an existing rod, each end supported once, and a clamped end starting at rest
-    !> (the rod's initial velocity field vanishes there only without velocity and
-    !> angular_velocity, since the director rates are angular_velocity x d_i).
-    subroutine check_bcs(scene, errors)
+    !> Supports: an existing rod, each end supported once, a clamped end starting at rest (the
+    !> rod's initial velocity field vanishes there only without velocity and angular_velocity,
+    !> since the director rates are angular_velocity x d_i) and a pinned end starting at rest
+    !> (it may turn: a rotation about the pin is allowed).
+    subroutine check_bcs(scene, geometry_ok, errors)
         type(scene_t), intent(in) :: scene
+        logical, intent(in) :: geometry_ok(:)
         type(error_list_t), intent(inout) :: errors
         character(len=:), allocatable :: where
         integer :: i, j, r
@@ -471,6 +480,9 @@ contains
                             'turning; allowed: 0, 0, 0 (or free that end)')
                     end associate
                 end if
+                if (r > 0 .and. trim(bc%kind) == 'pinned') then
+                    if (geometry_ok(r)) call check_pinned_at_rest(scene, r, bc%end, bc%input_line, errors)
+                end if
                 do j = 1, i - 1
                     if (scene%bcs(j)%rod == bc%rod .and. scene%bcs(j)%end == bc%end .and. &
                             len_trim(bc%end) > 0) call errors%add(at(scene, bc%input_line) // &
@@ -480,6 +492,49 @@ contains
             end associate
         end do
     end subroutine check_bcs
+
+    !> The initial velocity velocity + angular_velocity x (p - rotation_center) of rod `r` at
+    !> its pinned end `end_name` (point p) vanishes.
+    subroutine check_pinned_at_rest(scene, r, end_name, bc_line, errors)
+        type(scene_t), intent(in) :: scene
+        integer, intent(in) :: r, bc_line
+        character(len=*), intent(in) :: end_name
+        type(error_list_t), intent(inout) :: errors
+        real(rk) :: p(3), arm(3), v(3), scale
+        associate (rod => scene%rods(r))
+            if (all(rod%velocity == 0.0_rk) .and. all(rod%angular_velocity == 0.0_rk)) return
+            p = end_point(rod, end_name)
+            arm = p - rod%rotation_center
+            v = rod%velocity + cross3(rod%angular_velocity, arm)
+            scale = norm2(rod%velocity) + norm2(rod%angular_velocity) * norm2(arm)
+            if (norm2(v) <= rest_tolerance * scale) return
+            call errors%add(at(scene, rod%input_line) // '&rod ''' // trim(rod%name) // &
+                ''' velocity: the initial velocity at the ''' // trim(end_name) // ''' end, (' // &
+                vector_text(v) // '), is not zero, but that end is pinned (&bc at line ' // &
+                str(bc_line) // ') and starts at rest; allowed: no velocity, or a rotation ' // &
+                'about the pin (rotation_center = (' // vector_text(p) // '))')
+        end associate
+    end subroutine check_pinned_at_rest
+
+    !> The reference position of end `end_name` ('start' or 'end') of a resolved rod.
+    function end_point(rod, end_name) result(p)
+        type(rod_input_t), intent(in) :: rod
+        character(len=*), intent(in) :: end_name
+        real(rk) :: p(3)
+        type(rod_geometry_t) :: geometry
+        geometry = rod_geometry_of(rod)
+        if (trim(end_name) == 'start') then
+            p = centreline_point(geometry, 0.0_rk)
+        else
+            p = centreline_point(geometry, geometry%length)
+        end if
+    end function end_point
+
+    pure function cross3(a, b) result(c)
+        real(rk), intent(in) :: a(3), b(3)
+        real(rk) :: c(3)
+        c = [a(2) * b(3) - a(3) * b(2), a(3) * b(1) - a(1) * b(3), a(1) * b(2) - a(2) * b(1)]
+    end function cross3
 
     subroutine check_loads(scene, errors)
         type(scene_t), intent(in) :: scene
@@ -624,6 +679,246 @@ contains
             ''' (radius ' // str(rod%radius) // ')')
     end subroutine check_offset
 
+    !> &joint: both rods exist; a joint ties two different rod ends; no joint is redundant (the
+    !> tied ends form a graph whose groups are the joint points: a joint between ends already in
+    !> one group, the same pair twice or a cycle, adds nothing and would make the system
+    !> singular); and the two ends coincide in the reference geometry, to joint_tolerance times
+    !> the longer rod. The joints' kinds against the formulations: check_capabilities.
+    subroutine check_joints(scene, geometry_ok, errors)
+        type(scene_t), intent(in) :: scene
+        logical, intent(in) :: geometry_ok(:)
+        type(error_list_t), intent(inout) :: errors
+        character(len=:), allocatable :: here, lines
+        integer, allocatable :: parent(:), joint_end(:)
+        integer :: j, k, ra, rb, ea, eb
+        real(rk) :: pa(3), pb(3), distance, longer
+        ! Rod end e = 2 (r - 1) + 1 (start) or + 2 (end); parent(:) is a union-find forest.
+        allocate(parent(2 * size(scene%rods)), joint_end(size(scene%joints)))
+        parent = [(k, k = 1, size(parent))]
+        joint_end = 0
+        do j = 1, size(scene%joints)
+            associate (joint => scene%joints(j))
+                here = at(scene, joint%input_line) // '&joint '
+                ra = rod_of(joint%rod_a, 'rod_a')
+                rb = rod_of(joint%rod_b, 'rod_b')
+                if (ra == 0 .or. rb == 0) cycle
+                if (len_trim(joint%end_a) == 0 .or. len_trim(joint%end_b) == 0) cycle
+                if (ra == rb .and. joint%end_a == joint%end_b) then
+                    call errors%add(here // 'end_b: the joint ties the ''' // trim(joint%end_a) // &
+                        ''' end of rod ''' // trim(joint%rod_a) // ''' to itself; a joint ties two ' // &
+                        'different rod ends')
+                    cycle
+                end if
+                ea = end_id(ra, joint%end_a)
+                eb = end_id(rb, joint%end_b)
+                if (root(ea) == root(eb)) then
+                    lines = ''
+                    do k = 1, j - 1
+                        if (joint_end(k) == 0) cycle
+                        if (root(joint_end(k)) /= root(ea)) cycle
+                        if (len(lines) > 0) lines = lines // ', '
+                        lines = lines // str(scene%joints(k)%input_line)
+                    end do
+                    call errors%add(here // 'rod_b: redundant joint: the ''' // trim(joint%end_a) // &
+                        ''' end of rod ''' // trim(joint%rod_a) // ''' and the ''' // &
+                        trim(joint%end_b) // ''' end of rod ''' // trim(joint%rod_b) // &
+                        ''' are already tied together by the &joint(s) at line(s) ' // lines // &
+                        '; remove this one')
+                    cycle
+                end if
+                parent(max(root(ea), root(eb))) = min(root(ea), root(eb))
+                joint_end(j) = ea
+                if (.not. (geometry_ok(ra) .and. geometry_ok(rb))) cycle
+                pa = end_point(scene%rods(ra), joint%end_a)
+                pb = end_point(scene%rods(rb), joint%end_b)
+                distance = norm2(pa - pb)
+                longer = max(scene%rods(ra)%length, scene%rods(rb)%length)
+                if (distance > joint_tolerance * longer) then
+                    call errors%add(here // 'end_b: the ''' // &
+                        trim(joint%end_b) // ''' end of rod ''' // trim(joint%rod_b) // ''' at (' // &
+                        vector_text(pb) // ') is ' // str(distance) // ' away from the ''' // &
+                        trim(joint%end_a) // ''' end of rod ''' // trim(joint%rod_a) // ''' at (' // &
+                        vector_text(pa) // '); joined ends must coincide in the reference ' // &
+                        'geometry (to ' // str(joint_tolerance) // ' times the longer rod, ' // &
+                        str(longer) // ')')
+                    cycle
+                end if
+                call check_joint_motion(scene%rods(ra), scene%rods(rb), pa)
+            end associate
+        end do
+    contains
+        !> Joined ends start with one velocity, and a rigid joint's rods with one angular
+        !> velocity (they move together from the start).
+        subroutine check_joint_motion(rod_a, rod_b, p)
+            type(rod_input_t), intent(in) :: rod_a, rod_b
+            real(rk), intent(in) :: p(3)
+            real(rk) :: va(3), vb(3), scale
+            va = rod_a%velocity + cross3(rod_a%angular_velocity, p - rod_a%rotation_center)
+            vb = rod_b%velocity + cross3(rod_b%angular_velocity, p - rod_b%rotation_center)
+            scale = norm2(rod_a%velocity) + norm2(rod_b%velocity) + &
+                norm2(rod_a%angular_velocity) * norm2(p - rod_a%rotation_center) + &
+                norm2(rod_b%angular_velocity) * norm2(p - rod_b%rotation_center)
+            if (norm2(va - vb) > rest_tolerance * scale) call errors%add(here // 'end_b: the ' // &
+                'joined ends start with different velocities, (' // vector_text(vb) // ') for rod ''' // &
+                trim(rod_b%name) // ''' and (' // vector_text(va) // ') for rod ''' // &
+                trim(rod_a%name) // '''; joined ends move together (give the rods initial ' // &
+                'motions that agree there)')
+            if (trim(scene%joints(j)%kind) /= 'rigid') return
+            if (norm2(rod_a%angular_velocity - rod_b%angular_velocity) > rest_tolerance * &
+                    (norm2(rod_a%angular_velocity) + norm2(rod_b%angular_velocity))) &
+                call errors%add(here // 'kind: a rigid joint turns both ends together, but rod ''' // &
+                trim(rod_a%name) // ''' starts with angular_velocity (' // &
+                vector_text(rod_a%angular_velocity) // ') and rod ''' // trim(rod_b%name) // &
+                ''' with (' // vector_text(rod_b%angular_velocity) // ')')
+        end subroutine check_joint_motion
+
+        integer function rod_of(name, variable)
+            character(len=*), intent(in) :: name, variable
+            rod_of = rod_index(scene, name)
+            if (rod_of == 0 .and. len_trim(name) > 0) call errors%add(here // variable // &
+                ': no rod is named ''' // trim(name) // '''; rods: ' // rod_names(scene))
+        end function rod_of
+
+        pure integer function end_id(r, end_name)
+            integer, intent(in) :: r
+            character(len=*), intent(in) :: end_name
+            end_id = 2 * (r - 1) + merge(1, 2, trim(end_name) == 'start')
+        end function end_id
+
+        pure integer function root(e)
+            integer, intent(in) :: e
+            root = e
+            do while (parent(root) /= root)
+                root = parent(root)
+            end do
+        end function root
+    end subroutine check_joints
+
+    !> `formulation = 'auto'` (DESIGN.md §4): the rods of each system of joined rods
+    !> (rs_model_coupling) that say 'auto' get ph_planar when the system, its loads and initial
+    !> velocities lie in one plane (rs_model_planarity) and ph_planar can run all they ask
+    !> for, else ph_director; formulation_reason says why.
+    subroutine resolve_auto_formulations(scene)
+        type(scene_t), intent(inout) :: scene
+        integer, allocatable :: system_of(:), first(:), members(:), rods(:)
+        type(plane_t) :: plane
+        character(len=:), allocatable :: chosen, reason, obstacle
+        integer :: k, m
+        call coupled_systems(scene, system_of, first, members)
+        do k = 1, size(first) - 1
+            rods = members(first(k):first(k + 1) - 1)
+            if (.not. any(scene%rods(rods)%formulation == 'auto')) cycle
+            plane = plane_of_rods(scene, rods)
+            if (plane%found) then
+                obstacle = planar_obstacle(scene, rods)
+                if (len(obstacle) == 0) then
+                    chosen = 'ph_planar'
+                    reason = 'the rods, loads and velocities lie in ' // plane_text(plane)
+                else
+                    chosen = 'ph_director'
+                    reason = '3D although the rods lie in ' // plane_text(plane) // &
+                        ', because ph_planar cannot run them: ' // obstacle
+                end if
+            else
+                chosen = 'ph_director'
+                reason = '3D because ' // plane%reason
+            end if
+            do m = 1, size(rods)
+                associate (rod => scene%rods(rods(m)))
+                    if (rod%formulation /= 'auto') cycle
+                    rod%formulation = chosen
+                    rod%formulation_reason = reason
+                end associate
+            end do
+        end do
+    end subroutine resolve_auto_formulations
+
+    !> The first thing rods `rods` (one system) ask for that ph_planar cannot do, without its
+    !> file and line; '' if it can run them.
+    function planar_obstacle(scene, rods) result(text)
+        type(scene_t), intent(in) :: scene
+        integer, intent(in) :: rods(:)
+        character(len=:), allocatable :: text
+        type(capability_t) :: row
+        type(error_list_t) :: errors
+        integer :: m, j, colon
+        row = capability_of('ph_planar')
+        do m = 1, size(rods)
+            call check_rod_capabilities(scene, rods(m), row, errors)
+        end do
+        do j = 1, size(scene%joints)
+            if (.not. any(scene%rods(rods)%name == scene%joints(j)%rod_a)) cycle
+            call check_joint_kind(scene, j, rod_index(scene, scene%joints(j)%rod_a), row, errors)
+        end do
+        text = ''
+        if (errors%count == 0) return
+        text = errors%joined()
+        if (index(text, new_line('a')) > 0) text = text(1:index(text, new_line('a')) - 1)
+        ! Drop "file:line: " (the message starts at the group name).
+        colon = index(text, ': &')
+        if (colon > 0) text = text(colon + 2:)
+    end function planar_obstacle
+
+    !> Rods tied by a joint are one system and need one formulation; a planar system also one
+    !> n_gauss and em_variant (its elements are built alike).
+    subroutine check_joint_formulations(scene, errors)
+        type(scene_t), intent(in) :: scene
+        type(error_list_t), intent(inout) :: errors
+        character(len=:), allocatable :: why
+        type(capability_t) :: row
+        integer :: j, ra, rb
+        do j = 1, size(scene%joints)
+            associate (joint => scene%joints(j))
+                ra = rod_index(scene, joint%rod_a)
+                rb = rod_index(scene, joint%rod_b)
+                if (ra == 0 .or. rb == 0) cycle
+                if (scene%rods(ra)%formulation == scene%rods(rb)%formulation) then
+                    row = capability_of(trim(scene%rods(ra)%formulation))
+                    if (.not. row%planar) cycle
+                    if (scene%rods(ra)%n_gauss /= scene%rods(rb)%n_gauss) call errors%add( &
+                        at(scene, joint%input_line) // '&joint rod_b: rod ''' // trim(joint%rod_b) // &
+                        ''' has n_gauss = ' // str(scene%rods(rb)%n_gauss) // ' but rod ''' // &
+                        trim(joint%rod_a) // ''' ' // str(scene%rods(ra)%n_gauss) // '; the rods ' // &
+                        'of one planar system share n_gauss')
+                    if (scene%rods(ra)%em_variant /= scene%rods(rb)%em_variant) call errors%add( &
+                        at(scene, joint%input_line) // '&joint rod_b: rod ''' // trim(joint%rod_b) // &
+                        ''' has em_variant = ''' // trim(scene%rods(rb)%em_variant) // ''' but rod ''' // &
+                        trim(joint%rod_a) // ''' ''' // trim(scene%rods(ra)%em_variant) // '''; the ' // &
+                        'rods of one planar system share em_variant')
+                    cycle
+                end if
+                why = auto_note(ra) // auto_note(rb)
+                call errors%add(at(scene, joint%input_line) // '&joint rod_b: rod ''' // &
+                    trim(joint%rod_b) // ''' runs on ''' // trim(scene%rods(rb)%formulation) // &
+                    ''' but rod ''' // trim(joint%rod_a) // ''' on ''' // &
+                    trim(scene%rods(ra)%formulation) // '''; rods tied by joints form one ' // &
+                    'system and need one formulation' // why)
+            end associate
+        end do
+    contains
+        function auto_note(r) result(text)
+            integer, intent(in) :: r
+            character(len=:), allocatable :: text
+            text = ''
+            if (scene%rods(r)%formulation_origin == 'auto') text = ' (rod ''' // &
+                trim(scene%rods(r)%name) // ''': ''auto'' chose ' // trim(scene%rods(r)%formulation) // &
+                ', ' // trim(scene%rods(r)%formulation_reason) // ')'
+        end function auto_note
+    end subroutine check_joint_formulations
+
+    !> em_variant of cl_em_planar rods defaults to 'stander_stein' (a value given for another
+    !> formulation is refused by check_formulation_variables).
+    subroutine resolve_formulation_options(scene)
+        type(scene_t), intent(inout) :: scene
+        integer :: i
+        do i = 1, size(scene%rods)
+            associate (rod => scene%rods(i))
+                if (trim(rod%formulation) == 'cl_em_planar' .and. len_trim(rod%em_variant) == 0) &
+                    rod%em_variant = 'stander_stein'
+            end associate
+        end do
+    end subroutine resolve_formulation_options
+
     !> A scene must never silently get less than it asked for (DESIGN.md §1): every rod's
     !> formulation must be available and able to do what the rod, its supports, loads and
     !> actuators and the time settings ask.
@@ -631,7 +926,7 @@ contains
         type(scene_t), intent(in) :: scene
         type(error_list_t), intent(inout) :: errors
         type(capability_t) :: row
-        integer :: i
+        integer :: i, j, ra, rb
         do i = 1, size(scene%rods)
             associate (rod => scene%rods(i))
                 row = capability_of(trim(rod%formulation))
@@ -642,9 +937,96 @@ contains
                     cycle
                 end if
                 call check_rod_capabilities(scene, i, row, errors)
+                call check_formulation_variables(scene, i, row, errors)
             end associate
         end do
+        if (.not. allocated(scene%joints)) return
+        do j = 1, size(scene%joints)
+            ra = rod_index(scene, scene%joints(j)%rod_a)
+            rb = rod_index(scene, scene%joints(j)%rod_b)
+            if (ra == 0 .or. rb == 0) cycle
+            row = capability_of(trim(scene%rods(ra)%formulation))
+            if (row%available) call check_joint_kind(scene, j, ra, row, errors)
+            if (scene%rods(rb)%formulation == scene%rods(ra)%formulation) cycle
+            row = capability_of(trim(scene%rods(rb)%formulation))
+            if (row%available) call check_joint_kind(scene, j, rb, row, errors)
+        end do
+        call check_planar_systems(scene, errors)
     end subroutine check_capabilities
+
+    !> Variables that only some formulations read: the planar elements take n_gauss 1 or 2 (for
+    !> cl_em_planar the quadrature of the axial and shear terms, 1 reduced, 2 full:
+    !> methods/ph_planar.md §5.1); em_variant is cl_em_planar's only.
+    subroutine check_formulation_variables(scene, i, row, errors)
+        type(scene_t), intent(in) :: scene
+        integer, intent(in) :: i
+        type(capability_t), intent(in) :: row
+        type(error_list_t), intent(inout) :: errors
+        character(len=:), allocatable :: here
+        associate (rod => scene%rods(i))
+            here = at(scene, rod%input_line) // '&rod ''' // trim(rod%name) // ''' '
+            if (row%planar .and. rod%n_gauss > 2) call errors%add(here // 'n_gauss: ' // &
+                str(rod%n_gauss) // ' given, but the planar elements take 1 or 2 Gauss points ' // &
+                '(cl_em_planar: for its axial and shear terms, 1 = reduced, 2 = full); allowed: 1, 2')
+            if (trim(row%formulation) /= 'cl_em_planar' .and. len_trim(rod%em_variant) > 0) &
+                call errors%add(here // 'em_variant: only used with formulation ''cl_em_planar'' ' // &
+                '(this rod runs on ''' // trim(row%formulation) // '''); remove it')
+        end associate
+    end subroutine check_formulation_variables
+
+    !> The kind of joint `j` against `row`, the capability row of rod `r`'s formulation.
+    subroutine check_joint_kind(scene, j, r, row, errors)
+        type(scene_t), intent(in) :: scene
+        integer, intent(in) :: j, r
+        type(capability_t), intent(in) :: row
+        type(error_list_t), intent(inout) :: errors
+        character(len=:), allocatable :: available, later
+        associate (joint => scene%joints(j))
+            if (lists_name(row%joints, joint%kind)) return
+            available = trim(row%joints)
+            if (len(available) == 0) available = 'none'
+            later = ''
+            if (trim(row%formulation) == 'ph_director') later = '; joints between ph_director ' // &
+                'rods arrive with issue 10 (use a planar formulation for a planar mechanism)'
+            call errors%add(at(scene, joint%input_line) // '&joint kind: ''' // trim(joint%kind) // &
+                ''' joints are not available for formulation ''' // trim(row%formulation) // &
+                ''' (rod ''' // trim(scene%rods(r)%name) // '''); available: ' // available // later // &
+                see_matrix)
+        end associate
+    end subroutine check_joint_kind
+
+    !> A planar formulation needs its system of joined rods, their loads and initial velocities
+    !> in one plane (rs_model_planarity); reported once per system, at its first planar rod.
+    subroutine check_planar_systems(scene, errors)
+        type(scene_t), intent(in) :: scene
+        type(error_list_t), intent(inout) :: errors
+        integer, allocatable :: system_of(:), first(:), members(:), rods(:)
+        type(plane_t) :: plane
+        type(capability_t) :: row
+        integer :: k, m
+        call coupled_systems(scene, system_of, first, members)
+        do k = 1, size(first) - 1
+            rods = members(first(k):first(k + 1) - 1)
+            do m = 1, size(rods)
+                row = capability_of(trim(scene%rods(rods(m))%formulation))
+                if (.not. row%planar) cycle
+                plane = plane_of_rods(scene, rods)
+                if (.not. plane%found) call errors%add(at(scene, scene%rods(rods(m))%input_line) // &
+                    '&rod formulation: ''' // trim(row%formulation) // ''' is planar, but rod ''' // &
+                    trim(scene%rods(rods(m))%name) // '''' // joined_text(size(rods)) // &
+                    ' and everything acting on them do not lie in one plane: ' // plane%reason // &
+                    '; use ''ph_director'' (3D) or ''auto''')
+                exit
+            end do
+        end do
+    contains
+        function joined_text(n) result(text)
+            integer, intent(in) :: n
+            character(len=:), allocatable :: text
+            text = ''
+            if (n > 1) text = ' (with the ' // str(n - 1) // ' rod(s) joined to it)'
+        end function joined_text
+    end subroutine check_planar_systems
 
     !> Rod `i` of `scene` against capability row `row` (that of its formulation; any row in a
     !> unit test): its constraint and Maxwell branches, quasistatics, and the kinds of its

@@ -8,7 +8,7 @@ module rs_io_input_reader
     use rs_core_error, only: error_list_t
     use rs_core_strings, only: to_lower, str, closest_name
     use rs_model_scene, only: scene_t, run_input_t, time_input_t, solver_input_t, output_input_t, &
-        rod_input_t, bc_input_t, load_input_t, actuator_input_t
+        rod_input_t, bc_input_t, load_input_t, actuator_input_t, joint_input_t
     use rs_io_namelist_lexer, only: assignment_t, group_chunk_t, split_namelist
     use rs_io_input_spec, only: group_spec_t, variable_spec_t, input_groups, find_group, find_variable, &
         range_description, in_range, split_condition
@@ -33,7 +33,7 @@ contains
 
         scene%source_file = file
         scene%source_text = text
-        allocate(scene%rods(0), scene%bcs(0), scene%loads(0), scene%actuators(0))
+        allocate(scene%rods(0), scene%bcs(0), scene%loads(0), scene%actuators(0), scene%joints(0))
         groups = input_groups()
         allocate(first_line(size(groups)))
         first_line = 0
@@ -73,6 +73,7 @@ contains
         type(bc_input_t) :: bc
         type(load_input_t) :: load
         type(actuator_input_t) :: actuator
+        type(joint_input_t) :: joint
         logical, allocatable :: given(:)
         character(len=:), allocatable :: where, value, message
         integer :: k, v, ios
@@ -83,6 +84,7 @@ contains
         bc%input_line = chunk%line
         load%input_line = chunk%line
         actuator%input_line = chunk%line
+        joint%input_line = chunk%line
         do k = 1, size(chunk%assignments)
             associate (a => chunk%assignments(k))
                 v = find_variable(group, a%name)
@@ -105,7 +107,7 @@ contains
                     cycle
                 end if
                 call read_assignment(trim(group%name), a%target, value, scene, rod, bc, load, &
-                    actuator, ios, message)
+                    actuator, joint, ios, message)
                 if (ios /= 0) call errors%add(where // 'cannot read "' // a%value // '" as ' // &
                     kind_phrase(group%variables(v)) // ' (' // trim(message) // ')')
             end associate
@@ -125,6 +127,8 @@ contains
             scene%loads = [scene%loads, load]
         case ('actuator')
             scene%actuators = [scene%actuators, actuator]
+        case ('joint')
+            scene%joints = [scene%joints, joint]
         end select
     end subroutine read_chunk
 
@@ -236,15 +240,17 @@ contains
     !> Read `target = value` of group `group` through a namelist whose object is a copy of the
     !> group's plain type (`&rod_nml rod%target = value /`), so only that component changes; the
     !> single groups live in `scene`, the occurrence of a repeatable group being read in `rod`,
-    !> `bc`, `load` or `actuator`. On failure nothing changes. All namelists live in this one
+    !> `bc`, `load`, `actuator` or `joint`. On failure nothing changes. All namelists live in this one
     !> procedure, so no group name may equal an object name (hence the `_nml` suffix).
-    subroutine read_assignment(group, target, value, scene, rod, bc, load, actuator, ios, message)
+    subroutine read_assignment(group, target, value, scene, rod, bc, load, actuator, joint, ios, &
+            message)
         character(len=*), intent(in) :: group, target, value
         type(scene_t), intent(inout) :: scene
         type(rod_input_t), intent(inout) :: rod
         type(bc_input_t), intent(inout) :: bc
         type(load_input_t), intent(inout) :: load
         type(actuator_input_t), intent(inout) :: actuator
+        type(joint_input_t), intent(inout) :: joint
         integer, intent(out) :: ios
         character(len=:), allocatable, intent(out) :: message
         type(run_input_t) :: run_copy
@@ -255,6 +261,7 @@ contains
         type(bc_input_t) :: bc_copy
         type(load_input_t) :: load_copy
         type(actuator_input_t) :: actuator_copy
+        type(joint_input_t) :: joint_copy
         namelist /run_nml/ run_copy
         namelist /time_nml/ time_copy
         namelist /solver_nml/ solver_copy
@@ -263,6 +270,7 @@ contains
         namelist /bc_nml/ bc_copy
         namelist /load_nml/ load_copy
         namelist /actuator_nml/ actuator_copy
+        namelist /joint_nml/ joint_copy
         character(len=256) :: msg
         character(len=:), allocatable :: buffer
 
@@ -274,6 +282,7 @@ contains
         bc_copy = bc
         load_copy = load
         actuator_copy = actuator
+        joint_copy = joint
         msg = ''
         buffer = '&' // group // '_nml ' // group // '_copy%' // target // ' = ' // value // ' /'
         select case (group)
@@ -293,6 +302,8 @@ contains
             read(buffer, nml=load_nml, iostat=ios, iomsg=msg)
         case ('actuator')
             read(buffer, nml=actuator_nml, iostat=ios, iomsg=msg)
+        case ('joint')
+            read(buffer, nml=joint_nml, iostat=ios, iomsg=msg)
         case default
             ios = -1
             msg = 'no reader for group &' // group
@@ -307,6 +318,7 @@ contains
         bc = bc_copy
         load = load_copy
         actuator = actuator_copy
+        joint = joint_copy
     end subroutine read_assignment
 
     ! --- message helpers ---------------------------------------------------------------------

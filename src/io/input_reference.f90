@@ -45,17 +45,22 @@ contains
         character(len=:), allocatable :: text, header, rule, systems, system
         character(len=16), allocatable :: units(:)
         character(len=*), parameter :: nl = new_line('a')
-        integer :: g, v, bar, u
-        allocate(units(0))
+        integer :: g, v, bar, u, n_units
+        ! Filled in place: growing a character array by constructor trips gfortran's length
+        ! check (-fcheck=all).
+        allocate(units(sum([(size(groups(g)%variables), g = 1, size(groups))])))
+        n_units = 0
         do g = 1, size(groups)
             do v = 1, size(groups(g)%variables)
                 associate (unit => groups(g)%variables(v)%unit)
                     if (trim(unit) == '-') cycle
-                    if (any(units == unit)) cycle
-                    units = [units, unit]
+                    if (any(units(1:n_units) == unit)) cycle
+                    n_units = n_units + 1
+                    units(n_units) = unit
                 end associate
             end do
         end do
+        units = units(1:n_units)
         header = '|'
         rule = '|'
         systems = unit_systems // '|'

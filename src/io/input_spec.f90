@@ -101,7 +101,7 @@ contains
         groups(6) = bc_group()
         groups(7) = load_group()
         groups(8) = actuator_group()
-        groups(9) = planned_group('joint', 'Joints between rod ends.')
+        groups(9) = joint_group()
         groups(10) = planned_group('sweep', 'Parameter sweeps over any input variable.')
     end function input_groups
 
@@ -249,9 +249,11 @@ contains
                 'Halvings of one step before the run stops with its last good state written.', &
                 lower=0.0_rk, example='3'), &
             spec_v('condense_stresses', 'logical', '-', '.false.', &
-                'Eliminate element stresses and velocities from the Newton unknowns (methods/' // &
-                'ph_director_3d.md §5.5): same solution, fewer unknowns, but slower and with a ' // &
-                'higher round-off floor here (docs/performance.md).', example='.true.'), &
+                'Eliminate element unknowns from the Newton system: for ph_director the element ' // &
+                'stresses and velocities (methods/ph_director_3d.md §5.5): same solution, fewer ' // &
+                'unknowns, but slower and with a higher round-off floor here ' // &
+                '(docs/performance.md); for ph_planar the element strains, per element ' // &
+                '(methods/ph_planar.md §3.5), leaving 3 unknowns per node.', example='.true.'), &
             spec_v('petsc_options', 'string', '-', "''", &
                 'PETSc options, applied after the scene values and before the command line.', &
                 example="'-snes_monitor -snes_linesearch_type bt'")]
@@ -284,10 +286,20 @@ contains
                 allowed=formulations, example="'ph_director'"), &
             spec_v('n_elements', 'integer', '-', '(required)', 'Number of elements.', lower=1.0_rk, &
                 required=.true., example='16'), &
-            spec_v('degree', 'integer', '-', '2', 'Polynomial degree of the elements.', lower=1.0_rk, &
+            spec_v('degree', 'integer', '-', '2', 'Polynomial degree of the elements (ph_director; the ' // &
+                'planar elements are linear, two-node, whatever the degree).', lower=1.0_rk, &
                 upper=2.0_rk, example='1'), &
-            spec_v('n_gauss', 'integer', '-', '2', 'Gauss points per element.', lower=1.0_rk, upper=5.0_rk, &
-                example='3'), &
+            spec_v('n_gauss', 'integer', '-', '2', &
+                'Gauss points per element. The planar formulations take 1 or 2; for cl_em_planar ' // &
+                'this is the quadrature of the axial and shear terms (methods/ph_planar.md §5.1): ' // &
+                '1 = reduced, free of shear locking; 2 = full, which locks in bending (the ' // &
+                'roll-up); bending is exact with either.', lower=1.0_rk, upper=5.0_rk, example='3'), &
+            spec_v('em_variant', 'string', '-', "'stander_stein'", &
+                'cl_em_planar only (an error for any other formulation): ''stander_stein'' is the ' // &
+                'classical energy-momentum scheme of Stander and Stein (methods/ph_planar.md ' // &
+                '§5.1), ''ph_irreducible'' the displacement-based port-Hamiltonian scheme with ' // &
+                'strain history (§5.2), for comparison.', allowed='stander_stein|ph_irreducible', &
+                example="'ph_irreducible'"), &
             spec_v('geometry', 'string', '-', "'straight'", &
                 "Shape of the reference centreline (stress-free unless prestressed): 'straight' " // &
                 "(start, direction, length), 'helix' (start, direction = its axis, helix_radius, " // &
@@ -420,7 +432,10 @@ contains
             spec_v('rod', 'string', '-', '(required)', 'Name of the rod.', required=.true., example="'beam'"), &
             spec_v('end', 'string', '-', '(required)', 'Which end.', allowed='start|end', required=.true., &
                 example="'start'"), &
-            spec_v('kind', 'string', '-', '(required)', 'Kind of support.', &
+            spec_v('kind', 'string', '-', '(required)', &
+                "Kind of support: 'clamped' fixes the end's position and rotation, 'pinned' " // &
+                'its position only (a ground pin: the rod turns freely about it), ''free'' ' // &
+                'neither; which kinds a formulation has: docs/user/capabilities.md.', &
                 allowed='clamped|pinned|free|driven', required=.true., example="'clamped'")]
     end function bc_group
 
@@ -476,6 +491,30 @@ contains
                 'a pneumatic chamber.', lower=0.0_rk, example='20'), &
             time_function_variables('actuator force')]
     end function actuator_group
+
+    function joint_group() result(g)
+        type(group_spec_t) :: g
+        g%name = 'joint'
+        g%repeatable = .true.
+        g%description = 'Two rod ends tied together at a point where both ends lie in the ' // &
+            'reference geometry (to 1e-9 of the longer rod). The rods of a chain of joints ' // &
+            'form one system with one formulation; a joint that ties ends already tied ' // &
+            '(directly or through other joints) is redundant and an error.'
+        g%variables = [ &
+            spec_v('rod_a', 'string', '-', '(required)', 'Name of the first rod.', required=.true., &
+                example="'crank'"), &
+            spec_v('end_a', 'string', '-', '(required)', 'Its end at the joint.', allowed='start|end', &
+                required=.true., example="'end'"), &
+            spec_v('rod_b', 'string', '-', '(required)', 'Name of the second rod.', required=.true., &
+                example="'coupler'"), &
+            spec_v('end_b', 'string', '-', '(required)', 'Its end at the joint.', allowed='start|end', &
+                required=.true., example="'start'"), &
+            spec_v('kind', 'string', '-', '(required)', &
+                "'revolute': shared position, each rod keeps its own rotation (a pin; in a " // &
+                "planar formulation a shared nodal (x, y)). 'rigid': shared position and " // &
+                "rotation. 'spherical': shared position in 3D (a ball joint).", &
+                allowed='revolute|rigid|spherical', required=.true., example="'revolute'")]
+    end function joint_group
 
     !> time_function, t_on, t_off, table_times, table_values of a group whose `what` they scale.
     function time_function_variables(what) result(variables)

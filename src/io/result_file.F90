@@ -77,6 +77,9 @@ module rs_io_result_file
         integer :: n_branches = 0
         integer :: n_state = 0
         integer :: n_internal = 0
+        !> The rod whose checkpoint holds this rod's state (its index among the layouts), for the
+        !> rods a joint couples to a system's first rod; 0: its own checkpoint.
+        integer :: checkpoint_rod = 0
         real(rk), allocatable :: mesh(:)
         real(rk), allocatable :: stress_mesh(:)
         !> The fields the formulation records, as ',path,path,...,' (a formulation may leave
@@ -229,7 +232,8 @@ contains
             layout%n_internal, len(layout%name), len(layout%formulation), size(layout%mesh), &
             size(layout%stress_mesh), (ichar(layout%name(i:i)), i = 1, len(layout%name)), &
             (ichar(layout%formulation(i:i)), i = 1, len(layout%formulation)), &
-            len(layout%recorded), (ichar(layout%recorded(i:i)), i = 1, len(layout%recorded))]
+            len(layout%recorded), (ichar(layout%recorded(i:i)), i = 1, len(layout%recorded)), &
+            layout%checkpoint_rod]
         values = [layout%mesh, layout%stress_mesh]
     end subroutine pack_layout
 
@@ -258,6 +262,7 @@ contains
         do i = 1, len(layout%recorded)
             layout%recorded(i:i) = achar(header(at + i))
         end do
+        layout%checkpoint_rod = header(size(header))
         layout%mesh = values(1:header(8))
         layout%stress_mesh = values(header(8) + 1:header(8) + header(9))
     end subroutine unpack_layout
@@ -528,6 +533,15 @@ contains
         integer :: i, k
         do i = 1, size(layouts)
             group = '/rods/' // layouts(i)%name
+            if (layouts(i)%checkpoint_rod > 0) then
+                ! Coupled to the system's first rod: as many records as that rod.
+                call file%read('/checkpoint/' // layouts(layouts(i)%checkpoint_rod)%name // &
+                    '/records', records, err)
+                if (allocated(err)) return
+                call cut_fields(records(1))
+                if (allocated(err)) return
+                cycle
+            end if
             if (.not. file%exists('/checkpoint/' // layouts(i)%name // '/state')) then
                 call set_error(err, 'the restart file "' // file%path // '" has no checkpoint ' // &
                     'of rod "' // layouts(i)%name // '"', 'prepare_result_file', __FILE__, __LINE__)
@@ -544,17 +558,8 @@ contains
             end if
             call file%read('/checkpoint/' // layouts(i)%name // '/records', records, err)
             if (allocated(err)) return
-            fields = rod_fields(layouts(i), selection)
-            do k = 1, size(fields)
-                if (.not. file%exists(group // '/' // trim(fields(k)%path))) then
-                    call set_error(err, 'the restart file "' // file%path // '" has no ' // &
-                        group // '/' // trim(fields(k)%path) // ' (&output fields differ?)', &
-                        'prepare_result_file', __FILE__, __LINE__)
-                    return
-                end if
-                call file%set_records(group // '/' // trim(fields(k)%path), records(1), err)
-                if (allocated(err)) return
-            end do
+            call cut_fields(records(1))
+            if (allocated(err)) return
         end do
         if (file%exists('/series')) call file%delete('/series', err)
         if (allocated(err)) return
@@ -567,6 +572,22 @@ contains
         call put_attribute(file, '/', 'command_line', text_of(meta%command_line), err)
         call put_attribute_int(file, '/', 'n_ranks', meta%n_ranks, err)
         call put_attribute(file, '/', 'restarted', iso_8601_now(), err)
+    contains
+        !> Cut every growing dataset of rod i to `n` records.
+        subroutine cut_fields(n)
+            integer, intent(in) :: n
+            fields = rod_fields(layouts(i), selection)
+            do k = 1, size(fields)
+                if (.not. file%exists(group // '/' // trim(fields(k)%path))) then
+                    call set_error(err, 'the restart file "' // file%path // '" has no ' // &
+                        group // '/' // trim(fields(k)%path) // ' (&output fields differ?)', &
+                        'prepare_result_file', __FILE__, __LINE__)
+                    return
+                end if
+                call file%set_records(group // '/' // trim(fields(k)%path), n, err)
+                if (allocated(err)) return
+            end do
+        end subroutine cut_fields
     end subroutine restart_in_place
 
     !> Read the checkpoint of rod `name` from `path` (rank that owns the rod; serial driver).
@@ -759,6 +780,8 @@ contains
         type(error_t), allocatable, intent(out) :: err
         real(rk), intent(in), optional :: state(:), internal(:)
         character(len=:), allocatable :: group
+        ! A rod coupled to another has its state in that rod's checkpoint.
+        if (this%layouts(i)%checkpoint_rod > 0) return
         group = '/checkpoint/' // this%layouts(i)%name
         if (.not. present(state)) then
             call this%file%write_no_records(group // '/state', err)

@@ -11,7 +11,7 @@ module rs_io_scene_writer
     use rs_core_strings, only: to_lower, str
     use rs_io_input_spec, only: group_spec_t, input_groups, find_group, find_variable
     use rs_model_scene, only: section_derived_names, scene_t, run_input_t, time_input_t, solver_input_t, output_input_t, &
-        rod_input_t, bc_input_t, load_input_t, actuator_input_t
+        rod_input_t, bc_input_t, load_input_t, actuator_input_t, joint_input_t
     implicit none
     private
 
@@ -35,6 +35,7 @@ contains
         type(bc_input_t) :: bc
         type(load_input_t) :: load
         type(actuator_input_t) :: actuator
+        type(joint_input_t) :: joint
         namelist /run_nml/ run
         namelist /time_nml/ time
         namelist /solver_nml/ solver
@@ -43,6 +44,7 @@ contains
         namelist /bc_nml/ bc
         namelist /load_nml/ load
         namelist /actuator_nml/ actuator
+        namelist /joint_nml/ joint
         integer :: i
 
         allocate(lines(max_lines))
@@ -82,13 +84,22 @@ contains
             write(lines, nml=load_nml, delim='apostrophe')
             text = text // tidy_group('load', lines)
         end do
-        if (.not. allocated(scene%actuators)) return
-        do i = 1, size(scene%actuators)
-            actuator = scene%actuators(i)
-            lines = ''
-            write(lines, nml=actuator_nml, delim='apostrophe')
-            text = text // tidy_group('actuator', lines)
-        end do
+        if (allocated(scene%actuators)) then
+            do i = 1, size(scene%actuators)
+                actuator = scene%actuators(i)
+                lines = ''
+                write(lines, nml=actuator_nml, delim='apostrophe')
+                text = text // tidy_group('actuator', lines)
+            end do
+        end if
+        if (allocated(scene%joints)) then
+            do i = 1, size(scene%joints)
+                joint = scene%joints(i)
+                lines = ''
+                write(lines, nml=joint_nml, delim='apostrophe')
+                text = text // tidy_group('joint', lines)
+            end do
+        end if
     end function resolved_scene_text
 
     !> With a section, the stiffnesses it determines are shown as comments: given again next
@@ -126,11 +137,13 @@ contains
         character(len=:), allocatable :: text, name, value, line
         type(group_spec_t), allocatable :: groups(:)
         integer :: i, eq, pct, g, v
+        logical :: choice
         groups = input_groups()
         g = find_group(groups, group)
         text = '&' // group // new_line('a')
         name = ''
         value = ''
+        choice = .false.
         do i = 1, size(lines)
             line = trim(adjustl(lines(i)))
             if (len(line) == 0) cycle
@@ -139,13 +152,15 @@ contains
             eq = index(line, '=')
             if (pct > 0 .and. eq > pct .and. verify(line(1:pct - 1), &
                     'abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ_') == 0) then
-                text = text // variable_line(name, value)
+                text = text // variable_line(name, value, choice)
                 name = to_lower(trim(line(pct + 1:eq - 1)))
                 ! The spelling of the reference (EA, rhoI1), not the namelist's upper case;
                 ! components that are not input variables (input_line) are left out.
                 v = find_variable(groups(g), name)
+                choice = .false.
                 if (v > 0) then
                     name = trim(groups(g)%variables(v)%name)
+                    choice = len_trim(groups(g)%variables(v)%allowed) > 0
                 else
                     name = ''
                 end if
@@ -154,13 +169,16 @@ contains
                 value = value // ' ' // line
             end if
         end do
-        text = text // variable_line(name, value) // '/' // new_line('a')
+        text = text // variable_line(name, value, choice) // '/' // new_line('a')
     end function tidy_group
 
     !> "    name = v1, v2" with values tidied; '' for no name (a component that is not an input
-    !> variable) or a value whose every entry is still unset.
-    function variable_line(name, raw) result(text)
+    !> variable) or a value whose every entry is still unset. A blank string of a variable with
+    !> a list of allowed values (`choice`) is unset too (blank is never allowed; &rod em_variant
+    !> stays blank for formulations other than cl_em_planar).
+    function variable_line(name, raw, choice) result(text)
         character(len=*), intent(in) :: name, raw
+        logical, intent(in) :: choice
         character(len=:), allocatable :: text, token, values
         character(len=:), allocatable :: tokens(:)
         integer :: i, n_kept
@@ -172,6 +190,7 @@ contains
         do i = 1, size(tokens)
             token = tidy_token(trim(tokens(i)))
             if (len(token) == 0) cycle
+            if (choice .and. token == "''") cycle
             if (n_kept > 0) values = values // ', '
             values = values // token
             n_kept = n_kept + 1

@@ -25,6 +25,11 @@ module rs_model_capabilities
         logical :: actuation = .false.
         !> A curved stress-free reference (&rod geometry = 'helix' or 'polyline').
         logical :: curved_reference = .false.
+        !> Kinds of &joint it can tie its rods' ends with ('revolute', 'rigid', 'spherical').
+        character(len=64) :: joints = ''
+        !> A planar formulation: its rods and everything acting on them must lie in one plane
+        !> (rs_model_planarity).
+        logical :: planar = .false.
     end type capability_t
 
 contains
@@ -45,6 +50,18 @@ contains
                 load_places='start|end|distributed|gravity', load_frames='spatial', &
                 constraints='none|kirchhoff|inextensible', quasistatic=.true., viscoelastic=.true., &
                 actuation=.true., curved_reference=.true.)
+            ! No joints yet: they arrive with issue 10.
+        case ('ph_planar', 'cl_em_planar')
+            ! seed 001 (methods/ph_planar.md §2.5, §5, §6.3): straight planar rods with
+            ! clamped, pinned (ground pin: position fixed, angle free) and free ends; dead end
+            ! loads, distributed loads and gravity in the plane; quasistatics (§4.7); revolute
+            ! joints as shared nodal positions (§6.3) and rigid joints as shared positions and
+            ! angles.
+            row = capability_t(formulation=trim(name), available=.true., &
+                end_kinds='clamped|pinned|free', load_places='start|end|distributed|gravity', &
+                load_frames='spatial', constraints='none', quasistatic=.true., &
+                viscoelastic=.false., actuation=.false., curved_reference=.false., &
+                joints='revolute|rigid', planar=.true.)
         end select
     end function capability_of
 

@@ -84,6 +84,14 @@ module rs_model_scene
         !> Formulation as resolved from: 'rod' (given in &rod), 'default' (&run
         !> formulation_default) or 'auto' (set by the resolver; not an input variable).
         character(len=name_len) :: formulation_origin = ''
+        !> Why 'auto' chose the formulation it did (set by the resolver, e.g. "the rods, loads
+        !> and velocities lie in the plane ..." or "3D because ..."; not an input variable).
+        character(len=text_len) :: formulation_reason = ''
+        !> cl_em_planar only (methods/ph_planar.md §5): 'stander_stein' (the classical
+        !> energy-momentum scheme, §5.1) or 'ph_irreducible' (the displacement-based PH-EM
+        !> scheme, §5.2). Blank = not given; the resolver sets 'stander_stein' for cl_em_planar
+        !> rods and refuses a given value for any other formulation.
+        character(len=name_len) :: em_variant = ''
         !> Reference centreline (rs_model_rod_geometry): 'straight', 'helix' or 'polyline'.
         character(len=name_len) :: geometry = 'straight'
         !> Start, direction (helix: axis) and rotation_center default to (0, 0, 0), e_x and
@@ -180,6 +188,19 @@ module rs_model_scene
         real(rk) :: table_values(max_table) = unset_real
     end type actuator_input_t
 
+    !> &joint: two rod ends tied together (DESIGN.md §5: shared nodal unknowns). 'revolute':
+    !> shared position, independent rotations (a pin between the rods); 'rigid': shared position
+    !> and rotation; 'spherical': shared position (3D).
+    type, public :: joint_input_t
+        !> Line of the group in the input file (set by the reader; not an input variable).
+        integer :: input_line = 0
+        character(len=name_len) :: rod_a = ''
+        character(len=name_len) :: end_a = ''
+        character(len=name_len) :: rod_b = ''
+        character(len=name_len) :: end_b = ''
+        character(len=name_len) :: kind = ''
+    end type joint_input_t
+
     !> A whole scene: the single groups and the repeatable ones in file order.
     type, public :: scene_t
         character(len=:), allocatable :: source_file
@@ -192,6 +213,7 @@ module rs_model_scene
         type(bc_input_t), allocatable :: bcs(:)
         type(load_input_t), allocatable :: loads(:)
         type(actuator_input_t), allocatable :: actuators(:)
+        type(joint_input_t), allocatable :: joints(:)
     end type scene_t
 
 end module rs_model_scene

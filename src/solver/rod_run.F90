@@ -1,7 +1,8 @@
 #include "rs_macros.h"
-!> Runs one rod of a scene through time (DESIGN.md §3 and §5): builds the rod's formulation,
-!> solves it with its own sequential rodmid stepper on PETSC_COMM_SELF (no communication in the
-!> time loop), and keeps the records until the caller writes them.
+!> Runs one system of a scene through time (DESIGN.md §3 and §5): one rod, or the rods that
+!> joints couple (rs_model_coupling). It builds the system's formulation, solves it with its own
+!> sequential rodmid stepper on PETSC_COMM_SELF (no communication in the time loop), and keeps
+!> each rod's records until the caller writes them.
 !>
 !> PETSc calls back into the formulation through `bind(C)` procedures that receive a plain,
 !> non-polymorphic context holding a pointer to the formulation (DESIGN.md §3: a polymorphic
@@ -35,18 +36,20 @@ module rs_solver_rod_run
         real(rk) :: assembly_seconds = 0.0_rk
     end type callback_context_t
 
-    !> One rod through time (DESIGN.md §3, §5): its formulation, its own sequential stepper on
-    !> PETSC_COMM_SELF, its state and the records not yet written. The caller steps all rods of
-    !> its rank together, one step at a time, so that the ranks meet at the flushes.
+    !> One system through time (DESIGN.md §3, §5): its formulation, its own sequential stepper
+    !> on PETSC_COMM_SELF, its state and each rod's records not yet written. The caller steps
+    !> all systems of its rank together, one step at a time, so that the ranks meet at the
+    !> flushes.
     type, public :: rod_runner_t
-        integer :: rod_index = 0
+        !> The system's rods (indices into scene%rods; the first leads) and their records.
+        integer, allocatable :: rods(:)
+        type(rod_history_t), allocatable :: histories(:)
         class(rod_formulation_t), pointer :: formulation => null()
         type(callback_context_t), pointer :: context => null()
         type(rod_stepper_t) :: stepper
-        type(rod_history_t) :: history
         !> The state X after the last accepted step.
         real(rk), allocatable :: x(:)
-        !> The rod stopped: its solver failed (`err` says where and why).
+        !> The system stopped: its solver failed (`err` says where and why).
         logical :: failed = .false.
         type(error_t), allocatable :: err
         !> Last step done (the time grid's index) and the time of the last record.
@@ -76,6 +79,8 @@ module rs_solver_rod_run
         procedure :: assembly_seconds => runner_assembly_seconds
         !> Destroy the stepper and the formulation and print the rod's summary line.
         procedure :: finish => runner_finish
+        !> The system's name: its rods' names joined by '+'.
+        procedure :: name => runner_name
         procedure, private :: stop_here, note_record
     end type rod_runner_t
 
@@ -87,28 +92,30 @@ contains
         step_count = max(1, ceiling(scene%time%t_end / scene%time%dt - 1.0e-9_rk))
     end function step_count
 
-    !> Build rod `rod_index` of the scene with room for `capacity` records between two writes.
-    subroutine runner_start(this, scene, rod_index, capacity, restarting, err)
+    !> Build the system of the scene's rods `rods` with room for `capacity` records between two
+    !> writes.
+    subroutine runner_start(this, scene, rods, capacity, restarting, err)
         class(rod_runner_t), intent(inout) :: this
         type(scene_t), intent(in) :: scene
-        integer, intent(in) :: rod_index, capacity
+        integer, intent(in) :: rods(:), capacity
         logical, intent(in) :: restarting
         type(error_t), allocatable, intent(out) :: err
         class(rod_formulation_t), allocatable :: built
         integer, allocatable :: row_ptr(:), cols(:)
 
-        this%rod_index = rod_index
-        call create_formulation(scene%rods(rod_index)%formulation, built, err)
+        this%rods = rods
+        call create_formulation(scene%rods(rods(1))%formulation, built, err)
         RS_RETURN_IF_ERROR(err)
         allocate(this%formulation, source=built)
-        call this%formulation%init(scene, rod_index, err)
+        call this%formulation%init(scene, rods, err)
         RS_RETURN_IF_ERROR(err)
         call log_info(this%formulation%describe())
 
-        call this%formulation%init_history(this%history, capacity)
+        allocate(this%histories(size(rods)))
+        call this%formulation%init_history(this%histories, capacity)
         allocate(this%x(this%formulation%n_state()))
         call this%formulation%initial_state(this%x)
-        if (.not. restarting) call this%formulation%record(this%history, 0.0_rk, this%x)
+        if (.not. restarting) call this%formulation%record(this%histories, 0.0_rk, this%x)
         call this%note_record()
 
         call this%formulation%jacobian_pattern(row_ptr, cols)
@@ -121,7 +128,8 @@ contains
             c_funloc(residual_callback), c_funloc(jacobian_callback), &
             c_funloc(predictor_callback), c_funloc(update_callback), c_funloc(poststep_callback), &
             c_loc(this%context), scene%solver%newton_atol, scene%solver%newton_rtol, &
-            scene%solver%max_newton, scene%solver%max_cutbacks, err)
+            scene%solver%max_newton, scene%solver%max_cutbacks, err, &
+            native_lu=this%formulation%native_lu(), full_newton=this%formulation%full_newton())
     end subroutine runner_start
 
     subroutine runner_restore(this, scene, step, state, internal, err)
@@ -132,7 +140,7 @@ contains
         type(error_t), allocatable, intent(out) :: err
         character(len=:), allocatable :: message
         if (size(state) /= size(this%x) .or. size(internal) /= this%formulation%n_internal()) then
-            message = 'the checkpoint of rod "' // this%history%name // '" holds ' // &
+            message = 'the checkpoint of rod "' // this%histories(1)%name // '" holds ' // &
                 str(size(state)) // ' state and ' // str(size(internal)) // ' internal ' // &
                 'values; the scene builds ' // str(size(this%x)) // ' and ' // &
                 str(this%formulation%n_internal()) // ' (a different discretization?)'
@@ -185,7 +193,7 @@ contains
                 call this%stop_here()
                 return
             end if
-            call log_info('  ' // this%history%name // ': endpoint equilibrium at t = ' // &
+            call log_info('  ' // this%name() // ': endpoint equilibrium at t = ' // &
                 str(scene%time%t_end) // ' in ' // str(iterations) // ' Newton iterations')
         end if
         this%step = n
@@ -193,7 +201,7 @@ contains
         if (mod(n, scene%output%stride) == 0 .or. n == n_steps) then
             ! n dt rather than t_n + h, so that stored times are the grid's own values.
             this%t_recorded = min(real(n, rk) * scene%time%dt, scene%time%t_end)
-            call this%formulation%record(this%history, this%t_recorded, this%x)
+            call this%formulation%record(this%histories, this%t_recorded, this%x)
             call this%note_record()
         end if
     end subroutine runner_advance
@@ -203,22 +211,41 @@ contains
         class(rod_runner_t), intent(inout) :: this
         this%failed = .true.
         if (this%context%t_reached > this%t_recorded) then
-            call this%formulation%record(this%history, this%context%t_reached, this%x)
+            call this%formulation%record(this%histories, this%context%t_reached, this%x)
             call this%note_record()
         end if
     end subroutine stop_here
 
-    !> Track the balance error and energy of the newest record (for the progress line).
+    !> Track the balance error and energy of the newest record (for the progress line): sums
+    !> over the system's rods (joints exchange energy between them).
     subroutine note_record(this)
         class(rod_runner_t), intent(inout) :: this
-        integer :: k
-        k = this%history%n_stored
-        if (k < 1) return
-        if (allocated(this%history%balance_error)) this%max_balance = max(this%max_balance, &
-            abs(this%history%balance_error(k)))
-        if (allocated(this%history%total)) this%max_energy = max(this%max_energy, &
-            abs(this%history%total(k)))
+        real(rk) :: balance, energy
+        integer :: k, i
+        balance = 0.0_rk
+        energy = 0.0_rk
+        do i = 1, size(this%histories)
+            associate (h => this%histories(i))
+                k = h%n_stored
+                if (k < 1) return
+                if (allocated(h%balance_error)) balance = balance + h%balance_error(k)
+                if (allocated(h%total)) energy = energy + h%total(k)
+            end associate
+        end do
+        this%max_balance = max(this%max_balance, abs(balance))
+        this%max_energy = max(this%max_energy, abs(energy))
     end subroutine note_record
+
+    !> The system's name: its rods' names joined by '+'.
+    function runner_name(this) result(name)
+        class(rod_runner_t), intent(in) :: this
+        character(len=:), allocatable :: name
+        integer :: i
+        name = this%histories(1)%name
+        do i = 2, size(this%histories)
+            name = name // '+' // this%histories(i)%name
+        end do
+    end function runner_name
 
     function runner_internal(this) result(values)
         class(rod_runner_t), intent(in) :: this
@@ -241,7 +268,7 @@ contains
         if (associated(this%formulation)) deallocate(this%formulation)
         ! The summary line is also what tests/bench/ reads (time loop only, output excluded).
         elapsed = this%solve_seconds
-        call log_info('  ' // this%history%name // ': ' // str(this%steps_done) // ' steps, ' // &
+        call log_info('  ' // this%name() // ': ' // str(this%steps_done) // ' steps, ' // &
             str(this%total_iterations) // ' Newton iterations, ' // str(this%total_cutbacks) // &
             ' cut-backs; time loop ' // str_significant(elapsed, 4) // ' s, per step ' // &
             str_significant(elapsed / max(1, this%steps_done), 4) // ' s, per Newton ' // &

@@ -282,11 +282,14 @@ static int check_arguments(int n_state, int n_unknown, const int *row_ptr, const
 
 static PetscErrorCode stepper_setup(RsStepper *s, const int *row_ptr, const int *cols,
                                     double newton_atol, double newton_rtol, int max_newton,
-                                    int max_cutbacks)
+                                    int max_cutbacks, int native_lu, int full_newton)
 {
     char      defaults[512], message[1024];
     Vec       Y_template = NULL;
-    SNES      snes;
+    SNES           snes;
+    SNESLineSearch line_search;
+    KSP       ksp;
+    PC        pc;
     PetscBool is_rodmid;
     TSType    type;
 
@@ -295,11 +298,11 @@ static PetscErrorCode stepper_setup(RsStepper *s, const int *row_ptr, const int 
 
     /* Scene values as the bottom layer of the options (DESIGN.md §3): newtonls with the bt line
        search, the absolute Newton test of the method documents with PETSc's relative tests
-       off unless the scene asks, and MUMPS LU for the saddle-point systems. */
+       off unless the scene asks, and LU (the package is set below, per system). */
     snprintf(defaults, sizeof(defaults),
-             "-snes_type newtonls -snes_linesearch_type bt -snes_atol %.17g -snes_rtol %.17g "
+             "-snes_type newtonls -snes_atol %.17g -snes_rtol %.17g "
              "-snes_stol 0 -snes_max_it %d -ksp_type preonly -pc_type lu "
-             "-pc_factor_mat_solver_type mumps -mat_mumps_icntl_14 50 -ts_rodmid_max_cutbacks %d",
+             "-mat_mumps_icntl_14 50 -ts_rodmid_max_cutbacks %d",
              newton_atol, newton_rtol, max_newton, max_cutbacks);
     PetscCheck(rs_petsc_apply_options(defaults, NULL, message, (int)sizeof(message)) == 0,
                PETSC_COMM_SELF, PETSC_ERR_LIB, "%s", message);
@@ -334,6 +337,22 @@ static PetscErrorCode stepper_setup(RsStepper *s, const int *row_ptr, const int 
     PetscCall(SNESSetConvergenceTest(snes, SNESConvergedDefault, NULL, NULL));
     /* Only debug builds of PETSc look at a Jacobian domain error by default. */
     PetscCall(SNESSetCheckJacobianDomainError(snes, PETSC_TRUE));
+    /* The LU package (DESIGN.md §3): MUMPS for the saddle-point systems; PETSc's own LU with a
+       nested-dissection ordering where the formulation says its Jacobian needs no pivoting (a
+       multiplier-free system with a non-zero diagonal), which is about ten times faster for
+       small rods (docs/performance.md). -pc_factor_mat_solver_type overrides either. */
+    PetscCall(SNESGetKSP(snes, &ksp));
+    PetscCall(KSPGetPC(ksp, &pc));
+    PetscCall(PCSetType(pc, PCLU));
+    PetscCall(PCFactorSetMatSolverType(pc, native_lu ? MATSOLVERPETSC : MATSOLVERMUMPS));
+    if (native_lu) PetscCall(PCFactorSetMatOrderingType(pc, MATORDERINGND));
+    /* The line search: backtracking (bt), or the full Newton step where the formulation's
+       method document says Newton is run undamped (seed 001's schemes: the bt search cuts the
+       first steps of the displacement schemes and multiplies their iterations,
+       docs/performance.md). -snes_linesearch_type overrides either. */
+    PetscCall(SNESGetLineSearch(snes, &line_search));
+    PetscCall(SNESLineSearchSetType(line_search, full_newton ? SNESLINESEARCHBASIC
+                                                             : SNESLINESEARCHBT));
     PetscCall(TSSetFromOptions(s->ts));
     PetscCall(PetscObjectTypeCompare((PetscObject)s->ts, TSRODMID, &is_rodmid));
     PetscCall(TSGetType(s->ts, &type));
@@ -359,7 +378,7 @@ int rs_stepper_create(void **handle, int n_state, int n_unknown, const int *row_
                       const int *cols, rs_cb_residual residual, rs_cb_jacobian jacobian,
                       rs_cb_vec predictor, rs_cb_update update, rs_cb_poststep poststep, void *ctx,
                       double newton_atol, double newton_rtol, int max_newton, int max_cutbacks,
-                      char *errmsg, int errlen)
+                      int native_lu, int full_newton, char *errmsg, int errlen)
 {
     RsErrorCapture capture = {"", 0};
     RsStepper     *s;
@@ -390,7 +409,8 @@ int rs_stepper_create(void **handle, int n_state, int n_unknown, const int *row_
 
     enter_petsc(s);
     PetscPushErrorHandler(capture_error, &capture);
-    ierr = stepper_setup(s, row_ptr, cols, newton_atol, newton_rtol, max_newton, max_cutbacks);
+    ierr = stepper_setup(s, row_ptr, cols, newton_atol, newton_rtol, max_newton, max_cutbacks,
+                         native_lu, full_newton);
     PetscPopErrorHandler();
     leave_petsc(s);
     if (ierr) {

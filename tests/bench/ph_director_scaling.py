@@ -9,24 +9,18 @@ With --write the table replaces the GENERATED block of docs/performance.md.
     /usr/bin/python3 tests/bench/ph_director_scaling.py --rodsolve build/rodsolve \\
         --mpiexec mpirun --source . --workdir build/bench [--write]
 """
-import datetime
 import os
-import platform
 import re
-import statistics
-import subprocess
 import sys
 
-sys.path.insert(0, os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))),
-                                "regression"))
-import run_scene as rs  # noqa: E402
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import bench_common  # noqa: E402
+from bench_common import rs, measured_on, write_generated  # noqa: E402
 
-SUMMARY = re.compile(r"(\d+) steps, (\d+) Newton iterations, (\d+) cut-backs; time loop (\S+) s, "
-                     r"per step (\S+) s, per Newton iteration (\S+) s")
-UNKNOWNS = re.compile(r"(\d+) Newton unknowns \((.*?)\), (\d+) Jacobian non-zeros")
+NON_ZEROS = re.compile(r"(\d+) Newton unknowns \((.*?)\), (\d+) Jacobian non-zeros")
 
 
-def run_case(args, n_elements, condensed, steps):
+def scene_text(args, n_elements, condensed, steps):
     text = rs.read_example(args.source, "flying_spaghetti.nml")
     text = rs.set_variable(text, "rod", "n_elements", str(n_elements))
     text = rs.set_variable(text, "time", "t_end", repr(steps * 0.1))
@@ -36,38 +30,16 @@ def run_case(args, n_elements, condensed, steps):
         # MUMPS' workspace estimate is too small for the pivoting the condensed saddle point
         # needs (INFOG(1) = -9 with the default 50 %); docs/performance.md.
         text = rs.set_variable(text, "solver", "petsc_options", "'-mat_mumps_icntl_14 200'")
-    os.makedirs(args.workdir, exist_ok=True)
-    scene = os.path.join(args.workdir, f"bench_{n_elements}_{int(condensed)}.nml")
-    output = scene[:-4] + ".h5"
-    text = rs.set_variable(text, "output", "path", f"'{output}'")
-    with open(scene, "w", encoding="utf-8") as f:
-        f.write(text)
-    result = subprocess.run([args.mpiexec, "--oversubscribe", "-np", "1", args.rodsolve, scene],
-                            capture_output=True, text=True)
-    if result.returncode != 0:
-        sys.stderr.write(result.stdout + result.stderr)
-        raise SystemExit(f"n_e = {n_elements}: rodsolve failed")
-    summary = SUMMARY.search(result.stdout)
-    unknowns = UNKNOWNS.search(result.stdout)
-    return {"steps": int(summary[1]), "iterations": int(summary[2]), "cutbacks": int(summary[3]),
-            "per_step": float(summary[5]), "per_iteration": float(summary[6]),
-            "unknowns": int(unknowns[1]), "nnz": int(unknowns[3])}
+    return text
 
 
-def median_case(args, n_elements, condensed, steps):
-    runs = [run_case(args, n_elements, condensed, steps) for _ in range(args.repeat)]
-    best = dict(runs[0])
-    best["per_step"] = statistics.median(r["per_step"] for r in runs)
-    best["per_iteration"] = statistics.median(r["per_iteration"] for r in runs)
-    return best
-
-
-def blas_name():
-    try:
-        link = os.path.realpath("/usr/lib/x86_64-linux-gnu/libblas.so.3")
-        return os.path.basename(os.path.dirname(link)) or link
-    except OSError:
-        return "unknown"
+def run_case(args, n_elements, condensed, steps, repeat=False):
+    """One run (or the medians of --repeat runs) of the spaghetti with n_elements."""
+    text = scene_text(args, n_elements, condensed, steps)
+    name = f"bench_{n_elements}_{int(condensed)}"
+    result = (bench_common.median_case if repeat else bench_common.run_case)(args, text, name)
+    result["nnz"] = int(NON_ZEROS.search(result["stdout"])[3])
+    return result
 
 
 def main():
@@ -86,7 +58,7 @@ def main():
         n *= 2
     rows = []
     for n_e in sizes:
-        plain = median_case(args, n_e, False, args.steps)
+        plain = run_case(args, n_e, False, args.steps, repeat=True)
         # The condensed step stagnates above the Newton tolerance from n_e = 20 on (cut-backs;
         # docs/performance.md), so one run up to n_e = 160 tells the story.
         condensed = run_case(args, n_e, True, args.steps) if n_e <= 160 else None
@@ -113,24 +85,14 @@ def main():
         else:
             cells += ["-", "-", "-", "-"]
         lines.append("| " + " | ".join(cells) + " |")
-    machine = (f"{platform.node()}: {os.cpu_count()} cores, {platform.processor() or platform.machine()}, "
-               f"BLAS {blas_name()} (1 thread)")
-    header = (f"Measured {datetime.date.today().isoformat()} on {machine}; flying spaghetti material, "
+    header = (f"{measured_on()}; flying spaghetti material, "
               f"p = 2, 2 Gauss points, h = 0.1, {args.steps} steps from rest (loading phase), "
               f"Newton tolerance 1e-11, 1 rank; medians of {args.repeat} runs of the time loop "
               f"(output excluded).")
     table = header + "\n\n" + "\n".join(lines) + "\n"
     print(table)
     if args.write:
-        path = os.path.join(args.source, "docs", "performance.md")
-        with open(path, encoding="utf-8") as f:
-            text = f.read()
-        begin = "<!-- BEGIN GENERATED: tests/bench/ph_director_scaling.py -->"
-        end = "<!-- END GENERATED: tests/bench/ph_director_scaling.py -->"
-        i, j = text.index(begin) + len(begin), text.index(end)
-        with open(path, "w", encoding="utf-8") as f:
-            f.write(text[:i] + "\n" + table + text[j:])
-        print(f"wrote {path}")
+        write_generated(args.source, "ph_director_scaling.py", table)
 
 
 if __name__ == "__main__":

@@ -140,15 +140,22 @@ module rs_ph_director
 
 contains
 
-    !> Build rod `rod_index` of a validated scene.
-    subroutine ph_director_init(this, scene, rod_index, err)
+    !> Build the rod rods(1) of a validated scene (ph_director rods are not joined yet).
+    subroutine ph_director_init(this, scene, rods, err)
         class(ph_director_t), intent(inout) :: this
         type(scene_t), intent(in) :: scene
-        integer, intent(in) :: rod_index
+        integer, intent(in) :: rods(:)
         type(error_t), allocatable, intent(out) :: err
         character(len=:), allocatable :: message
         logical :: ok
-        integer :: e, k
+        integer :: e, k, rod_index
+        ! Joints between ph_director rods (one coupled system) arrive with the bundles
+        ! (DESIGN.md §5); the input check rejects them before this.
+        if (size(rods) /= 1) then
+            RS_SET_ERROR(err, 'ph_director%init', 'ph_director rods cannot be joined yet')
+            return
+        end if
+        rod_index = rods(1)
         associate (rod => scene%rods(rod_index))
             this%name = trim(rod%name)
             this%n_elements = rod%n_elements
@@ -1198,11 +1205,13 @@ contains
         this%t_static = t_load
     end subroutine ph_director_set_endpoint_solve
 
-    subroutine ph_director_init_history(this, history, capacity)
+    subroutine ph_director_init_history(this, histories, capacity)
         class(ph_director_t), intent(in) :: this
-        type(rod_history_t), intent(inout) :: history
+        type(rod_history_t), intent(inout), target :: histories(:)
         integer, intent(in) :: capacity
+        type(rod_history_t), pointer :: history
         integer :: e, b
+        history => histories(1)
         call history%init(this%name, 'ph_director', this%n_nodes, this%n_elements * this%degree, &
             capacity, n_branches=this%material%n_branches)
         history%mesh = this%node_s
@@ -1217,13 +1226,15 @@ contains
 
     !> Append the state at time t: fields, energies, momenta, centre of mass, constraint
     !> residual, and the step statistics accumulated since the previous record.
-    subroutine ph_director_record(this, history, t, x)
+    subroutine ph_director_record(this, histories, t, x)
         class(ph_director_t), intent(inout) :: this
-        type(rod_history_t), intent(inout) :: history
+        type(rod_history_t), intent(inout), target :: histories(:)
         real(rk), intent(in) :: t, x(:)
+        type(rod_history_t), pointer :: history
         real(rk) :: kinetic, strain, linear(3), angular(3), l_e(3), a_e(3), position(3)
         real(rk) :: gamma(3, this%degree), kappa(3, this%degree)
         integer :: r, e, k, i, nodes(2), first, last, br
+        history => histories(1)
         r = history%next_record()
         if (r == 0) return
         call this%energy(x, kinetic, strain)

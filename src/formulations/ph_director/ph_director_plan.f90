@@ -35,13 +35,13 @@ contains
         uncondensed = scene
         uncondensed%solver%condense_stresses = .false.
         allocate(rod)
-        call rod%init(uncondensed, i, err)
+        call rod%init(uncondensed, [i], err)
         if (allocated(err)) return
         if (scene%solver%condense_stresses .and. len(condensation_obstacle()) == 0) then
             ! init does not start by freeing (STYLE.md item 8 is not met yet): a fresh object.
             deallocate(rod)
             allocate(rod)
-            call rod%init(scene, i, err)
+            call rod%init(scene, [i], err)
             if (allocated(err)) return
         end if
         units = trim(scene%run%units)

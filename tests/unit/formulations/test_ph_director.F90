@@ -133,7 +133,7 @@ contains
         type(scene_t), intent(in) :: scene
         type(ph_director_t), intent(inout) :: rod
         type(error_t), allocatable :: err
-        call rod%init(scene, 1, err)
+        call rod%init(scene, [1], err)
         CHECK_TRUE(.not. allocated(err), 'init succeeds')
     end subroutine build_scene
 
@@ -144,7 +144,7 @@ contains
         type(scene_t) :: scene
         type(error_t), allocatable :: err
         scene = cantilever_scene(n_elements, degree, condensed)
-        call rod%init(scene, 1, err)
+        call rod%init(scene, [1], err)
         CHECK_TRUE(.not. allocated(err), 'init succeeds')
     end subroutine build
 

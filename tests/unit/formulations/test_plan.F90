@@ -5,7 +5,9 @@
 !> constraint multipliers without a constraint, mass terms in a quasistatic run, actuators) and
 !> why condensation is ignored, the formulation's origin, steps and records, the round-robin
 !> ranks, the units; and that the plan is comments only: the resolved scene followed by its
-!> plan reads back to the same scene.
+!> plan reads back to the same scene. For the planar formulations (rs_ph_planar_plan): what
+!> 'auto' chose and why, the plane and planar coordinates, the unknowns (3 per node + 3 per
+!> element, 3 per node when condensed or for cl_em_planar), supports and joints.
 module rs_test_formulations_plan
     use rs_core_kinds, only: rk
     use rs_core_error, only: error_list_t
@@ -30,6 +32,8 @@ contains
         call run_test('ranks_and_origins', test_ranks_and_origins)
         call run_test('helix_and_units', test_helix_and_units)
         call run_test('plan_is_comments', test_plan_is_comments)
+        call run_test('planar_plan', test_planar_plan)
+        call run_test('auto_3d_reason', test_auto_3d_reason)
     end subroutine run_all_tests
 
     !> A clamped-free rod of 4 quadratic elements (9 nodes, 8 free) with an end load.
@@ -115,8 +119,8 @@ contains
         plan = plan_of('&run formulation_default = ''auto'' /' // nl // '&time t_end = 1, dt = 0.5 /' // &
             nl // "&rod name = 'a'" // rod // "&rod name = 'b', formulation = 'ph_director'" // rod // &
             "&rod name = 'c'" // rod // "&rod name = 'd'" // rod, 3)
-        CHECK_CONTAINS(plan, 'ranks: 4 rod(s) on 3 rank(s)', 'ranks')
-        CHECK_CONTAINS(plan, "rod 'a' on rank 0: ph_director ('auto'", 'auto')
+        CHECK_CONTAINS(plan, 'ranks: 4 rod(s) in 4 system(s)', 'ranks')
+        CHECK_CONTAINS(plan, "rod 'a' on rank 0: ph_planar (auto: the rods, loads and velocities", 'auto')
         CHECK_CONTAINS(plan, "rod 'b' on rank 1: ph_director (given in &rod)", 'given')
         CHECK_CONTAINS(plan, "rod 'c' on rank 2:", 'third rank')
         CHECK_CONTAINS(plan, "rod 'd' on rank 0:", 'round robin')
@@ -124,6 +128,60 @@ contains
         CHECK_CONTAINS(plan, "rod 'a' on rank 0: ph_director (from &run formulation_default)", 'default')
         CHECK_CONTAINS(plan, 'supports: start free', 'free ends')
     end subroutine test_ranks_and_origins
+
+    ! Two rods in the plane z = 1 joined by a revolute joint, the first pinned, under gravity
+    ! along -e_y, chosen by 'auto': ph_planar, its plane and coordinates; 5 + 3 nodes and 4 + 2
+    ! elements: 15 + 12 = 27 and 9 + 6 = 15 unknowns, 2 fixed by the pin; condensed 15 and 9;
+    ! as cl_em_planar 15 and 9 with no element unknowns.
+    subroutine test_planar_plan()
+        character(len=:), allocatable :: plan, text, rod, expected
+        rod = ' EA = 1, GA1 = 1, GA2 = 1, EI1 = 1, EI2 = 1, GJ = 1, rhoA = 1, rhoI1 = 1, rhoI2 = 1 /' // nl
+        text = "&run formulation_default = 'auto' /" // nl // '&time t_end = 1, dt = 0.5 /' // nl // &
+            "&rod name = 'a', n_elements = 4, length = 2, start = 0, 0, 1, direction = 0, -1, 0," // rod // &
+            "&rod name = 'b', n_elements = 2, length = 1, start = 0, -2, 1," // rod // &
+            "&bc rod = 'a', end = 'start', kind = 'pinned' /" // nl // &
+            "&joint rod_a = 'a', end_a = 'end', rod_b = 'b', end_b = 'start', kind = 'revolute' /" // nl // &
+            "&load where = 'gravity', acceleration = 0, -9.81, 0 /" // nl
+        plan = plan_of(text, 1)
+        expected = "rod 'a' on rank 0: ph_planar (auto: the rods, loads and velocities lie in the " // &
+            'plane through (0.0, 0.0, 1.0) with normal (0.0, 0.0, 1.0))'
+        CHECK_CONTAINS(plan, expected, 'auto chose ph_planar')
+        CHECK_CONTAINS(plan, "rod 'b' on rank 0: ph_planar (auto:", 'the joined rod too')
+        CHECK_CONTAINS(plan, "shared with the joined rod(s) 'b'", 'one plane for the system')
+        ! The joined rods are one system: on two ranks both run on rank 0.
+        CHECK_CONTAINS(plan_of(text, 2), "rod 'b' on rank 0:", 'a joined rod runs with its system')
+        CHECK_CONTAINS(plan_of(text, 2), 'ranks: 2 rod(s) in 1 system(s)', 'one system')
+        expected = 'geometry: straight from (x, y) = (0.0, -2.0) m at theta_0 = 0.0 rad, length 1.0 m'
+        CHECK_CONTAINS(plan, expected, 'planar coordinates of rod b')
+        CHECK_CONTAINS(plan, 'theta_0 = -1.5707963267948966 rad', 'angle of rod a')
+        expected = 'unknowns: 3 x 5 nodes (x, y, theta) + 3 x 4 elements (Gamma1, Gamma2, kappa) = 27, less 2'
+        CHECK_CONTAINS(plan, expected, 'uncondensed unknowns of rod a')
+        CHECK_CONTAINS(plan, 'supports: start pinned (x, y fixed, theta free), end free', 'pin')
+        expected = "joints: 'start' end revolute with the 'end' end of rod 'a' (shared nodal x, y, own theta"
+        CHECK_CONTAINS(plan, expected, 'joint of rod b')
+        CHECK_CONTAINS(plan, 'gravity g = (0.0, -9.81) m/s^2 in the plane', 'gravity in planar coordinates')
+        plan = plan_of(text // '&solver condense_stresses = .true. /' // nl, 1)
+        expected = 'unknowns: 3 x 3 nodes (x, y, theta) = 9, less 0 fixed by supports; the 3 x 2 element ' // &
+            'strains are condensed'
+        CHECK_CONTAINS(plan, expected, 'condensed unknowns of rod b')
+        plan = plan_of(replace(text, "&run formulation_default = 'auto' /", &
+            "&run formulation_default = 'cl_em_planar' /"), 1)
+        CHECK_CONTAINS(plan, "rod 'a' on rank 0: cl_em_planar (from &run formulation_default)", 'cl_em')
+        expected = 'unknowns: 3 x 5 nodes (x, y, theta) = 15, less 2 fixed by supports; no element unknowns'
+        CHECK_CONTAINS(plan, expected, 'cl_em unknowns')
+        CHECK_CONTAINS(plan, 'axial and shear terms at 2 Gauss points (full, locks in bending)', 'quadrature')
+    end subroutine test_planar_plan
+
+    ! 'auto' on a rod pushed out of its plane: ph_director, and the reason names the load.
+    subroutine test_auto_3d_reason()
+        character(len=:), allocatable :: plan, expected
+        plan = plan_of("&run formulation_default = 'auto' /" // nl // cantilever('', &
+            "&load rod = 'beam', where = 'distributed', force = 0, 1, 0 /" // nl), 1)
+        expected = "rod 'beam' on rank 0: ph_director (auto: 3D because load 2 (line 8): force (0.0, " // &
+            '1.0, 0.0) has a component along the plane normal (0.0, 1.0, 0.0)'
+        CHECK_CONTAINS(plan, expected, '3D reason')
+        CHECK_CONTAINS(plan, 'unknowns: 288 Newton unknowns', 'ph_director plan follows')
+    end subroutine test_auto_3d_reason
 
     ! A spinning helix in mm, tonne, s: geometry, initial rigid motion and unit names.
     subroutine test_helix_and_units()

@@ -7,7 +7,9 @@
 !> quasistatics, Maxwell branches or actuation can be exercised although ph_director has them
 !> all; and the reference geometry (helix and polyline lengths, start, direction and default d1
 !> derived, their errors), the curved-reference capability and the initial-velocity checks.
-!> Each error is checked for its file, line, group and variable.
+!> 'auto' per system of joined rods (formulation, origin and reason), em_variant's default and
+!> the joint checks of one scene reported together. Each error is checked for its file, line,
+!> group and variable.
 module rs_test_io_input_check
     use rs_core_kinds, only: rk
     use rs_core_error, only: error_list_t
@@ -53,6 +55,8 @@ contains
         call run_test('polyline_resolution', test_polyline_resolution)
         call run_test('curved_reference_capability', test_curved_reference_capability)
         call run_test('initial_velocity_checks', test_initial_velocity_checks)
+        call run_test('auto_per_system', test_auto_per_system)
+        call run_test('joint_errors_collected', test_joint_errors_collected)
     end subroutine run_all_tests
 
     !> Parse `text` as file 'c.nml' and check that it has exactly `n_errors` errors.
@@ -472,6 +476,64 @@ contains
         fragment = "c.nml:2: &rod 'a' velocity: (0.0, 1.0, 0.0) given, but a quasistatic run"
         CHECK_CONTAINS(errors%joined(), fragment, 'quasistatic')
     end subroutine test_initial_velocity_checks
+
+    ! 'auto' chooses per system: rods a and b (joined, in the plane z = 0 with gravity along
+    ! -e_y) get ph_planar; rod c, alone and pushed along e_z, ph_director; the origin stays
+    ! 'auto' and the reason names the plane or the load. A cl_em_planar rod gets the default
+    ! em_variant, a ph_planar rod none.
+    subroutine test_auto_per_system()
+        type(scene_t) :: scene
+        type(error_list_t) :: errors
+        character(len=:), allocatable :: text, expected
+        ! Lines: 1 &run, 2 &time, 3-6 rods a-d, 7 &joint, 8-10 loads 1-3.
+        text = "&run formulation_default = 'auto' /" // nl // time // &
+            rod_x // "a', direction = 0, -1, 0, " // direct // ' /' // nl // &
+            rod_x // "b', start = 0, -1, 0, " // direct // ' /' // nl // &
+            rod_x // "c', start = 0, 0, 5, " // direct // ' /' // nl // &
+            rod_x // "d', start = 0, 0, 9, formulation = 'cl_em_planar', " // direct // ' /' // nl // &
+            "&joint rod_a = 'a', end_a = 'end', rod_b = 'b', end_b = 'start', kind = 'rigid' /" // nl // &
+            "&load rod = 'a', where = 'distributed', force = 0, -1, 0 /" // nl // &
+            "&load rod = 'c', where = 'end', force = 0, 0, 1 /" // nl // &
+            "&load rod = 'c', where = 'distributed', force = 0, 1, 0 /" // nl
+        call parse(text, scene, errors, 0)
+        if (size(scene%rods) /= 4) return
+        CHECK_EQUAL(trim(scene%rods(1)%formulation), 'ph_planar', 'a: planar')
+        CHECK_EQUAL(trim(scene%rods(2)%formulation), 'ph_planar', 'b: planar')
+        CHECK_EQUAL(trim(scene%rods(3)%formulation), 'ph_director', 'c: 3D')
+        CHECK_EQUAL(trim(scene%rods(1)%formulation_origin), 'auto', 'origin kept')
+        expected = 'lie in the plane through (0.0, 0.0, 0.0) with normal (0.0, 0.0, 1.0)'
+        CHECK_CONTAINS(scene%rods(2)%formulation_reason, expected, 'b: reason')
+        expected = '3D because load 3 (line 10): force (0.0, 1.0, 0.0) has a component along'
+        CHECK_CONTAINS(scene%rods(3)%formulation_reason, expected, 'c: reason')
+        CHECK_EQUAL(trim(scene%rods(4)%formulation_origin), 'rod', 'd: given')
+        CHECK_EQUAL(trim(scene%rods(4)%em_variant), 'stander_stein', 'd: default em_variant')
+        CHECK_EQUAL(len_trim(scene%rods(1)%em_variant), 0, 'a: no em_variant')
+        errors = error_list_t()
+        call check_capabilities(scene, errors)
+        CHECK_EQUAL(errors%count, 0, 'auto picks what can run: ' // errors%joined())
+    end subroutine test_auto_per_system
+
+    ! One scene with several joint errors: all are reported, each with its line and variable.
+    subroutine test_joint_errors_collected()
+        type(scene_t) :: scene
+        type(error_list_t) :: errors
+        character(len=:), allocatable :: text, joined
+        ! Lines: 1 &time, 2-3 rods a, b, 4-8 joints.
+        text = time // &
+            rod_x // "a', formulation = 'ph_planar', " // direct // ' /' // nl // &
+            rod_x // "b', formulation = 'ph_planar', start = 1, 0, 0, " // direct // ' /' // nl // &
+            "&joint rod_a = 'a', end_a = 'end', rod_b = 'x', end_b = 'start', kind = 'rigid' /" // nl // &
+            "&joint rod_a = 'a', end_a = 'start', rod_b = 'a', end_b = 'start', kind = 'rigid' /" // nl // &
+            "&joint rod_a = 'a', end_a = 'end', rod_b = 'b', end_b = 'start', kind = 'rigid' /" // nl // &
+            "&joint rod_a = 'b', end_a = 'start', rod_b = 'a', end_b = 'end', kind = 'revolute' /" // nl // &
+            "&joint rod_a = 'a', end_a = 'start', rod_b = 'b', end_b = 'end', kind = 'revolute' /" // nl
+        call parse(text, scene, errors, 4)
+        joined = errors%joined()
+        CHECK_CONTAINS(joined, "c.nml:4: &joint rod_b: no rod is named 'x'", 'unknown rod')
+        CHECK_CONTAINS(joined, "c.nml:5: &joint end_b: the joint ties the 'start' end of rod 'a'", 'self')
+        CHECK_CONTAINS(joined, 'c.nml:7: &joint rod_b: redundant joint', 'redundant')
+        CHECK_CONTAINS(joined, "c.nml:8: &joint end_b: the 'end' end of rod 'b' at (2.0, 0.0, 0.0)", 'apart')
+    end subroutine test_joint_errors_collected
 
 end module rs_test_io_input_check
 

@@ -13,6 +13,7 @@ module rs_test_io_scene_writer
     use rs_test_assert, only: run_test, assert_true, assert_equal, assert_contains
     use rs_core_strings, only: str
     use rs_model_scene, only: scene_t, rod_input_t, bc_input_t, load_input_t, actuator_input_t, &
+        joint_input_t, &
         max_table, max_polyline_points
     use rs_io_input_file, only: parse_scene
     use rs_io_scene_writer, only: resolved_scene_text
@@ -54,11 +55,14 @@ contains
             '     GA1 = 3.3e150, GA2 = 0.7, EI1 = 0.1, EI2 = 0.3,' // nl // &
             '     GJ = 0.3333333333333333, rhoA = 0.2, rhoI1 = 1e-5, rhoI2 = 1.5e-120,' // nl // &
             "     shear_factor = 0.8333333333333334, torsion_constant = 'saint_venant'," // nl // &
-            "     prestressed = .true., constraint = 'inextensible'," // nl // &
+            "     prestressed = .true., constraint = 'inextensible', em_variant = 'ph_irreducible'," // nl // &
             '     maxwell_fraction = 0.25, 0.125, 0.0625, maxwell_tau_E = 1e-3, 0.5, 20,' // nl // &
             '     maxwell_tau_G(2) = 0.75 /' // nl // &
             '&rod n_elements = 3, length = 1, d1 = 0, 0, -2, EA = 1, GA1 = 2, GA2 = 3,' // nl // &
             '     EI1 = 4, EI2 = 5, GJ = 6, rhoA = 7, rhoI1 = 8, rhoI2 = 9 /' // nl // &
+            "&rod name = 'right', formulation = 'ph_planar', n_elements = 2, n_gauss = 3," // nl // &
+            "     em_variant = 'ph_irreducible', start = -1.5, 0.25, -2.7499999, length = 0.5," // nl // &
+            '     EA = 1, GA1 = 2, GA2 = 3, EI1 = 4, EI2 = 5, GJ = 6, rhoA = 7, rhoI1 = 8, rhoI2 = 9 /' // nl // &
             "&bc rod = 'left', end = 'end', kind = 'pinned' /" // nl // &
             "&bc rod = 'rod2', end = 'start', kind = 'driven' /" // nl // &
             "&load rod = 'left', where = 'end', force = 1.1, -2.2, 3.3," // nl // &
@@ -72,7 +76,8 @@ contains
             "          time_function = 'pulse', t_on = 0.25, t_off = 1.75 /" // nl // &
             "&actuator rod = 'rod2', kind = 'Tendon', offset = 0, 0.01, tension = 0.1," // nl // &
             "          time_function = 'table', table_times = 0, 0.5, 3.5," // nl // &
-            '          table_values = 0, 1, 0.3333333333333333 /' // nl
+            '          table_values = 0, 1, 0.3333333333333333 /' // nl // &
+            "&joint rod_a = 'left', end_a = 'end', rod_b = 'right', end_b = 'start', kind = 'Rigid' /" // nl
     end function every_group
 
     !> Parse, write, parse the written text and write again: both parses without errors, the
@@ -128,11 +133,17 @@ contains
         CHECK_EQUAL(errors%count, 0, 'valid scene')
         text = resolved_scene_text(scene)
         CHECK_EQUAL(occurrences(text, nl // '&run' // nl), 1, '&run block')
-        CHECK_EQUAL(occurrences(text, nl // '&rod' // nl), 2, 'one &rod block per rod')
+        CHECK_EQUAL(occurrences(text, nl // '&rod' // nl), 3, 'one &rod block per rod')
         CHECK_EQUAL(occurrences(text, nl // '&bc' // nl), 2, 'one &bc block per bc')
         CHECK_EQUAL(occurrences(text, nl // '&load' // nl), 3, 'one &load block per load')
         CHECK_EQUAL(occurrences(text, nl // '&actuator' // nl), 2, 'one &actuator block per actuator')
-        CHECK_EQUAL(occurrences(text, nl // '/' // nl), 13, 'every block closed')
+        CHECK_EQUAL(occurrences(text, nl // '&joint' // nl), 1, 'one &joint block per joint')
+        CHECK_EQUAL(occurrences(text, nl // '/' // nl), 15, 'every block closed')
+        CHECK_TRUE(index(text, '&actuator') < index(text, '&joint'), 'actuators before joints')
+        CHECK_CONTAINS(text, nl // "    rod_b = 'right'" // nl, 'joint rod')
+        CHECK_CONTAINS(text, nl // "    kind = 'rigid'" // nl // '/', 'joint kind in lower case')
+        CHECK_CONTAINS(text, nl // "    em_variant = 'ph_irreducible'" // nl, 'em_variant')
+        CHECK_EQUAL(occurrences(text, 'em_variant'), 2, 'a blank em_variant is left out')
         CHECK_TRUE(index(text, '&load') < index(text, '&actuator'), 'loads before actuators')
         CHECK_TRUE(index(text, '&time') < index(text, '&solver'), 'time before solver')
         CHECK_TRUE(index(text, '&output') < index(text, '&rod'), 'output before rods')
@@ -287,8 +298,10 @@ contains
         CHECK_EQUAL(size(b%bcs), size(a%bcs), 'number of bcs')
         CHECK_EQUAL(size(b%loads), size(a%loads), 'number of loads')
         CHECK_EQUAL(size(b%actuators), size(a%actuators), 'number of actuators')
+        CHECK_EQUAL(size(b%joints), size(a%joints), 'number of joints')
         if (size(b%rods) /= size(a%rods) .or. size(b%bcs) /= size(a%bcs) .or. &
-            size(b%loads) /= size(a%loads) .or. size(b%actuators) /= size(a%actuators)) return
+            size(b%loads) /= size(a%loads) .or. size(b%actuators) /= size(a%actuators) .or. &
+            size(b%joints) /= size(a%joints)) return
         do i = 1, size(a%rods)
             call check_same_rod(a%rods(i), b%rods(i))
         end do
@@ -300,6 +313,9 @@ contains
         end do
         do i = 1, size(a%actuators)
             call check_same_actuator(a%actuators(i), b%actuators(i))
+        end do
+        do i = 1, size(a%joints)
+            call check_same_joint(a%joints(i), b%joints(i))
         end do
     end subroutine check_same_scene
 
@@ -350,6 +366,7 @@ contains
         call check_reals(b%maxwell_fraction, a%maxwell_fraction, r // 'maxwell_fraction')
         call check_reals(b%maxwell_tau_E, a%maxwell_tau_E, r // 'maxwell_tau_E')
         call check_reals(b%maxwell_tau_G, a%maxwell_tau_G, r // 'maxwell_tau_G')
+        CHECK_EQUAL(b%em_variant, a%em_variant, r // 'em_variant')
     end subroutine check_same_rod
 
     subroutine check_same_bc(a, b)
@@ -388,6 +405,15 @@ contains
         call check_reals(b%table_times, a%table_times, 'actuator table_times')
         call check_reals(b%table_values, a%table_values, 'actuator table_values')
     end subroutine check_same_actuator
+
+    subroutine check_same_joint(a, b)
+        type(joint_input_t), intent(in) :: a, b
+        CHECK_EQUAL(b%rod_a, a%rod_a, 'joint rod_a')
+        CHECK_EQUAL(b%end_a, a%end_a, 'joint end_a')
+        CHECK_EQUAL(b%rod_b, a%rod_b, 'joint rod_b')
+        CHECK_EQUAL(b%end_b, a%end_b, 'joint end_b')
+        CHECK_EQUAL(b%kind, a%kind, 'joint kind')
+    end subroutine check_same_joint
 
 end module rs_test_io_scene_writer
 

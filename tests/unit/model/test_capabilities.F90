@@ -3,8 +3,9 @@
 !> §1, docs/user/capabilities.md) checked against every value the input language allows for
 !> each column (src/io/input_spec.f90: bc kind, load where, load frame, rod constraint) and its
 !> logical columns (quasistatic, viscoelastic, actuation, curved reference), the rows of
-!> unknown and not yet available formulations, and `lists_name`, which matches whole
-!> '|'-separated names only.
+!> ph_planar and cl_em_planar (seed 001: pinned ends, revolute and rigid joints, planar), the
+!> joint columns (ph_director: none before issue 10), the rows of unknown and not yet available
+!> formulations, and `lists_name`, which matches whole '|'-separated names only.
 module rs_test_model_capabilities
     use rs_test_assert, only: run_test, assert_true, assert_equal
     use rs_model_capabilities, only: capability_t, capability_of, lists_name
@@ -19,6 +20,7 @@ contains
     subroutine run_all_tests()
         call run_test('ph_director_row', test_ph_director_row)
         call run_test('ph_director_trailing_blanks', test_ph_director_trailing_blanks)
+        call run_test('planar_rows', test_planar_rows)
         call run_test('unknown_formulations', test_unknown_formulations)
         call run_test('unavailable_formulations', test_unavailable_formulations)
         call run_test('lists_name_whole_names', test_lists_name_whole_names)
@@ -64,7 +66,43 @@ contains
         CHECK_TRUE(row%viscoelastic, 'Maxwell branches')
         CHECK_TRUE(row%actuation, 'pneumatic chambers and tendons')
         CHECK_TRUE(row%curved_reference, 'curved stress-free reference (helix, polyline)')
+        CHECK_EQUAL(len_trim(row%joints), 0, 'no joints before issue 10')
+        CHECK_TRUE(.not. row%planar, 'ph_director is 3D')
     end subroutine test_ph_director_row
+
+    ! seed 001 (methods/ph_planar.md): both planar formulations have clamped, pinned and free
+    ! ends, dead end and distributed loads and gravity, no constraint, quasistatics, revolute
+    ! and rigid joints; no Maxwell branches, actuators or curved reference.
+    subroutine test_planar_rows()
+        character(len=12), parameter :: kinds(4) = [character(len=12) :: 'clamped', 'pinned', 'free', &
+            'driven']
+        character(len=12), parameter :: places(4) = [character(len=12) :: 'start', 'end', &
+            'distributed', 'gravity']
+        character(len=12), parameter :: frames(2) = [character(len=12) :: 'spatial', 'follower']
+        character(len=12), parameter :: constraints(3) = [character(len=12) :: 'none', 'kirchhoff', &
+            'inextensible']
+        character(len=12), parameter :: joints(3) = [character(len=12) :: 'revolute', 'rigid', &
+            'spherical']
+        character(len=12), parameter :: names(2) = [character(len=12) :: 'ph_planar', 'cl_em_planar']
+        type(capability_t) :: row
+        integer :: k
+        do k = 1, size(names)
+            row = capability_of(names(k))
+            CHECK_TRUE(row%available, trim(names(k)) // ' is available')
+            CHECK_EQUAL(trim(row%formulation), trim(names(k)), 'row names its formulation')
+            call check_column(row%end_kinds, kinds, kinds(1:3), trim(names(k)) // ' end kind')
+            call check_column(row%load_places, places, places, trim(names(k)) // ' load place')
+            call check_column(row%load_frames, frames, frames(1:1), trim(names(k)) // ' load frame')
+            call check_column(row%constraints, constraints, constraints(1:1), trim(names(k)) // &
+                ' constraint')
+            call check_column(row%joints, joints, joints(1:2), trim(names(k)) // ' joint')
+            CHECK_TRUE(row%quasistatic, trim(names(k)) // ': quasistatic runs')
+            CHECK_TRUE(.not. row%viscoelastic, trim(names(k)) // ': no Maxwell branches')
+            CHECK_TRUE(.not. row%actuation, trim(names(k)) // ': no actuators')
+            CHECK_TRUE(.not. row%curved_reference, trim(names(k)) // ': straight rods only')
+            CHECK_TRUE(row%planar, trim(names(k)) // ' is planar')
+        end do
+    end subroutine test_planar_rows
 
     ! Input strings are fixed-length and blank-padded.
     subroutine test_ph_director_trailing_blanks()
@@ -92,6 +130,8 @@ contains
         CHECK_TRUE(.not. row%viscoelastic, 'not viscoelastic: "' // name // '"')
         CHECK_TRUE(.not. row%actuation, 'no actuation: "' // name // '"')
         CHECK_TRUE(.not. row%curved_reference, 'no curved reference: "' // name // '"')
+        CHECK_EQUAL(len_trim(row%joints), 0, 'no joints: "' // name // '"')
+        CHECK_TRUE(.not. row%planar, 'not planar: "' // name // '"')
         CHECK_TRUE(.not. lists_name(row%end_kinds, 'clamped'), 'clamped not listed: "' // name // '"')
         CHECK_TRUE(.not. lists_name(row%constraints, 'none'), 'none not listed: "' // name // '"')
         CHECK_TRUE(.not. lists_name(row%constraints, ''), 'blank not listed: "' // name // '"')
@@ -108,8 +148,6 @@ contains
 
     ! Formulations the input language names but this version cannot run (DESIGN.md §1).
     subroutine test_unavailable_formulations()
-        call check_unavailable('ph_planar')
-        call check_unavailable('cl_em_planar')
         call check_unavailable('se3_pg')
         call check_unavailable('se3_strand')
     end subroutine test_unavailable_formulations

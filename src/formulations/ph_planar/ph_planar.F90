@@ -1,0 +1,1001 @@
+#include "rs_macros.h"
+!> The planar rods of seed 001 (methods/ph_planar.md): one object per *system*, a rod or the rods
+!> that revolute and rigid joints couple (the four-bar of §6.3), solved as one midpoint step
+!> problem. Three schemes share the nodal unknowns (x, y, theta) and this assembly:
+!>
+!> - `ph_planar` (PH-EM, methods §4.1-4.3): the implicit midpoint rule on the port-Hamiltonian
+!>   system, element strains (Gamma1, Gamma2, kappa) as unknowns (P0), or eliminated per element
+!>   (`&solver condense_stresses`, exact: C1, C2 are diagonal, methods §3.5);
+!> - `cl_em_planar` (methods §5.1): Stander and Stein's displacement-based energy-momentum scheme
+!>   with the correction factors Z1, Z2 (`n_gauss` 1 = reduced, 2 = full integration);
+!> - `cl_em_planar` with `em_variant = 'ph_irreducible'` (PH-EMi, methods §5.2): the rate-form
+!>   strain update kept as Gauss-point history.
+!>
+!> Joints share nodal unknowns (methods §6.3, the authors' master-slave elimination; DESIGN.md
+!> §5): a revolute joint shares the position of the two rod ends, a rigid joint also the angle.
+!> Supports fix unknowns (clamped: x, y, theta; pinned: x, y). Loads are inputs evaluated at
+!> t_{n+1/2} (methods §3.4, §4.1), so the energy balance H_{n+1} - H_n = f(t_{n+1/2}) . (q_{n+1}
+!> - q_n) is exact whatever the load; gravity is a distributed input (methods §6.3).
+!>
+!> The state X = (q, v, history): nodal unknowns q, their velocities v (the midpoint rule
+!> recovers v_{n+1} = 2 (q_{n+1} - q_n) / h - v_n, methods §4.3), and per element the mixed
+!> strains (PH-EM) or the Gauss-point strains (PH-EMi). The step unknowns Y are the free entries
+!> of q_{n+1}, followed by the element strains of PH-EM when they are not condensed.
+!>
+!> The plane (rs_model_planarity) maps the scene's 3D input to planar coordinates and the
+!> results back: positions, directors rotated about the plane normal, 3D momenta.
+module rs_ph_planar
+    use rs_core_kinds, only: rk
+    use rs_core_error, only: error_t, set_error
+    use rs_core_strings, only: str
+    use rs_model_scene, only: scene_t, rod_input_t
+    use rs_model_rod_history, only: rod_history_t
+    use rs_model_time_function, only: time_function_t, time_function_from_load
+    use rs_model_planarity, only: plane_t, plane_of_rods, point_in_plane, vector_in_plane, &
+        point_from_plane, vector_from_plane, angle_in_plane, cross
+    use rs_assembly_csr_pattern, only: csr_builder_t, csr_pattern_t
+    use rs_formulations_formulation, only: rod_formulation_t, state_valid, state_invalid
+    use rs_ph_planar_element, only: ph_em_residual, ph_em_jacobian, ph_em_condensed, &
+        cl_em_residual, cl_em_jacobian, ph_emi_residual, ph_emi_jacobian, ph_emi_strains, &
+        element_mass, mixed_strain_energy, compatible_strain_energy, compatible_strains
+    implicit none
+    private
+
+    !> The schemes (methods §5.3).
+    integer, parameter :: scheme_ph_em = 1, scheme_stander_stein = 2, scheme_ph_irreducible = 3
+
+    !> A load on one rod: at a node (node > 0) or distributed per length (node = 0).
+    type :: planar_load_t
+        integer :: rod = 0
+        integer :: node = 0
+        real(rk) :: force(2) = 0.0_rk
+        real(rk) :: moment = 0.0_rk
+        type(time_function_t) :: factor
+    end type planar_load_t
+
+    !> One rod of the system: mesh, section, and where its nodes' unknowns are.
+    type :: planar_rod_t
+        character(len=:), allocatable :: name
+        integer :: n_elements = 0
+        real(rk) :: length = 0.0_rk
+        !> (EA, GA, EI) in the plane: bending about the plane normal (methods §2.4).
+        real(rk) :: stiffness(3) = 0.0_rk
+        real(rk) :: rho_a = 0.0_rk, rho_i = 0.0_rk
+        !> Reference angle theta_0 of the straight rod (methods §3.1).
+        real(rk) :: theta0 = 0.0_rk
+        !> Initial 3D directors (columns d1, d2, d3) and the maps of the planar stress (N1, N2,
+        !> M) to the material 3D components (N1, N2, N3, M1, M2, M3).
+        real(rk) :: directors0(3, 3) = 0.0_rk
+        real(rk) :: stress_map(6, 3) = 0.0_rk
+        !> dofs(:, k): indices into q of x, y, theta of node k.
+        integer, allocatable :: dofs(:, :)
+        !> First element of the rod in the system's element numbering.
+        integer :: first_element = 0
+    end type planar_rod_t
+
+    !> A system of planar rods (one rod, or rods joined together).
+    type, extends(rod_formulation_t), public :: ph_planar_t
+        character(len=:), allocatable :: formulation_name
+        integer :: scheme = scheme_ph_em
+        logical :: condensed = .false.
+        logical :: quasistatic = .false.
+        integer :: n_gauss = 2
+        type(plane_t) :: plane
+        type(planar_rod_t), allocatable :: rods(:)
+        type(planar_load_t), allocatable :: loads(:)
+        !> Sizes: nodal unknowns q, elements, history values per element, step unknowns.
+        integer :: n_q = 0, n_elements = 0, n_history = 0, n_free = 0, n_y = 0
+        !> unknown_of(i): index of q(i) in Y (0: fixed by a support).
+        integer, allocatable :: unknown_of(:)
+        !> Per element: its rod, its index there, its 6 q indices.
+        integer, allocatable :: element_rod(:), element_dofs(:, :)
+        real(rk), allocatable :: element_length(:)
+        !> Jacobian pattern and, per element, the CSR position of entry (i, j) of its local
+        !> matrix over (q_a, q_b, strains) (0: a fixed row or column).
+        type(csr_pattern_t) :: pattern
+        integer, allocatable :: element_map(:, :, :)
+        !> The initial state X (set at init from the scene).
+        real(rk), allocatable :: initial(:)
+        ! Workspace, sized at init (no allocation in the time loop).
+        real(rk), allocatable :: q_1(:), f_ext(:), f_rod(:, :)
+        ! Book-keeping since the last record (per rod: work of its loads; the system's balance).
+        real(rk), allocatable :: work_since_record(:)
+        real(rk) :: balance_since_record = 0.0_rk
+        real(rk) :: smallest_step = huge(1.0_rk)
+        real(rk) :: last_residual = 0.0_rk
+        integer :: iterations_since_record = 0
+    contains
+        procedure :: init => planar_init
+        procedure :: n_state => planar_n_state
+        procedure :: n_unknown => planar_n_unknown
+        procedure :: jacobian_pattern => planar_jacobian_pattern
+        procedure :: initial_state => planar_initial_state
+        procedure :: predictor => planar_predictor
+        procedure :: update => planar_update
+        procedure :: step_residual => planar_step_residual
+        procedure :: step_jacobian => planar_step_jacobian
+        procedure :: accept_step => planar_accept_step
+        procedure :: init_history => planar_init_history
+        procedure :: record => planar_record
+        procedure :: describe => planar_describe
+        procedure :: n_internal => planar_n_internal
+        procedure :: save_internal => planar_save_internal
+        procedure :: restore_internal => planar_restore_internal
+        procedure :: native_lu => planar_native_lu
+        procedure :: full_newton => planar_full_newton
+        !> Kinetic and strain energy of each rod in state x.
+        procedure :: rod_energies
+        procedure, private :: full_q, element_strains, load_vectors
+    end type ph_planar_t
+
+contains
+
+    ! ---- Building the system ----------------------------------------------------------------
+
+    subroutine planar_init(this, scene, rods, err)
+        class(ph_planar_t), intent(inout) :: this
+        type(scene_t), intent(in) :: scene
+        integer, intent(in) :: rods(:)
+        type(error_t), allocatable, intent(out) :: err
+        character(len=:), allocatable :: message
+        integer :: r, e, next
+
+        this%formulation_name = trim(scene%rods(rods(1))%formulation)
+        this%quasistatic = scene%time%quasistatic
+        this%n_gauss = scene%rods(rods(1))%n_gauss
+        select case (this%formulation_name)
+        case ('ph_planar')
+            this%scheme = scheme_ph_em
+            this%condensed = scene%solver%condense_stresses
+        case ('cl_em_planar')
+            this%scheme = scheme_stander_stein
+            if (trim(scene%rods(rods(1))%em_variant) == 'ph_irreducible') &
+                this%scheme = scheme_ph_irreducible
+        end select
+        if (this%n_gauss < 1 .or. this%n_gauss > 2) then
+            message = 'rod ''' // trim(scene%rods(rods(1))%name) // ''': the planar elements ' // &
+                'take n_gauss = 1 or 2, not ' // str(this%n_gauss)
+            RS_SET_ERROR(err, 'ph_planar%init', message)
+            return
+        end if
+        this%plane = plane_of_rods(scene, rods)
+        if (.not. this%plane%found) then
+            message = 'rod ''' // trim(scene%rods(rods(1))%name) // ''' is not planar: ' // &
+                this%plane%reason
+            RS_SET_ERROR(err, 'ph_planar%init', message)
+            return
+        end if
+
+        allocate(this%rods(size(rods)))
+        next = 0
+        do r = 1, size(rods)
+            call build_rod(this, scene%rods(rods(r)), this%rods(r))
+            this%rods(r)%first_element = next + 1
+            next = next + this%rods(r)%n_elements
+        end do
+        this%n_elements = next
+        call number_dofs(this, scene, rods)
+        call fix_supports(this, scene, rods, err)
+        RS_RETURN_IF_ERROR(err)
+        call read_loads(this, scene, rods, err)
+        RS_RETURN_IF_ERROR(err)
+
+        ! Elements in system order.
+        allocate(this%element_rod(this%n_elements), this%element_dofs(6, this%n_elements), &
+            this%element_length(this%n_elements))
+        do r = 1, size(this%rods)
+            associate (rod => this%rods(r))
+                do e = 1, rod%n_elements
+                    next = rod%first_element + e - 1
+                    this%element_rod(next) = r
+                    this%element_dofs(:, next) = [rod%dofs(:, e), rod%dofs(:, e + 1)]
+                    this%element_length(next) = rod%length / real(rod%n_elements, rk)
+                end do
+            end associate
+        end do
+        select case (this%scheme)
+        case (scheme_ph_em)
+            this%n_history = 3
+        case (scheme_ph_irreducible)
+            this%n_history = 2 * this%n_gauss
+        case default
+            this%n_history = 0
+        end select
+        this%n_y = this%n_free
+        if (this%scheme == scheme_ph_em .and. .not. this%condensed) &
+            this%n_y = this%n_free + 3 * this%n_elements
+        call build_pattern(this)
+        allocate(this%q_1(this%n_q), this%f_ext(this%n_q), this%f_rod(this%n_q, size(this%rods)))
+        allocate(this%work_since_record(size(this%rods)), source=0.0_rk)
+        call set_initial_state(this, scene, rods)
+    end subroutine planar_init
+
+    !> The straight, stress-free rods at rest or in rigid motion (methods §3.1, §6): nodes along
+    !> the rod, theta_0 from its direction, strains zero; v = velocity + omega x (x -
+    !> rotation_center) and theta' = omega . normal. A shared node takes the values of the
+    !> first rod that reaches it (joined rods agree there by the input check).
+    subroutine set_initial_state(this, scene, rods)
+        type(ph_planar_t), intent(inout) :: this
+        type(scene_t), intent(in) :: scene
+        integer, intent(in) :: rods(:)
+        real(rk) :: p(3), v(3), t(3)
+        logical :: done(this%n_q)
+        integer :: r, k
+        allocate(this%initial(this%n_state()), source=0.0_rk)
+        done = .false.
+        do r = 1, size(rods)
+            associate (input => scene%rods(rods(r)), rod => this%rods(r))
+                t = input%direction / norm2(input%direction)
+                do k = 1, rod%n_elements + 1
+                    p = input%start + rod%length * real(k - 1, rk) / real(rod%n_elements, rk) * t
+                    v = input%velocity + cross(input%angular_velocity, p - input%rotation_center)
+                    if (.not. done(rod%dofs(1, k))) then
+                        this%initial(rod%dofs(1:2, k)) = point_in_plane(this%plane, p)
+                        this%initial(this%n_q + rod%dofs(1:2, k)) = vector_in_plane(this%plane, v)
+                        done(rod%dofs(1:2, k)) = .true.
+                    end if
+                    if (.not. done(rod%dofs(3, k))) then
+                        this%initial(rod%dofs(3, k)) = rod%theta0
+                        this%initial(this%n_q + rod%dofs(3, k)) = dot_product( &
+                            input%angular_velocity, this%plane%normal)
+                        done(rod%dofs(3, k)) = .true.
+                    end if
+                end do
+            end associate
+        end do
+    end subroutine set_initial_state
+
+    !> Mesh, section and frame of one straight rod (methods §3.1): EA, the in-plane shear
+    !> stiffness and the bending stiffness about the plane normal. The director along the normal
+    !> (d1 or d2) names them: bending about d_k is EI_k and rhoI_k, in-plane shear is along the
+    !> other director.
+    subroutine build_rod(this, input, rod)
+        type(ph_planar_t), intent(in) :: this
+        type(rod_input_t), intent(in) :: input
+        type(planar_rod_t), intent(out) :: rod
+        real(rk) :: t(3), d1(3), d2(3), n(3), shear_axis(3)
+        n = this%plane%normal
+        t = input%direction / norm2(input%direction)
+        d1 = input%d1
+        d2 = cross(t, d1)
+        rod%name = trim(input%name)
+        rod%n_elements = input%n_elements
+        rod%length = input%length
+        rod%theta0 = angle_in_plane(this%plane, t)
+        rod%directors0(:, 1) = d1
+        rod%directors0(:, 2) = d2
+        rod%directors0(:, 3) = t
+        if (abs(dot_product(d1, n)) > 0.5_rk) then
+            rod%stiffness = [input%EA, input%GA2, input%EI1]
+            rod%rho_i = input%rhoI1
+        else
+            rod%stiffness = [input%EA, input%GA1, input%EI2]
+            rod%rho_i = input%rhoI2
+        end if
+        rod%rho_a = input%rhoA
+        if (this%quasistatic) then
+            rod%rho_a = 0.0_rk
+            rod%rho_i = 0.0_rk
+        end if
+        ! Planar N1 (axial) is N3 along d3; planar N2 acts along the in-plane transverse
+        ! direction n x t; the moment acts about n.
+        shear_axis = cross(n, t)
+        rod%stress_map = 0.0_rk
+        rod%stress_map(3, 1) = 1.0_rk
+        rod%stress_map(1, 2) = dot_product(d1, shear_axis)
+        rod%stress_map(2, 2) = dot_product(d2, shear_axis)
+        rod%stress_map(4, 3) = dot_product(d1, n)
+        rod%stress_map(5, 3) = dot_product(d2, n)
+    end subroutine build_rod
+
+    !> Nodal unknowns: a position (x, y) per distinct point, an angle per distinct rotation.
+    !> Joint ends share their position (revolute) or position and angle (rigid).
+    subroutine number_dofs(this, scene, rods)
+        type(ph_planar_t), intent(inout) :: this
+        type(scene_t), intent(in) :: scene
+        integer, intent(in) :: rods(:)
+        integer :: r, k, next
+        do r = 1, size(this%rods)
+            allocate(this%rods(r)%dofs(3, this%rods(r)%n_elements + 1), source=0)
+        end do
+        next = 0
+        do r = 1, size(this%rods)
+            associate (rod => this%rods(r))
+                do k = 1, rod%n_elements + 1
+                    if (rod%dofs(1, k) == 0) then
+                        rod%dofs(1:2, k) = [next + 1, next + 2]
+                        next = next + 2
+                        call share(r, k, 1)
+                    end if
+                    if (rod%dofs(3, k) == 0) then
+                        rod%dofs(3, k) = next + 1
+                        next = next + 1
+                        call share(r, k, 3)
+                    end if
+                end do
+            end associate
+        end do
+        this%n_q = next
+    contains
+        !> Give every end joined to end (r, k) the unknowns `what` (1: position, 3: angle) of
+        !> (r, k), following chains of joints.
+        recursive subroutine share(r0, k0, what)
+            integer, intent(in) :: r0, k0, what
+            integer :: other, other_node, j, a, b, end_a, end_b
+            if (.not. allocated(scene%joints)) return
+            do j = 1, size(scene%joints)
+                associate (joint => scene%joints(j))
+                    if (what == 3 .and. trim(joint%kind) /= 'rigid') cycle
+                    a = slot_of(joint%rod_a)
+                    b = slot_of(joint%rod_b)
+                    if (a == 0 .or. b == 0) cycle
+                    end_a = end_node(a, joint%end_a)
+                    end_b = end_node(b, joint%end_b)
+                    if (a == r0 .and. end_a == k0) then
+                        other = b
+                        other_node = end_b
+                    else if (b == r0 .and. end_b == k0) then
+                        other = a
+                        other_node = end_a
+                    else
+                        cycle
+                    end if
+                    if (this%rods(other)%dofs(what, other_node) /= 0) cycle
+                    if (what == 1) then
+                        this%rods(other)%dofs(1:2, other_node) = this%rods(r0)%dofs(1:2, k0)
+                    else
+                        this%rods(other)%dofs(3, other_node) = this%rods(r0)%dofs(3, k0)
+                    end if
+                    call share(other, other_node, what)
+                end associate
+            end do
+        end subroutine share
+
+        integer function slot_of(name)
+            character(len=*), intent(in) :: name
+            integer :: i
+            slot_of = 0
+            do i = 1, size(rods)
+                if (trim(scene%rods(rods(i))%name) == trim(name)) slot_of = i
+            end do
+        end function slot_of
+
+        integer function end_node(slot, which)
+            integer, intent(in) :: slot
+            character(len=*), intent(in) :: which
+            end_node = merge(1, this%rods(slot)%n_elements + 1, trim(which) == 'start')
+        end function end_node
+    end subroutine number_dofs
+
+    !> Supports (methods §6.2, §6.3): clamped fixes x, y, theta of the end node, pinned x, y.
+    !> The remaining unknowns are numbered in q order.
+    subroutine fix_supports(this, scene, rods, err)
+        type(ph_planar_t), intent(inout) :: this
+        type(scene_t), intent(in) :: scene
+        integer, intent(in) :: rods(:)
+        type(error_t), allocatable, intent(out) :: err
+        character(len=:), allocatable :: message
+        logical :: fixed(this%n_q)
+        integer :: i, r, node, next
+        fixed = .false.
+        do i = 1, size(scene%bcs)
+            associate (bc => scene%bcs(i))
+                do r = 1, size(rods)
+                    if (trim(scene%rods(rods(r))%name) /= trim(bc%rod)) cycle
+                    node = merge(1, this%rods(r)%n_elements + 1, trim(bc%end) == 'start')
+                    select case (trim(bc%kind))
+                    case ('clamped')
+                        fixed(this%rods(r)%dofs(:, node)) = .true.
+                    case ('pinned')
+                        fixed(this%rods(r)%dofs(1:2, node)) = .true.
+                    case ('free')
+                    case default
+                        message = 'rod ''' // trim(bc%rod) // ''': a ''' // trim(bc%kind) // &
+                            ''' end is not available for ' // this%formulation_name // &
+                            ' (docs/user/capabilities.md)'
+                        RS_SET_ERROR(err, 'ph_planar%init', message)
+                        return
+                    end select
+                end do
+            end associate
+        end do
+        allocate(this%unknown_of(this%n_q), source=0)
+        next = 0
+        do i = 1, this%n_q
+            if (fixed(i)) cycle
+            next = next + 1
+            this%unknown_of(i) = next
+        end do
+        this%n_free = next
+    end subroutine fix_supports
+
+    !> End loads, distributed loads and gravity of the system's rods, in planar components: an
+    !> in-plane force and the moment about the plane normal (methods §3.4).
+    subroutine read_loads(this, scene, rods, err)
+        type(ph_planar_t), intent(inout) :: this
+        type(scene_t), intent(in) :: scene
+        integer, intent(in) :: rods(:)
+        type(error_t), allocatable, intent(out) :: err
+        type(planar_load_t) :: load
+        integer :: i, r, n
+        n = 0
+        allocate(this%loads(size(scene%loads) * size(rods)))
+        do i = 1, size(scene%loads)
+            associate (input => scene%loads(i))
+                do r = 1, size(rods)
+                    if (trim(input%rod) /= trim(scene%rods(rods(r))%name) .and. .not. &
+                        (len_trim(input%rod) == 0 .and. trim(input%where) == 'gravity')) cycle
+                    load = planar_load_t()
+                    load%rod = r
+                    call time_function_from_load(input, load%factor, err)
+                    RS_RETURN_IF_ERROR(err)
+                    select case (trim(input%where))
+                    case ('start')
+                        load%node = 1
+                    case ('end')
+                        load%node = this%rods(r)%n_elements + 1
+                    case default
+                        load%node = 0
+                    end select
+                    if (trim(input%where) == 'gravity') then
+                        ! The mass of the rod, not the (zero) quasistatic inertia.
+                        load%force = scene%rods(rods(r))%rhoA * vector_in_plane(this%plane, &
+                            input%acceleration)
+                    else
+                        load%force = vector_in_plane(this%plane, input%force)
+                        load%moment = dot_product(input%moment, this%plane%normal)
+                    end if
+                    n = n + 1
+                    this%loads(n) = load
+                end do
+            end associate
+        end do
+        this%loads = this%loads(1:n)
+    end subroutine read_loads
+
+    !> The Jacobian pattern: the element couplings (q_a, q_b, strains), and per element where
+    !> each local entry goes.
+    subroutine build_pattern(this)
+        type(ph_planar_t), intent(inout) :: this
+        type(csr_builder_t) :: builder
+        integer :: e, i, j, n_local
+        integer, allocatable :: local(:)
+        n_local = merge(9, 6, this%scheme == scheme_ph_em .and. .not. this%condensed)
+        allocate(local(n_local))
+        call builder%init(this%n_y, this%n_elements * n_local**2)
+        do e = 1, this%n_elements
+            call local_unknowns(this, e, local)
+            call builder%add_block(local, local)
+        end do
+        call builder%build(this%pattern)
+        allocate(this%element_map(n_local, n_local, this%n_elements), source=0)
+        do e = 1, this%n_elements
+            call local_unknowns(this, e, local)
+            do j = 1, n_local
+                if (local(j) <= 0) cycle
+                do i = 1, n_local
+                    if (local(i) <= 0) cycle
+                    this%element_map(i, j, e) = this%pattern%position(local(i), local(j))
+                end do
+            end do
+        end do
+    end subroutine build_pattern
+
+    !> Indices into Y of element e's local unknowns (0 for a fixed one).
+    pure subroutine local_unknowns(this, e, local)
+        type(ph_planar_t), intent(in) :: this
+        integer, intent(in) :: e
+        integer, intent(out) :: local(:)
+        integer :: i
+        do i = 1, 6
+            local(i) = this%unknown_of(this%element_dofs(i, e))
+        end do
+        if (size(local) == 9) local(7:9) = this%n_free + 3 * (e - 1) + [1, 2, 3]
+    end subroutine local_unknowns
+
+    ! ---- Sizes and state --------------------------------------------------------------------
+
+    pure integer function planar_n_state(this)
+        class(ph_planar_t), intent(in) :: this
+        planar_n_state = 2 * this%n_q + this%n_history * this%n_elements
+    end function planar_n_state
+
+    pure integer function planar_n_unknown(this)
+        class(ph_planar_t), intent(in) :: this
+        planar_n_unknown = this%n_y
+    end function planar_n_unknown
+
+    subroutine planar_jacobian_pattern(this, row_ptr, cols)
+        class(ph_planar_t), intent(in) :: this
+        integer, allocatable, intent(out) :: row_ptr(:), cols(:)
+        call this%pattern%zero_based(row_ptr, cols)
+    end subroutine planar_jacobian_pattern
+
+    subroutine planar_initial_state(this, x)
+        class(ph_planar_t), intent(in) :: this
+        real(rk), intent(out) :: x(:)
+        x = this%initial
+    end subroutine planar_initial_state
+
+    !> The nodal unknowns q_{n+1}: Y's entries where free, q_n where a support fixes them.
+    pure subroutine full_q(this, q_n, y, q)
+        class(ph_planar_t), intent(in) :: this
+        real(rk), intent(in) :: q_n(:), y(:)
+        real(rk), intent(out) :: q(:)
+        integer :: i
+        do i = 1, this%n_q
+            if (this%unknown_of(i) > 0) then
+                q(i) = y(this%unknown_of(i))
+            else
+                q(i) = q_n(i)
+            end if
+        end do
+    end subroutine full_q
+
+    !> The first iterate: q_{n+1} = q_n and the strains of t_n (methods §4.6, as the authors).
+    subroutine planar_predictor(this, t_n, h, x_n, y)
+        class(ph_planar_t), intent(inout) :: this
+        real(rk), intent(in) :: t_n, h, x_n(:)
+        real(rk), intent(out) :: y(:)
+        integer :: i
+        do i = 1, this%n_q
+            if (this%unknown_of(i) > 0) y(this%unknown_of(i)) = x_n(i)
+        end do
+        if (this%n_y > this%n_free) y(this%n_free + 1:) = x_n(2 * this%n_q + 1:)
+    end subroutine planar_predictor
+
+    !> X_{n+1}: q from Y, v_{n+1} = 2 (q_{n+1} - q_n) / h - v_n (the midpoint rule, methods §4.3;
+    !> zero in a quasistatic run, which has no velocities), and the element history.
+    subroutine planar_update(this, t_n, h, x_n, y, x_1)
+        class(ph_planar_t), intent(inout) :: this
+        real(rk), intent(in) :: t_n, h, x_n(:), y(:)
+        real(rk), intent(out) :: x_1(:)
+        integer :: e, first
+        call this%full_q(x_n(1:this%n_q), y, x_1(1:this%n_q))
+        if (this%quasistatic) then
+            x_1(this%n_q + 1:2 * this%n_q) = 0.0_rk
+        else
+            x_1(this%n_q + 1:2 * this%n_q) = 2.0_rk * (x_1(1:this%n_q) - x_n(1:this%n_q)) / h - &
+                x_n(this%n_q + 1:2 * this%n_q)
+        end if
+        if (this%n_history == 0) return
+        first = 2 * this%n_q
+        do e = 1, this%n_elements
+            call this%element_strains(e, h, x_n, x_1(1:this%n_q), y, &
+                x_1(first + this%n_history * (e - 1) + 1:first + this%n_history * e))
+        end do
+    end subroutine planar_update
+
+    !> Element e's history at t_{n+1}: the mixed strains (from Y, or the condensed update of
+    !> methods eqs. 63-64) or the Gauss-point strains of PH-EMi (methods eq. 78).
+    subroutine element_strains(this, e, h, x_n, q_1, y, hist)
+        class(ph_planar_t), intent(in) :: this
+        integer, intent(in) :: e
+        real(rk), intent(in) :: h, x_n(:), q_1(:), y(:)
+        real(rk), intent(out) :: hist(:)
+        real(rk) :: q_n6(6), q_16(6), r6(6), k6(6, 6), gammas(2, this%n_gauss)
+        integer :: at
+        q_n6 = x_n(this%element_dofs(:, e))
+        q_16 = q_1(this%element_dofs(:, e))
+        at = 2 * this%n_q + this%n_history * (e - 1)
+        select case (this%scheme)
+        case (scheme_ph_em)
+            if (this%condensed) then
+                associate (rod => this%rods(this%element_rod(e)))
+                    call ph_em_condensed(this%element_length(e), rod%stiffness, this%n_gauss, h, &
+                        q_n6, q_16, x_n(at + 1:at + 3), r6, k6, hist)
+                end associate
+            else
+                hist = y(this%n_free + 3 * (e - 1) + 1:this%n_free + 3 * e)
+            end if
+        case (scheme_ph_irreducible)
+            call ph_emi_strains(this%element_length(e), this%n_gauss, q_n6, q_16, &
+                reshape(x_n(at + 1:at + 2 * this%n_gauss), [2, this%n_gauss]), gammas)
+            hist = reshape(gammas, [2 * this%n_gauss])
+        end select
+    end subroutine element_strains
+
+    ! ---- The step problem -------------------------------------------------------------------
+
+    !> F(Y): per free nodal unknown the time-discrete momentum balance, inertia M (v_{n+1} -
+    !> v_n) / h plus internal forces minus loads at t_{n+1/2} (methods §4.3); per element of an
+    !> uncondensed PH-EM system its strain rows (scaled by 1/h as the authors, so that the
+    !> Newton norm is theirs, methods §4.6).
+    subroutine planar_step_residual(this, t_n, h, x_n, y, f, status)
+        class(ph_planar_t), intent(inout) :: this
+        real(rk), intent(in) :: t_n, h, x_n(:), y(:)
+        real(rk), intent(out) :: f(:)
+        integer, intent(out) :: status
+        real(rk) :: r9(9), k6(6, 6), e_1(3), m6(6, 6), q_n6(6), q_16(6), v_n6(6)
+        integer :: e, i, at, row
+        f = 0.0_rk
+        call this%full_q(x_n(1:this%n_q), y, this%q_1)
+        do e = 1, this%n_elements
+            associate (rod => this%rods(this%element_rod(e)), le => this%element_length(e), &
+                    dofs => this%element_dofs(:, e))
+                q_n6 = x_n(dofs)
+                q_16 = this%q_1(dofs)
+                at = 2 * this%n_q + this%n_history * (e - 1)
+                r9 = 0.0_rk
+                select case (this%scheme)
+                case (scheme_ph_em)
+                    if (this%condensed) then
+                        call ph_em_condensed(le, rod%stiffness, this%n_gauss, h, q_n6, q_16, &
+                            x_n(at + 1:at + 3), r9(1:6), k6, e_1)
+                    else
+                        row = this%n_free + 3 * (e - 1)
+                        call ph_em_residual(le, rod%stiffness, this%n_gauss, h, q_n6, q_16, &
+                            x_n(at + 1:at + 3), y(row + 1:row + 3), r9)
+                        f(row + 1:row + 3) = r9(7:9)
+                    end if
+                case (scheme_stander_stein)
+                    call cl_em_residual(le, rod%stiffness, this%n_gauss, q_n6, q_16, r9(1:6))
+                case (scheme_ph_irreducible)
+                    call ph_emi_residual(le, rod%stiffness, this%n_gauss, q_n6, q_16, &
+                        reshape(x_n(at + 1:at + 2 * this%n_gauss), [2, this%n_gauss]), r9(1:6))
+                end select
+                if (.not. this%quasistatic) then
+                    v_n6 = x_n(this%n_q + dofs)
+                    call element_mass(le, rod%rho_a, rod%rho_i, m6)
+                    r9(1:6) = r9(1:6) + matmul(m6, 2.0_rk * (q_16 - q_n6) / h - 2.0_rk * v_n6) / h
+                end if
+                do i = 1, 6
+                    row = this%unknown_of(dofs(i))
+                    if (row > 0) f(row) = f(row) + r9(i)
+                end do
+            end associate
+        end do
+        call this%load_vectors(t_n + 0.5_rk * h)
+        do i = 1, this%n_q
+            if (this%unknown_of(i) > 0) f(this%unknown_of(i)) = f(this%unknown_of(i)) - this%f_ext(i)
+        end do
+        status = state_valid
+        if (any(f /= f)) status = state_invalid
+    end subroutine planar_step_residual
+
+    !> dF/dY: the element tangents (methods §10: analytic, checked against finite differences in
+    !> tests/unit/formulations/test_planar_element) plus (2 / h^2) M in the nodal block.
+    subroutine planar_step_jacobian(this, t_n, h, x_n, y, values, status)
+        class(ph_planar_t), intent(inout) :: this
+        real(rk), intent(in) :: t_n, h, x_n(:), y(:)
+        real(rk), intent(out) :: values(:)
+        integer, intent(out) :: status
+        real(rk) :: k9(9, 9), r6(6), e_1(3), m6(6, 6), q_n6(6), q_16(6)
+        integer :: e, i, j, at, row, n_local
+        values = 0.0_rk
+        n_local = size(this%element_map, 1)
+        call this%full_q(x_n(1:this%n_q), y, this%q_1)
+        do e = 1, this%n_elements
+            associate (rod => this%rods(this%element_rod(e)), le => this%element_length(e), &
+                    dofs => this%element_dofs(:, e))
+                q_n6 = x_n(dofs)
+                q_16 = this%q_1(dofs)
+                at = 2 * this%n_q + this%n_history * (e - 1)
+                k9 = 0.0_rk
+                select case (this%scheme)
+                case (scheme_ph_em)
+                    if (this%condensed) then
+                        call ph_em_condensed(le, rod%stiffness, this%n_gauss, h, q_n6, q_16, &
+                            x_n(at + 1:at + 3), r6, k9(1:6, 1:6), e_1)
+                    else
+                        row = this%n_free + 3 * (e - 1)
+                        call ph_em_jacobian(le, rod%stiffness, this%n_gauss, h, q_n6, q_16, &
+                            x_n(at + 1:at + 3), y(row + 1:row + 3), k9)
+                    end if
+                case (scheme_stander_stein)
+                    call cl_em_jacobian(le, rod%stiffness, this%n_gauss, q_n6, q_16, k9(1:6, 1:6))
+                case (scheme_ph_irreducible)
+                    call ph_emi_jacobian(le, rod%stiffness, this%n_gauss, q_n6, q_16, &
+                        reshape(x_n(at + 1:at + 2 * this%n_gauss), [2, this%n_gauss]), &
+                        k9(1:6, 1:6))
+                end select
+                if (.not. this%quasistatic) then
+                    call element_mass(le, rod%rho_a, rod%rho_i, m6)
+                    k9(1:6, 1:6) = k9(1:6, 1:6) + (2.0_rk / h**2) * m6
+                end if
+                do j = 1, n_local
+                    do i = 1, n_local
+                        if (this%element_map(i, j, e) > 0) values(this%element_map(i, j, e)) = &
+                            values(this%element_map(i, j, e)) + k9(i, j)
+                    end do
+                end do
+            end associate
+        end do
+        status = state_valid
+        if (any(values /= values)) status = state_invalid
+    end subroutine planar_step_jacobian
+
+    !> Nodal load vectors at time t: per rod (f_rod, for its work) and in total (f_ext).
+    !> Distributed loads are consistent, int N_I nbar ds = nbar L_e / 2 per node (methods §3.4).
+    subroutine load_vectors(this, t)
+        class(ph_planar_t), intent(inout) :: this
+        real(rk), intent(in) :: t
+        real(rk) :: factor, half
+        integer :: i, e, k, r
+        this%f_rod = 0.0_rk
+        do i = 1, size(this%loads)
+            r = this%loads(i)%rod
+            associate (load => this%loads(i), rod => this%rods(r))
+                factor = load%factor%value(t)
+                if (load%node > 0) then
+                    k = load%node
+                    this%f_rod(rod%dofs(1:2, k), r) = this%f_rod(rod%dofs(1:2, k), r) + &
+                        factor * load%force
+                    this%f_rod(rod%dofs(3, k), r) = this%f_rod(rod%dofs(3, k), r) + &
+                        factor * load%moment
+                else
+                    half = 0.5_rk * factor * rod%length / real(rod%n_elements, rk)
+                    do e = 1, rod%n_elements
+                        do k = e, e + 1
+                            this%f_rod(rod%dofs(1:2, k), r) = this%f_rod(rod%dofs(1:2, k), r) + &
+                                half * load%force
+                            this%f_rod(rod%dofs(3, k), r) = this%f_rod(rod%dofs(3, k), r) + &
+                                half * load%moment
+                        end do
+                    end do
+                end if
+            end associate
+        end do
+        this%f_ext = sum(this%f_rod, dim=2)
+    end subroutine load_vectors
+
+    ! ---- After a step: energy balance (methods §4.1, eq. 55) -------------------------------
+
+    subroutine planar_accept_step(this, t_n, h, x_n, x_1, newton_iterations, residual_norm)
+        class(ph_planar_t), intent(inout) :: this
+        real(rk), intent(in) :: t_n, h, x_n(:), x_1(:)
+        integer, intent(in) :: newton_iterations
+        real(rk), intent(in) :: residual_norm
+        real(rk) :: kinetic_n(size(this%rods)), strain_n(size(this%rods))
+        real(rk) :: kinetic_1(size(this%rods)), strain_1(size(this%rods)), work
+        integer :: r
+        call this%load_vectors(t_n + 0.5_rk * h)
+        call this%rod_energies(x_n, kinetic_n, strain_n)
+        call this%rod_energies(x_1, kinetic_1, strain_1)
+        do r = 1, size(this%rods)
+            work = dot_product(this%f_rod(:, r), x_1(1:this%n_q) - x_n(1:this%n_q))
+            this%work_since_record(r) = this%work_since_record(r) + work
+            this%balance_since_record = this%balance_since_record + (kinetic_1(r) + &
+                strain_1(r)) - (kinetic_n(r) + strain_n(r)) - work
+        end do
+        this%iterations_since_record = this%iterations_since_record + newton_iterations
+        this%smallest_step = min(this%smallest_step, h)
+        this%last_residual = residual_norm
+    end subroutine planar_accept_step
+
+    !> Kinetic energy 1/2 v^T M v with the consistent mass and the strain energy of each rod
+    !> (methods §4.3 "discrete diagnostics"): of the mixed strains (PH-EM), of the compatible
+    !> strains with the scheme's quadrature (cl-EM) or of the Gauss-point strains (PH-EMi).
+    subroutine rod_energies(this, x, kinetic, strain)
+        class(ph_planar_t), intent(in) :: this
+        real(rk), intent(in) :: x(:)
+        real(rk), intent(out) :: kinetic(:), strain(:)
+        real(rk) :: m6(6, 6), v6(6), q6(6), g(2, 2), w, kappa
+        integer :: e, r, at, p
+        kinetic = 0.0_rk
+        strain = 0.0_rk
+        do e = 1, this%n_elements
+            r = this%element_rod(e)
+            associate (rod => this%rods(r), le => this%element_length(e), &
+                    dofs => this%element_dofs(:, e))
+                q6 = x(dofs)
+                if (.not. this%quasistatic) then
+                    v6 = x(this%n_q + dofs)
+                    call element_mass(le, rod%rho_a, rod%rho_i, m6)
+                    kinetic(r) = kinetic(r) + 0.5_rk * dot_product(v6, matmul(m6, v6))
+                end if
+                at = 2 * this%n_q + this%n_history * (e - 1)
+                select case (this%scheme)
+                case (scheme_ph_em)
+                    strain(r) = strain(r) + mixed_strain_energy(le, rod%stiffness, x(at + 1:at + 3))
+                case (scheme_stander_stein)
+                    strain(r) = strain(r) + compatible_strain_energy(le, rod%stiffness, &
+                        this%n_gauss, q6)
+                case (scheme_ph_irreducible)
+                    g(:, 1:this%n_gauss) = reshape(x(at + 1:at + 2 * this%n_gauss), [2, this%n_gauss])
+                    ! Gauss weights w_g = 2 / n_gauss on [-1, 1], ds = (L_e / 2) dxi.
+                    w = 2.0_rk / real(this%n_gauss, rk)
+                    do p = 1, this%n_gauss
+                        strain(r) = strain(r) + w * 0.5_rk * le * 0.5_rk * (rod%stiffness(1) * &
+                            g(1, p)**2 + rod%stiffness(2) * g(2, p)**2)
+                    end do
+                    kappa = (q6(6) - q6(3)) / le
+                    strain(r) = strain(r) + 0.5_rk * le * rod%stiffness(3) * kappa**2
+                end select
+            end associate
+        end do
+    end subroutine rod_energies
+
+    ! ---- Output (DESIGN.md §7) ---------------------------------------------------------------
+
+    subroutine planar_init_history(this, histories, capacity)
+        class(ph_planar_t), intent(in) :: this
+        type(rod_history_t), intent(inout), target :: histories(:)
+        integer, intent(in) :: capacity
+        integer :: r, k, e
+        real(rk) :: le
+        do r = 1, size(this%rods)
+            associate (rod => this%rods(r))
+                call histories(r)%init(rod%name, this%formulation_name, rod%n_elements + 1, &
+                    rod%n_elements, capacity)
+                le = rod%length / real(rod%n_elements, rk)
+                histories(r)%mesh = [(le * real(k - 1, rk), k = 1, rod%n_elements + 1)]
+                histories(r)%stress_mesh = [(le * (real(e, rk) - 0.5_rk), e = 1, rod%n_elements)]
+                ! No orthonormality constraint to report. Dissipation and actuator work stay
+                ! (zeros), so that the energy balance reads the same for every rod
+                ! (docs/user/output.md).
+                deallocate(histories(r)%constraint_residual)
+            end associate
+        end do
+    end subroutine planar_init_history
+
+    !> Append the state at time t to every rod's history: 3D fields from the plane, stresses at
+    !> the element midpoints (the P0 values), energies, momenta about the origin. The system's
+    !> energy-balance error is reported with its first rod (joints exchange energy between the
+    !> rods, so only the sum balances); /series sums the rods.
+    subroutine planar_record(this, histories, t, x)
+        class(ph_planar_t), intent(inout) :: this
+        type(rod_history_t), intent(inout), target :: histories(:)
+        real(rk), intent(in) :: t, x(:)
+        real(rk) :: kinetic(size(this%rods)), strain(size(this%rods))
+        real(rk) :: q(3), v(3), alpha, d(3), n(3), m6(6, 6), p6(6), q6(6), planar(3)
+        real(rk) :: gammas(3, 2), linear(3), angular(3), centre(3), le
+        integer :: r, k, i, e, rec, at, node
+        n = this%plane%normal
+        call this%rod_energies(x, kinetic, strain)
+        do r = 1, size(this%rods)
+            associate (rod => this%rods(r))
+                rec = histories(r)%next_record()
+                if (rec == 0) cycle
+                histories(r)%time(rec) = t
+                do k = 1, rod%n_elements + 1
+                    q = x(rod%dofs(:, k))
+                    v = x(this%n_q + rod%dofs(:, k))
+                    histories(r)%position(:, k, rec) = point_from_plane(this%plane, q(1:2))
+                    histories(r)%velocity(:, k, rec) = vector_from_plane(this%plane, v(1:2))
+                    alpha = q(3) - rod%theta0
+                    do i = 1, 3
+                        d = rotated(rod%directors0(:, i), n, alpha)
+                        histories(r)%directors(:, i, k, rec) = d
+                        histories(r)%director_velocity(:, i, k, rec) = v(3) * cross(n, d)
+                    end do
+                end do
+                linear = 0.0_rk
+                angular = 0.0_rk
+                centre = 0.0_rk
+                do e = 1, rod%n_elements
+                    i = rod%first_element + e - 1
+                    le = this%element_length(i)
+                    q6 = x(this%element_dofs(:, i))
+                    at = 2 * this%n_q + this%n_history * (i - 1)
+                    select case (this%scheme)
+                    case (scheme_ph_em)
+                        planar = x(at + 1:at + 3)
+                    case (scheme_stander_stein)
+                        call compatible_strains(le, this%n_gauss, q6, gammas(:, 1:this%n_gauss))
+                        planar = sum(gammas(:, 1:this%n_gauss), dim=2) / real(this%n_gauss, rk)
+                    case default
+                        planar(1:2) = sum(reshape(x(at + 1:at + 2 * this%n_gauss), &
+                            [2, this%n_gauss]), dim=2) / real(this%n_gauss, rk)
+                        planar(3) = (q6(6) - q6(3)) / le
+                    end select
+                    histories(r)%strains(:, e, rec) = matmul(rod%stress_map, planar)
+                    histories(r)%stress(:, e, rec) = matmul(rod%stress_map, rod%stiffness * planar)
+                    ! Momenta with the consistent mass (methods eq. 57): r x (M v) + (M v)_theta.
+                    call element_mass(le, rod%rho_a, rod%rho_i, m6)
+                    if (this%quasistatic) m6 = 0.0_rk
+                    p6 = matmul(m6, x(this%n_q + this%element_dofs(:, i)))
+                    do node = 0, 1
+                        linear = linear + vector_from_plane(this%plane, p6(3 * node + 1:3 * node + 2))
+                        angular = angular + cross(point_from_plane(this%plane, &
+                            q6(3 * node + 1:3 * node + 2)), vector_from_plane(this%plane, &
+                            p6(3 * node + 1:3 * node + 2))) + p6(3 * node + 3) * n
+                    end do
+                    centre = centre + 0.5_rk * le * (point_from_plane(this%plane, q6(1:2)) + &
+                        point_from_plane(this%plane, q6(4:5)))
+                end do
+                histories(r)%kinetic(rec) = kinetic(r)
+                histories(r)%strain(rec) = strain(r)
+                histories(r)%total(rec) = kinetic(r) + strain(r)
+                histories(r)%external_work(rec) = this%work_since_record(r)
+                histories(r)%balance_error(rec) = merge(this%balance_since_record, 0.0_rk, r == 1)
+                histories(r)%linear_momentum(:, rec) = linear
+                histories(r)%angular_momentum(:, rec) = angular
+                histories(r)%center_of_mass(:, rec) = centre / rod%length
+                histories(r)%newton_iterations(rec) = this%iterations_since_record
+                histories(r)%newton_residual(rec) = this%last_residual
+                histories(r)%dt(rec) = merge(0.0_rk, this%smallest_step, &
+                    this%smallest_step == huge(1.0_rk))
+            end associate
+        end do
+        this%work_since_record = 0.0_rk
+        this%balance_since_record = 0.0_rk
+        this%iterations_since_record = 0
+        this%smallest_step = huge(1.0_rk)
+    end subroutine planar_record
+
+    function planar_describe(this) result(text)
+        class(ph_planar_t), intent(in) :: this
+        character(len=:), allocatable :: text
+        character(len=:), allocatable :: names, scheme
+        integer :: r
+        names = this%rods(1)%name
+        do r = 2, size(this%rods)
+            names = names // '+' // this%rods(r)%name
+        end do
+        select case (this%scheme)
+        case (scheme_ph_em)
+            if (this%condensed) then
+                scheme = 'PH-EM, strains condensed per element'
+            else
+                scheme = 'PH-EM, element strains as unknowns'
+            end if
+        case (scheme_stander_stein)
+            scheme = 'Stander-Stein, ' // str(this%n_gauss) // '-point axial/shear quadrature'
+        case default
+            scheme = 'PH-EMi, strain history at ' // str(this%n_gauss) // ' Gauss points'
+        end select
+        text = 'rod ''' // names // ''': ' // this%formulation_name // ' (' // scheme // '), ' // &
+            str(size(this%rods)) // ' rod(s), ' // str(this%n_elements) // ' elements, ' // &
+            str(this%n_y) // ' Newton unknowns, ' // str(this%pattern%nnz()) // &
+            ' Jacobian non-zeros'
+    end function planar_describe
+
+    ! ---- Checkpoint (DESIGN.md §7): the sums since the last record ----------------------------
+
+    pure integer function planar_n_internal(this)
+        class(ph_planar_t), intent(in) :: this
+        planar_n_internal = size(this%rods) + 4
+    end function planar_n_internal
+
+    subroutine planar_save_internal(this, values)
+        class(ph_planar_t), intent(in) :: this
+        real(rk), intent(out) :: values(:)
+        integer :: n
+        n = size(this%rods)
+        values(1:n) = this%work_since_record
+        values(n + 1:n + 4) = [this%balance_since_record, this%smallest_step, this%last_residual, &
+            real(this%iterations_since_record, rk)]
+    end subroutine planar_save_internal
+
+    subroutine planar_restore_internal(this, values)
+        class(ph_planar_t), intent(inout) :: this
+        real(rk), intent(in) :: values(:)
+        integer :: n
+        n = size(this%rods)
+        this%work_since_record = values(1:n)
+        this%balance_since_record = values(n + 1)
+        this%smallest_step = values(n + 2)
+        this%last_residual = values(n + 3)
+        this%iterations_since_record = nint(values(n + 4))
+    end subroutine planar_restore_internal
+
+    !> PETSc's own LU is safe without pivoting when every diagonal entry is non-zero: the mass
+    !> (2/h^2) M on the nodal block of a dynamic run, the stiffness of the condensed element
+    !> tangent. An uncondensed quasistatic Jacobian has zero (x, y) diagonals (the nodal forces
+    !> of PH-EM depend on the positions only through the strains): MUMPS pivots there.
+    pure logical function planar_native_lu(this)
+        class(ph_planar_t), intent(in) :: this
+        planar_native_lu = .not. this%quasistatic .or. this%condensed .or. &
+            this%scheme /= scheme_ph_em
+    end function planar_native_lu
+
+    !> Plain Newton, as the authors (methods §4.6): the paper's iteration counts are for the full
+    !> step, and backtracking multiplies the displacement schemes' iterations tenfold on the
+    !> four-bar (docs/performance.md).
+    pure logical function planar_full_newton(this)
+        class(ph_planar_t), intent(in) :: this
+        planar_full_newton = .true.
+    end function planar_full_newton
+
+    ! ---- Small helpers ----------------------------------------------------------------------
+
+    !> v rotated by the angle alpha about the unit axis n (Rodrigues).
+    pure function rotated(v, n, alpha) result(w)
+        real(rk), intent(in) :: v(3), n(3), alpha
+        real(rk) :: w(3)
+        w = v * cos(alpha) + cross(n, v) * sin(alpha) + n * dot_product(n, v) * &
+            (1.0_rk - cos(alpha))
+    end function rotated
+
+end module rs_ph_planar

@@ -1,0 +1,75 @@
+!> Which rods a scene couples (DESIGN.md §4, §5): rods tied by &joint groups form one system
+!> that is solved as a whole; every other rod is a system of its own. The systems are numbered
+!> by their first rod, so a scene without joints has system i = rod i.
+module rs_model_coupling
+    use rs_model_scene, only: scene_t
+    implicit none
+    private
+
+    public :: coupled_systems
+
+contains
+
+    !> system_of(i): the system of rod i (1..n_systems); members(first(k):first(k+1)-1) are the
+    !> rods of system k in rod order (the first one leads the system).
+    pure subroutine coupled_systems(scene, system_of, first, members)
+        type(scene_t), intent(in) :: scene
+        integer, allocatable, intent(out) :: system_of(:), first(:), members(:)
+        integer :: parent(size(scene%rods)), i, j, a, b, n_rods, n_systems, k, at
+        n_rods = size(scene%rods)
+        parent = [(i, i = 1, n_rods)]
+        ! Union of the two rods of every joint (the smaller index is the root).
+        if (allocated(scene%joints)) then
+            do j = 1, size(scene%joints)
+                a = root(rod_named(scene%joints(j)%rod_a))
+                b = root(rod_named(scene%joints(j)%rod_b))
+                if (a == 0 .or. b == 0) cycle
+                parent(max(a, b)) = min(a, b)
+            end do
+        end if
+        allocate(system_of(n_rods))
+        n_systems = 0
+        do i = 1, n_rods
+            a = root(i)
+            if (a == i) then
+                n_systems = n_systems + 1
+                system_of(i) = n_systems
+            else
+                system_of(i) = system_of(a)
+            end if
+        end do
+        allocate(first(n_systems + 1), members(n_rods))
+        at = 1
+        do k = 1, n_systems
+            first(k) = at
+            do i = 1, n_rods
+                if (system_of(i) /= k) cycle
+                members(at) = i
+                at = at + 1
+            end do
+        end do
+        first(n_systems + 1) = at
+    contains
+        pure integer function root(i)
+            integer, intent(in) :: i
+            root = i
+            if (root == 0) return
+            do while (parent(root) /= root)
+                root = parent(root)
+            end do
+        end function root
+
+        pure integer function rod_named(name)
+            character(len=*), intent(in) :: name
+            integer :: r
+            rod_named = 0
+            do r = 1, n_rods
+                if (trim(scene%rods(r)%name) == trim(name)) then
+                    rod_named = r
+                    return
+                end if
+            end do
+        end function rod_named
+    end subroutine coupled_systems
+
+end module rs_model_coupling
