@@ -37,7 +37,8 @@ module rs_ph_planar
     use rs_formulations_formulation, only: rod_formulation_t, state_valid, state_invalid
     use rs_ph_planar_element, only: ph_em_residual, ph_em_jacobian, ph_em_condensed, &
         cl_em_residual, cl_em_jacobian, ph_emi_residual, ph_emi_jacobian, ph_emi_strains, &
-        element_mass, mixed_strain_energy, compatible_strain_energy, compatible_strains
+        element_mass, mixed_strain_energy, compatible_strain_energy, compatible_strains, &
+        ph_emi_strain_energy
     implicit none
     private
 
@@ -573,8 +574,8 @@ contains
         integer, intent(in) :: e
         real(rk), intent(in) :: h, x_n(:), q_1(:), y(:)
         real(rk), intent(out) :: hist(:)
-        real(rk) :: q_n6(6), q_16(6), r6(6), k6(6, 6), gammas(2, this%n_gauss)
-        integer :: at
+        real(rk) :: q_n6(6), q_16(6), r6(6), k6(6, 6), gamma_n(2, 2), gammas(2, 2)
+        integer :: at, p
         q_n6 = x_n(this%element_dofs(:, e))
         q_16 = q_1(this%element_dofs(:, e))
         at = 2 * this%n_q + this%n_history * (e - 1)
@@ -589,11 +590,27 @@ contains
                 hist = y(this%n_free + 3 * (e - 1) + 1:this%n_free + 3 * e)
             end if
         case (scheme_ph_irreducible)
+            call history_at_gauss_points(this, x_n, at, gamma_n)
             call ph_emi_strains(this%element_length(e), this%n_gauss, q_n6, q_16, &
-                reshape(x_n(at + 1:at + 2 * this%n_gauss), [2, this%n_gauss]), gammas)
-            hist = reshape(gammas, [2 * this%n_gauss])
+                gamma_n(:, 1:this%n_gauss), gammas(:, 1:this%n_gauss))
+            do p = 1, this%n_gauss
+                hist(2 * p - 1:2 * p) = gammas(:, p)
+            end do
         end select
     end subroutine element_strains
+
+    !> The Gauss-point strains of PH-EMi stored in x from position at + 1 (methods eq. 78).
+    pure subroutine history_at_gauss_points(this, x, at, gammas)
+        class(ph_planar_t), intent(in) :: this
+        real(rk), intent(in) :: x(:)
+        integer, intent(in) :: at
+        real(rk), intent(out) :: gammas(2, 2)
+        integer :: p
+        gammas = 0.0_rk
+        do p = 1, this%n_gauss
+            gammas(:, p) = x(at + 2 * p - 1:at + 2 * p)
+        end do
+    end subroutine history_at_gauss_points
 
     ! ---- The step problem -------------------------------------------------------------------
 
@@ -606,7 +623,7 @@ contains
         real(rk), intent(in) :: t_n, h, x_n(:), y(:)
         real(rk), intent(out) :: f(:)
         integer, intent(out) :: status
-        real(rk) :: r9(9), k6(6, 6), e_1(3), m6(6, 6), q_n6(6), q_16(6), v_n6(6)
+        real(rk) :: r9(9), k6(6, 6), e_1(3), m6(6, 6), q_n6(6), q_16(6), v_n6(6), gamma_n(2, 2)
         integer :: e, i, at, row
         f = 0.0_rk
         call this%full_q(x_n(1:this%n_q), y, this%q_1)
@@ -631,8 +648,9 @@ contains
                 case (scheme_stander_stein)
                     call cl_em_residual(le, rod%stiffness, this%n_gauss, q_n6, q_16, r9(1:6))
                 case (scheme_ph_irreducible)
+                    call history_at_gauss_points(this, x_n, at, gamma_n)
                     call ph_emi_residual(le, rod%stiffness, this%n_gauss, q_n6, q_16, &
-                        reshape(x_n(at + 1:at + 2 * this%n_gauss), [2, this%n_gauss]), r9(1:6))
+                        gamma_n(:, 1:this%n_gauss), r9(1:6))
                 end select
                 if (.not. this%quasistatic) then
                     v_n6 = x_n(this%n_q + dofs)
@@ -660,7 +678,7 @@ contains
         real(rk), intent(in) :: t_n, h, x_n(:), y(:)
         real(rk), intent(out) :: values(:)
         integer, intent(out) :: status
-        real(rk) :: k9(9, 9), r6(6), e_1(3), m6(6, 6), q_n6(6), q_16(6)
+        real(rk) :: k9(9, 9), k6(6, 6), r6(6), e_1(3), m6(6, 6), q_n6(6), q_16(6), gamma_n(2, 2)
         integer :: e, i, j, at, row, n_local
         values = 0.0_rk
         n_local = size(this%element_map, 1)
@@ -671,23 +689,27 @@ contains
                 q_n6 = x_n(dofs)
                 q_16 = this%q_1(dofs)
                 at = 2 * this%n_q + this%n_history * (e - 1)
+                ! Local arrays of fixed shape: no temporaries in the time loop.
                 k9 = 0.0_rk
                 select case (this%scheme)
                 case (scheme_ph_em)
                     if (this%condensed) then
                         call ph_em_condensed(le, rod%stiffness, this%n_gauss, h, q_n6, q_16, &
-                            x_n(at + 1:at + 3), r6, k9(1:6, 1:6), e_1)
+                            x_n(at + 1:at + 3), r6, k6, e_1)
+                        k9(1:6, 1:6) = k6
                     else
                         row = this%n_free + 3 * (e - 1)
                         call ph_em_jacobian(le, rod%stiffness, this%n_gauss, h, q_n6, q_16, &
                             x_n(at + 1:at + 3), y(row + 1:row + 3), k9)
                     end if
                 case (scheme_stander_stein)
-                    call cl_em_jacobian(le, rod%stiffness, this%n_gauss, q_n6, q_16, k9(1:6, 1:6))
+                    call cl_em_jacobian(le, rod%stiffness, this%n_gauss, q_n6, q_16, k6)
+                    k9(1:6, 1:6) = k6
                 case (scheme_ph_irreducible)
+                    call history_at_gauss_points(this, x_n, at, gamma_n)
                     call ph_emi_jacobian(le, rod%stiffness, this%n_gauss, q_n6, q_16, &
-                        reshape(x_n(at + 1:at + 2 * this%n_gauss), [2, this%n_gauss]), &
-                        k9(1:6, 1:6))
+                        gamma_n(:, 1:this%n_gauss), k6)
+                    k9(1:6, 1:6) = k6
                 end select
                 if (.not. this%quasistatic) then
                     call element_mass(le, rod%rho_a, rod%rho_i, m6)
@@ -770,8 +792,8 @@ contains
         class(ph_planar_t), intent(in) :: this
         real(rk), intent(in) :: x(:)
         real(rk), intent(out) :: kinetic(:), strain(:)
-        real(rk) :: m6(6, 6), v6(6), q6(6), g(2, 2), w, kappa
-        integer :: e, r, at, p
+        real(rk) :: m6(6, 6), v6(6), q6(6), g(2, 2)
+        integer :: e, r, at
         kinetic = 0.0_rk
         strain = 0.0_rk
         do e = 1, this%n_elements
@@ -792,15 +814,9 @@ contains
                     strain(r) = strain(r) + compatible_strain_energy(le, rod%stiffness, &
                         this%n_gauss, q6)
                 case (scheme_ph_irreducible)
-                    g(:, 1:this%n_gauss) = reshape(x(at + 1:at + 2 * this%n_gauss), [2, this%n_gauss])
-                    ! Gauss weights w_g = 2 / n_gauss on [-1, 1], ds = (L_e / 2) dxi.
-                    w = 2.0_rk / real(this%n_gauss, rk)
-                    do p = 1, this%n_gauss
-                        strain(r) = strain(r) + w * 0.5_rk * le * 0.5_rk * (rod%stiffness(1) * &
-                            g(1, p)**2 + rod%stiffness(2) * g(2, p)**2)
-                    end do
-                    kappa = (q6(6) - q6(3)) / le
-                    strain(r) = strain(r) + 0.5_rk * le * rod%stiffness(3) * kappa**2
+                    call history_at_gauss_points(this, x, at, g)
+                    strain(r) = strain(r) + ph_emi_strain_energy(le, rod%stiffness, &
+                        this%n_gauss, q6, g(:, 1:this%n_gauss))
                 end select
             end associate
         end do
@@ -839,7 +855,7 @@ contains
         real(rk), intent(in) :: t, x(:)
         real(rk) :: kinetic(size(this%rods)), strain(size(this%rods))
         real(rk) :: q(3), v(3), alpha, d(3), n(3), m6(6, 6), p6(6), q6(6), planar(3)
-        real(rk) :: gammas(3, 2), linear(3), angular(3), centre(3), le
+        real(rk) :: gammas(3, 2), history(2, 2), linear(3), angular(3), centre(3), le
         integer :: r, k, i, e, rec, at, node
         n = this%plane%normal
         call this%rod_energies(x, kinetic, strain)
@@ -875,8 +891,8 @@ contains
                         call compatible_strains(le, this%n_gauss, q6, gammas(:, 1:this%n_gauss))
                         planar = sum(gammas(:, 1:this%n_gauss), dim=2) / real(this%n_gauss, rk)
                     case default
-                        planar(1:2) = sum(reshape(x(at + 1:at + 2 * this%n_gauss), &
-                            [2, this%n_gauss]), dim=2) / real(this%n_gauss, rk)
+                        call history_at_gauss_points(this, x, at, history)
+                        planar(1:2) = sum(history(:, 1:this%n_gauss), dim=2) / real(this%n_gauss, rk)
                         planar(3) = (q6(6) - q6(3)) / le
                     end select
                     histories(r)%strains(:, e, rec) = matmul(rod%stress_map, planar)
