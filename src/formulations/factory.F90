@@ -6,6 +6,7 @@ module rs_formulations_factory
     use rs_formulations_formulation, only: rod_formulation_t
     use rs_ph_director, only: ph_director_t
     use rs_ph_planar, only: ph_planar_t
+    use rs_se3_pg, only: se3_pg_t
     implicit none
     private
 
@@ -13,7 +14,7 @@ module rs_formulations_factory
 
     !> Formulations this build can run.
     character(len=*), parameter, public :: available_formulations = &
-        'ph_director, ph_planar, cl_em_planar'
+        'ph_director, ph_planar, cl_em_planar, se3_pg'
 
 contains
 
@@ -29,6 +30,8 @@ contains
             allocate(ph_director_t :: formulation)
         case ('ph_planar', 'cl_em_planar')
             allocate(ph_planar_t :: formulation)
+        case ('se3_pg')
+            allocate(se3_pg_t :: formulation)
         case default
             message = 'formulation ''' // trim(name) // &
                 ''' is not available in this version; available: ' // available_formulations

@@ -62,6 +62,15 @@ contains
                 load_frames='spatial', constraints='none', quasistatic=.true., &
                 viscoelastic=.false., actuation=.false., curved_reference=.false., &
                 joints='revolute|rigid', planar=.true.)
+        case ('se3_pg')
+            ! seed 002 (methods/se3_petrov_galerkin.md §3.4, §7, §10): clamped and pinned ends
+            ! by elimination, dead and follower end loads, dead distributed loads and gravity,
+            ! statics (&time quasistatic) and midpoint dynamics; any reference the SE(3)
+            ! interpolation represents.
+            row = capability_t(formulation='se3_pg', available=.true., end_kinds='clamped|pinned|free', &
+                load_places='start|end|distributed|gravity', load_frames='spatial|follower', &
+                constraints='none', quasistatic=.true., viscoelastic=.false., actuation=.false., &
+                curved_reference=.true., joints='', planar=.false.)
         end select
     end function capability_of
 

@@ -353,6 +353,9 @@ static PetscErrorCode stepper_setup(RsStepper *s, const int *row_ptr, const int 
     PetscCall(SNESGetLineSearch(snes, &line_search));
     PetscCall(SNESLineSearchSetType(line_search, full_newton ? SNESLINESEARCHBASIC
                                                              : SNESLINESEARCHBT));
+    /* An undamped first step may raise a badly scaled residual (forces and moments of a
+       slender rod) far above the start before Newton converges: no divergence test then. */
+    if (full_newton) PetscCall(SNESSetDivergenceTolerance(snes, -1.0));
     PetscCall(TSSetFromOptions(s->ts));
     PetscCall(PetscObjectTypeCompare((PetscObject)s->ts, TSRODMID, &is_rodmid));
     PetscCall(TSGetType(s->ts, &type));

@@ -23,6 +23,7 @@ contains
         call run_test('planar_rows', test_planar_rows)
         call run_test('unknown_formulations', test_unknown_formulations)
         call run_test('unavailable_formulations', test_unavailable_formulations)
+        call run_test('se3_pg_row', test_se3_pg_row)
         call run_test('lists_name_whole_names', test_lists_name_whole_names)
         call run_test('lists_name_blank_and_empty', test_lists_name_blank_and_empty)
     end subroutine run_all_tests
@@ -148,9 +149,23 @@ contains
 
     ! Formulations the input language names but this version cannot run (DESIGN.md §1).
     subroutine test_unavailable_formulations()
-        call check_unavailable('se3_pg')
         call check_unavailable('se3_strand')
     end subroutine test_unavailable_formulations
+
+    ! seed 002 (issue 7): clamped and pinned ends, dead and follower end loads, distributed
+    ! loads and gravity, statics, curved references; no constraints, joints or planar limit.
+    subroutine test_se3_pg_row()
+        type(capability_t) :: row
+        row = capability_of('se3_pg')
+        CHECK_TRUE(row%available, 'se3_pg is available')
+        CHECK_TRUE(lists_name(row%end_kinds, 'pinned'), 'pinned ends')
+        CHECK_TRUE(.not. lists_name(row%end_kinds, 'driven'), 'no driven ends yet')
+        CHECK_TRUE(lists_name(row%load_frames, 'follower'), 'follower loads')
+        CHECK_TRUE(lists_name(row%load_places, 'gravity'), 'gravity')
+        CHECK_TRUE(row%quasistatic .and. row%curved_reference, 'statics and curved references')
+        CHECK_TRUE(.not. row%viscoelastic .and. .not. row%actuation .and. .not. row%planar, 'nothing more')
+        CHECK_EQUAL(trim(row%joints), '', 'no joints')
+    end subroutine test_se3_pg_row
 
     subroutine test_lists_name_whole_names()
         CHECK_TRUE(lists_name('clamped|free', 'free'), 'last name')

@@ -1,0 +1,779 @@
+#include "rs_macros.h"
+!> The objective, locking-free SE(3) Petrov–Galerkin rod of seed 002 (methods/
+!> se3_petrov_galerkin.md): two-node elements whose pose field is the relative twist of the
+!> nodal poses scaled linearly (eq. 36), so the strains are constant per element (eq. 38), and
+!> linear, independent test and velocity fields (eq. 41). The pure kernels are in
+!> se3_pg_element.f90; this object assembles one rod.
+!>
+!> Unknowns per node (§5.1): q_i = (I r_i, psi_i), the position and the total rotation vector,
+!> A_i = Exp(psi_i) with the K basis (e_x^K, e_y^K, e_z^K) = (d3, d1, d2) of rodsolve's
+!> directors (d3 along the rod). Velocities u_i = (I v_i, K_i omega_i). After every accepted
+!> step `update` replaces a rotation vector longer than pi by its complement (eq. 40), never
+!> inside Newton; the step then starts from |psi| <= pi, far from the singularities of T^{-1}
+!> at 2 pi k (docs/theory/se3_pg.md).
+!>
+!> Two step problems share the assembly:
+!> - statics (&time quasistatic; methods §7.2): Newton on g_int(q) = f_ext(q, lambda) at the load
+!>   factor lambda = t_{n+1}, the increments cut back by the stepper on failure and grown
+!>   again on the remaining load;
+!> - dynamics: the implicit midpoint rule on q' = B(q) u, M u' = f_ext - g_int - f_gyr (eqs.
+!>   49-50; methods §7.4) with u_{n+1/2} = B(q_{n+1/2})^{-1} (q_{n+1} - q_n) / h eliminated, so
+!>   the unknowns are q_{n+1}. The midpoint rule does not keep the energy of this nonlinear
+!>   element exactly (§7.4): the balance error is reported and measured.
+!>
+!> Supports eliminate unknowns: clamped fixes r and psi, pinned fixes r (the heavy top's
+!> spherical joint). Loads: dead (spatial) and follower end forces and moments, dead
+!> distributed forces and moments, gravity.
+module rs_se3_pg
+    use rs_core_kinds, only: rk, pi
+    use rs_core_error, only: error_t, set_error
+    use rs_core_strings, only: str
+    use rs_model_scene, only: scene_t, rod_input_t
+    use rs_model_rod_history, only: rod_history_t
+    use rs_model_time_function, only: time_function_t, time_function_from_load
+    use rs_model_rod_geometry, only: rod_geometry_t, rod_geometry_of, centreline_point, &
+        centreline_frame
+    use rs_math_so3, only: exp_so3, log_so3, hat, tangent_so3, tangent_so3_derivative, &
+        complement_rotation_vector
+    use rs_math_se3, only: log_se3, pose_relative
+    use rs_assembly_csr_pattern, only: csr_builder_t, csr_pattern_t
+    use rs_formulations_formulation, only: rod_formulation_t, state_valid, state_invalid
+    use rs_se3_pg_element, only: se3_strains, se3_internal_force, se3_internal_tangent, &
+        se3_element_mass, se3_gyroscopic, follower_force, dead_moment, se3_strain_energy
+    implicit none
+    private
+
+    !> An end load (node > 0) or a distributed load (node = 0), scaled by a time function.
+    !> Dead loads in I components; follower loads in the node's K components.
+    type :: se3_load_t
+        integer :: node = 0
+        logical :: follower = .false.
+        real(rk) :: force(3) = 0.0_rk
+        real(rk) :: moment(3) = 0.0_rk
+        type(time_function_t) :: factor
+    end type se3_load_t
+
+    type, extends(rod_formulation_t), public :: se3_pg_t
+        character(len=:), allocatable :: name
+        integer :: n_elements = 0, n_nodes = 0
+        real(rk) :: length = 0.0_rk
+        logical :: statics = .false.
+        !> K-basis stiffnesses (EA, GA1, GA2, GJ, EI1, EI2), mass per length, K-basis inertia
+        !> (rhoI1 + rhoI2, rhoI1, rhoI2) (methods §3.3, §3.5 with (x, y, z) = (d3, d1, d2)).
+        real(rk) :: stiffness(6) = 0.0_rk, rho_a = 0.0_rk, inertia(3) = 0.0_rk
+        !> Per element: reference length l_e = |theta_v(Q)| and reference strains (§5.3).
+        real(rk), allocatable :: element_length(:), eps_ref(:, :)
+        !> Reference arc length of the nodes.
+        real(rk), allocatable :: node_s(:)
+        type(se3_load_t), allocatable :: loads(:)
+        !> unknown_of(i, k): index of q(i) of node k in Y (0: fixed by a support).
+        integer, allocatable :: unknown_of(:, :)
+        integer :: n_y = 0
+        type(csr_pattern_t) :: pattern
+        !> CSR position of entry (i, j) of element e's 12 x 12 block (0: fixed row or column).
+        integer, allocatable :: element_map(:, :, :)
+        real(rk), allocatable :: initial(:)
+        ! Workspace (no allocation in the time loop).
+        real(rk), allocatable :: q_1(:, :), f_ext(:, :), k_ext(:, :, :)
+        ! Book-keeping since the last record.
+        real(rk) :: work_since_record = 0.0_rk
+        real(rk) :: balance_since_record = 0.0_rk
+        real(rk) :: smallest_step = huge(1.0_rk)
+        real(rk) :: last_residual = 0.0_rk
+        integer :: iterations_since_record = 0
+    contains
+        procedure :: init => se3_init
+        procedure :: n_state => se3_n_state
+        procedure :: n_unknown => se3_n_unknown
+        procedure :: jacobian_pattern => se3_jacobian_pattern
+        procedure :: initial_state => se3_initial_state
+        procedure :: predictor => se3_predictor
+        procedure :: update => se3_update
+        procedure :: step_residual => se3_step_residual
+        procedure :: step_jacobian => se3_step_jacobian
+        procedure :: accept_step => se3_accept_step
+        procedure :: init_history => se3_init_history
+        procedure :: record => se3_record
+        procedure :: describe => se3_describe
+        procedure :: n_internal => se3_n_internal
+        procedure :: save_internal => se3_save_internal
+        procedure :: restore_internal => se3_restore_internal
+        procedure :: full_newton => se3_full_newton
+        procedure, private :: full_q, nodal_loads, energies, midpoint_velocity
+    end type se3_pg_t
+
+contains
+
+    ! ---- Building the rod ---------------------------------------------------------------------
+
+    subroutine se3_init(this, scene, rods, err)
+        class(se3_pg_t), intent(inout) :: this
+        type(scene_t), intent(in) :: scene
+        integer, intent(in) :: rods(:)
+        type(error_t), allocatable, intent(out) :: err
+        character(len=:), allocatable :: message
+        if (size(rods) /= 1) then
+            RS_SET_ERROR(err, 'se3_pg%init', 'se3_pg rods cannot be joined yet')
+            return
+        end if
+        associate (rod => scene%rods(rods(1)))
+            this%name = trim(rod%name)
+            this%n_elements = rod%n_elements
+            this%n_nodes = rod%n_elements + 1
+            this%length = rod%length
+            this%statics = scene%time%quasistatic
+            this%stiffness = [rod%EA, rod%GA1, rod%GA2, rod%GJ, rod%EI1, rod%EI2]
+            this%rho_a = rod%rhoA
+            this%inertia = [rod%rhoI1 + rod%rhoI2, rod%rhoI1, rod%rhoI2]
+            call reference_configuration(this, rod)
+            call fix_supports(this, scene, err)
+            RS_RETURN_IF_ERROR(err)
+            call read_loads(this, scene, err)
+            RS_RETURN_IF_ERROR(err)
+            if (any(this%element_length <= 0.0_rk)) then
+                message = 'rod ''' // this%name // ''': an element has zero reference length'
+                RS_SET_ERROR(err, 'se3_pg%init', message)
+                return
+            end if
+        end associate
+        call build_pattern(this)
+        allocate(this%q_1(6, this%n_nodes), this%f_ext(6, this%n_nodes), &
+            this%k_ext(6, 6, this%n_nodes))
+    end subroutine se3_init
+
+    !> Nodal reference poses from the centreline and its frame (rs_model_rod_geometry), the
+    !> elements' reference lengths l_e = |theta_v(Q)| and strains theta(Q) / l_e (methods §5.3:
+    !> exact for any reference the SE(3) interpolation represents, e.g. a straight rod, a circle
+    !> or a helix with its frame); the initial rigid velocity field.
+    subroutine reference_configuration(this, rod)
+        type(se3_pg_t), intent(inout) :: this
+        type(rod_input_t), intent(in) :: rod
+        type(rod_geometry_t) :: geometry
+        real(rk) :: d(3, 3), a(3, 3, this%n_nodes), r(3, this%n_nodes), a_rel(3, 3), r_rel(3)
+        real(rk) :: theta(6), v(3), omega(3)
+        integer :: k, e, at
+        geometry = rod_geometry_of(rod)
+        allocate(this%node_s(this%n_nodes), this%element_length(this%n_elements), &
+            this%eps_ref(6, this%n_elements))
+        this%node_s = [(rod%length * real(k - 1, rk) / real(this%n_elements, rk), k = 1, &
+            this%n_nodes)]
+        allocate(this%initial(this%n_state()), source=0.0_rk)
+        do k = 1, this%n_nodes
+            d = centreline_frame(geometry, this%node_s(k))
+            r(:, k) = centreline_point(geometry, this%node_s(k))
+            ! K basis (e_x, e_y, e_z) = (d3, d1, d2).
+            a(:, 1, k) = d(:, 3)
+            a(:, 2, k) = d(:, 1)
+            a(:, 3, k) = d(:, 2)
+            at = 6 * (k - 1)
+            this%initial(at + 1:at + 3) = r(:, k)
+            this%initial(at + 4:at + 6) = log_so3(a(:, :, k))
+            ! v = velocity + omega x (r - c), K omega = A^T omega.
+            omega = rod%angular_velocity
+            v = rod%velocity + cross3(omega, r(:, k) - rod%rotation_center)
+            at = 6 * this%n_nodes + 6 * (k - 1)
+            if (.not. this%statics) then
+                this%initial(at + 1:at + 3) = v
+                this%initial(at + 4:at + 6) = matmul(transpose(a(:, :, k)), omega)
+            end if
+        end do
+        do e = 1, this%n_elements
+            call pose_relative(a(:, :, e), r(:, e), a(:, :, e + 1), r(:, e + 1), a_rel, r_rel)
+            theta = log_se3(a_rel, r_rel)
+            this%element_length(e) = norm2(theta(1:3))
+            if (this%element_length(e) > 0.0_rk) this%eps_ref(:, e) = theta / this%element_length(e)
+        end do
+    end subroutine reference_configuration
+
+    !> Clamped ends fix r and psi, pinned ends fix r; the rest are the unknowns, node by node.
+    subroutine fix_supports(this, scene, err)
+        type(se3_pg_t), intent(inout) :: this
+        type(scene_t), intent(in) :: scene
+        type(error_t), allocatable, intent(out) :: err
+        character(len=:), allocatable :: message
+        logical :: fixed(6, this%n_nodes)
+        integer :: i, k, node
+        fixed = .false.
+        do i = 1, size(scene%bcs)
+            associate (bc => scene%bcs(i))
+                if (trim(bc%rod) /= this%name) cycle
+                node = merge(1, this%n_nodes, trim(bc%end) == 'start')
+                select case (trim(bc%kind))
+                case ('clamped')
+                    fixed(:, node) = .true.
+                case ('pinned')
+                    fixed(1:3, node) = .true.
+                case ('free')
+                case default
+                    message = 'rod ''' // this%name // ''': a ''' // trim(bc%kind) // &
+                        ''' end is not available for se3_pg (docs/user/capabilities.md)'
+                    RS_SET_ERROR(err, 'se3_pg%init', message)
+                    return
+                end select
+            end associate
+        end do
+        allocate(this%unknown_of(6, this%n_nodes), source=0)
+        this%n_y = 0
+        do k = 1, this%n_nodes
+            do i = 1, 6
+                if (fixed(i, k)) cycle
+                this%n_y = this%n_y + 1
+                this%unknown_of(i, k) = this%n_y
+            end do
+        end do
+    end subroutine fix_supports
+
+    !> End loads (dead: I components; follower: the given vector in the loaded node's director
+    !> components (d1, d2, d3), i.e. K components (F3, F1, F2)), distributed loads and gravity.
+    subroutine read_loads(this, scene, err)
+        type(se3_pg_t), intent(inout) :: this
+        type(scene_t), intent(in) :: scene
+        type(error_t), allocatable, intent(out) :: err
+        type(se3_load_t) :: load
+        integer :: i, n
+        allocate(this%loads(size(scene%loads)))
+        n = 0
+        do i = 1, size(scene%loads)
+            associate (input => scene%loads(i))
+                if (trim(input%rod) /= this%name .and. .not. (len_trim(input%rod) == 0 .and. &
+                    trim(input%where) == 'gravity')) cycle
+                load = se3_load_t()
+                call time_function_from_load(input, load%factor, err)
+                RS_RETURN_IF_ERROR(err)
+                load%follower = trim(input%frame) == 'follower'
+                select case (trim(input%where))
+                case ('start')
+                    load%node = 1
+                case ('end')
+                    load%node = this%n_nodes
+                case default
+                    load%node = 0
+                end select
+                if (trim(input%where) == 'gravity') then
+                    load%force = this%rho_a * input%acceleration
+                else if (load%follower) then
+                    load%force = [input%force(3), input%force(1), input%force(2)]
+                    load%moment = [input%moment(3), input%moment(1), input%moment(2)]
+                else
+                    load%force = input%force
+                    load%moment = input%moment
+                end if
+                n = n + 1
+                this%loads(n) = load
+            end associate
+        end do
+        this%loads = this%loads(1:n)
+    end subroutine read_loads
+
+    !> Element couplings: the 12 unknowns of its two nodes.
+    subroutine build_pattern(this)
+        type(se3_pg_t), intent(inout) :: this
+        type(csr_builder_t) :: builder
+        integer :: e, i, j, local(12)
+        call builder%init(this%n_y, 144 * this%n_elements)
+        do e = 1, this%n_elements
+            local = [this%unknown_of(:, e), this%unknown_of(:, e + 1)]
+            call builder%add_block(local, local)
+        end do
+        call builder%build(this%pattern)
+        allocate(this%element_map(12, 12, this%n_elements), source=0)
+        do e = 1, this%n_elements
+            local = [this%unknown_of(:, e), this%unknown_of(:, e + 1)]
+            do j = 1, 12
+                if (local(j) <= 0) cycle
+                do i = 1, 12
+                    if (local(i) > 0) this%element_map(i, j, e) = &
+                        this%pattern%position(local(i), local(j))
+                end do
+            end do
+        end do
+    end subroutine build_pattern
+
+    ! ---- Sizes, state, predictor, update ----------------------------------------------------
+
+    pure integer function se3_n_state(this)
+        class(se3_pg_t), intent(in) :: this
+        se3_n_state = 12 * this%n_nodes
+    end function se3_n_state
+
+    pure integer function se3_n_unknown(this)
+        class(se3_pg_t), intent(in) :: this
+        se3_n_unknown = this%n_y
+    end function se3_n_unknown
+
+    subroutine se3_jacobian_pattern(this, row_ptr, cols)
+        class(se3_pg_t), intent(in) :: this
+        integer, allocatable, intent(out) :: row_ptr(:), cols(:)
+        call this%pattern%zero_based(row_ptr, cols)
+    end subroutine se3_jacobian_pattern
+
+    subroutine se3_initial_state(this, x)
+        class(se3_pg_t), intent(in) :: this
+        real(rk), intent(out) :: x(:)
+        x = this%initial
+    end subroutine se3_initial_state
+
+    !> q_{n+1} as (6, nodes): Y where free, q_n where fixed.
+    pure subroutine full_q(this, x_n, y, q)
+        class(se3_pg_t), intent(in) :: this
+        real(rk), intent(in) :: x_n(:), y(:)
+        real(rk), intent(out) :: q(:, :)
+        integer :: i, k
+        do k = 1, this%n_nodes
+            do i = 1, 6
+                if (this%unknown_of(i, k) > 0) then
+                    q(i, k) = y(this%unknown_of(i, k))
+                else
+                    q(i, k) = x_n(6 * (k - 1) + i)
+                end if
+            end do
+        end do
+    end subroutine full_q
+
+    !> Statics: the last equilibrium. Dynamics: q_n + h B(q_n) u_n (explicit Euler).
+    subroutine se3_predictor(this, t_n, h, x_n, y)
+        class(se3_pg_t), intent(inout) :: this
+        real(rk), intent(in) :: t_n, h, x_n(:)
+        real(rk), intent(out) :: y(:)
+        real(rk) :: q(6), u(6)
+        integer :: i, k, at
+        do k = 1, this%n_nodes
+            at = 6 * (k - 1)
+            q = x_n(at + 1:at + 6)
+            if (.not. this%statics) then
+                u = x_n(6 * this%n_nodes + at + 1:6 * this%n_nodes + at + 6)
+                q(1:3) = q(1:3) + h * u(1:3)
+                q(4:6) = q(4:6) + h * matmul(tinv(q(4:6)), u(4:6))
+            end if
+            do i = 1, 6
+                if (this%unknown_of(i, k) > 0) y(this%unknown_of(i, k)) = q(i)
+            end do
+        end do
+    end subroutine se3_predictor
+
+    !> X_{n+1}: q from Y; u_{n+1} = 2 u_{n+1/2} - u_n (dynamics; zero in statics); then the
+    !> complement of every rotation vector longer than pi (methods eq. 40), which changes the
+    !> coordinates, not the rotation, so u (K components) stays.
+    subroutine se3_update(this, t_n, h, x_n, y, x_1)
+        class(se3_pg_t), intent(inout) :: this
+        real(rk), intent(in) :: t_n, h, x_n(:), y(:)
+        real(rk), intent(out) :: x_1(:)
+        real(rk) :: u_mid(6)
+        integer :: k, at, au
+        call this%full_q(x_n, y, this%q_1)
+        do k = 1, this%n_nodes
+            at = 6 * (k - 1)
+            au = 6 * this%n_nodes + at
+            if (this%statics) then
+                x_1(au + 1:au + 6) = 0.0_rk
+            else
+                u_mid = this%midpoint_velocity(h, x_n(at + 1:at + 6), this%q_1(:, k))
+                x_1(au + 1:au + 6) = 2.0_rk * u_mid - x_n(au + 1:au + 6)
+            end if
+            x_1(at + 1:at + 3) = this%q_1(1:3, k)
+            x_1(at + 4:at + 6) = complement_rotation_vector(this%q_1(4:6, k))
+        end do
+    end subroutine se3_update
+
+    !> u_{n+1/2} = B(q_{n+1/2})^{-1} (q_{n+1} - q_n) / h = (dr / h, T(psi_mid) dpsi / h).
+    pure function midpoint_velocity(this, h, q_n, q_1) result(u)
+        class(se3_pg_t), intent(in) :: this
+        real(rk), intent(in) :: h, q_n(6), q_1(6)
+        real(rk) :: u(6)
+        u(1:3) = (q_1(1:3) - q_n(1:3)) / h
+        u(4:6) = matmul(tangent_so3(0.5_rk * (q_n(4:6) + q_1(4:6))), q_1(4:6) - q_n(4:6)) / h
+    end function midpoint_velocity
+
+    ! ---- The step problem -------------------------------------------------------------------
+
+    !> F(Y) in the virtual-displacement rows (I dr_i, K_i dphi_i) of the free unknowns:
+    !> statics g_int(q) - f_ext(q, t_{n+1}); dynamics M (u_{n+1} - u_n) / h + g_int(q_mid) +
+    !> f_gyr(u_mid) - f_ext(q_mid, t_{n+1/2}) (methods eqs. 42-45, 49-51).
+    subroutine se3_step_residual(this, t_n, h, x_n, y, f, status)
+        class(se3_pg_t), intent(inout) :: this
+        real(rk), intent(in) :: t_n, h, x_n(:), y(:)
+        real(rk), intent(out) :: f(:)
+        integer, intent(out) :: status
+        real(rk) :: q_e(12), g(12), m(12, 12), u_n(12), u_mid(12), u_1(12), gyr(12), kg(12, 12)
+        real(rk) :: q_at(6, this%n_nodes), rows(6, this%n_nodes)
+        integer :: e, k, i
+        call this%full_q(x_n, y, this%q_1)
+        if (this%statics) then
+            q_at = this%q_1
+        else
+            q_at = 0.5_rk * (reshape(x_n(1:6 * this%n_nodes), [6, this%n_nodes]) + this%q_1)
+        end if
+        rows = 0.0_rk
+        do e = 1, this%n_elements
+            q_e = [q_at(:, e), q_at(:, e + 1)]
+            call se3_internal_force(this%element_length(e), this%stiffness, this%eps_ref(:, e), &
+                q_e, g)
+            if (.not. this%statics) then
+                u_n = x_n(6 * this%n_nodes + 6 * (e - 1) + 1:6 * this%n_nodes + 6 * (e + 1))
+                u_mid(1:6) = this%midpoint_velocity(h, x_n(6 * (e - 1) + 1:6 * e), this%q_1(:, e))
+                u_mid(7:12) = this%midpoint_velocity(h, x_n(6 * e + 1:6 * (e + 1)), &
+                    this%q_1(:, e + 1))
+                u_1 = 2.0_rk * u_mid - u_n
+                call se3_element_mass(this%element_length(e), this%rho_a, this%inertia, m)
+                call se3_gyroscopic(this%element_length(e), this%inertia, u_mid, gyr, kg)
+                g = g + matmul(m, u_1 - u_n) / h + gyr
+            end if
+            rows(:, e) = rows(:, e) + g(1:6)
+            rows(:, e + 1) = rows(:, e + 1) + g(7:12)
+        end do
+        call this%nodal_loads(merge(t_n + h, t_n + 0.5_rk * h, this%statics), q_at, .false.)
+        rows = rows - this%f_ext
+        do k = 1, this%n_nodes
+            do i = 1, 6
+                if (this%unknown_of(i, k) > 0) f(this%unknown_of(i, k)) = rows(i, k)
+            end do
+        end do
+        status = state_valid
+        if (any(f /= f)) status = state_invalid
+    end subroutine se3_step_residual
+
+    !> dF/dY: the element tangents of methods §6.4 (analytic, checked against finite differences
+    !> in tests/unit/formulations/test_se3_pg_element), the follower and dead load tangents,
+    !> and in dynamics the chain through q_mid (factor 1/2) and u_mid, u_{n+1} (the blocks
+    !> d u_mid / d q_{n+1} = diag(1/h, (T(psi_mid) + 1/2 dT[dpsi]) / h)).
+    subroutine se3_step_jacobian(this, t_n, h, x_n, y, values, status)
+        class(se3_pg_t), intent(inout) :: this
+        real(rk), intent(in) :: t_n, h, x_n(:), y(:)
+        real(rk), intent(out) :: values(:)
+        integer, intent(out) :: status
+        real(rk) :: q_e(12), k(12, 12), m(12, 12), kg(12, 12), gyr(12), u_mid(12), du(12, 12)
+        real(rk) :: du_node(6, 6)
+        real(rk) :: q_at(6, this%n_nodes), scale
+        integer :: e, i, j, node
+        call this%full_q(x_n, y, this%q_1)
+        if (this%statics) then
+            q_at = this%q_1
+            scale = 1.0_rk
+        else
+            q_at = 0.5_rk * (reshape(x_n(1:6 * this%n_nodes), [6, this%n_nodes]) + this%q_1)
+            scale = 0.5_rk
+        end if
+        call this%nodal_loads(merge(t_n + h, t_n + 0.5_rk * h, this%statics), q_at, .true.)
+        values = 0.0_rk
+        do e = 1, this%n_elements
+            q_e = [q_at(:, e), q_at(:, e + 1)]
+            call se3_internal_tangent(this%element_length(e), this%stiffness, this%eps_ref(:, e), &
+                q_e, k)
+            k = scale * k
+            ! Load tangents enter once per node: with the element that starts there, and the
+            ! last node with the last element.
+            do node = 0, 1
+                if (node == 1 .and. e < this%n_elements) cycle
+                k(6 * node + 1:6 * node + 6, 6 * node + 1:6 * node + 6) = &
+                    k(6 * node + 1:6 * node + 6, 6 * node + 1:6 * node + 6) - &
+                    scale * this%k_ext(:, :, e + node)
+            end do
+            if (.not. this%statics) then
+                du = 0.0_rk
+                do node = 0, 1
+                    call midpoint_velocity_jacobian(h, x_n(6 * (e + node - 1) + 1:6 * (e + node)), &
+                        this%q_1(:, e + node), du_node)
+                    du(6 * node + 1:6 * node + 6, 6 * node + 1:6 * node + 6) = du_node
+                    u_mid(6 * node + 1:6 * node + 6) = this%midpoint_velocity(h, &
+                        x_n(6 * (e + node - 1) + 1:6 * (e + node)), this%q_1(:, e + node))
+                end do
+                call se3_element_mass(this%element_length(e), this%rho_a, this%inertia, m)
+                call se3_gyroscopic(this%element_length(e), this%inertia, u_mid, gyr, kg)
+                k = k + matmul(2.0_rk / h * m + kg, du)
+            end if
+            do j = 1, 12
+                do i = 1, 12
+                    if (this%element_map(i, j, e) > 0) values(this%element_map(i, j, e)) = &
+                        values(this%element_map(i, j, e)) + k(i, j)
+                end do
+            end do
+        end do
+        status = state_valid
+        if (any(values /= values)) status = state_invalid
+    end subroutine se3_step_jacobian
+
+    !> d u_mid / d q_{n+1} of one node (6 x 6): dr/h, and (T(psi_m) + 1/2 sum_k dT/dpsi_k dpsi
+    !> e_k^T) / h for the rotation, psi_m = (psi_n + psi_1) / 2, dpsi = psi_1 - psi_n.
+    pure subroutine midpoint_velocity_jacobian(h, q_n, q_1, du)
+        real(rk), intent(in) :: h, q_n(6), q_1(6)
+        real(rk), intent(out) :: du(6, 6)
+        real(rk) :: dt(3, 3, 3), dpsi(3)
+        integer :: c
+        du = 0.0_rk
+        du(1, 1) = 1.0_rk / h
+        du(2, 2) = 1.0_rk / h
+        du(3, 3) = 1.0_rk / h
+        dpsi = q_1(4:6) - q_n(4:6)
+        dt = tangent_so3_derivative(0.5_rk * (q_n(4:6) + q_1(4:6)))
+        du(4:6, 4:6) = tangent_so3(0.5_rk * (q_n(4:6) + q_1(4:6)))
+        do c = 1, 3
+            du(4:6, 3 + c) = du(4:6, 3 + c) + 0.5_rk * matmul(dt(:, :, c), dpsi)
+        end do
+        du(4:6, 4:6) = du(4:6, 4:6) / h
+    end subroutine midpoint_velocity_jacobian
+
+    !> The loads at time t on the nodes at poses q (f_ext, rows I dr and K dphi) and, if
+    !> `tangent`, their derivatives d f_ext / d q per node (k_ext): follower forces A(psi) b_K,
+    !> dead moments A(psi)^T c_I. Distributed loads: consistent l_e / 2 per node for the force;
+    !> the moment lumped at the nodes as A_i^T c l_e / 2 (docs/theory/se3_pg.md).
+    subroutine nodal_loads(this, t, q, tangent)
+        class(se3_pg_t), intent(inout) :: this
+        real(rk), intent(in) :: t, q(:, :)
+        logical, intent(in) :: tangent
+        real(rk) :: factor, f(3), k(3, 3), weight
+        integer :: i, e, node, n
+        this%f_ext = 0.0_rk
+        if (tangent) this%k_ext = 0.0_rk
+        do i = 1, size(this%loads)
+            associate (load => this%loads(i))
+                factor = load%factor%value(t)
+                if (factor == 0.0_rk) cycle
+                do e = 0, merge(0, this%n_elements, load%node > 0)
+                    do node = 0, 1
+                        if (load%node > 0) then
+                            if (node == 1) cycle
+                            n = load%node
+                            weight = factor
+                        else
+                            if (e == 0) cycle
+                            n = e + node
+                            weight = factor * 0.5_rk * this%element_length(e)
+                        end if
+                        if (load%follower) then
+                            call follower_force(q(4:6, n), weight * load%force, f, k)
+                            this%f_ext(1:3, n) = this%f_ext(1:3, n) + f
+                            if (tangent) this%k_ext(1:3, 4:6, n) = this%k_ext(1:3, 4:6, n) + k
+                            this%f_ext(4:6, n) = this%f_ext(4:6, n) + weight * load%moment
+                        else
+                            this%f_ext(1:3, n) = this%f_ext(1:3, n) + weight * load%force
+                            call dead_moment(q(4:6, n), weight * load%moment, f, k)
+                            this%f_ext(4:6, n) = this%f_ext(4:6, n) + f
+                            if (tangent) this%k_ext(4:6, 4:6, n) = this%k_ext(4:6, 4:6, n) + k
+                        end if
+                    end do
+                end do
+            end associate
+        end do
+    end subroutine nodal_loads
+
+    ! ---- After a step -------------------------------------------------------------------------
+
+    !> The work of the loads over the step, f_ext(q_mid, t_mid) . (dr, T(psi_mid) dpsi) per node
+    !> (statics: at t_{n+1} and q_{n+1}), and the energy balance H_{n+1} - H_n - W. The
+    !> midpoint rule does not make it vanish for this element (methods §7.4); it measures the
+    !> scheme's energy error.
+    subroutine se3_accept_step(this, t_n, h, x_n, x_1, newton_iterations, residual_norm)
+        class(se3_pg_t), intent(inout) :: this
+        real(rk), intent(in) :: t_n, h, x_n(:), x_1(:)
+        integer, intent(in) :: newton_iterations
+        real(rk), intent(in) :: residual_norm
+        real(rk) :: q_n(6, this%n_nodes), q_1(6, this%n_nodes), q_at(6, this%n_nodes), ds(6)
+        real(rk) :: work, kinetic_n, strain_n, kinetic_1, strain_1
+        integer :: k
+        q_n = reshape(x_n(1:6 * this%n_nodes), [6, this%n_nodes])
+        q_1 = reshape(x_1(1:6 * this%n_nodes), [6, this%n_nodes])
+        ! x_1 holds complemented rotation vectors: undo on the nodes whose angle jumped, so that
+        ! the increment is the one Newton took.
+        do k = 1, this%n_nodes
+            q_1(4:6, k) = nearest_rotation_vector(q_1(4:6, k), q_n(4:6, k))
+        end do
+        q_at = merge(q_1, 0.5_rk * (q_n + q_1), this%statics)
+        call this%nodal_loads(merge(t_n + h, t_n + 0.5_rk * h, this%statics), q_at, .false.)
+        work = 0.0_rk
+        do k = 1, this%n_nodes
+            ds(1:3) = q_1(1:3, k) - q_n(1:3, k)
+            ds(4:6) = matmul(tangent_so3(q_at(4:6, k)), q_1(4:6, k) - q_n(4:6, k))
+            work = work + dot_product(this%f_ext(:, k), ds)
+        end do
+        call this%energies(x_n, kinetic_n, strain_n)
+        call this%energies(x_1, kinetic_1, strain_1)
+        this%work_since_record = this%work_since_record + work
+        this%balance_since_record = this%balance_since_record + (kinetic_1 + strain_1) - &
+            (kinetic_n + strain_n) - work
+        this%iterations_since_record = this%iterations_since_record + newton_iterations
+        this%smallest_step = min(this%smallest_step, h)
+        this%last_residual = residual_norm
+    end subroutine se3_accept_step
+
+    !> Of the rotation vectors psi and its complements psi (1 - 2 pi k / |psi|), the one nearest
+    !> to `near`.
+    pure function nearest_rotation_vector(psi, near) result(best)
+        real(rk), intent(in) :: psi(3), near(3)
+        real(rk) :: best(3), candidate(3), angle
+        integer :: k
+        best = psi
+        angle = norm2(psi)
+        if (angle == 0.0_rk) return
+        do k = -2, 2
+            candidate = psi * (1.0_rk + 2.0_rk * pi * real(k, rk) / angle)
+            if (norm2(candidate - near) < norm2(best - near)) best = candidate
+        end do
+    end function nearest_rotation_vector
+
+    !> Kinetic energy 1/2 u^T M u (consistent mass) and strain energy sum_e l_e W(eps_e).
+    subroutine energies(this, x, kinetic, strain)
+        class(se3_pg_t), intent(in) :: this
+        real(rk), intent(in) :: x(:)
+        real(rk), intent(out) :: kinetic, strain
+        real(rk) :: m(12, 12), u(12), q(12)
+        integer :: e, au
+        kinetic = 0.0_rk
+        strain = 0.0_rk
+        do e = 1, this%n_elements
+            q = x(6 * (e - 1) + 1:6 * (e + 1))
+            strain = strain + se3_strain_energy(this%element_length(e), this%stiffness, &
+                this%eps_ref(:, e), q)
+            if (this%statics) cycle
+            au = 6 * this%n_nodes + 6 * (e - 1)
+            u = x(au + 1:au + 12)
+            call se3_element_mass(this%element_length(e), this%rho_a, this%inertia, m)
+            kinetic = kinetic + 0.5_rk * dot_product(u, matmul(m, u))
+        end do
+    end subroutine energies
+
+    ! ---- Output (DESIGN.md §7) ---------------------------------------------------------------
+
+    subroutine se3_init_history(this, histories, capacity)
+        class(se3_pg_t), intent(in) :: this
+        type(rod_history_t), intent(inout), target :: histories(:)
+        integer, intent(in) :: capacity
+        integer :: e
+        call histories(1)%init(this%name, 'se3_pg', this%n_nodes, this%n_elements, capacity)
+        histories(1)%mesh = this%node_s
+        histories(1)%stress_mesh = [(0.5_rk * (this%node_s(e) + this%node_s(e + 1)), &
+            e = 1, this%n_elements)]
+        deallocate(histories(1)%constraint_residual)
+    end subroutine se3_init_history
+
+    !> Positions, directors (d1, d2, d3) = (A e_y, A e_z, A e_x), velocities, director rates
+    !> A (omega x e), the constant element strains and stresses in director components
+    !> (Gamma1, Gamma2, Gamma3) = (gamma_y, gamma_z, gamma_x), likewise K, N and M; energies;
+    !> momenta with the consistent mass.
+    subroutine se3_record(this, histories, t, x)
+        class(se3_pg_t), intent(inout) :: this
+        type(rod_history_t), intent(inout), target :: histories(:)
+        real(rk), intent(in) :: t, x(:)
+        real(rk) :: a(3, 3), u(6), eps(6), n(6), kinetic, strain, m(12, 12), p(12), q(12)
+        real(rk) :: linear(3), angular(3), centre(3)
+        integer :: rec, k, e, at, au, node
+        integer, parameter :: director_column(3) = [2, 3, 1]
+        rec = histories(1)%next_record()
+        if (rec == 0) return
+        associate (h => histories(1))
+            h%time(rec) = t
+            do k = 1, this%n_nodes
+                at = 6 * (k - 1)
+                au = 6 * this%n_nodes + at
+                a = exp_so3(x(at + 4:at + 6))
+                u = x(au + 1:au + 6)
+                h%position(:, k, rec) = x(at + 1:at + 3)
+                h%velocity(:, k, rec) = u(1:3)
+                h%directors(:, :, k, rec) = a(:, director_column)
+                h%director_velocity(:, :, k, rec) = matmul(a, matmul(hat(u(4:6)), &
+                    identity_columns(director_column)))
+            end do
+            linear = 0.0_rk
+            angular = 0.0_rk
+            centre = 0.0_rk
+            do e = 1, this%n_elements
+                q = x(6 * (e - 1) + 1:6 * (e + 1))
+                call se3_strains(this%element_length(e), q, eps)
+                n(1:3) = this%stiffness(1:3) * (eps(1:3) - this%eps_ref(1:3, e))
+                n(4:6) = this%stiffness(4:6) * (eps(4:6) - this%eps_ref(4:6, e))
+                h%strains(:, e, rec) = [eps(2), eps(3), eps(1), eps(5), eps(6), eps(4)]
+                h%stress(:, e, rec) = [n(2), n(3), n(1), n(5), n(6), n(4)]
+                centre = centre + 0.5_rk * this%element_length(e) * (q(1:3) + q(7:9))
+                if (this%statics) cycle
+                call se3_element_mass(this%element_length(e), this%rho_a, this%inertia, m)
+                p = matmul(m, x(6 * this%n_nodes + 6 * (e - 1) + 1:6 * this%n_nodes + 6 * (e + 1)))
+                do node = 0, 1
+                    linear = linear + p(6 * node + 1:6 * node + 3)
+                    angular = angular + cross3(q(6 * node + 1:6 * node + 3), &
+                        p(6 * node + 1:6 * node + 3)) + matmul(exp_so3(q(6 * node + 4:6 * node + 6)), &
+                        p(6 * node + 4:6 * node + 6))
+                end do
+            end do
+            call this%energies(x, kinetic, strain)
+            h%kinetic(rec) = kinetic
+            h%strain(rec) = strain
+            h%total(rec) = kinetic + strain
+            h%external_work(rec) = this%work_since_record
+            h%balance_error(rec) = this%balance_since_record
+            h%linear_momentum(:, rec) = linear
+            h%angular_momentum(:, rec) = angular
+            h%center_of_mass(:, rec) = centre / sum(this%element_length)
+            h%newton_iterations(rec) = this%iterations_since_record
+            h%newton_residual(rec) = this%last_residual
+            h%dt(rec) = merge(0.0_rk, this%smallest_step, this%smallest_step == huge(1.0_rk))
+        end associate
+        this%work_since_record = 0.0_rk
+        this%balance_since_record = 0.0_rk
+        this%iterations_since_record = 0
+        this%smallest_step = huge(1.0_rk)
+    end subroutine se3_record
+
+    function se3_describe(this) result(text)
+        class(se3_pg_t), intent(in) :: this
+        character(len=:), allocatable :: text
+        text = 'rod ''' // this%name // ''': se3_pg (' // trim(merge('statics ', 'dynamics', &
+            this%statics)) // '), ' // str(this%n_elements) // ' two-node SE(3) elements, ' // &
+            str(this%n_y) // ' Newton unknowns, ' // str(this%pattern%nnz()) // &
+            ' Jacobian non-zeros'
+    end function se3_describe
+
+    pure integer function se3_n_internal(this)
+        class(se3_pg_t), intent(in) :: this
+        se3_n_internal = 5
+    end function se3_n_internal
+
+    subroutine se3_save_internal(this, values)
+        class(se3_pg_t), intent(in) :: this
+        real(rk), intent(out) :: values(:)
+        values(1:5) = [this%work_since_record, this%balance_since_record, this%smallest_step, &
+            this%last_residual, real(this%iterations_since_record, rk)]
+    end subroutine se3_save_internal
+
+    subroutine se3_restore_internal(this, values)
+        class(se3_pg_t), intent(inout) :: this
+        real(rk), intent(in) :: values(:)
+        this%work_since_record = values(1)
+        this%balance_since_record = values(2)
+        this%smallest_step = values(3)
+        this%last_residual = values(4)
+        this%iterations_since_record = nint(values(5))
+    end subroutine se3_restore_internal
+
+    !> Plain Newton-Raphson, as the paper (methods §7.2): the stiffness ratios of slender rods
+    !> (shear l GA against bending EI / l) make PETSc's backtracking cut nearly every step.
+    pure logical function se3_full_newton(this)
+        class(se3_pg_t), intent(in) :: this
+        se3_full_newton = .true.
+    end function se3_full_newton
+
+    ! ---- Small helpers ----------------------------------------------------------------------
+
+    pure function tinv(psi) result(t)
+        use rs_math_so3, only: tangent_inverse_so3
+        real(rk), intent(in) :: psi(3)
+        real(rk) :: t(3, 3)
+        t = tangent_inverse_so3(psi)
+    end function tinv
+
+    pure function cross3(a, b) result(c)
+        real(rk), intent(in) :: a(3), b(3)
+        real(rk) :: c(3)
+        c = [a(2) * b(3) - a(3) * b(2), a(3) * b(1) - a(1) * b(3), a(1) * b(2) - a(2) * b(1)]
+    end function cross3
+
+    !> The unit vectors e_j, j in `columns`, as the columns of a 3 x 3 matrix.
+    pure function identity_columns(columns) result(e)
+        integer, intent(in) :: columns(3)
+        real(rk) :: e(3, 3)
+        integer :: j
+        e = 0.0_rk
+        do j = 1, 3
+            e(columns(j), j) = 1.0_rk
+        end do
+    end function identity_columns
+
+end module rs_se3_pg
