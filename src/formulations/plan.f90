@@ -12,6 +12,7 @@ module rs_formulations_plan
     use rs_model_units, only: unit_in_system
     use rs_ph_director_plan, only: ph_director_plan_lines
     use rs_ph_planar_plan, only: ph_planar_plan_lines
+    use rs_se3_pg_plan, only: se3_pg_plan_lines
     use rs_model_coupling, only: coupled_systems
     implicit none
     private
@@ -85,6 +86,8 @@ contains
                     if (allocated(err)) lines = '!     cannot be built: ' // err%describe() // new_line('a')
                 case ('ph_planar', 'cl_em_planar')
                     call ph_planar_plan_lines(scene, i, lines)
+                case ('se3_pg')
+                    lines = se3_pg_plan_lines(scene, i)
                 case default
                     lines = '!     formulation not available in this version' // new_line('a')
                 end select

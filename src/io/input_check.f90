@@ -12,9 +12,11 @@
 !> and variable.
 module rs_io_input_check
     use rs_core_kinds, only: rk
-    use rs_core_error, only: error_list_t
+    use rs_core_error, only: error_list_t, error_t
     use rs_core_strings, only: str, vector_text
-    use rs_model_scene, only: scene_t, rod_input_t, actuator_input_t, unset_real, section_derived_names
+    use rs_model_scene, only: scene_t, rod_input_t, actuator_input_t, bc_input_t, load_input_t, &
+        unset_real, section_derived_names
+    use rs_model_time_function, only: time_function_t, time_function_from_load
     use rs_model_rod_geometry, only: rod_geometry_t, straight_geometry, helix_geometry, &
         polyline_geometry, centreline_tangent, default_normal, rod_geometry_of, centreline_point
     use rs_model_section, only: section_properties_t, circle_section, tube_section, rectangle_section
@@ -483,6 +485,7 @@ contains
                 if (r > 0 .and. trim(bc%kind) == 'pinned') then
                     if (geometry_ok(r)) call check_pinned_at_rest(scene, r, bc%end, bc%input_line, errors)
                 end if
+                call check_driven(scene, bc, errors)
                 do j = 1, i - 1
                     if (scene%bcs(j)%rod == bc%rod .and. scene%bcs(j)%end == bc%end .and. &
                             len_trim(bc%end) > 0) call errors%add(at(scene, bc%input_line) // &
@@ -492,6 +495,42 @@ contains
             end associate
         end do
     end subroutine check_bcs
+
+    !> A driven end moves: it needs a displacement or a rotation and a time function with
+    !> f(0) = 0, so that it starts at its reference pose (and at rest, as a clamp); other kinds
+    !> take neither.
+    subroutine check_driven(scene, bc, errors)
+        type(scene_t), intent(in) :: scene
+        type(bc_input_t), intent(in) :: bc
+        type(error_list_t), intent(inout) :: errors
+        type(load_input_t) :: motion
+        type(time_function_t) :: f
+        type(error_t), allocatable :: err
+        character(len=:), allocatable :: here
+        here = at(scene, bc%input_line) // '&bc '
+        if (trim(bc%kind) /= 'driven') then
+            if (any(bc%displacement /= 0.0_rk) .or. any(bc%rotation /= 0.0_rk)) &
+                call errors%add(here // 'displacement, rotation: only a driven end moves (kind = ' // &
+                '''driven''), this one is ''' // trim(bc%kind) // '''')
+            return
+        end if
+        if (all(bc%displacement == 0.0_rk) .and. all(bc%rotation == 0.0_rk)) then
+            call errors%add(here // 'kind: a driven end needs a displacement or a rotation')
+            return
+        end if
+        call check_time_function(here, bc%time_function, bc%t_on, bc%t_off, bc%table_times, &
+            bc%table_values, errors)
+        motion%time_function = bc%time_function
+        motion%t_on = bc%t_on
+        motion%t_off = bc%t_off
+        motion%table_times = bc%table_times
+        motion%table_values = bc%table_values
+        call time_function_from_load(motion, f, err)
+        if (allocated(err)) return
+        if (f%value(0.0_rk) /= 0.0_rk) call errors%add(here // 'time_function: f(0) = ' // &
+            str(f%value(0.0_rk)) // '; a driven end starts at its reference pose, so f(0) = 0 ' // &
+            '(a ramp, hat, pulse or a table starting at 0)')
+    end subroutine check_driven
 
     !> The initial velocity velocity + angular_velocity x (p - rotation_center) of rod `r` at
     !> its pinned end `end_name` (point p) vanishes.

@@ -435,8 +435,17 @@ contains
             spec_v('kind', 'string', '-', '(required)', &
                 "Kind of support: 'clamped' fixes the end's position and rotation, 'pinned' " // &
                 'its position only (a ground pin: the rod turns freely about it), ''free'' ' // &
-                'neither; which kinds a formulation has: docs/user/capabilities.md.', &
-                allowed='clamped|pinned|free|driven', required=.true., example="'clamped'")]
+                'neither, ''driven'' is a clamp moved by displacement and rotation; which kinds ' // &
+                'a formulation has: docs/user/capabilities.md.', &
+                allowed='clamped|pinned|free|driven', required=.true., example="'clamped'"), &
+            spec_v('displacement', 'real', 'm', '0, 0, 0', 'Driven end: its displacement at ' // &
+                'f(t) = 1 (inertial components); the end is at its reference position plus ' // &
+                'f(t) displacement.', count=3, example='0, 0, 0.1'), &
+            spec_v('rotation', 'real', 'rad', '0, 0, 0', 'Driven end: its rotation vector at ' // &
+                'f(t) = 1 (inertial components, about the end''s reference position); the end''s ' // &
+                'frame is Exp(f(t) rotation) times its reference frame.', count=3, &
+                example='62.8318530718, 0, 0'), &
+            time_function_variables('motion of a driven end')]
     end function bc_group
 
     function load_group() result(g)

@@ -67,7 +67,7 @@ contains
             ! by elimination, dead and follower end loads, dead distributed loads and gravity,
             ! statics (&time quasistatic) and midpoint dynamics; any reference the SE(3)
             ! interpolation represents.
-            row = capability_t(formulation='se3_pg', available=.true., end_kinds='clamped|pinned|free', &
+            row = capability_t(formulation='se3_pg', available=.true., end_kinds='clamped|pinned|free|driven', &
                 load_places='start|end|distributed|gravity', load_frames='spatial|follower', &
                 constraints='none', quasistatic=.true., viscoelastic=.false., actuation=.false., &
                 curved_reference=.true., joints='', planar=.false.)

@@ -149,6 +149,16 @@ module rs_model_scene
         character(len=name_len) :: rod = ''
         character(len=name_len) :: end = ''
         character(len=name_len) :: kind = ''
+        !> A driven end (kind = 'driven'): the end's reference pose moved by the displacement
+        !> f(t) displacement and turned by the rotation vector f(t) rotation (inertial
+        !> components, about the end's reference position), f the time function.
+        real(rk) :: displacement(3) = 0.0_rk
+        real(rk) :: rotation(3) = 0.0_rk
+        character(len=name_len) :: time_function = 'constant'
+        real(rk) :: t_on = 0.0_rk
+        real(rk) :: t_off = unset_real
+        real(rk) :: table_times(max_table) = unset_real
+        real(rk) :: table_values(max_table) = unset_real
     end type bc_input_t
 
     !> &load: an end load, a distributed load or gravity, scaled by a time function.

@@ -22,13 +22,14 @@
 !>   element exactly (§7.4): the balance error is reported and measured.
 !>
 !> Supports eliminate unknowns: clamped fixes r and psi, pinned fixes r (the heavy top's
-!> spherical joint). Loads: dead (spatial) and follower end forces and moments, dead
+!> spherical joint), driven prescribes r and psi (a clamp moved and turned in time, e.g. the
+!> superimposed rotation of methods §10.3). Loads: dead (spatial) and follower end forces and moments, dead
 !> distributed forces and moments, gravity.
 module rs_se3_pg
     use rs_core_kinds, only: rk, pi
     use rs_core_error, only: error_t, set_error
     use rs_core_strings, only: str
-    use rs_model_scene, only: scene_t, rod_input_t
+    use rs_model_scene, only: scene_t, rod_input_t, bc_input_t, load_input_t
     use rs_model_rod_history, only: rod_history_t
     use rs_model_time_function, only: time_function_t, time_function_from_load
     use rs_model_rod_geometry, only: rod_geometry_t, rod_geometry_of, centreline_point, &
@@ -53,6 +54,15 @@ module rs_se3_pg
         type(time_function_t) :: factor
     end type se3_load_t
 
+    !> A driven end (&bc kind = 'driven'): the clamp pose (r0 + f(t) displacement,
+    !> Exp(f(t) rotation) A0).
+    type :: se3_drive_t
+        integer :: node = 0
+        real(rk) :: displacement(3) = 0.0_rk, rotation(3) = 0.0_rk
+        real(rk) :: r0(3) = 0.0_rk, a0(3, 3) = 0.0_rk
+        type(time_function_t) :: factor
+    end type se3_drive_t
+
     type, extends(rod_formulation_t), public :: se3_pg_t
         character(len=:), allocatable :: name
         integer :: n_elements = 0, n_nodes = 0
@@ -66,6 +76,9 @@ module rs_se3_pg
         !> Reference arc length of the nodes.
         real(rk), allocatable :: node_s(:)
         type(se3_load_t), allocatable :: loads(:)
+        type(se3_drive_t), allocatable :: drives(:)
+        !> The driven nodes' coordinates at the end of the current step.
+        real(rk), allocatable :: q_driven(:, :)
         !> unknown_of(i, k): index of q(i) of node k in Y (0: fixed by a support).
         integer, allocatable :: unknown_of(:, :)
         integer :: n_y = 0
@@ -99,7 +112,7 @@ module rs_se3_pg
         procedure :: save_internal => se3_save_internal
         procedure :: restore_internal => se3_restore_internal
         procedure :: full_newton => se3_full_newton
-        procedure, private :: full_q, nodal_loads, energies, midpoint_velocity
+        procedure, private :: full_q, nodal_loads, energies, midpoint_velocity, set_drives
     end type se3_pg_t
 
 contains
@@ -203,6 +216,10 @@ contains
                     fixed(:, node) = .true.
                 case ('pinned')
                     fixed(1:3, node) = .true.
+                case ('driven')
+                    fixed(:, node) = .true.
+                    call add_drive(this, bc, node, err)
+                    RS_RETURN_IF_ERROR(err)
                 case ('free')
                 case default
                     message = 'rod ''' // this%name // ''': a ''' // trim(bc%kind) // &
@@ -213,6 +230,8 @@ contains
             end associate
         end do
         allocate(this%unknown_of(6, this%n_nodes), source=0)
+        if (.not. allocated(this%drives)) allocate(this%drives(0))
+        allocate(this%q_driven(6, this%n_nodes), source=0.0_rk)
         this%n_y = 0
         do k = 1, this%n_nodes
             do i = 1, 6
@@ -222,6 +241,48 @@ contains
             end do
         end do
     end subroutine fix_supports
+
+    !> A driven end: its reference pose and motion (rs_model_scene bc_input_t).
+    subroutine add_drive(this, bc, node, err)
+        type(se3_pg_t), intent(inout) :: this
+        type(bc_input_t), intent(in) :: bc
+        integer, intent(in) :: node
+        type(error_t), allocatable, intent(out) :: err
+        type(se3_drive_t) :: drive
+        type(load_input_t) :: motion
+        if (.not. allocated(this%drives)) allocate(this%drives(0))
+        motion%time_function = bc%time_function
+        motion%t_on = bc%t_on
+        motion%t_off = bc%t_off
+        motion%table_times = bc%table_times
+        motion%table_values = bc%table_values
+        call time_function_from_load(motion, drive%factor, err)
+        RS_RETURN_IF_ERROR(err)
+        drive%node = node
+        drive%displacement = bc%displacement
+        drive%rotation = bc%rotation
+        drive%r0 = this%initial(6 * (node - 1) + 1:6 * (node - 1) + 3)
+        drive%a0 = exp_so3(this%initial(6 * (node - 1) + 4:6 * node))
+        this%drives = [this%drives, drive]
+    end subroutine add_drive
+
+    !> The driven nodes' coordinates at time t: position and the rotation vector of
+    !> Exp(f rotation) A0 nearest to the node's coordinates in x_n (continuous in time).
+    subroutine set_drives(this, t, x_n)
+        class(se3_pg_t), intent(inout) :: this
+        real(rk), intent(in) :: t, x_n(:)
+        real(rk) :: f
+        integer :: i, k
+        do i = 1, size(this%drives)
+            associate (drive => this%drives(i))
+                k = drive%node
+                f = drive%factor%value(t)
+                this%q_driven(1:3, k) = drive%r0 + f * drive%displacement
+                this%q_driven(4:6, k) = nearest_rotation_vector(log_so3(matmul(exp_so3(f * &
+                    drive%rotation), drive%a0)), x_n(6 * (k - 1) + 4:6 * k))
+            end associate
+        end do
+    end subroutine set_drives
 
     !> End loads (dead: I components; follower: the given vector in the loaded node's director
     !> components (d1, d2, d3), i.e. K components (F3, F1, F2)), distributed loads and gravity.
@@ -323,6 +384,8 @@ contains
             do i = 1, 6
                 if (this%unknown_of(i, k) > 0) then
                     q(i, k) = y(this%unknown_of(i, k))
+                else if (is_driven(this, k)) then
+                    q(i, k) = this%q_driven(i, k)
                 else
                     q(i, k) = x_n(6 * (k - 1) + i)
                 end if
@@ -330,16 +393,47 @@ contains
         end do
     end subroutine full_q
 
-    !> Statics: the last equilibrium. Dynamics: q_n + h B(q_n) u_n (explicit Euler).
+    pure logical function is_driven(this, k)
+        type(se3_pg_t), intent(in) :: this
+        integer, intent(in) :: k
+        integer :: i
+        is_driven = .false.
+        do i = 1, size(this%drives)
+            if (this%drives(i)%node == k) is_driven = .true.
+        end do
+    end function is_driven
+
+    !> Statics: the last equilibrium, moved rigidly with the first driven end (its increment
+    !> of pose over the step, about its position: exact for a rigid superimposed motion,
+    !> methods §10.3, and a linearized-predictor substitute otherwise). Dynamics: q_n + h B(q_n)
+    !> u_n (explicit Euler).
     subroutine se3_predictor(this, t_n, h, x_n, y)
         class(se3_pg_t), intent(inout) :: this
         real(rk), intent(in) :: t_n, h, x_n(:)
         real(rk), intent(out) :: y(:)
-        real(rk) :: q(6), u(6)
+        real(rk) :: q(6), u(6), turn(3, 3), shift(3), pivot(3)
         integer :: i, k, at
+        call this%set_drives(t_n + h, x_n)
+        turn = 0.0_rk
+        turn(1, 1) = 1.0_rk
+        turn(2, 2) = 1.0_rk
+        turn(3, 3) = 1.0_rk
+        pivot = 0.0_rk
+        shift = 0.0_rk
+        if (size(this%drives) > 0 .and. this%statics) then
+            k = this%drives(1)%node
+            pivot = x_n(6 * (k - 1) + 1:6 * (k - 1) + 3)
+            turn = matmul(exp_so3(this%q_driven(4:6, k)), transpose(exp_so3(x_n(6 * (k - 1) + &
+                4:6 * k))))
+            shift = this%q_driven(1:3, k) - pivot
+        end if
         do k = 1, this%n_nodes
             at = 6 * (k - 1)
             q = x_n(at + 1:at + 6)
+            if (this%statics .and. size(this%drives) > 0) then
+                q(1:3) = pivot + shift + matmul(turn, q(1:3) - pivot)
+                q(4:6) = nearest_rotation_vector(log_so3(matmul(turn, exp_so3(q(4:6)))), q(4:6))
+            end if
             if (.not. this%statics) then
                 u = x_n(6 * this%n_nodes + at + 1:6 * this%n_nodes + at + 6)
                 q(1:3) = q(1:3) + h * u(1:3)
@@ -360,6 +454,7 @@ contains
         real(rk), intent(out) :: x_1(:)
         real(rk) :: u_mid(6)
         integer :: k, at, au
+        call this%set_drives(t_n + h, x_n)
         call this%full_q(x_n, y, this%q_1)
         do k = 1, this%n_nodes
             at = 6 * (k - 1)
@@ -397,6 +492,7 @@ contains
         real(rk) :: q_e(12), g(12), m(12, 12), u_n(12), u_mid(12), u_1(12), gyr(12), kg(12, 12)
         real(rk) :: q_at(6, this%n_nodes), rows(6, this%n_nodes)
         integer :: e, k, i
+        call this%set_drives(t_n + h, x_n)
         call this%full_q(x_n, y, this%q_1)
         if (this%statics) then
             q_at = this%q_1
@@ -445,6 +541,7 @@ contains
         real(rk) :: du_node(6, 6)
         real(rk) :: q_at(6, this%n_nodes), scale
         integer :: e, i, j, node
+        call this%set_drives(t_n + h, x_n)
         call this%full_q(x_n, y, this%q_1)
         if (this%statics) then
             q_at = this%q_1

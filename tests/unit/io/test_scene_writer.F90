@@ -64,7 +64,8 @@ contains
             "     em_variant = 'ph_irreducible', start = -1.5, 0.25, -2.7499999, length = 0.5," // nl // &
             '     EA = 1, GA1 = 2, GA2 = 3, EI1 = 4, EI2 = 5, GJ = 6, rhoA = 7, rhoI1 = 8, rhoI2 = 9 /' // nl // &
             "&bc rod = 'left', end = 'end', kind = 'pinned' /" // nl // &
-            "&bc rod = 'rod2', end = 'start', kind = 'driven' /" // nl // &
+            "&bc rod = 'rod2', end = 'start', kind = 'driven', rotation = 0.5, 0, -1.25," // nl // &
+            "    displacement = 0, 1e-3, 0, time_function = 'ramp', t_on = 0.25, t_off = 2 /" // nl // &
             "&load rod = 'left', where = 'end', force = 1.1, -2.2, 3.3," // nl // &
             "      moment = 0, 0, 0.1, frame = 'follower', time_function = 'table'," // nl // &
             '      table_times = 0, 0.1, 0.7, 3.5, table_values = 0, 1, -1, 2 /' // nl // &
@@ -157,7 +158,7 @@ contains
         CHECK_EQUAL(occurrences(text, 'input_line'), 0, 'input_line is not an input variable')
         CHECK_EQUAL(occurrences(text, 'radius'), 0, 'unset radius left out')
         CHECK_EQUAL(occurrences(text, 'density'), 0, 'unset density left out')
-        CHECK_EQUAL(occurrences(text, 't_off'), 2, 't_off only where it was given')
+        CHECK_EQUAL(occurrences(text, 't_off'), 3, 't_off only where it was given (a load, an actuator, the driven bc)')
         CHECK_CONTAINS(text, nl // '    table_times = 0.0, 0.1, 0.7, 3.5' // nl, 'given entries only')
         CHECK_CONTAINS(text, nl // '    table_values = 0.0, 1.0, 0.3333333333333333' // nl, 'actuator table')
         CHECK_CONTAINS(text, nl // '    maxwell_fraction = 0.25, 0.125, 0.0625' // nl, 'the branches only')
@@ -374,6 +375,13 @@ contains
         CHECK_EQUAL(b%rod, a%rod, 'bc rod')
         CHECK_EQUAL(b%end, a%end, 'bc end')
         CHECK_EQUAL(b%kind, a%kind, 'bc kind')
+        call check_reals(b%displacement, a%displacement, 'bc displacement')
+        call check_reals(b%rotation, a%rotation, 'bc rotation')
+        CHECK_EQUAL(b%time_function, a%time_function, 'bc time_function')
+        call check_real(b%t_on, a%t_on, 'bc t_on')
+        call check_real(b%t_off, a%t_off, 'bc t_off')
+        call check_reals(b%table_times, a%table_times, 'bc table_times')
+        call check_reals(b%table_values, a%table_values, 'bc table_values')
     end subroutine check_same_bc
 
     subroutine check_same_load(a, b)

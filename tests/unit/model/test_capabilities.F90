@@ -159,7 +159,7 @@ contains
         row = capability_of('se3_pg')
         CHECK_TRUE(row%available, 'se3_pg is available')
         CHECK_TRUE(lists_name(row%end_kinds, 'pinned'), 'pinned ends')
-        CHECK_TRUE(.not. lists_name(row%end_kinds, 'driven'), 'no driven ends yet')
+        CHECK_TRUE(lists_name(row%end_kinds, 'driven'), 'driven ends (a moved clamp)')
         CHECK_TRUE(lists_name(row%load_frames, 'follower'), 'follower loads')
         CHECK_TRUE(lists_name(row%load_places, 'gravity'), 'gravity')
         CHECK_TRUE(row%quasistatic .and. row%curved_reference, 'statics and curved references')

@@ -1,0 +1,71 @@
+!> The --check-input plan of an se3_pg rod (DESIGN.md §4; rs_formulations_plan prints it): the
+!> element, the unknowns, statics or dynamics, supports and loads, and what is skipped.
+module rs_se3_pg_plan
+    use rs_core_strings, only: str
+    use rs_model_scene, only: scene_t
+    implicit none
+    private
+
+    public :: se3_pg_plan_lines
+
+contains
+
+    !> '!' lines (each ending in a new line) of rod `i`.
+    function se3_pg_plan_lines(scene, i) result(lines)
+        type(scene_t), intent(in) :: scene
+        integer, intent(in) :: i
+        character(len=:), allocatable :: lines
+        character(len=:), allocatable :: supports
+        integer :: j, n_nodes, n_fixed, n_follower, n_dead
+        associate (rod => scene%rods(i))
+            n_nodes = rod%n_elements + 1
+            lines = ''
+            call add('element: ' // str(rod%n_elements) // ' two-node SE(3) Petrov-Galerkin ' // &
+                'elements (methods/se3_petrov_galerkin.md §5): relative-twist interpolation, ' // &
+                'constant strains per element, 2 Gauss points; degree and n_gauss do not apply')
+            n_fixed = 0
+            supports = ''
+            do j = 1, size(scene%bcs)
+                if (trim(scene%bcs(j)%rod) /= trim(rod%name)) cycle
+                select case (trim(scene%bcs(j)%kind))
+                case ('clamped', 'driven')
+                    n_fixed = n_fixed + 6
+                case ('pinned')
+                    n_fixed = n_fixed + 3
+                end select
+                supports = supports // ' ' // trim(scene%bcs(j)%end) // ' ' // trim(scene%bcs(j)%kind)
+            end do
+            call add('unknowns: 6 x ' // str(n_nodes) // ' nodes (position, rotation vector) = ' // &
+                str(6 * n_nodes) // ', less ' // str(n_fixed) // ' fixed by supports;' // supports)
+            if (scene%time%quasistatic) then
+                call add('statics: Newton at each load factor t (methods §7.2), full steps, ' // &
+                    'increments halved on failure; complement rotation vectors after each increment')
+            else
+                call add('dynamics: implicit midpoint rule on q'' = B(q) u, M u'' = f (methods §7.4), ' // &
+                    'u eliminated; complement rotation vectors after each step; the energy balance ' // &
+                    'measures the scheme''s energy error (not exact for this element)')
+            end if
+            n_follower = 0
+            n_dead = 0
+            do j = 1, size(scene%loads)
+                if (trim(scene%loads(j)%rod) /= trim(rod%name) .and. .not. &
+                    (len_trim(scene%loads(j)%rod) == 0 .and. trim(scene%loads(j)%where) == 'gravity')) &
+                    cycle
+                if (trim(scene%loads(j)%frame) == 'follower') then
+                    n_follower = n_follower + 1
+                else
+                    n_dead = n_dead + 1
+                end if
+            end do
+            call add('loads: ' // str(n_dead) // ' dead, ' // str(n_follower) // ' follower ' // &
+                '(their tangents enter Newton)')
+            call add('skipped: constraints, Maxwell branches, actuators, joints')
+        end associate
+    contains
+        subroutine add(line)
+            character(len=*), intent(in) :: line
+            lines = lines // '!     ' // line // new_line('a')
+        end subroutine add
+    end function se3_pg_plan_lines
+
+end module rs_se3_pg_plan
