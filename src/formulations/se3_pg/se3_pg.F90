@@ -183,7 +183,7 @@ contains
             this%initial(at + 4:at + 6) = log_so3(a(:, :, k))
             ! v = velocity + omega x (r - c), K omega = A^T omega.
             omega = rod%angular_velocity
-            v = rod%velocity + cross3(omega, r(:, k) - rod%rotation_center)
+            v = rod%velocity + matmul(hat(omega), r(:, k) - rod%rotation_center)
             at = 6 * this%n_nodes + 6 * (k - 1)
             if (.not. this%statics) then
                 this%initial(at + 1:at + 3) = v
@@ -785,7 +785,7 @@ contains
                 p = matmul(m, x(6 * this%n_nodes + 6 * (e - 1) + 1:6 * this%n_nodes + 6 * (e + 1)))
                 do node = 0, 1
                     linear = linear + p(6 * node + 1:6 * node + 3)
-                    angular = angular + cross3(q(6 * node + 1:6 * node + 3), &
+                    angular = angular + matmul(hat(q(6 * node + 1:6 * node + 3)), &
                         p(6 * node + 1:6 * node + 3)) + matmul(exp_so3(q(6 * node + 4:6 * node + 6)), &
                         p(6 * node + 4:6 * node + 6))
                 end do
@@ -855,12 +855,6 @@ contains
         real(rk) :: t(3, 3)
         t = tangent_inverse_so3(psi)
     end function tinv
-
-    pure function cross3(a, b) result(c)
-        real(rk), intent(in) :: a(3), b(3)
-        real(rk) :: c(3)
-        c = [a(2) * b(3) - a(3) * b(2), a(3) * b(1) - a(1) * b(3), a(1) * b(2) - a(2) * b(1)]
-    end function cross3
 
     !> The unit vectors e_j, j in `columns`, as the columns of a 3 x 3 matrix.
     pure function identity_columns(columns) result(e)
