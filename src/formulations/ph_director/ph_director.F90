@@ -19,7 +19,7 @@ module rs_ph_director
     use rs_model_scene, only: scene_t, rod_input_t, unset_real
     use rs_model_rod_geometry, only: rod_geometry_t, rod_geometry_of, centreline_point, &
         centreline_frame
-    use rs_core_logger, only: log_info
+    use rs_core_logger, only: log_info, log_warning
     use rs_model_time_function, only: time_function_t, time_function_from_load, &
         time_function_from_actuator
     use rs_model_rod_history, only: rod_history_t
@@ -114,6 +114,8 @@ module rs_ph_director
         real(rk) :: smallest_step = huge(1.0_rk)
         real(rk) :: last_residual = 0.0_rk
         integer :: iterations_since_record = 0
+        !> The mesh-resolution warning of `record` was given.
+        logical :: warned_coarse = .false.
     contains
         procedure :: init => ph_director_init
         procedure :: n_state => ph_director_n_dofs
@@ -1250,6 +1252,7 @@ contains
             angular = angular + a_e
             position = position + ph_director_element_position_integral(this%basis, &
                 this%element_length(e), this%q_1(:, nodes(1):nodes(2)))
+            call warn_if_coarse(this, e, t, this%q_1(10:12, nodes(1)), this%q_1(10:12, nodes(2)))
         end do
         history%time(r) = t
         history%kinetic(r) = kinetic
@@ -1298,6 +1301,23 @@ contains
         this%smallest_step = huge(1.0_rk)
         this%last_residual = 0.0_rk
     end subroutine ph_director_record
+
+    !> Once per rod: the directors are interpolated by Lagrange polynomials, so when the end
+    !> directors of an element are more than 90 degrees apart the interpolated directors shrink
+    !> towards zero inside it and the strains measured with them lose the element's stretch and
+    !> shear (a zero-energy mode; on the planar spaghetti's step load with p = 1 the loaded end
+    !> element stretched 30-fold). The mesh is too coarse for the rotation there.
+    subroutine warn_if_coarse(this, e, t, d3_first, d3_last)
+        type(ph_director_t), intent(inout) :: this
+        integer, intent(in) :: e
+        real(rk), intent(in) :: t, d3_first(3), d3_last(3)
+        if (this%warned_coarse .or. dot_product(d3_first, d3_last) >= 0.0_rk) return
+        this%warned_coarse = .true.
+        call log_warning('rod ''' // this%name // ''': at t = ' // str(t) // ' the end directors ' // &
+            'd3 of element ' // str(e) // ' are more than 90 degrees apart; the interpolated ' // &
+            'directors degenerate inside it (docs/theory/ph_director.md): refine the mesh or ' // &
+            'raise the degree')
+    end subroutine warn_if_coarse
 
     function ph_director_describe(this) result(text)
         class(ph_director_t), intent(in) :: this

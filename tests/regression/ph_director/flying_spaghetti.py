@@ -6,6 +6,7 @@
     flying_spaghetti.py order        temporal order 2 at the free end at t = 5
     flying_spaghetti.py unwritable_output   a bad output path stops the run before it starts
     flying_spaghetti.py newton_failure      a failed step stops the run with the last good state written
+    flying_spaghetti.py coarse_mesh_warning too coarse a mesh for the rotation is reported once
 
 Tolerances are those of issue 3 and DESIGN.md §8: the energy balance is exact up to the Newton
 residual (tolerance 1e-11), momentum and centre of mass after the loads end (t >= 5) follow
@@ -186,14 +187,35 @@ def newton_failure(args, checks):
                  float(f"at t = {t[-1]:g} " not in message and f"at t = {t[-1]} " not in message), 0.0)
 
 
+def coarse_mesh_warning(args, checks):
+    """The planar spaghetti's step load on 10 elements: with p = 1 the loaded end element's
+    directors turn more than 90 degrees apart by t = 0.5 (docs/theory/ph_director.md, mesh
+    resolution) and the run warns once; with p = 2 they do not and it stays silent."""
+    base = rs.read_example(args.source, "planar_flying_spaghetti.nml")
+    base = rs.set_variable(base, "rod", "formulation", "'ph_director'")
+    base = rs.set_variable(base, "rod", "d1", "0.8, 0.6, 0.0")
+    base = rs.set_variable(base, "time", "t_end", "1.0")
+    base = rs.set_variable(base, "solver", "newton_atol", "1e-10")
+    for degree, expected in ((1, 1), (2, 0)):
+        text = rs.set_variable(base, "rod", "degree", str(degree))
+        output = os.path.join(args.workdir, f"coarse_p{degree}.h5")
+        text = rs.set_variable(text, "output", "path", f"'{output}'")
+        status, printed = rs.run_failing(args, text, f"coarse_p{degree}")
+        checks.check(f"p = {degree}: exit status", status, 0)
+        warnings = printed.count("are more than 90 degrees apart")
+        checks.check(f"p = {degree}: |mesh-resolution warnings - {expected}|", abs(warnings - expected), 0)
+
+
 def main():
     parser = rs.common_arguments(__doc__)
     parser.add_argument("case", choices=["invariants", "ranks", "objectivity", "order",
-                                         "unwritable_output", "newton_failure"])
+                                         "unwritable_output", "newton_failure",
+                                         "coarse_mesh_warning"])
     args = parser.parse_args()
     checks = rs.Checks()
     cases = {"invariants": invariants, "ranks": ranks, "objectivity": objectivity, "order": order,
-             "unwritable_output": unwritable_output, "newton_failure": newton_failure}
+             "unwritable_output": unwritable_output, "newton_failure": newton_failure,
+             "coarse_mesh_warning": coarse_mesh_warning}
     cases[args.case](args, checks)
     checks.finish()
 
