@@ -14,9 +14,9 @@ module rs_io_input_check
     use rs_core_kinds, only: rk
     use rs_core_error, only: error_list_t, error_t
     use rs_core_strings, only: str, vector_text
-    use rs_model_scene, only: scene_t, rod_input_t, actuator_input_t, bc_input_t, load_input_t, &
+    use rs_model_scene, only: scene_t, rod_input_t, actuator_input_t, bc_input_t, &
         unset_real, section_derived_names
-    use rs_model_time_function, only: time_function_t, time_function_from_load
+    use rs_model_time_function, only: time_function_t, time_function_from_bc
     use rs_model_rod_geometry, only: rod_geometry_t, straight_geometry, helix_geometry, &
         polyline_geometry, centreline_tangent, default_normal, rod_geometry_of, centreline_point
     use rs_model_section, only: section_properties_t, circle_section, tube_section, rectangle_section
@@ -503,7 +503,6 @@ contains
         type(scene_t), intent(in) :: scene
         type(bc_input_t), intent(in) :: bc
         type(error_list_t), intent(inout) :: errors
-        type(load_input_t) :: motion
         type(time_function_t) :: f
         type(error_t), allocatable :: err
         character(len=:), allocatable :: here
@@ -520,12 +519,7 @@ contains
         end if
         call check_time_function(here, bc%time_function, bc%t_on, bc%t_off, bc%table_times, &
             bc%table_values, errors)
-        motion%time_function = bc%time_function
-        motion%t_on = bc%t_on
-        motion%t_off = bc%t_off
-        motion%table_times = bc%table_times
-        motion%table_values = bc%table_values
-        call time_function_from_load(motion, f, err)
+        call time_function_from_bc(bc, f, err)
         if (allocated(err)) return
         if (f%value(0.0_rk) /= 0.0_rk) call errors%add(here // 'time_function: f(0) = ' // &
             str(f%value(0.0_rk)) // '; a driven end starts at its reference pose, so f(0) = 0 ' // &

@@ -11,6 +11,8 @@ module rs_model_scene
     implicit none
     private
 
+    public :: load_applies_to
+
     !> Marks a real variable that was not given and has no default.
     real(rk), parameter, public :: unset_real = huge(1.0_rk)
     !> Marks an integer variable that was not given and has no default.
@@ -225,5 +227,16 @@ module rs_model_scene
         type(actuator_input_t), allocatable :: actuators(:)
         type(joint_input_t), allocatable :: joints(:)
     end type scene_t
+
+contains
+
+    !> True if `load` acts on the rod named `rod_name`: it names that rod, or it is gravity
+    !> without a rod (gravity on every rod).
+    pure logical function load_applies_to(load, rod_name)
+        type(load_input_t), intent(in) :: load
+        character(len=*), intent(in) :: rod_name
+        load_applies_to = trim(load%rod) == trim(rod_name) .or. &
+            (len_trim(load%rod) == 0 .and. trim(load%where) == 'gravity')
+    end function load_applies_to
 
 end module rs_model_scene

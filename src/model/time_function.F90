@@ -16,11 +16,11 @@
 module rs_model_time_function
     use rs_core_kinds, only: rk
     use rs_core_error, only: error_t, set_error
-    use rs_model_scene, only: load_input_t, actuator_input_t, unset_real
+    use rs_model_scene, only: load_input_t, actuator_input_t, bc_input_t, unset_real
     implicit none
     private
 
-    public :: time_function_from_load, time_function_from_actuator
+    public :: time_function_from_load, time_function_from_actuator, time_function_from_bc
 
     !> The names `time_function_from_load` and `time_function_from_actuator` accept.
     character(len=*), parameter, public :: time_function_names = 'constant|ramp|hat|pulse|table'
@@ -58,6 +58,16 @@ contains
         call time_function_from_parts('time_function_from_actuator', actuator%time_function, &
             actuator%t_on, actuator%t_off, actuator%table_times, actuator%table_values, tf, err)
     end subroutine time_function_from_actuator
+
+    !> The time function f of a driven `&bc` (its pose at t is the motion scaled by f(t));
+    !> the same names and rules as `time_function_from_load`.
+    subroutine time_function_from_bc(bc, tf, err)
+        type(bc_input_t), intent(in) :: bc
+        type(time_function_t), intent(out) :: tf
+        type(error_t), allocatable, intent(out) :: err
+        call time_function_from_parts('time_function_from_bc', bc%time_function, bc%t_on, &
+            bc%t_off, bc%table_times, bc%table_values, tf, err)
+    end subroutine time_function_from_bc
 
     !> The time function named `name` on [t_on, t_off] or through the set entries of
     !> (times, values); errors name `routine`, the public entry point.

@@ -1,11 +1,11 @@
-!> Reproducible random samples for tests: a fixed seed per test program and uniformly
-!> distributed unit vectors (rotation axes).
+!> Reproducible random samples for tests: a fixed seed per test program, uniform numbers and
+!> vectors, and uniformly distributed unit vectors (rotation axes).
 module rs_test_random
     use rs_core_kinds, only: rk
     implicit none
     private
 
-    public :: set_random_seed, random_unit_vector
+    public :: set_random_seed, random_unit_vector, uniform, random_vector
 
 contains
 
@@ -31,5 +31,22 @@ contains
         end do
         axis = axis / norm2(axis)
     end function random_unit_vector
+
+    !> A number uniform in [lo, hi].
+    function uniform(lo, hi) result(x)
+        real(rk), intent(in) :: lo, hi
+        real(rk) :: x
+        call random_number(x)
+        x = lo + (hi - lo) * x
+    end function uniform
+
+    !> n entries uniform in [-scale, scale].
+    function random_vector(n, scale) result(x)
+        integer, intent(in) :: n
+        real(rk), intent(in) :: scale
+        real(rk) :: x(n)
+        call random_number(x)
+        x = scale * (2.0_rk * x - 1.0_rk)
+    end function random_vector
 
 end module rs_test_random

@@ -16,7 +16,7 @@ module rs_ph_director
     use rs_core_kinds, only: rk
     use rs_core_error, only: error_t, set_error
     use rs_core_strings, only: str
-    use rs_model_scene, only: scene_t, rod_input_t, unset_real
+    use rs_model_scene, only: scene_t, rod_input_t, unset_real, load_applies_to
     use rs_model_rod_geometry, only: rod_geometry_t, rod_geometry_of, centreline_point, &
         centreline_frame
     use rs_core_logger, only: log_info, log_warning
@@ -413,8 +413,7 @@ contains
         allocate(this%loads(0))
         do i = 1, size(scene%loads)
             associate (input => scene%loads(i))
-                if (trim(input%rod) /= this%name .and. .not. (len_trim(input%rod) == 0 .and. &
-                    trim(input%where) == 'gravity')) cycle
+                if (.not. load_applies_to(input, this%name)) cycle
                 if (trim(input%frame) /= 'spatial') then
                     message = 'rod ''' // this%name // &
                         ''': follower loads are not available for ph_director in this version (docs/user/capabilities.md)'

@@ -28,7 +28,7 @@ module rs_ph_planar
     use rs_core_kinds, only: rk
     use rs_core_error, only: error_t, set_error
     use rs_core_strings, only: str
-    use rs_model_scene, only: scene_t, rod_input_t
+    use rs_model_scene, only: scene_t, rod_input_t, load_applies_to
     use rs_model_rod_history, only: rod_history_t
     use rs_model_time_function, only: time_function_t, time_function_from_load
     use rs_model_planarity, only: plane_t, plane_of_rods, point_in_plane, vector_in_plane, &
@@ -424,8 +424,7 @@ contains
         do i = 1, size(scene%loads)
             associate (input => scene%loads(i))
                 do r = 1, size(rods)
-                    if (trim(input%rod) /= trim(scene%rods(rods(r))%name) .and. .not. &
-                        (len_trim(input%rod) == 0 .and. trim(input%where) == 'gravity')) cycle
+                    if (.not. load_applies_to(input, scene%rods(rods(r))%name)) cycle
                     load = planar_load_t()
                     load%rod = r
                     call time_function_from_load(input, load%factor, err)

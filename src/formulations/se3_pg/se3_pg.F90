@@ -29,9 +29,9 @@ module rs_se3_pg
     use rs_core_kinds, only: rk, pi
     use rs_core_error, only: error_t, set_error
     use rs_core_strings, only: str
-    use rs_model_scene, only: scene_t, rod_input_t, bc_input_t, load_input_t
+    use rs_model_scene, only: scene_t, rod_input_t, bc_input_t, load_applies_to
     use rs_model_rod_history, only: rod_history_t
-    use rs_model_time_function, only: time_function_t, time_function_from_load
+    use rs_model_time_function, only: time_function_t, time_function_from_load, time_function_from_bc
     use rs_model_rod_geometry, only: rod_geometry_t, rod_geometry_of, centreline_point, &
         centreline_frame
     use rs_math_so3, only: exp_so3, log_so3, hat, tangent_so3, tangent_so3_derivative, &
@@ -249,14 +249,8 @@ contains
         integer, intent(in) :: node
         type(error_t), allocatable, intent(out) :: err
         type(se3_drive_t) :: drive
-        type(load_input_t) :: motion
         if (.not. allocated(this%drives)) allocate(this%drives(0))
-        motion%time_function = bc%time_function
-        motion%t_on = bc%t_on
-        motion%t_off = bc%t_off
-        motion%table_times = bc%table_times
-        motion%table_values = bc%table_values
-        call time_function_from_load(motion, drive%factor, err)
+        call time_function_from_bc(bc, drive%factor, err)
         RS_RETURN_IF_ERROR(err)
         drive%node = node
         drive%displacement = bc%displacement
@@ -296,8 +290,7 @@ contains
         n = 0
         do i = 1, size(scene%loads)
             associate (input => scene%loads(i))
-                if (trim(input%rod) /= this%name .and. .not. (len_trim(input%rod) == 0 .and. &
-                    trim(input%where) == 'gravity')) cycle
+                if (.not. load_applies_to(input, this%name)) cycle
                 load = se3_load_t()
                 call time_function_from_load(input, load%factor, err)
                 RS_RETURN_IF_ERROR(err)

@@ -2,7 +2,7 @@
 !> element, the unknowns, statics or dynamics, supports and loads, and what is skipped.
 module rs_se3_pg_plan
     use rs_core_strings, only: str
-    use rs_model_scene, only: scene_t
+    use rs_model_scene, only: scene_t, load_applies_to
     implicit none
     private
 
@@ -48,9 +48,7 @@ contains
             n_follower = 0
             n_dead = 0
             do j = 1, size(scene%loads)
-                if (trim(scene%loads(j)%rod) /= trim(rod%name) .and. .not. &
-                    (len_trim(scene%loads(j)%rod) == 0 .and. trim(scene%loads(j)%where) == 'gravity')) &
-                    cycle
+                if (.not. load_applies_to(scene%loads(j), rod%name)) cycle
                 if (trim(scene%loads(j)%frame) == 'follower') then
                     n_follower = n_follower + 1
                 else

@@ -16,7 +16,7 @@
 module rs_test_ph_director_element
     use, intrinsic :: iso_fortran_env, only: output_unit
     use rs_core_kinds, only: rk, pi
-    use rs_test_random, only: set_random_seed, random_unit_vector
+    use rs_test_random, only: set_random_seed, random_unit_vector, uniform, random_vector
     use rs_test_assert, only: run_test, assert_true, assert_close
     use rs_math_so3, only: exp_so3
     use rs_math_quadrature, only: max_gauss_points
@@ -109,22 +109,6 @@ contains
 
     ! ---------------------------------------------------------------------------------------
     ! Random data
-
-    function uniform(lo, hi) result(x)
-        real(rk), intent(in) :: lo, hi
-        real(rk) :: x
-        call random_number(x)
-        x = lo + (hi - lo) * x
-    end function uniform
-
-    ! Uniform entries in [-scale, scale].
-    function random_vector(n, scale) result(x)
-        integer, intent(in) :: n
-        real(rk), intent(in) :: scale
-        real(rk) :: x(n)
-        call random_number(x)
-        x = scale * (2.0_rk * x - 1.0_rk)
-    end function random_vector
 
     function random_rotation() result(r)
         real(rk) :: r(3, 3)

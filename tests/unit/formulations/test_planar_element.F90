@@ -15,6 +15,7 @@
 module rs_test_planar_element
     use, intrinsic :: iso_fortran_env, only: output_unit
     use rs_core_kinds, only: rk
+    use rs_test_random, only: set_random_seed, uniform, random_vector
     use rs_test_assert, only: run_test, assert_true, assert_close
     use rs_math_quadrature, only: gauss_legendre
     use rs_ph_planar_element, only: ph_em_residual, ph_em_jacobian, ph_em_condensed, &
@@ -48,7 +49,7 @@ contains
 
     !> Run every test of this file through rs_test_assert.
     subroutine run_all_tests()
-        call random_seed_fixed()
+        call set_random_seed(20250530, 7919)
         call run_test('element_mass', test_element_mass)
         call run_test('compatible_strains_hand', test_compatible_strains_hand)
         call run_test('axial_stretch_hand', test_axial_stretch_hand)
@@ -69,31 +70,6 @@ contains
 
     ! ---------------------------------------------------------------------------------------
     ! Random data and helpers
-
-    subroutine random_seed_fixed()
-        integer :: n, i
-        integer, allocatable :: seed(:)
-        call random_seed(size=n)
-        allocate(seed(n))
-        seed = [(20250530 + 7919 * i, i = 1, n)]
-        call random_seed(put=seed)
-    end subroutine random_seed_fixed
-
-    function uniform(lo, hi) result(x)
-        real(rk), intent(in) :: lo, hi
-        real(rk) :: x
-        call random_number(x)
-        x = lo + (hi - lo) * x
-    end function uniform
-
-    ! Uniform entries in [-scale, scale].
-    function random_vector(n, scale) result(x)
-        integer, intent(in) :: n
-        real(rk), intent(in) :: scale
-        real(rk) :: x(n)
-        call random_number(x)
-        x = scale * (2.0_rk * x - 1.0_rk)
-    end function random_vector
 
     pure function rot2(phi) result(lam)
         real(rk), intent(in) :: phi

@@ -16,6 +16,7 @@
 module rs_test_se3_pg_element
     use, intrinsic :: iso_fortran_env, only: output_unit
     use rs_core_kinds, only: rk, pi
+    use rs_test_random, only: set_random_seed, uniform, random_vector
     use rs_test_assert, only: run_test, assert_true, assert_close
     use rs_math_so3, only: vee, exp_so3, log_so3, tangent_so3, tangent_inverse_so3
     use rs_math_se3, only: exp_se3, pose_matrix, pose_inverse, vee_se3, pose_compose
@@ -51,7 +52,7 @@ contains
 
     !> Run every test of this file through rs_test_assert.
     subroutine run_all_tests()
-        call random_seed_fixed()
+        call set_random_seed(20250611, 7919)
         call run_test('element_mass', test_element_mass)
         call run_test('quarter_circle', test_quarter_circle)
         call run_test('constant_strain', test_constant_strain)
@@ -68,31 +69,6 @@ contains
 
     ! ---------------------------------------------------------------------------------------
     ! Random data and helpers
-
-    subroutine random_seed_fixed()
-        integer :: n, i
-        integer, allocatable :: seed(:)
-        call random_seed(size=n)
-        allocate(seed(n))
-        seed = [(20250611 + 7919 * i, i = 1, n)]
-        call random_seed(put=seed)
-    end subroutine random_seed_fixed
-
-    function uniform(lo, hi) result(x)
-        real(rk), intent(in) :: lo, hi
-        real(rk) :: x
-        call random_number(x)
-        x = lo + (hi - lo) * x
-    end function uniform
-
-    ! Uniform entries in [-scale, scale].
-    function random_vector(n, scale) result(x)
-        integer, intent(in) :: n
-        real(rk), intent(in) :: scale
-        real(rk) :: x(n)
-        call random_number(x)
-        x = scale * (2.0_rk * x - 1.0_rk)
-    end function random_vector
 
     ! A rotation vector with a random axis and the given angle.
     function random_rotation(angle) result(psi)
