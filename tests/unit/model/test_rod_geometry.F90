@@ -14,7 +14,7 @@
 module rs_test_model_rod_geometry
     use rs_core_kinds, only: rk, pi
     use rs_test_assert, only: run_test, assert_true, assert_close
-    use rs_test_random, only: set_random_seed, random_unit_vector
+    use rs_test_random, only: set_random_seed, random_unit_vector, uniform
     use rs_model_rod_geometry, only: rod_geometry_t, straight_geometry, helix_geometry, &
         polyline_geometry, set_start_director, centreline_point, centreline_tangent, &
         centreline_frame, default_normal, helix_axis_point
@@ -46,13 +46,6 @@ contains
         call run_test('polyline_vertex_bisects', test_polyline_vertex_bisects)
         call run_test('polyline_converges_to_helix', test_polyline_converges_to_helix)
     end subroutine run_all_tests
-
-    function uniform(lo, hi) result(x)
-        real(rk), intent(in) :: lo, hi
-        real(rk) :: x
-        call random_number(x)
-        x = lo + (hi - lo) * x
-    end function uniform
 
     function cross(a, b) result(c)
         real(rk), intent(in) :: a(3), b(3)
