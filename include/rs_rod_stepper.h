@@ -38,16 +38,20 @@ typedef int (*rs_cb_poststep)(void *ctx, double t_n, double h, const double *x_n
    newton_atol, newton_rtol, max_newton and max_cutbacks are scene values: they enter the
    option database as defaults below the input's petsc_options and the command line (see
    rs_petsc_apply_options), then TSSetFromOptions reads everything. The LU package is MUMPS,
-   or PETSc's own LU (nested-dissection ordering) when native_lu is non-zero: for Jacobians
-   that need no pivoting; -pc_factor_mat_solver_type overrides it. Newton uses the bt line
+   or PETSc's own LU when native_lu is non-zero: for Jacobians that need no pivoting, with a
+   nested-dissection ordering (native_lu = 1) or the natural one (native_lu = 2: the unknowns
+   are numbered for a narrow band); -pc_factor_mat_solver_type overrides it. Newton uses the bt line
    search, or full steps (basic) when full_newton is non-zero; -snes_linesearch_type overrides.
+   When linear_step is non-zero the step problem is affine in Y (seed 004's semi-implicit
+   scheme): the SNES is KSPONLY, i.e. one residual, one Jacobian and one linear solve per step,
+   no Newton loop and no norms (-snes_type overrides).
    Returns 0, or non-zero with a message in errmsg (errlen bytes, NUL-terminated). */
 int rs_stepper_create(void **handle, int n_state, int n_unknown, const int *row_ptr,
                       const int *cols, rs_cb_residual residual, rs_cb_jacobian jacobian,
                       rs_cb_vec predictor, rs_cb_update update, rs_cb_poststep poststep,
                       void *ctx, double newton_atol, double newton_rtol, int max_newton,
-                      int max_cutbacks, int native_lu, int full_newton, char *errmsg,
-                      int errlen);
+                      int max_cutbacks, int native_lu, int full_newton, int linear_step,
+                      char *errmsg, int errlen);
 
 /* Advance x from t_n to exactly t_n + dt: substeps of dt - (time done), each halved by the
    TS on Newton failure, so the step grows back after a cut. Outputs: accepted substeps,

@@ -11,7 +11,7 @@ module rs_app_run_scene
     use, intrinsic :: iso_fortran_env, only: error_unit, int64
     use rs_core_kinds, only: rk
     use rs_core_error, only: error_t, set_error
-    use rs_core_logger, only: log_info, log_debug
+    use rs_core_logger, only: log_info, log_debug, log_warning
     use rs_core_strings, only: str, str_significant
     use rs_core_timer, only: wall_time
     use rs_model_scene, only: scene_t
@@ -52,7 +52,7 @@ contains
         real(rk), allocatable :: record_times(:)
         real(rk) :: started, output_seconds, last_report, t_flush, last_sidecar
         integer :: i, n, n_steps, first_step, capacity, n_times
-        logical :: restarting, failed
+        logical :: restarting, failed, last
 
         call petsc_apply_options(scene_options(scene), trim(scene%solver%petsc_options), err)
         RS_RETURN_IF_ERROR(err)
@@ -132,11 +132,14 @@ contains
                 if (system_owner(i) == world_rank()) call runners(i)%advance(scene, n)
             end do
             call log_debug('rodsolve: step ' // str(n) // ' done')
-            if (mod(n, scene%output%stride) == 0 .or. n == n_steps) then
+            ! &time relaxation: the run ends when every system has relaxed (or failed).
+            last = n == n_steps
+            if (scene%time%relaxation) last = last .or. .not. any_rank_true(any(still_running()))
+            if (mod(n, scene%output%stride) == 0 .or. last) then
                 n_times = n_times + 1
                 record_times(n_times) = min(real(n, rk) * scene%time%dt, scene%time%t_end)
             end if
-            if (mod(n, scene%output%flush_every) == 0 .or. n == n_steps) then
+            if (mod(n, scene%output%flush_every) == 0 .or. last) then
                 t_flush = wall_time()
                 call flush_records(scene, n, runners, writer, record_times(1:n_times), &
                     last_sidecar, local_err)
@@ -145,11 +148,22 @@ contains
                     'written (see above)')) return
                 call log_debug('rodsolve: flushed after step ' // str(n))
             end if
-            if (wall_time() - last_report >= scene%run%progress_interval .or. n == n_steps) then
+            if (wall_time() - last_report >= scene%run%progress_interval .or. last) then
                 last_report = wall_time()
                 call report_progress(scene, n, first_step, runners, last_report - started)
             end if
+            if (last) exit
         end do
+        if (scene%time%relaxation) then
+            do i = 1, size(runners)
+                if (system_owner(i) /= world_rank() .or. runners(i)%relaxed .or. runners(i)%failed) &
+                    cycle
+                call log_warning('rodsolve: ' // runners(i)%name() // ' did not relax by t_end = ' // &
+                    str(scene%time%t_end) // ': kinetic energy ' // str_significant( &
+                    runners(i)%formulation%kinetic_energy(runners(i)%x), 3) // ' >= ' // &
+                    str_significant(scene%time%kinetic_energy_tol, 3) // ' (raise t_end or the damping)')
+            end do
+        end if
 
         failed = any_rank_true(any(runners%failed))
         call writer%close(local_err)
@@ -164,7 +178,7 @@ contains
         end if
         output_seconds = output_seconds + (wall_time() - t_flush)
         if (collective_failure(local_err, err, 'the result file could not be completed')) return
-        call report_summary(runners, started, output_seconds, n_steps - first_step + 1, path)
+        call report_summary(runners, started, output_seconds, min(n, n_steps) - first_step + 1, path)
 
         if (failed) then
             do i = 1, size(runners)
@@ -177,6 +191,17 @@ contains
             message = 'a rod failed (message above); what was computed is in ' // path
             RS_SET_ERROR(err, 'run_scene', message)
         end if
+    contains
+
+        !> Per system: on this rank, neither relaxed nor failed.
+        function still_running() result(running)
+            logical :: running(size(runners))
+            integer :: k
+            do k = 1, size(runners)
+                running(k) = system_owner(k) == world_rank() .and. .not. runners(k)%relaxed .and. &
+                    .not. runners(k)%failed
+            end do
+        end function still_running
     end subroutine run_scene
 
     !> Every rank gets every rod's layout from the rod's owner. A system's checkpoint (state and

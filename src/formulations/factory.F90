@@ -7,6 +7,7 @@ module rs_formulations_factory
     use rs_ph_director, only: ph_director_t
     use rs_ph_planar, only: ph_planar_t
     use rs_se3_pg, only: se3_pg_t
+    use rs_se3_strand, only: se3_strand_t
     implicit none
     private
 
@@ -14,7 +15,7 @@ module rs_formulations_factory
 
     !> Formulations this build can run.
     character(len=*), parameter, public :: available_formulations = &
-        'ph_director, ph_planar, cl_em_planar, se3_pg'
+        'ph_director, ph_planar, cl_em_planar, se3_pg, se3_strand'
 
 contains
 
@@ -32,6 +33,8 @@ contains
             allocate(ph_planar_t :: formulation)
         case ('se3_pg')
             allocate(se3_pg_t :: formulation)
+        case ('se3_strand')
+            allocate(se3_strand_t :: formulation)
         case default
             message = 'formulation ''' // trim(name) // &
                 ''' is not available in this version; available: ' // available_formulations

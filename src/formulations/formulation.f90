@@ -69,6 +69,16 @@ module rs_formulations_formulation
         !> True if the method document runs Newton undamped (full steps, no line search);
         !> default false (backtracking).
         procedure :: full_newton => default_full_newton
+        !> True if F is affine in Y with a Jacobian that does not depend on Y (coefficients frozen
+        !> at t_n, seed 004's semi-implicit scheme): the step is one linear solve, no Newton
+        !> loop; default false.
+        procedure :: linear_step => default_linear_step
+        !> True if the unknowns are numbered for a narrow band, so that the LU keeps their order
+        !> (with native_lu); default false (nested dissection).
+        procedure :: banded_unknowns => default_banded_unknowns
+        !> Kinetic energy of the state X, for runs that stop when it is small (&time
+        !> relaxation); default -1: not reported.
+        procedure :: kinetic_energy => default_kinetic_energy
     end type rod_formulation_t
 
     abstract interface
@@ -164,6 +174,22 @@ contains
         class(rod_formulation_t), intent(in) :: this
         default_full_newton = .false.
     end function default_full_newton
+
+    pure logical function default_linear_step(this)
+        class(rod_formulation_t), intent(in) :: this
+        default_linear_step = .false.
+    end function default_linear_step
+
+    pure logical function default_banded_unknowns(this)
+        class(rod_formulation_t), intent(in) :: this
+        default_banded_unknowns = .false.
+    end function default_banded_unknowns
+
+    real(rk) function default_kinetic_energy(this, x)
+        class(rod_formulation_t), intent(in) :: this
+        real(rk), intent(in) :: x(:)
+        default_kinetic_energy = -1.0_rk
+    end function default_kinetic_energy
 
     pure integer function default_n_internal(this)
         class(rod_formulation_t), intent(in) :: this

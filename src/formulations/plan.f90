@@ -13,6 +13,7 @@ module rs_formulations_plan
     use rs_ph_director_plan, only: ph_director_plan_lines
     use rs_ph_planar_plan, only: ph_planar_plan_lines
     use rs_se3_pg_plan, only: se3_pg_plan_lines
+    use rs_se3_strand_plan, only: se3_strand_plan_lines
     use rs_model_coupling, only: coupled_systems
     implicit none
     private
@@ -88,6 +89,8 @@ contains
                     call ph_planar_plan_lines(scene, i, lines)
                 case ('se3_pg')
                     lines = se3_pg_plan_lines(scene, i)
+                case ('se3_strand')
+                    lines = se3_strand_plan_lines(scene, i)
                 case default
                     lines = '!     formulation not available in this version' // new_line('a')
                 end select

@@ -2,10 +2,11 @@
 !> derived defaults (rod names, formulations, the centreline's start, direction and length,
 !> directors, the centre of the initial rotation, stiffnesses from section and material,
 !> Maxwell shear relaxation times, output path) and checks what no single variable can (a &bc
-!> on a rod that does not exist, an end supported twice, a table that is not increasing, dt
-!> above t_end, Maxwell fractions that leave no elastic branch, an actuator without its force,
-!> a helix length that contradicts its turns, a polyline that doubles back, an initial velocity
-!> at a clamped end, ...), resolves `formulation = 'auto'` per joint-connected system of rods
+!> on a rod that does not exist, an end supported twice (except by several velocity drives),
+!> a table that is not increasing, dt above t_end, relaxation with quasistatics, Maxwell
+!> fractions that leave no elastic branch, an actuator without its force, a helix length that
+!> contradicts its turns, a polyline that doubles back, an initial velocity at a clamped end,
+!> ...), resolves `formulation = 'auto'` per joint-connected system of rods
 !> (ph_planar when they lie in a plane, rs_model_planarity, else ph_director) and checks the
 !> joints (existing rods, no end tied to itself, no redundant joint, ends that coincide, one
 !> formulation per system). Every problem is added to `errors`, naming the file, line, group
@@ -14,13 +15,14 @@ module rs_io_input_check
     use rs_core_kinds, only: rk
     use rs_core_error, only: error_list_t, error_t
     use rs_core_strings, only: str, vector_text
-    use rs_model_scene, only: scene_t, rod_input_t, actuator_input_t, bc_input_t, &
+    use rs_model_scene, only: scene_t, rod_input_t, actuator_input_t, bc_input_t, time_input_t, &
         unset_real, section_derived_names
     use rs_model_time_function, only: time_function_t, time_function_from_bc
     use rs_model_rod_geometry, only: rod_geometry_t, straight_geometry, helix_geometry, &
         polyline_geometry, centreline_tangent, default_normal, rod_geometry_of, centreline_point
     use rs_model_section, only: section_properties_t, circle_section, tube_section, rectangle_section
-    use rs_model_capabilities, only: capability_t, capability_of, lists_name
+    use rs_model_capabilities, only: capability_t, capability_of, lists_name, end_kinds_at, &
+        formulation_names
     use rs_model_planarity, only: plane_t, plane_of_rods, plane_text
     use rs_model_coupling, only: coupled_systems
     use rs_io_result_file, only: unknown_fields, selectable_fields
@@ -57,6 +59,7 @@ contains
             if (scene%time%dt > scene%time%t_end) call errors%add(at(scene, 0) // '&time dt: ' // &
                 str(scene%time%dt) // ' is larger than t_end = ' // str(scene%time%t_end))
         end if
+        call check_relaxation(scene, errors)
         call check_output_and_restart(scene, errors)
         if (size(scene%rods) == 0) call errors%add(scene%source_file // ': the scene has no &rod group')
         allocate(geometry_ok(size(scene%rods)))
@@ -74,6 +77,22 @@ contains
         call resolve_formulation_options(scene)
         call check_joint_formulations(scene, errors)
     end subroutine resolve_scene
+
+    !> &time relaxation (statics by damped dynamics) needs inertia, so not with quasistatic;
+    !> kinetic_energy_tol only means something with relaxation, so a value other than the
+    !> default without it would be silently ignored.
+    subroutine check_relaxation(scene, errors)
+        type(scene_t), intent(in) :: scene
+        type(error_list_t), intent(inout) :: errors
+        type(time_input_t) :: defaults
+        if (scene%time%relaxation .and. scene%time%quasistatic) call errors%add(at(scene, 0) // &
+            '&time relaxation: statics by damped dynamics needs the inertia that quasistatic = ' // &
+            '.true. drops; choose one of relaxation and quasistatic')
+        if (.not. scene%time%relaxation .and. &
+                scene%time%kinetic_energy_tol /= defaults%kinetic_energy_tol) call errors%add( &
+            at(scene, 0) // '&time kinetic_energy_tol: ' // str(scene%time%kinetic_energy_tol) // &
+            ' given, but it is only used with relaxation = .true.; remove it or set relaxation')
+    end subroutine check_relaxation
 
     !> 'out/<scene name>.h5' for scene file '<dir>/<scene name>.nml'.
     pure function default_output_path(source_file) result(path)
@@ -451,8 +470,10 @@ contains
         end do
     end function rod_names
 
-    !> Supports: an existing rod, each end supported once, a clamped end starting at rest (the
-    !> rod's initial velocity field vanishes there only without velocity and angular_velocity,
+    !> Supports: an existing rod, each end supported once (several driven &bc on one end add
+    !> up their velocities when the rod's formulation drives ends by velocity, capability_t
+    !> drive), a clamped end starting at rest (the rod's initial velocity field vanishes
+    !> there only without velocity and angular_velocity,
     !> since the director rates are angular_velocity x d_i) and a pinned end starting at rest
     !> (it may turn: a rotation about the pin is allowed).
     subroutine check_bcs(scene, geometry_ok, errors)
@@ -487,18 +508,42 @@ contains
                 end if
                 call check_driven(scene, bc, errors)
                 do j = 1, i - 1
-                    if (scene%bcs(j)%rod == bc%rod .and. scene%bcs(j)%end == bc%end .and. &
-                            len_trim(bc%end) > 0) call errors%add(at(scene, bc%input_line) // &
-                        '&bc end: the ''' // trim(bc%end) // ''' end of rod ''' // trim(bc%rod) // &
-                        ''' already has a support (line ' // str(scene%bcs(j)%input_line) // ')')
+                    if (scene%bcs(j)%rod /= bc%rod .or. scene%bcs(j)%end /= bc%end .or. &
+                            len_trim(bc%end) == 0) cycle
+                    if (trim(bc%kind) == 'driven' .and. trim(scene%bcs(j)%kind) == 'driven' .and. &
+                            drives_velocity(r)) cycle
+                    call errors%add(at(scene, bc%input_line) // '&bc end: the ''' // trim(bc%end) // &
+                        ''' end of rod ''' // trim(bc%rod) // ''' already has a support (line ' // &
+                        str(scene%bcs(j)%input_line) // ')' // velocity_note(r))
                 end do
             end associate
         end do
+    contains
+        !> True if rod `r` exists and its formulation drives ends by their velocity.
+        logical function drives_velocity(r)
+            integer, intent(in) :: r
+            type(capability_t) :: row
+            drives_velocity = .false.
+            if (r == 0) return
+            row = capability_of(trim(scene%rods(r)%formulation))
+            drives_velocity = trim(row%drive) == 'velocity'
+        end function drives_velocity
+
+        !> Where several driven &bc on one end are allowed, say so.
+        function velocity_note(r) result(text)
+            integer, intent(in) :: r
+            character(len=:), allocatable :: text
+            text = ''
+            if (drives_velocity(r)) text = '; only driven ends may be given more than once ' // &
+                '(their velocities add up)'
+        end function velocity_note
     end subroutine check_bcs
 
-    !> A driven end moves: it needs a displacement or a rotation and a time function with
-    !> f(0) = 0, so that it starts at its reference pose (and at rest, as a clamp); other kinds
-    !> take neither.
+    !> A driven end moves: by its pose (displacement, rotation), with a time function f(0) = 0
+    !> so that it starts at its reference pose, or by its velocity (velocity, angular_velocity,
+    !> methods/se3_strands.md §3.4), which starts at the reference pose whatever f(0); not
+    !> both. Which of the two a formulation takes: check_rod_capabilities. Other kinds take
+    !> none of the four.
     subroutine check_driven(scene, bc, errors)
         type(scene_t), intent(in) :: scene
         type(bc_input_t), intent(in) :: bc
@@ -506,24 +551,37 @@ contains
         type(time_function_t) :: f
         type(error_t), allocatable :: err
         character(len=:), allocatable :: here
+        logical :: pose, velocity
         here = at(scene, bc%input_line) // '&bc '
+        pose = any(bc%displacement /= 0.0_rk) .or. any(bc%rotation /= 0.0_rk)
+        velocity = any(bc%velocity /= 0.0_rk) .or. any(bc%angular_velocity /= 0.0_rk)
         if (trim(bc%kind) /= 'driven') then
-            if (any(bc%displacement /= 0.0_rk) .or. any(bc%rotation /= 0.0_rk)) &
-                call errors%add(here // 'displacement, rotation: only a driven end moves (kind = ' // &
-                '''driven''), this one is ''' // trim(bc%kind) // '''')
+            if (pose) call errors%add(here // 'displacement, rotation: only a driven end moves ' // &
+                '(kind = ''driven''), this one is ''' // trim(bc%kind) // '''')
+            if (velocity) call errors%add(here // 'velocity, angular_velocity: only a driven end ' // &
+                'moves (kind = ''driven''), this one is ''' // trim(bc%kind) // '''')
             return
         end if
-        if (all(bc%displacement == 0.0_rk) .and. all(bc%rotation == 0.0_rk)) then
-            call errors%add(here // 'kind: a driven end needs a displacement or a rotation')
+        if (.not. (pose .or. velocity)) then
+            call errors%add(here // 'kind: a driven end needs a displacement or a rotation ' // &
+                '(formulations that drive the pose) or a velocity or an angular_velocity ' // &
+                '(formulations that drive the velocity)' // see_matrix)
+            return
+        end if
+        if (pose .and. velocity) then
+            call errors%add(here // 'velocity, angular_velocity: given with displacement or ' // &
+                'rotation; a driven end is moved either by its pose (displacement, rotation) or ' // &
+                'by its velocity (velocity, angular_velocity), as its formulation drives ends' // &
+                see_matrix)
             return
         end if
         call check_time_function(here, bc%time_function, bc%t_on, bc%t_off, bc%table_times, &
             bc%table_values, errors)
         call time_function_from_bc(bc, f, err)
-        if (allocated(err)) return
+        if (allocated(err) .or. velocity) return
         if (f%value(0.0_rk) /= 0.0_rk) call errors%add(here // 'time_function: f(0) = ' // &
             str(f%value(0.0_rk)) // '; a driven end starts at its reference pose, so f(0) = 0 ' // &
-            '(a ramp, hat, pulse or a table starting at 0)')
+            '(a ramp, hat, pulse, sine or a table starting at 0)')
     end subroutine check_driven
 
     !> The initial velocity velocity + angular_velocity x (p - rotation_center) of rod `r` at
@@ -598,15 +656,16 @@ contains
         end do
     end subroutine check_loads
 
-    !> The time function of a &load or &actuator (prefix `here`): ramps, hats and pulses need
-    !> t_off > t_on; a table needs at least two strictly increasing times and as many values.
+    !> The time function of a &load, &actuator or driven &bc (prefix `here`): ramps, hats,
+    !> pulses and sines need t_off > t_on; a table needs at least two strictly increasing times
+    !> and as many values.
     subroutine check_time_function(here, name, t_on, t_off, times, values, errors)
         character(len=*), intent(in) :: here, name
         real(rk), intent(in) :: t_on, t_off, times(:), values(:)
         type(error_list_t), intent(inout) :: errors
         integer :: n_times, n_values
         select case (trim(name))
-        case ('ramp', 'hat', 'pulse')
+        case ('ramp', 'hat', 'pulse', 'sine')
             if (t_off == unset_real) then
                 call errors%add(here // 't_off: required by time_function = ''' // trim(name) // '''')
             else if (t_off <= t_on) then
@@ -989,7 +1048,8 @@ contains
 
     !> Variables that only some formulations read: the planar elements take n_gauss 1 or 2 (for
     !> cl_em_planar the quadrature of the axial and shear terms, 1 reduced, 2 full:
-    !> methods/ph_planar.md §5.1); em_variant is cl_em_planar's only.
+    !> methods/ph_planar.md §5.1); em_variant is cl_em_planar's only; the damping of seed 004
+    !> (external_damping, internal_damping, kelvin_voigt_time) is se3_strand's only.
     subroutine check_formulation_variables(scene, i, row, errors)
         type(scene_t), intent(in) :: scene
         integer, intent(in) :: i
@@ -1004,7 +1064,19 @@ contains
             if (trim(row%formulation) /= 'cl_em_planar' .and. len_trim(rod%em_variant) > 0) &
                 call errors%add(here // 'em_variant: only used with formulation ''cl_em_planar'' ' // &
                 '(this rod runs on ''' // trim(row%formulation) // '''); remove it')
+            if (trim(row%formulation) == 'se3_strand') return
+            call strand_only(rod%external_damping, 'external_damping')
+            call strand_only(rod%internal_damping, 'internal_damping')
+            call strand_only(rod%kelvin_voigt_time, 'kelvin_voigt_time')
         end associate
+    contains
+        !> A nonzero `value` of the se3_strand variable `name` on a rod of another formulation.
+        subroutine strand_only(value, name)
+            real(rk), intent(in) :: value
+            character(len=*), intent(in) :: name
+            if (value /= 0.0_rk) call errors%add(here // name // ': only used with formulation ' // &
+                '''se3_strand'' (this rod runs on ''' // trim(row%formulation) // '''); remove it')
+        end subroutine strand_only
     end subroutine check_formulation_variables
 
     !> The kind of joint `j` against `row`, the capability row of rod `r`'s formulation.
@@ -1062,15 +1134,16 @@ contains
     end subroutine check_planar_systems
 
     !> Rod `i` of `scene` against capability row `row` (that of its formulation; any row in a
-    !> unit test): its constraint and Maxwell branches, quasistatics, and the kinds of its
-    !> supports, loads and actuators.
+    !> unit test): its constraint and Maxwell branches, quasistatics and relaxation, the kinds
+    !> of its supports (per end, and how a driven end is moved), loads and actuators.
     subroutine check_rod_capabilities(scene, i, row, errors)
         type(scene_t), intent(in) :: scene
         integer, intent(in) :: i
         type(capability_t), intent(in) :: row
         type(error_list_t), intent(inout) :: errors
         character(len=:), allocatable :: what
-        integer :: j
+        character(len=5), parameter :: end_names(2) = [character(len=5) :: 'start', 'end']
+        integer :: j, e
         associate (rod => scene%rods(i))
             what = 'formulation ''' // trim(row%formulation) // ''''
             if (.not. lists_name(row%constraints, rod%constraint)) call errors%add(at(scene, &
@@ -1088,14 +1161,37 @@ contains
             if (scene%time%quasistatic .and. .not. row%quasistatic) call errors%add(at(scene, 0) // &
                 '&time quasistatic: not available for ' // what // ' (rod ''' // trim(rod%name) // &
                 ''')' // see_matrix)
+            if (scene%time%relaxation .and. .not. row%relaxation) call errors%add(at(scene, 0) // &
+                '&time relaxation: statics by damped dynamics is not available for ' // what // &
+                ' (rod ''' // trim(rod%name) // ''')' // see_matrix)
             do j = 1, size(scene%bcs)
                 associate (bc => scene%bcs(j))
                     if (bc%rod /= rod%name .or. len_trim(bc%kind) == 0) cycle
-                    if (.not. lists_name(row%end_kinds, bc%kind)) call errors%add(at(scene, &
-                        bc%input_line) // '&bc kind: a ''' // trim(bc%kind) // ''' end is not ' // &
-                        'available for ' // what // '; available: ' // trim(row%end_kinds) // &
-                        see_matrix)
+                    if (.not. lists_name(end_kinds_at(row, bc%end), bc%kind)) then
+                        if (end_kinds_at(row, bc%end) == trim(row%end_kinds)) then
+                            call errors%add(at(scene, bc%input_line) // '&bc kind: a ''' // &
+                                trim(bc%kind) // ''' end is not available for ' // what // &
+                                '; available: ' // trim(row%end_kinds) // see_matrix)
+                        else
+                            call errors%add(at(scene, bc%input_line) // '&bc kind: a ''' // &
+                                trim(bc%kind) // ''' end is not available at the ''' // &
+                                trim(bc%end) // ''' end (s = L) for ' // what // '; available ' // &
+                                'there: ' // end_kinds_at(row, bc%end) // ' (at the ''start'' ' // &
+                                'end: ' // trim(row%end_kinds) // ')' // strand_reason() // see_matrix)
+                        end if
+                        cycle
+                    end if
+                    if (trim(bc%kind) == 'driven') call check_drive(bc)
                 end associate
+            end do
+            ! An end without &bc is free: refused where the formulation cannot leave it free.
+            do e = 1, 2
+                if (lists_name(end_kinds_at(row, end_names(e)), 'free')) cycle
+                if (any(scene%bcs%rod == rod%name .and. scene%bcs%end == end_names(e))) cycle
+                call errors%add(at(scene, rod%input_line) // '&bc: rod ''' // trim(rod%name) // &
+                    ''' has no &bc at its ''' // trim(end_names(e)) // ''' end, i.e. a free end, ' // &
+                    'which is not available there for ' // what // '; available: ' // &
+                    end_kinds_at(row, end_names(e)) // strand_reason() // see_matrix)
             end do
             do j = 1, size(scene%loads)
                 associate (load => scene%loads(j))
@@ -1121,21 +1217,44 @@ contains
                 end associate
             end do
         end associate
+    contains
+        !> A driven end is moved as the formulation drives ends: by its pose or its velocity.
+        subroutine check_drive(bc)
+            type(bc_input_t), intent(in) :: bc
+            select case (trim(row%drive))
+            case ('pose')
+                if (any(bc%velocity /= 0.0_rk) .or. any(bc%angular_velocity /= 0.0_rk)) &
+                    call errors%add(at(scene, bc%input_line) // '&bc velocity, angular_velocity: ' // &
+                    what // ' drives an end by its pose; give displacement and rotation instead' // &
+                    see_matrix)
+            case ('velocity')
+                if (any(bc%displacement /= 0.0_rk) .or. any(bc%rotation /= 0.0_rk)) &
+                    call errors%add(at(scene, bc%input_line) // '&bc displacement, rotation: ' // &
+                    what // ' drives an end by its velocity; give velocity and angular_velocity ' // &
+                    'instead' // see_matrix)
+            end select
+        end subroutine check_drive
+
+        !> Why se3_strand's ends differ (methods/se3_strands.md §3.4).
+        function strand_reason() result(text)
+            character(len=:), allocatable :: text
+            text = ''
+            if (trim(row%formulation) == 'se3_strand') text = '; se3_strand prescribes the ' // &
+                'motion at s = 0 and the stress at s = L (methods/se3_strands.md §3.4)'
+        end function strand_reason
     end subroutine check_rod_capabilities
 
     !> Names of the formulations this build can run.
     function available_formulation_names() result(names)
         character(len=:), allocatable :: names
-        character(len=*), parameter :: known(5) = [character(len=12) :: 'ph_director', &
-            'ph_planar', 'cl_em_planar', 'se3_pg', 'se3_strand']
         type(capability_t) :: row
         integer :: i
         names = ''
-        do i = 1, size(known)
-            row = capability_of(known(i))
+        do i = 1, size(formulation_names)
+            row = capability_of(formulation_names(i))
             if (.not. row%available) cycle
             if (len(names) > 0) names = names // ', '
-            names = names // trim(known(i))
+            names = names // trim(formulation_names(i))
         end do
     end function available_formulation_names
 

@@ -10,6 +10,7 @@ module rs_io_input_spec
     use rs_core_strings, only: to_lower, str
     use rs_model_scene, only: max_table, max_branches, max_polyline_points
     use rs_model_units, only: unit_systems
+    use rs_model_time_function, only: time_function_names
     implicit none
     private
 
@@ -229,7 +230,18 @@ contains
                 'No inertia (mass terms dropped): time is a load factor (t_end usually 1). The ' // &
                 'loads are stepped with midpoint steps, then one endpoint (non-rate ' // &
                 'Hellinger-Reissner) equilibrium solve at t_end gives the last record (seed 000 ' // &
-                '§5, §6.3; methods/ph_director_3d.md §6.3).', example='.true.')]
+                '§5, §6.3; methods/ph_director_3d.md §6.3).', example='.true.'), &
+            spec_v('relaxation', 'logical', '-', '.false.', &
+                'Statics by damped dynamics (seed 004, methods/se3_strands.md §3.7): the ' // &
+                'dynamics run with the rods'' damping, and the run stops as soon as the kinetic ' // &
+                'energy of every system is below kinetic_energy_tol (t_end is then the latest ' // &
+                'time; the last record is the relaxed state). Only for formulations with ' // &
+                'relaxation in docs/user/capabilities.md (se3_strand); not with quasistatic.', &
+                example='.true.'), &
+            spec_v('kinetic_energy_tol', 'real', 'J', '1e-12', &
+                'Relaxation: the kinetic energy of a system below which it counts as at rest ' // &
+                '(the cantilever of methods/se3_strands.md §3.7: 1e-12 J); only used with ' // &
+                'relaxation = .true.', lower=0.0_rk, lower_inclusive=.false., example='1e-10')]
     end function time_group
 
     function solver_group() result(g)
@@ -420,7 +432,26 @@ contains
             spec_v('maxwell_tau_G', 'real', 's', 'maxwell_tau_E', &
                 'Relaxation time of the shear and torsion components of each Maxwell branch; a ' // &
                 'branch without one takes its maxwell_tau_E.', count=1, max_count=max_branches, &
-                lower=0.0_rk, lower_inclusive=.false., example='0.1, 2.0')]
+                lower=0.0_rk, lower_inclusive=.false., example='0.1, 2.0'), &
+            spec_v('external_damping', 'real', 'N s/m^2, N s', '0', &
+                'se3_strand only (an error for any other formulation): external drag of seed 004 ' // &
+                'eq. 7, D_ex = external_damping I6 acting as the body force -D_ex V on the six ' // &
+                'body velocity components (the paper''s convention: one scalar times the ' // &
+                'identity, so it is in N s/m^2 on the three force rows and N s on the three ' // &
+                'moment rows). Always dissipative (methods/se3_strands.md §2.6).', lower=0.0_rk, &
+                example='0.1'), &
+            spec_v('internal_damping', 'real', 'N s/m, N s m', '0', &
+                'se3_strand only (an error for any other formulation): internal dissipation of ' // &
+                'seed 004 eq. 7, D_in = internal_damping I6 acting as the body force -D_in dU/dt ' // &
+                '(U the six strains; one scalar times the identity: N s/m on the force rows, ' // &
+                'N s m on the moment rows). As the paper writes it, a body force and not a ' // &
+                'viscous stress, it is not guaranteed to dissipate (methods/se3_strands.md ' // &
+                '§2.6); kelvin_voigt_time is the safe alternative.', lower=0.0_rk, example='1e-4'), &
+            spec_v('kelvin_voigt_time', 'real', 's', '0', &
+                'se3_strand only (an error for any other formulation): Kelvin-Voigt viscosity, ' // &
+                'the viscous stress kelvin_voigt_time A dU/dt (A the stiffness matrix, U the ' // &
+                'strains) added to the elastic stress inside the divergence; provably ' // &
+                'dissipative (methods/se3_strands.md §2.6).', lower=0.0_rk, example='1e-3')]
     end function rod_group
 
     function bc_group() result(g)
@@ -435,16 +466,28 @@ contains
             spec_v('kind', 'string', '-', '(required)', &
                 "Kind of support: 'clamped' fixes the end's position and rotation, 'pinned' " // &
                 'its position only (a ground pin: the rod turns freely about it), ''free'' ' // &
-                'neither, ''driven'' is a clamp moved by displacement and rotation; which kinds ' // &
-                'a formulation has: docs/user/capabilities.md.', &
+                'neither, ''driven'' is a clamp moved by displacement and rotation (se3_pg) or ' // &
+                'by velocity and angular_velocity (se3_strand; several driven &bc on one end ' // &
+                'add up); which kinds a formulation has, at which end, and how it drives an end: ' // &
+                'docs/user/capabilities.md.', &
                 allowed='clamped|pinned|free|driven', required=.true., example="'clamped'"), &
-            spec_v('displacement', 'real', 'm', '0, 0, 0', 'Driven end: its displacement at ' // &
-                'f(t) = 1 (inertial components); the end is at its reference position plus ' // &
-                'f(t) displacement.', count=3, example='0, 0, 0.1'), &
-            spec_v('rotation', 'real', 'rad', '0, 0, 0', 'Driven end: its rotation vector at ' // &
-                'f(t) = 1 (inertial components, about the end''s reference position); the end''s ' // &
-                'frame is Exp(f(t) rotation) times its reference frame.', count=3, &
+            spec_v('displacement', 'real', 'm', '0, 0, 0', 'Driven end of a formulation that ' // &
+                'drives the pose (se3_pg): its displacement at f(t) = 1 (inertial components); ' // &
+                'the end is at its reference position plus f(t) displacement.', count=3, &
+                example='0, 0, 0.1'), &
+            spec_v('rotation', 'real', 'rad', '0, 0, 0', 'Driven end of a formulation that ' // &
+                'drives the pose (se3_pg): its rotation vector at f(t) = 1 (inertial ' // &
+                'components, about the end''s reference position); the end''s frame is ' // &
+                'Exp(f(t) rotation) times its reference frame.', count=3, &
                 example='62.8318530718, 0, 0'), &
+            spec_v('velocity', 'real', 'm/s', '0, 0, 0', 'Driven end of a formulation that ' // &
+                'drives the velocity (se3_strand, methods/se3_strands.md §3.4): the end section ' // &
+                'moves with velocity f(t) velocity (inertial components); it starts at its ' // &
+                'reference position.', count=3, example='0, 0, 0.5655'), &
+            spec_v('angular_velocity', 'real', 'rad/s', '0, 0, 0', 'Driven end of a ' // &
+                'formulation that drives the velocity (se3_strand): the end section turns with ' // &
+                'angular velocity f(t) angular_velocity (inertial components) about the end''s ' // &
+                'own (moving) position.', count=3, example='0, 0, 6.2831853072'), &
             time_function_variables('motion of a driven end')]
     end function bc_group
 
@@ -531,11 +574,11 @@ contains
         type(variable_spec_t) :: variables(5)
         variables = [ &
             spec_v('time_function', 'string', '-', "'constant'", 'Scaling f(t) of the ' // what // &
-                ' in time.', allowed='constant|ramp|hat|pulse|table', example="'ramp'"), &
-            spec_v('t_on', 'real', 's', '0', 'Start of the ramp, hat or pulse.', lower=0.0_rk, &
+                ' in time.', allowed=time_function_names, example="'ramp'"), &
+            spec_v('t_on', 'real', 's', '0', 'Start of the ramp, hat, pulse or sine.', lower=0.0_rk, &
                 example='0.5'), &
-            spec_v('t_off', 'real', 's', '-', 'End of the ramp, hat or pulse.', lower=0.0_rk, &
-                example='1.5'), &
+            spec_v('t_off', 'real', 's', '-', 'End of the ramp, hat or pulse; for a sine, t_on plus ' // &
+                'its period.', lower=0.0_rk, example='1.5'), &
             spec_v('table_times', 'real', 's', '-', 'Times of a piecewise-linear table (increasing).', &
                 count=2, max_count=max_table, example='0, 1, 2'), &
             spec_v('table_values', 'real', '-', '-', 'Factors f at table_times.', count=2, &

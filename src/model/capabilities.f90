@@ -6,13 +6,21 @@ module rs_model_capabilities
     implicit none
     private
 
-    public :: capability_of, lists_name
+    public :: capability_of, lists_name, end_kinds_at
+
+    !> The formulations with a row, in the order of docs/user/capabilities.md.
+    character(len=*), parameter, public :: formulation_names(5) = [character(len=12) :: &
+        'ph_director', 'ph_planar', 'cl_em_planar', 'se3_pg', 'se3_strand']
 
     !> One row of the matrix. Lists are '|'-separated names, empty when nothing is supported.
     type, public :: capability_t
         character(len=32) :: formulation = ''
         logical :: available = .false.
+        !> Kinds of &bc it can apply at an end ('clamped', 'pinned', 'free', 'driven').
         character(len=64) :: end_kinds = ''
+        !> Kinds of &bc it can apply at the end s = L (&bc end = 'end'), where that differs from
+        !> the end s = 0; blank = the same as end_kinds.
+        character(len=64) :: end_kinds_at_end = ''
         character(len=64) :: load_places = ''
         character(len=64) :: load_frames = ''
         !> Kinematic constraints (&rod constraint) it can enforce.
@@ -30,6 +38,12 @@ module rs_model_capabilities
         !> A planar formulation: its rods and everything acting on them must lie in one plane
         !> (rs_model_planarity).
         logical :: planar = .false.
+        !> Statics by damped dynamics (&time relaxation = .true.).
+        logical :: relaxation = .false.
+        !> How a driven end (&bc kind = 'driven') is prescribed: 'pose' (displacement and
+        !> rotation), 'velocity' (velocity and angular_velocity; several &bc on one end add
+        !> up), or blank when it has no driven ends.
+        character(len=16) :: drive = ''
     end type capability_t
 
 contains
@@ -70,9 +84,32 @@ contains
             row = capability_t(formulation='se3_pg', available=.true., end_kinds='clamped|pinned|free|driven', &
                 load_places='start|end|distributed|gravity', load_frames='spatial|follower', &
                 constraints='none', quasistatic=.true., viscoelastic=.false., actuation=.false., &
-                curved_reference=.true., joints='', planar=.false.)
+                curved_reference=.true., joints='', planar=.false., drive='pose')
+        case ('se3_strand')
+            ! seed 004 (methods/se3_strands.md §2.5, §2.7, §3.4, §3.7): motion prescribed at
+            ! s = 0 (a clamp, or a driven end whose velocity is prescribed, P0 = M V0(t)) and
+            ! stress at s = L (free, with its end load); drag, gravity and follower tip loads;
+            ! any relaxed (curved) reference shape; statics by damped dynamics instead of
+            ! quasistatics. Its damping is its own (&rod external_damping, internal_damping,
+            ! kelvin_voigt_time), not Maxwell branches.
+            row = capability_t(formulation='se3_strand', available=.true., &
+                end_kinds='clamped|driven', end_kinds_at_end='free', &
+                load_places='end|distributed|gravity', load_frames='spatial|follower', &
+                constraints='none', quasistatic=.false., viscoelastic=.false., actuation=.false., &
+                curved_reference=.true., joints='', planar=.false., relaxation=.true., &
+                drive='velocity')
         end select
     end function capability_of
+
+    !> The kinds of &bc that `row` can apply at end `end_name` ('start' or 'end').
+    pure function end_kinds_at(row, end_name) result(kinds)
+        type(capability_t), intent(in) :: row
+        character(len=*), intent(in) :: end_name
+        character(len=:), allocatable :: kinds
+        kinds = trim(row%end_kinds)
+        if (trim(end_name) == 'end' .and. len_trim(row%end_kinds_at_end) > 0) &
+            kinds = trim(row%end_kinds_at_end)
+    end function end_kinds_at
 
     !> True if `name` is one of the '|'-separated names in `list` (a blank name, or one that
     !> contains '|', is never listed).

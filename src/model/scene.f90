@@ -53,6 +53,11 @@ module rs_model_scene
         real(rk) :: dt = unset_real
         character(len=name_len) :: scheme = 'midpoint'
         logical :: quasistatic = .false.
+        !> Statics by damped dynamics (seed 004, methods/se3_strands.md §3.7): the run stops as
+        !> soon as the kinetic energy of every system is below kinetic_energy_tol (t_end is then
+        !> the latest time).
+        logical :: relaxation = .false.
+        real(rk) :: kinetic_energy_tol = 1.0e-12_rk
     end type time_input_t
 
     !> &solver: Newton's stopping rule, cut-backs and PETSc options (DESIGN.md §3).
@@ -142,6 +147,13 @@ module rs_model_scene
         real(rk) :: maxwell_fraction(max_branches) = unset_real
         real(rk) :: maxwell_tau_E(max_branches) = unset_real
         real(rk) :: maxwell_tau_G(max_branches) = unset_real
+        !> se3_strand only (seed 004 eq. 7, methods/se3_strands.md §2.5-2.6): the external drag
+        !> D_ex = external_damping I6 (body force -D_ex V), the internal dissipation
+        !> D_in = internal_damping I6 (body force -D_in dU/dt, not sign-definite) and the
+        !> Kelvin-Voigt viscous stress kelvin_voigt_time A dU/dt added to the elastic stress.
+        real(rk) :: external_damping = 0.0_rk
+        real(rk) :: internal_damping = 0.0_rk
+        real(rk) :: kelvin_voigt_time = 0.0_rk
     end type rod_input_t
 
     !> &bc: the support at one end of a rod.
@@ -151,11 +163,18 @@ module rs_model_scene
         character(len=name_len) :: rod = ''
         character(len=name_len) :: end = ''
         character(len=name_len) :: kind = ''
-        !> A driven end (kind = 'driven'): the end's reference pose moved by the displacement
+        !> A driven end (kind = 'driven') of a formulation that drives ends by their pose
+        !> (capability_t drive = 'pose'): the end's reference pose moved by the displacement
         !> f(t) displacement and turned by the rotation vector f(t) rotation (inertial
         !> components, about the end's reference position), f the time function.
         real(rk) :: displacement(3) = 0.0_rk
         real(rk) :: rotation(3) = 0.0_rk
+        !> A driven end of a formulation that drives ends by their velocity (drive =
+        !> 'velocity'): the end section moves with velocity f(t) velocity and turns with angular
+        !> velocity f(t) angular_velocity (inertial components, about the end's own position).
+        !> Several such &bc on one end add up.
+        real(rk) :: velocity(3) = 0.0_rk
+        real(rk) :: angular_velocity(3) = 0.0_rk
         character(len=name_len) :: time_function = 'constant'
         real(rk) :: t_on = 0.0_rk
         real(rk) :: t_off = unset_real

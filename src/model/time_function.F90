@@ -1,5 +1,5 @@
-!> Time functions that scale loads and actuators: the factor f(t) of a `&load` or an `&actuator`
-!> (DESIGN.md §6).
+!> Time functions that scale loads, actuators and driven ends: the factor f(t) of a `&load`, an
+!> `&actuator` or a driven `&bc` (DESIGN.md §6).
 !>
 !> - `constant`: f = 1 at all times.
 !> - `ramp`: 0 up to t_on, linear to 1 at t_off, 1 afterwards.
@@ -8,6 +8,9 @@
 !>   f(t) = 80 t up to 2.5, 400 - 80 t up to 5, is 200 * hat with t_on = 0, t_off = 5).
 !> - `pulse`: the smooth pulse of seed 000 §6.2, f = (1 - cos(2 pi (t - t_on)/(t_off - t_on)))/2
 !>   inside [t_on, t_off], 0 outside (peak 1 at the centre).
+!> - `sine`: 0 up to t_on, sin(2 pi (t - t_on)/(t_off - t_on)) afterwards: t_off - t_on is the
+!>   period, and it keeps oscillating after t_off (the base oscillation of seed 004 §3.3,
+!>   methods/se3_strands.md §4.5, prescribed as a velocity).
 !> - `table`: piecewise linear through (table_times, table_values), constant beyond the ends.
 !>
 !> The midpoint scheme evaluates f at the mid time t_{n+1/2} (methods §5.1), so a kink of a
@@ -22,11 +25,12 @@ module rs_model_time_function
 
     public :: time_function_from_load, time_function_from_actuator, time_function_from_bc
 
-    !> The names `time_function_from_load` and `time_function_from_actuator` accept.
-    character(len=*), parameter, public :: time_function_names = 'constant|ramp|hat|pulse|table'
+    !> The names `time_function_from_load`, `time_function_from_actuator` and
+    !> `time_function_from_bc` accept.
+    character(len=*), parameter, public :: time_function_names = 'constant|ramp|hat|pulse|sine|table'
 
     integer, parameter :: kind_constant = 1, kind_ramp = 2, kind_hat = 3, kind_pulse = 4, &
-        kind_table = 5
+        kind_table = 5, kind_sine = 6
 
     !> A scalar function of time, evaluated by `value`.
     type, public :: time_function_t
@@ -59,8 +63,8 @@ contains
             actuator%t_on, actuator%t_off, actuator%table_times, actuator%table_values, tf, err)
     end subroutine time_function_from_actuator
 
-    !> The time function f of a driven `&bc` (its pose at t is the motion scaled by f(t));
-    !> the same names and rules as `time_function_from_load`.
+    !> The time function f of a driven `&bc` (its pose, or its velocity, at t is the motion
+    !> scaled by f(t)); the same names and rules as `time_function_from_load`.
     subroutine time_function_from_bc(bc, tf, err)
         type(bc_input_t), intent(in) :: bc
         type(time_function_t), intent(out) :: tf
@@ -89,6 +93,8 @@ contains
             tf%kind = kind_hat
         case ('pulse')
             tf%kind = kind_pulse
+        case ('sine')
+            tf%kind = kind_sine
         case ('table')
             tf%kind = kind_table
             n = count(times /= unset_real)
@@ -115,9 +121,10 @@ contains
         real(rk), parameter :: two_pi = 2.0_rk * acos(-1.0_rk)
         real(rk) :: x
         integer :: i
-        ! Only ramp, hat and pulse have t_off > t_on; a constant or table may have t_off = t_on.
+        ! Only ramp, hat, pulse and sine have t_off > t_on; a constant or table may have
+        ! t_off = t_on.
         x = 0.0_rk
-        if (any(this%kind == [kind_ramp, kind_hat, kind_pulse])) then
+        if (any(this%kind == [kind_ramp, kind_hat, kind_pulse, kind_sine])) then
             x = (t - this%t_on) / (this%t_off - this%t_on)
         end if
         select case (this%kind)
@@ -134,6 +141,12 @@ contains
                 f = 0.0_rk
             else
                 f = 0.5_rk * (1.0_rk - cos(two_pi * x))
+            end if
+        case (kind_sine)
+            if (x <= 0.0_rk) then
+                f = 0.0_rk
+            else
+                f = sin(two_pi * x)
             end if
         case (kind_table)
             associate (ts => this%times, vs => this%values)

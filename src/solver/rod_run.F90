@@ -51,6 +51,9 @@ module rs_solver_rod_run
         real(rk), allocatable :: x(:)
         !> The system stopped: its solver failed (`err` says where and why).
         logical :: failed = .false.
+        !> The system stopped because its kinetic energy fell below &time kinetic_energy_tol
+        !> (&time relaxation: statics by damped dynamics).
+        logical :: relaxed = .false.
         type(error_t), allocatable :: err
         !> Last step done (the time grid's index) and the time of the last record.
         integer :: step = 0
@@ -129,7 +132,8 @@ contains
             c_funloc(predictor_callback), c_funloc(update_callback), c_funloc(poststep_callback), &
             c_loc(this%context), scene%solver%newton_atol, scene%solver%newton_rtol, &
             scene%solver%max_newton, scene%solver%max_cutbacks, err, &
-            native_lu=this%formulation%native_lu(), full_newton=this%formulation%full_newton())
+            native_lu=this%formulation%native_lu(), full_newton=this%formulation%full_newton(), &
+            linear_step=this%formulation%linear_step(), banded=this%formulation%banded_unknowns())
     end subroutine runner_start
 
     subroutine runner_restore(this, scene, step, state, internal, err)
@@ -158,10 +162,10 @@ contains
         class(rod_runner_t), intent(inout) :: this
         type(scene_t), intent(in) :: scene
         integer, intent(in) :: n
-        real(rk) :: t_n, h, fnorm, started
+        real(rk) :: t_n, h, fnorm, started, kinetic
         integer :: n_steps, substeps, cutbacks, iterations
 
-        if (this%failed) return
+        if (this%failed .or. this%relaxed) return
         n_steps = step_count(scene)
         t_n = real(n - 1, rk) * scene%time%dt
         h = min(scene%time%dt, scene%time%t_end - t_n)
@@ -204,6 +208,19 @@ contains
             call this%formulation%record(this%histories, this%t_recorded, this%x)
             call this%note_record()
         end if
+        if (.not. scene%time%relaxation) return
+        ! Statics by damped dynamics (seed 004 §2.4): stop once the motion has died out.
+        kinetic = this%formulation%kinetic_energy(this%x)
+        if (kinetic < 0.0_rk .or. kinetic >= scene%time%kinetic_energy_tol) return
+        this%relaxed = .true.
+        if (this%t_recorded < min(real(n, rk) * scene%time%dt, scene%time%t_end)) then
+            this%t_recorded = min(real(n, rk) * scene%time%dt, scene%time%t_end)
+            call this%formulation%record(this%histories, this%t_recorded, this%x)
+            call this%note_record()
+        end if
+        call log_info('  ' // this%name() // ': relaxed after ' // str(this%steps_done) // &
+            ' steps (t = ' // str(this%t_recorded) // '): kinetic energy ' // &
+            str_significant(kinetic, 3) // ' < ' // str_significant(scene%time%kinetic_energy_tol, 3))
     end subroutine runner_advance
 
     !> After a failure: record the last good state (if it is new) and stop the rod.

@@ -282,7 +282,8 @@ static int check_arguments(int n_state, int n_unknown, const int *row_ptr, const
 
 static PetscErrorCode stepper_setup(RsStepper *s, const int *row_ptr, const int *cols,
                                     double newton_atol, double newton_rtol, int max_newton,
-                                    int max_cutbacks, int native_lu, int full_newton)
+                                    int max_cutbacks, int native_lu, int full_newton,
+                                    int linear_step)
 {
     char      defaults[512], message[1024];
     Vec       Y_template = NULL;
@@ -299,11 +300,13 @@ static PetscErrorCode stepper_setup(RsStepper *s, const int *row_ptr, const int 
     /* Scene values as the bottom layer of the options (DESIGN.md §3): newtonls with the bt line
        search, the absolute Newton test of the method documents with PETSc's relative tests
        off unless the scene asks, and LU (the package is set below, per system). */
+    /* A step problem affine in Y (seed 004) is one linear solve: SNES KSPONLY, no Newton loop. */
     snprintf(defaults, sizeof(defaults),
-             "-snes_type newtonls -snes_atol %.17g -snes_rtol %.17g "
+             "-snes_type %s -snes_atol %.17g -snes_rtol %.17g "
              "-snes_stol 0 -snes_max_it %d -ksp_type preonly -pc_type lu "
              "-mat_mumps_icntl_14 50 -ts_rodmid_max_cutbacks %d",
-             newton_atol, newton_rtol, max_newton, max_cutbacks);
+             linear_step ? "ksponly" : "newtonls", newton_atol, newton_rtol, max_newton,
+             max_cutbacks);
     PetscCheck(rs_petsc_apply_options(defaults, NULL, message, (int)sizeof(message)) == 0,
                PETSC_COMM_SELF, PETSC_ERR_LIB, "%s", message);
 
@@ -345,7 +348,11 @@ static PetscErrorCode stepper_setup(RsStepper *s, const int *row_ptr, const int 
     PetscCall(KSPGetPC(ksp, &pc));
     PetscCall(PCSetType(pc, PCLU));
     PetscCall(PCFactorSetMatSolverType(pc, native_lu ? MATSOLVERPETSC : MATSOLVERMUMPS));
-    if (native_lu) PetscCall(PCFactorSetMatOrderingType(pc, MATORDERINGND));
+    /* native_lu = 2: the formulation numbered its unknowns for a narrow band (se3_strand's
+       block-tridiagonal interleaving), which the natural ordering keeps: no fill at all, and
+       0.6 to 0.9 of the time of nested dissection (docs/performance.md). */
+    if (native_lu) PetscCall(PCFactorSetMatOrderingType(pc, native_lu == 2 ? MATORDERINGNATURAL
+                                                                         : MATORDERINGND));
     /* The line search: backtracking (bt), or the full Newton step where the formulation's
        method document says Newton is run undamped (seed 001's schemes: the bt search cuts the
        first steps of the displacement schemes and multiplies their iterations,
@@ -381,7 +388,7 @@ int rs_stepper_create(void **handle, int n_state, int n_unknown, const int *row_
                       const int *cols, rs_cb_residual residual, rs_cb_jacobian jacobian,
                       rs_cb_vec predictor, rs_cb_update update, rs_cb_poststep poststep, void *ctx,
                       double newton_atol, double newton_rtol, int max_newton, int max_cutbacks,
-                      int native_lu, int full_newton, char *errmsg, int errlen)
+                      int native_lu, int full_newton, int linear_step, char *errmsg, int errlen)
 {
     RsErrorCapture capture = {"", 0};
     RsStepper     *s;
@@ -413,7 +420,7 @@ int rs_stepper_create(void **handle, int n_state, int n_unknown, const int *row_
     enter_petsc(s);
     PetscPushErrorHandler(capture_error, &capture);
     ierr = stepper_setup(s, row_ptr, cols, newton_atol, newton_rtol, max_newton, max_cutbacks,
-                         native_lu, full_newton);
+                         native_lu, full_newton, linear_step);
     PetscPopErrorHandler();
     leave_petsc(s);
     if (ierr) {

@@ -97,7 +97,8 @@ module rs_solver_rod_stepper
     interface
         integer(c_int) function rs_stepper_create(handle, n_state, n_unknown, row_ptr, cols, &
                 residual, jacobian, predictor, update, poststep, ctx, newton_atol, newton_rtol, &
-                max_newton, max_cutbacks, native_lu, full_newton, errmsg, errlen) bind(C)
+                max_newton, max_cutbacks, native_lu, full_newton, linear_step, errmsg, errlen) &
+                bind(C)
             import :: c_int, c_double, c_char, c_ptr, c_funptr
             type(c_ptr), intent(out) :: handle
             integer(c_int), value :: n_state, n_unknown
@@ -105,7 +106,7 @@ module rs_solver_rod_stepper
             type(c_funptr), value :: residual, jacobian, predictor, update, poststep
             type(c_ptr), value :: ctx
             real(c_double), value :: newton_atol, newton_rtol
-            integer(c_int), value :: max_newton, max_cutbacks, native_lu, full_newton
+            integer(c_int), value :: max_newton, max_cutbacks, native_lu, full_newton, linear_step
             character(kind=c_char), intent(out) :: errmsg(*)
             integer(c_int), value :: errlen
         end function rs_stepper_create
@@ -175,9 +176,12 @@ contains
     !> defaults that `petsc_options` and the command line override. The LU package is MUMPS,
     !> or PETSc's own LU when `native_lu` (default false) says the Jacobian needs no pivoting;
     !> Newton takes full steps when `full_newton` (default false), else it backtracks (bt).
+    !> `linear_step` (default false): the step problem is affine in y, so a step is one linear
+    !> solve (SNES KSPONLY), no Newton loop. `banded` (default false, with native_lu): the
+    !> unknowns are numbered for a narrow band, so the LU keeps their order.
     subroutine rod_stepper_create(this, n_state, n_unknown, row_ptr, cols, residual, jacobian, &
             predictor, update, poststep, ctx, newton_atol, newton_rtol, max_newton, max_cutbacks, &
-            err, native_lu, full_newton)
+            err, native_lu, full_newton, linear_step, banded)
         class(rod_stepper_t), intent(inout) :: this
         integer, intent(in) :: n_state, n_unknown
         integer, intent(in) :: row_ptr(:), cols(:)
@@ -188,16 +192,23 @@ contains
         real(rk), intent(in) :: newton_atol, newton_rtol
         integer, intent(in) :: max_newton, max_cutbacks
         type(error_t), allocatable, intent(out) :: err
-        logical, intent(in), optional :: native_lu, full_newton
+        logical, intent(in), optional :: native_lu, full_newton, linear_step, banded
         character(kind=c_char) :: message(message_length)
         character(len=:), allocatable :: problem
         integer(c_int) :: ierr
-        logical :: native, full
+        logical :: native, full, linear, narrow
+        integer(c_int) :: lu_kind
 
         native = .false.
         if (present(native_lu)) native = native_lu
         full = .false.
         if (present(full_newton)) full = full_newton
+        linear = .false.
+        if (present(linear_step)) linear = linear_step
+        narrow = .false.
+        if (present(banded)) narrow = banded
+        lu_kind = 0
+        if (native) lu_kind = merge(2_c_int, 1_c_int, narrow)
         call this%destroy()
         ! C cannot see the array lengths: check them here, the pattern itself is checked in C.
         if (n_unknown < 1 .or. size(row_ptr) /= n_unknown + 1) then
@@ -216,8 +227,8 @@ contains
         ierr = rs_stepper_create(this%handle, int(n_state, c_int), int(n_unknown, c_int), &
             int(row_ptr, c_int), int(cols, c_int), residual, jacobian, predictor, update, &
             poststep, ctx, real(newton_atol, c_double), real(newton_rtol, c_double), &
-            int(max_newton, c_int), int(max_cutbacks, c_int), merge(1_c_int, 0_c_int, native), &
-            merge(1_c_int, 0_c_int, full), &
+            int(max_newton, c_int), int(max_cutbacks, c_int), lu_kind, &
+            merge(1_c_int, 0_c_int, full), merge(1_c_int, 0_c_int, linear), &
             message, int(message_length, c_int))
         if (ierr /= 0) then
             this%handle = c_null_ptr

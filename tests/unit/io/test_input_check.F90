@@ -8,8 +8,12 @@
 !> all; and the reference geometry (helix and polyline lengths, start, direction and default d1
 !> derived, their errors), the curved-reference capability and the initial-velocity checks.
 !> 'auto' per system of joined rods (formulation, origin and reason), em_variant's default and
-!> the joint checks of one scene reported together. Each error is checked for its file, line,
-!> group and variable.
+!> the joint checks of one scene reported together. The inputs of se3_strand (seed 004): its
+!> damping variables (refused for other formulations), relaxation (against the capability row
+!> and quasistatics), driven ends moved by velocity or by pose as the formulation drives them
+!> (several velocity drives on one end add up, anything else twice is an error) and its end
+!> kinds, other at s = L than at s = 0. Each error is checked for its file, line, group and
+!> variable.
 module rs_test_io_input_check
     use rs_core_kinds, only: rk
     use rs_core_error, only: error_list_t
@@ -57,6 +61,11 @@ contains
         call run_test('initial_velocity_checks', test_initial_velocity_checks)
         call run_test('auto_per_system', test_auto_per_system)
         call run_test('joint_errors_collected', test_joint_errors_collected)
+        call run_test('strand_damping', test_strand_damping)
+        call run_test('relaxation', test_relaxation)
+        call run_test('velocity_drives', test_velocity_drives)
+        call run_test('drive_kind_per_formulation', test_drive_kind_per_formulation)
+        call run_test('strand_end_kinds', test_strand_end_kinds)
     end subroutine run_all_tests
 
     !> Parse `text` as file 'c.nml' and check that it has exactly `n_errors` errors.
@@ -534,6 +543,199 @@ contains
         CHECK_CONTAINS(joined, 'c.nml:7: &joint rod_b: redundant joint', 'redundant')
         CHECK_CONTAINS(joined, "c.nml:8: &joint end_b: the 'end' end of rod 'b' at (2.0, 0.0, 0.0)", 'apart')
     end subroutine test_joint_errors_collected
+
+    !> A rod 'a' of formulation `formulation` (continued by `more`) as line 2 after `time`.
+    function rod_on(formulation, more) result(text)
+        character(len=*), intent(in) :: formulation, more
+        character(len=:), allocatable :: text
+        text = rod_x // "a', formulation = '" // formulation // "', " // more // direct // ' /' // nl
+    end function rod_on
+
+    ! The damping of seed 004 defaults to 0, is read on se3_strand rods and refused, when
+    ! nonzero, on any other formulation (one error per variable); 0 given explicitly is fine.
+    subroutine test_strand_damping()
+        type(scene_t) :: scene
+        type(error_list_t) :: errors
+        character(len=:), allocatable :: joined, fragment
+        call parse(time // rod_on('se3_strand', ''), scene, errors, 0)
+        if (size(scene%rods) /= 1) return
+        CHECK_TRUE(scene%rods(1)%external_damping == 0.0_rk, 'external_damping defaults to 0')
+        CHECK_TRUE(scene%rods(1)%internal_damping == 0.0_rk, 'internal_damping defaults to 0')
+        CHECK_TRUE(scene%rods(1)%kelvin_voigt_time == 0.0_rk, 'kelvin_voigt_time defaults to 0')
+        call parse(time // rod_on('se3_strand', 'external_damping = 0.1, internal_damping = 1e-4, ' // &
+            'kelvin_voigt_time = 2e-3, ') // "&bc rod = 'a', end = 'start', kind = 'clamped' /" // nl, scene, errors, 0)
+        CHECK_CLOSE(scene%rods(1)%external_damping, 0.1_rk, 0.0_rk, 0.0_rk, 'external_damping read')
+        CHECK_CLOSE(scene%rods(1)%internal_damping, 1.0e-4_rk, 0.0_rk, 0.0_rk, 'internal_damping read')
+        CHECK_CLOSE(scene%rods(1)%kelvin_voigt_time, 2.0e-3_rk, 0.0_rk, 0.0_rk, 'kelvin_voigt_time read')
+        call check_capabilities(scene, errors)
+        CHECK_EQUAL(errors%count, 0, 'se3_strand takes its damping: ' // errors%joined())
+        call parse(time // rod_on('se3_pg', 'internal_damping = 1e-4, kelvin_voigt_time = 0, ' // &
+            'external_damping = 0.5, '), scene, errors, 0)
+        call check_capabilities(scene, errors)
+        CHECK_EQUAL(errors%count, 2, 'two nonzero damping variables refused: ' // errors%joined())
+        joined = errors%joined()
+        fragment = "c.nml:2: &rod 'a' internal_damping: only used with formulation 'se3_strand' " // &
+            "(this rod runs on 'se3_pg'); remove it"
+        CHECK_CONTAINS(joined, fragment, 'internal_damping refused')
+        fragment = "c.nml:2: &rod 'a' external_damping: only used with formulation 'se3_strand'"
+        CHECK_CONTAINS(joined, fragment, 'external_damping refused')
+        CHECK_TRUE(index(joined, 'kelvin_voigt_time') == 0, 'a zero kelvin_voigt_time is not refused')
+        call parse(time // rod_on('se3_strand', 'kelvin_voigt_time = -1, '), scene, errors, 1)
+        fragment = 'c.nml:2: &rod kelvin_voigt_time: value -1 out of range; allowed: >= 0.0'
+        CHECK_CONTAINS(errors%joined(), fragment, 'negative refused')
+    end subroutine test_strand_damping
+
+    ! &time relaxation: kinetic_energy_tol defaults to 1e-12 J; se3_strand has relaxation and
+    ! se3_pg not (a capability error naming the rod); with quasistatic it is an error of the
+    ! scene whatever the formulation; kinetic_energy_tol must be positive, and a value other than
+    ! the default is refused without relaxation (it would be ignored).
+    subroutine test_relaxation()
+        type(scene_t) :: scene
+        type(error_list_t) :: errors
+        character(len=:), allocatable :: fragment
+        character(len=*), parameter :: relax = '&time t_end = 1, dt = 0.5, relaxation = .true. /' // nl
+        call parse(relax // rod_on('se3_strand', 'external_damping = 0.1, ') // "&bc rod = 'a', end = 'start', kind = 'clamped' /" // nl, scene, &
+            errors, 0)
+        CHECK_TRUE(scene%time%relaxation, 'relaxation read')
+        CHECK_CLOSE(scene%time%kinetic_energy_tol, 1.0e-12_rk, 0.0_rk, 0.0_rk, 'default tolerance')
+        call check_capabilities(scene, errors)
+        CHECK_EQUAL(errors%count, 0, 'se3_strand relaxes: ' // errors%joined())
+        call parse(relax // rod_on('se3_pg', ''), scene, errors, 0)
+        call check_capabilities(scene, errors)
+        CHECK_EQUAL(errors%count, 1, 'se3_pg does not relax: ' // errors%joined())
+        fragment = "c.nml: &time relaxation: statics by damped dynamics is not available for " // &
+            "formulation 'se3_pg' (rod 'a') (docs/user/capabilities.md)"
+        CHECK_CONTAINS(errors%joined(), fragment, 'capability error')
+        call parse('&time t_end = 1, dt = 0.5, relaxation = .true., quasistatic = .true. /' // nl // &
+            rod_on('se3_pg', ''), scene, errors, 1)
+        fragment = 'c.nml: &time relaxation: statics by damped dynamics needs the inertia that ' // &
+            'quasistatic = .true. drops'
+        CHECK_CONTAINS(errors%joined(), fragment, 'not with quasistatic')
+        call parse('&time t_end = 1, dt = 0.5, relaxation = .true., kinetic_energy_tol = 1e-9 /' // &
+            nl // rod_on('se3_strand', ''), scene, errors, 0)
+        CHECK_CLOSE(scene%time%kinetic_energy_tol, 1.0e-9_rk, 0.0_rk, 0.0_rk, 'tolerance read')
+        call parse('&time t_end = 1, dt = 0.5, kinetic_energy_tol = 0 /' // nl // &
+            rod_on('se3_strand', ''), scene, errors, 1)
+        CHECK_CONTAINS(errors%joined(), 'c.nml:1: &time kinetic_energy_tol: value 0 out of range', '> 0')
+        call parse('&time t_end = 1, dt = 0.5, kinetic_energy_tol = 1e-9 /' // nl // &
+            rod_on('se3_strand', ''), scene, errors, 1)
+        fragment = 'c.nml: &time kinetic_energy_tol: 1.0e-09 given, but it is only used with ' // &
+            'relaxation = .true.; remove it or set relaxation'
+        CHECK_CONTAINS(errors%joined(), fragment, 'tolerance without relaxation')
+        call parse('&time t_end = 1, dt = 0.5, kinetic_energy_tol = 1e-12 /' // nl // &
+            rod_on('se3_strand', ''), scene, errors, 0)
+    end subroutine test_relaxation
+
+    ! se3_strand drives its start by velocity: two driven &bc on that end add up (a vertical
+    ! sine plus a ramped spin, seed 004 §3.3) and a constant velocity need not start at 0; a
+    ! clamp besides a driven &bc is still twice, and so are two driven &bc on an se3_pg end.
+    subroutine test_velocity_drives()
+        type(scene_t) :: scene
+        type(error_list_t) :: errors
+        character(len=:), allocatable :: text, fragment
+        real(rk), parameter :: oscillation_velocity(3) = [0.0_rk, 0.0_rk, 0.5655_rk]
+        real(rk), parameter :: spin_rate(3) = [0.0_rk, 0.0_rk, 50.27_rk]
+        character(len=*), parameter :: oscillation = "&bc rod = 'a', end = 'start', kind = 'driven', " // &
+            "velocity = 0, 0, 0.5655, time_function = 'sine', t_off = 0.2222222222222222 /" // nl
+        character(len=*), parameter :: spin = "&bc rod = 'a', end = 'start', kind = 'driven', " // &
+            "angular_velocity = 0, 0, 50.27, time_function = 'ramp', t_on = 12, t_off = 20 /" // nl
+        text = time // rod_on('se3_strand', '') // oscillation // spin
+        call parse(text, scene, errors, 0)
+        if (size(scene%bcs) /= 2) return
+        CHECK_CLOSE(scene%bcs(1)%velocity, oscillation_velocity, 0.0_rk, 0.0_rk, 'velocity read')
+        CHECK_CLOSE(scene%bcs(2)%angular_velocity, spin_rate, 0.0_rk, 0.0_rk, 'spin read')
+        call check_capabilities(scene, errors)
+        CHECK_EQUAL(errors%count, 0, 'two velocity drives on one end: ' // errors%joined())
+        call parse(time // rod_on('se3_strand', '') // "&bc rod = 'a', end = 'start', " // &
+            "kind = 'driven', velocity = 1, 0, 0 /" // nl, scene, errors, 0)
+        call check_capabilities(scene, errors)
+        CHECK_EQUAL(errors%count, 0, 'a constant velocity drive (f(0) = 1): ' // errors%joined())
+        call parse(time // rod_on('se3_strand', '') // oscillation // &
+            "&bc rod = 'a', end = 'start', kind = 'clamped' /" // nl, scene, errors, 1)
+        fragment = "c.nml:4: &bc end: the 'start' end of rod 'a' already has a support (line 3); " // &
+            'only driven ends may be given more than once (their velocities add up)'
+        CHECK_CONTAINS(errors%joined(), fragment, 'clamp besides a drive')
+        text = "&bc rod = 'a', end = 'start', kind = 'driven', rotation = 0, 0, 1, " // &
+            "time_function = 'ramp', t_off = 1 /" // nl
+        call parse(time // rod_on('se3_pg', '') // text // text, scene, errors, 1)
+        fragment = "c.nml:4: &bc end: the 'start' end of rod 'a' already has a support (line 3)"
+        CHECK_CONTAINS(errors%joined(), fragment, 'two pose drives')
+        CHECK_TRUE(index(errors%joined(), 'velocities add up') == 0, 'no velocity note for se3_pg')
+        call parse(time // rod_on('se3_strand', '') // "&bc rod = 'a', end = 'start', " // &
+            "kind = 'driven', velocity = 1, 0, 0, time_function = 'sine' /" // nl, scene, errors, 1)
+        CHECK_CONTAINS(errors%joined(), "c.nml:3: &bc t_off: required by time_function = 'sine'", 'sine')
+    end subroutine test_velocity_drives
+
+    ! A driven end is moved as its formulation drives ends: se3_pg by pose, se3_strand by
+    ! velocity; both at once, none, or either on a clamp is an error whatever the formulation.
+    subroutine test_drive_kind_per_formulation()
+        type(scene_t) :: scene
+        type(error_list_t) :: errors
+        character(len=:), allocatable :: fragment
+        character(len=*), parameter :: driven = "&bc rod = 'a', end = 'start', kind = 'driven', " // &
+            "time_function = 'ramp', t_off = 1, "
+        call parse(time // rod_on('se3_pg', '') // driven // 'angular_velocity = 0, 0, 1 /' // nl, &
+            scene, errors, 0)
+        call check_capabilities(scene, errors)
+        CHECK_EQUAL(errors%count, 1, 'velocity drive on se3_pg: ' // errors%joined())
+        fragment = "c.nml:3: &bc velocity, angular_velocity: formulation 'se3_pg' drives an end by " // &
+            'its pose; give displacement and rotation instead (docs/user/capabilities.md)'
+        CHECK_CONTAINS(errors%joined(), fragment, 'se3_pg drives the pose')
+        call parse(time // rod_on('se3_strand', '') // driven // 'displacement = 0, 0, 1 /' // nl, &
+            scene, errors, 0)
+        call check_capabilities(scene, errors)
+        CHECK_EQUAL(errors%count, 1, 'pose drive on se3_strand: ' // errors%joined())
+        fragment = "c.nml:3: &bc displacement, rotation: formulation 'se3_strand' drives an end by " // &
+            'its velocity; give velocity and angular_velocity instead'
+        CHECK_CONTAINS(errors%joined(), fragment, 'se3_strand drives the velocity')
+        call parse(time // rod_on('se3_pg', '') // driven // 'velocity = 1, 0, 0, rotation = 0, 0, 1 /' // &
+            nl, scene, errors, 1)
+        fragment = 'c.nml:3: &bc velocity, angular_velocity: given with displacement or rotation'
+        CHECK_CONTAINS(errors%joined(), fragment, 'not both')
+        call parse(time // rod_on('se3_strand', '') // driven // "t_on = 0 /" // nl, scene, errors, 1)
+        fragment = 'c.nml:3: &bc kind: a driven end needs a displacement or a rotation (formulations ' // &
+            'that drive the pose) or a velocity or an angular_velocity'
+        CHECK_CONTAINS(errors%joined(), fragment, 'no motion')
+        call parse(time // rod_on('se3_strand', '') // "&bc rod = 'a', end = 'start', " // &
+            "kind = 'clamped', velocity = 1, 0, 0 /" // nl, scene, errors, 1)
+        fragment = "c.nml:3: &bc velocity, angular_velocity: only a driven end moves (kind = " // &
+            "'driven'), this one is 'clamped'"
+        CHECK_CONTAINS(errors%joined(), fragment, 'velocity on a clamp')
+    end subroutine test_drive_kind_per_formulation
+
+    ! se3_strand (methods/se3_strands.md §3.4): clamped or driven at s = 0, free only at s = L,
+    ! with a message naming the end and both lists; other ends keep the plain message; a start
+    ! without &bc (free) is refused.
+    subroutine test_strand_end_kinds()
+        type(scene_t) :: scene
+        type(error_list_t) :: errors
+        character(len=:), allocatable :: fragment
+        call parse(time // rod_on('se3_strand', '') // "&bc rod = 'a', end = 'start', kind = 'clamped' /" // &
+            nl // "&bc rod = 'a', end = 'end', kind = 'free' /" // nl, scene, errors, 0)
+        call check_capabilities(scene, errors)
+        CHECK_EQUAL(errors%count, 0, 'clamped start, free end: ' // errors%joined())
+        call parse(time // rod_on('se3_strand', '') // "&bc rod = 'a', end = 'end', kind = 'clamped' /" // &
+            nl // "&bc rod = 'a', end = 'start', kind = 'clamped' /" // nl, scene, errors, 0)
+        call check_capabilities(scene, errors)
+        CHECK_EQUAL(errors%count, 1, 'clamped end refused: ' // errors%joined())
+        fragment = "c.nml:3: &bc kind: a 'clamped' end is not available at the 'end' end (s = L) " // &
+            "for formulation 'se3_strand'; available there: free (at the 'start' end: " // &
+            'clamped|driven); se3_strand prescribes the motion at s = 0 and the stress at ' // &
+            's = L (methods/se3_strands.md §3.4) (docs/user/capabilities.md)'
+        CHECK_CONTAINS(errors%joined(), fragment, 'names the end and both lists')
+        call parse(time // rod_on('se3_strand', '') // "&bc rod = 'a', end = 'start', kind = 'pinned' /" // &
+            nl, scene, errors, 0)
+        call check_capabilities(scene, errors)
+        fragment = "c.nml:3: &bc kind: a 'pinned' end is not available for formulation " // &
+            "'se3_strand'; available: clamped|driven (docs/user/capabilities.md)"
+        CHECK_CONTAINS(errors%joined(), fragment, 'pinned start: the plain message')
+        call parse(time // rod_on('se3_strand', ''), scene, errors, 0)
+        call check_capabilities(scene, errors)
+        CHECK_EQUAL(errors%count, 1, 'free start refused: ' // errors%joined())
+        fragment = "&bc: rod 'a' has no &bc at its 'start' end, i.e. a free end, which is not " // &
+            "available there for formulation 'se3_strand'; available: clamped|driven"
+        CHECK_CONTAINS(errors%joined(), fragment, 'free start: names the end')
+    end subroutine test_strand_end_kinds
 
 end module rs_test_io_input_check
 

@@ -4,11 +4,15 @@
 !> each column (src/io/input_spec.f90: bc kind, load where, load frame, rod constraint) and its
 !> logical columns (quasistatic, viscoelastic, actuation, curved reference), the rows of
 !> ph_planar and cl_em_planar (seed 001: pinned ends, revolute and rigid joints, planar), the
-!> joint columns (ph_director: none before issue 10), the rows of unknown and not yet available
-!> formulations, and `lists_name`, which matches whole '|'-separated names only.
+!> joint columns (ph_director: none before issue 10), the row of se3_strand (seed 004: other end
+!> kinds at s = L than at s = 0, `end_kinds_at`, relaxation, ends driven by velocity against
+!> se3_pg's by pose), the rows of unknown formulations, the list `formulation_names` (every
+!> formulation the input language names has a row), and `lists_name`, which matches whole
+!> '|'-separated names only.
 module rs_test_model_capabilities
     use rs_test_assert, only: run_test, assert_true, assert_equal
-    use rs_model_capabilities, only: capability_t, capability_of, lists_name
+    use rs_model_capabilities, only: capability_t, capability_of, lists_name, end_kinds_at, &
+        formulation_names
     implicit none
     private
 
@@ -22,8 +26,10 @@ contains
         call run_test('ph_director_trailing_blanks', test_ph_director_trailing_blanks)
         call run_test('planar_rows', test_planar_rows)
         call run_test('unknown_formulations', test_unknown_formulations)
-        call run_test('unavailable_formulations', test_unavailable_formulations)
+        call run_test('every_named_formulation_available', test_every_named_formulation_available)
         call run_test('se3_pg_row', test_se3_pg_row)
+        call run_test('se3_strand_row', test_se3_strand_row)
+        call run_test('end_kinds_at', test_end_kinds_at)
         call run_test('lists_name_whole_names', test_lists_name_whole_names)
         call run_test('lists_name_blank_and_empty', test_lists_name_blank_and_empty)
     end subroutine run_all_tests
@@ -69,6 +75,9 @@ contains
         CHECK_TRUE(row%curved_reference, 'curved stress-free reference (helix, polyline)')
         CHECK_EQUAL(len_trim(row%joints), 0, 'no joints before issue 10')
         CHECK_TRUE(.not. row%planar, 'ph_director is 3D')
+        CHECK_TRUE(.not. row%relaxation, 'statics by quasistatics, not relaxation')
+        CHECK_EQUAL(len_trim(row%drive), 0, 'no driven ends, so no drive')
+        CHECK_EQUAL(len_trim(row%end_kinds_at_end), 0, 'same end kinds at both ends')
     end subroutine test_ph_director_row
 
     ! seed 001 (methods/ph_planar.md): both planar formulations have clamped, pinned and free
@@ -102,6 +111,8 @@ contains
             CHECK_TRUE(.not. row%actuation, trim(names(k)) // ': no actuators')
             CHECK_TRUE(.not. row%curved_reference, trim(names(k)) // ': straight rods only')
             CHECK_TRUE(row%planar, trim(names(k)) // ' is planar')
+            CHECK_TRUE(.not. row%relaxation, trim(names(k)) // ': no relaxation')
+            CHECK_EQUAL(len_trim(row%drive), 0, trim(names(k)) // ': no driven ends')
         end do
     end subroutine test_planar_rows
 
@@ -133,6 +144,10 @@ contains
         CHECK_TRUE(.not. row%curved_reference, 'no curved reference: "' // name // '"')
         CHECK_EQUAL(len_trim(row%joints), 0, 'no joints: "' // name // '"')
         CHECK_TRUE(.not. row%planar, 'not planar: "' // name // '"')
+        CHECK_TRUE(.not. row%relaxation, 'no relaxation: "' // name // '"')
+        CHECK_EQUAL(len_trim(row%drive), 0, 'no drive: "' // name // '"')
+        CHECK_EQUAL(len_trim(row%end_kinds_at_end), 0, 'no end kinds at s = L: "' // name // '"')
+        CHECK_EQUAL(len(end_kinds_at(row, 'end')), 0, 'nothing at the end: "' // name // '"')
         CHECK_TRUE(.not. lists_name(row%end_kinds, 'clamped'), 'clamped not listed: "' // name // '"')
         CHECK_TRUE(.not. lists_name(row%constraints, 'none'), 'none not listed: "' // name // '"')
         CHECK_TRUE(.not. lists_name(row%constraints, ''), 'blank not listed: "' // name // '"')
@@ -147,10 +162,20 @@ contains
         call check_unavailable('auto')
     end subroutine test_unknown_formulations
 
-    ! Formulations the input language names but this version cannot run (DESIGN.md §1).
-    subroutine test_unavailable_formulations()
-        call check_unavailable('se3_strand')
-    end subroutine test_unavailable_formulations
+    ! Every formulation of the list has an available row naming it; the list holds every
+    ! formulation of DESIGN.md §1 once.
+    subroutine test_every_named_formulation_available()
+        type(capability_t) :: row
+        integer :: i
+        CHECK_EQUAL(size(formulation_names), 5, 'five formulations')
+        do i = 1, size(formulation_names)
+            row = capability_of(formulation_names(i))
+            CHECK_TRUE(row%available, 'available: ' // trim(formulation_names(i)))
+            CHECK_EQUAL(trim(row%formulation), trim(formulation_names(i)), 'row names it')
+            CHECK_EQUAL(count(formulation_names == formulation_names(i)), 1, 'listed once')
+        end do
+        CHECK_TRUE(any(formulation_names == 'se3_strand'), 'se3_strand listed')
+    end subroutine test_every_named_formulation_available
 
     ! seed 002 (issue 7): clamped and pinned ends, dead and follower end loads, distributed
     ! loads and gravity, statics, curved references; no constraints, joints or planar limit.
@@ -165,7 +190,62 @@ contains
         CHECK_TRUE(row%quasistatic .and. row%curved_reference, 'statics and curved references')
         CHECK_TRUE(.not. row%viscoelastic .and. .not. row%actuation .and. .not. row%planar, 'nothing more')
         CHECK_EQUAL(trim(row%joints), '', 'no joints')
+        CHECK_EQUAL(trim(row%drive), 'pose', 'driven by displacement and rotation')
+        CHECK_TRUE(.not. row%relaxation, 'statics by load increments, not relaxation')
+        CHECK_EQUAL(len_trim(row%end_kinds_at_end), 0, 'same end kinds at both ends')
     end subroutine test_se3_pg_row
+
+    ! seed 004 (methods/se3_strands.md §3.4): motion prescribed at s = 0 (clamped or driven by
+    ! velocity; never free), stress at s = L (free only); end and distributed loads, gravity, dead
+    ! and follower; curved references; statics by relaxation, not quasistatics; its own
+    ! damping, not Maxwell branches; no constraints, actuators, joints or planar limit.
+    subroutine test_se3_strand_row()
+        character(len=12), parameter :: kinds(4) = [character(len=12) :: 'clamped', 'pinned', 'free', &
+            'driven']
+        character(len=12), parameter :: places(4) = [character(len=12) :: 'start', 'end', &
+            'distributed', 'gravity']
+        character(len=12), parameter :: frames(2) = [character(len=12) :: 'spatial', 'follower']
+        character(len=12), parameter :: constraints(3) = [character(len=12) :: 'none', 'kirchhoff', &
+            'inextensible']
+        character(len=12) :: at_start(2), at_end(1)
+        type(capability_t) :: row
+        row = capability_of('se3_strand')
+        CHECK_TRUE(row%available, 'se3_strand is available')
+        CHECK_EQUAL(trim(row%formulation), 'se3_strand', 'row names its formulation')
+        at_start = [character(len=12) :: 'clamped', 'driven']
+        at_end = [character(len=12) :: 'free']
+        call check_column(row%end_kinds, kinds, at_start, 'end kind at s = 0')
+        call check_column(row%end_kinds_at_end, kinds, at_end, 'end kind at s = L')
+        call check_column(end_kinds_at(row, 'start'), kinds, at_start, 'end_kinds_at start')
+        call check_column(end_kinds_at(row, 'end'), kinds, at_end, 'end_kinds_at end')
+        call check_column(row%load_places, places, places(2:4), 'load place')
+        call check_column(row%load_frames, frames, frames, 'load frame')
+        call check_column(row%constraints, constraints, constraints(1:1), 'constraint')
+        CHECK_TRUE(.not. row%quasistatic, 'no quasistatics')
+        CHECK_TRUE(row%relaxation, 'statics by damped dynamics')
+        CHECK_EQUAL(trim(row%drive), 'velocity', 'driven by velocity (P0 = M V0)')
+        CHECK_TRUE(.not. row%viscoelastic, 'no Maxwell branches')
+        CHECK_TRUE(.not. row%actuation, 'no actuators')
+        CHECK_TRUE(row%curved_reference, 'curved relaxed shapes')
+        CHECK_EQUAL(len_trim(row%joints), 0, 'no joints')
+        CHECK_TRUE(.not. row%planar, 'se3_strand is 3D')
+    end subroutine test_se3_strand_row
+
+    ! A blank end_kinds_at_end means the same kinds at both ends; a given one holds at 'end'
+    ! only; a blank or unknown end name takes end_kinds.
+    subroutine test_end_kinds_at()
+        type(capability_t) :: row
+        character(len=64) :: padded
+        row%end_kinds = 'clamped|free'
+        CHECK_EQUAL(end_kinds_at(row, 'start'), 'clamped|free', 'start')
+        CHECK_EQUAL(end_kinds_at(row, 'end'), 'clamped|free', 'end, blank end_kinds_at_end')
+        row%end_kinds_at_end = 'free'
+        CHECK_EQUAL(end_kinds_at(row, 'start'), 'clamped|free', 'start keeps end_kinds')
+        CHECK_EQUAL(end_kinds_at(row, 'end'), 'free', 'end takes end_kinds_at_end')
+        padded = 'end'
+        CHECK_EQUAL(end_kinds_at(row, padded), 'free', 'blank-padded end name')
+        CHECK_EQUAL(end_kinds_at(row, ''), 'clamped|free', 'blank end name')
+    end subroutine test_end_kinds_at
 
     subroutine test_lists_name_whole_names()
         CHECK_TRUE(lists_name('clamped|free', 'free'), 'last name')

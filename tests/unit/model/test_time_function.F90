@@ -3,19 +3,21 @@
 !> at characteristic points and on dense grids (constant 1; ramp 0 / linear / 1; hat 0 / up /
 !> down / 0 with the flying-spaghetti history 200 hat(t) = 80 t, 400 - 80 t on [0, 5]; pulse
 !> (1 - cos(2 pi x)) / 2 = sin^2(pi x) with peak 1 at the centre, zero slope at both ends and
-!> integral (t_off - t_on) / 2; table interpolation and constant extrapolation), and the errors
-!> of time_function_from_load (unknown name listing the valid ones, t_off <= t_on, table
-!> without matching values). time_function_from_actuator gives the same function as a load with
-!> the same time variables, bit for bit, the same errors naming its own routine, and reads a
-!> table filled to capacity (max_table points). Loads and actuators are built as plain
-!> load_input_t and actuator_input_t values, without input files.
+!> integral (t_off - t_on) / 2; sine 0 up to t_on, then sin(2 pi x), periodic beyond t_off;
+!> table interpolation and constant extrapolation), and the errors of time_function_from_load
+!> (unknown name listing the valid ones, t_off <= t_on, table without matching values).
+!> time_function_from_actuator gives the same function as a load with the same time variables,
+!> bit for bit, the same errors naming its own routine, and reads a table filled to capacity
+!> (max_table points); time_function_from_bc gives the sine of a driven end as a load's. Loads,
+!> actuators and supports are built as plain load_input_t, actuator_input_t and bc_input_t
+!> values, without input files.
 module rs_test_model_time_function
     use rs_core_kinds, only: rk, pi
     use rs_core_error, only: error_t
     use rs_test_assert, only: run_test, assert_true, assert_close, assert_equal, assert_contains
-    use rs_model_scene, only: load_input_t, actuator_input_t, max_table
+    use rs_model_scene, only: load_input_t, actuator_input_t, bc_input_t, max_table
     use rs_model_time_function, only: time_function_t, time_function_from_load, &
-        time_function_from_actuator, time_function_names
+        time_function_from_actuator, time_function_from_bc, time_function_names
     implicit none
     private
 
@@ -36,6 +38,9 @@ contains
         call run_test('pulse_points', test_pulse_points)
         call run_test('pulse_zero_slope_at_ends', test_pulse_zero_slope_at_ends)
         call run_test('pulse_integral', test_pulse_integral)
+        call run_test('sine_points', test_sine_points)
+        call run_test('sine_slope_and_periods', test_sine_slope_and_periods)
+        call run_test('bc_sine', test_bc_sine)
         call run_test('table_interpolation', test_table_interpolation)
         call run_test('table_extrapolation', test_table_extrapolation)
         call run_test('table_ignores_t_on_t_off', test_table_ignores_t_on_t_off)
@@ -248,6 +253,90 @@ contains
         CHECK_CLOSE(total, 0.4_rk, 0.0_rk, 1.0e-12_rk, 'integral = (t_off - t_on) / 2')
     end subroutine test_pulse_integral
 
+    ! Sine with t_on = 1 and period t_off - t_on = 2: 0 up to t_on, then sin(pi (t - 1)), and
+    ! still oscillating after t_off (0 at t_on + k T / 2, +-1 at the quarter periods).
+    subroutine test_sine_points()
+        type(time_function_t) :: tf
+        real(rk) :: t
+        integer :: i
+        tf = make(load_of('sine', 1.0_rk, 3.0_rk))
+        CHECK_CLOSE(tf%value(0.0_rk), 0.0_rk, 0.0_rk, 0.0_rk, 'before t_on')
+        CHECK_CLOSE(tf%value(1.0_rk), 0.0_rk, 0.0_rk, 0.0_rk, 't = t_on')
+        CHECK_CLOSE(tf%value(1.5_rk), 1.0_rk, tight, 0.0_rk, 'quarter period: 1')
+        CHECK_CLOSE(tf%value(2.0_rk), 0.0_rk, tight, 0.0_rk, 'half period: 0')
+        CHECK_CLOSE(tf%value(2.5_rk), -1.0_rk, tight, 0.0_rk, 'three quarters: -1')
+        CHECK_CLOSE(tf%value(3.0_rk), 0.0_rk, tight, 0.0_rk, 't = t_off: a whole period')
+        CHECK_CLOSE(tf%value(3.5_rk), 1.0_rk, tight, 0.0_rk, 'after t_off it goes on: 1')
+        CHECK_CLOSE(tf%value(4.5_rk), -1.0_rk, 1.0e-13_rk, 0.0_rk, 'second period: -1')
+        CHECK_CLOSE(tf%value(1.0_rk + 1.0_rk / 6.0_rk), 0.5_rk, 1.0e-15_rk, 0.0_rk, 'x = 1/12: sin(pi/6)')
+        do i = -50, 500
+            t = 0.013_rk * real(i, rk)
+            if (t <= 1.0_rk) then
+                CHECK_CLOSE(tf%value(t), 0.0_rk, 0.0_rk, 0.0_rk, 'zero up to t_on')
+            else
+                CHECK_CLOSE(tf%value(t), sin(pi * (t - 1.0_rk)), 1.0e-13_rk, 0.0_rk, 'sin(2 pi x)')
+            end if
+        end do
+    end subroutine test_sine_points
+
+    ! Periodic with period T = t_off - t_on beyond t_off; slope 2 pi / T at t_on (a kink from
+    ! the zero before it, as a velocity drive that starts oscillating) and the central
+    ! difference (2 pi / T) cos(2 pi x) inside.
+    subroutine test_sine_slope_and_periods()
+        type(time_function_t) :: tf
+        real(rk), parameter :: t_on = 0.5_rk, t_off = 0.5_rk + 1.0_rk / 4.5_rk, period = t_off - t_on
+        real(rk) :: h, slope, t, expected
+        integer :: k
+        tf = make(load_of('sine', t_on, t_off))
+        do k = 1, 40
+            t = t_on + 0.037_rk * real(k, rk) * period
+            CHECK_CLOSE(tf%value(t + 3.0_rk * period), tf%value(t), 1.0e-12_rk, 0.0_rk, 'period T')
+        end do
+        h = 1.0e-6_rk
+        slope = (tf%value(t_on + h) - tf%value(t_on)) / h
+        CHECK_CLOSE(slope, 2.0_rk * pi / period, 0.0_rk, 1.0e-8_rk, 'slope 2 pi / T just after t_on')
+        slope = (tf%value(t_on) - tf%value(t_on - h)) / h
+        CHECK_CLOSE(slope, 0.0_rk, 0.0_rk, 0.0_rk, 'flat before t_on')
+        h = 1.0e-5_rk
+        do k = 1, 9
+            t = t_on + 0.1_rk * real(k, rk) * period
+            slope = (tf%value(t + h) - tf%value(t - h)) / (2.0_rk * h)
+            expected = 2.0_rk * pi / period * cos(0.2_rk * pi * real(k, rk))
+            CHECK_CLOSE(slope, expected, 1.0e-6_rk, 0.0_rk, 'slope inside')
+        end do
+    end subroutine test_sine_slope_and_periods
+
+    ! A driven &bc takes the sine too (the base oscillation of seed 004 §3.3 as a velocity), with
+    ! the same values as a load and the same t_off > t_on rule.
+    subroutine test_bc_sine()
+        type(bc_input_t) :: bc
+        type(time_function_t) :: from_bc, from_load
+        type(error_t), allocatable :: err
+        real(rk) :: t
+        integer :: i
+        bc%rod = 'beam'
+        bc%end = 'start'
+        bc%kind = 'driven'
+        bc%velocity = [0.0_rk, 0.0_rk, 0.5655_rk]
+        bc%time_function = 'sine'
+        bc%t_on = 0.25_rk
+        bc%t_off = 0.75_rk
+        call time_function_from_bc(bc, from_bc, err)
+        CHECK_TRUE(.not. allocated(err), 'bc sine accepted')
+        if (allocated(err)) return
+        from_load = make(load_of('sine', 0.25_rk, 0.75_rk))
+        do i = 0, 300
+            t = 0.01_rk * real(i, rk)
+            CHECK_TRUE(from_bc%value(t) == from_load%value(t), 'same f(t) as a load')
+        end do
+        bc%t_off = 0.25_rk
+        call time_function_from_bc(bc, from_bc, err)
+        CHECK_TRUE(allocated(err), 't_off = t_on is an error')
+        if (allocated(err)) then
+            CHECK_EQUAL(err%routine, 'time_function_from_bc', 'names the bc routine')
+        end if
+    end subroutine test_bc_sine
+
     !> A table load through (times, values).
     function table_load(times, values) result(load)
         real(rk), intent(in) :: times(:), values(:)
@@ -324,8 +413,8 @@ contains
         type(load_input_t) :: load
         type(time_function_t) :: tf
         type(error_t), allocatable :: err
-        character(len=8), parameter :: names(5) = [character(len=8) :: 'constant', 'ramp', 'hat', &
-            'pulse', 'table']
+        character(len=8), parameter :: names(6) = [character(len=8) :: 'constant', 'ramp', 'hat', &
+            'pulse', 'sine', 'table']
         integer :: i
         load = load_of('rampp', 0.0_rk, 1.0_rk)
         call time_function_from_load(load, tf, err)
@@ -335,8 +424,8 @@ contains
         do i = 1, size(names)
             CHECK_CONTAINS(err%message, trim(names(i)), 'lists every valid name')
         end do
-        CHECK_CONTAINS(err%message, 'constant|ramp|hat|pulse|table', 'the full list')
-        CHECK_EQUAL(time_function_names, 'constant|ramp|hat|pulse|table', 'published list')
+        CHECK_CONTAINS(err%message, 'constant|ramp|hat|pulse|sine|table', 'the full list')
+        CHECK_EQUAL(time_function_names, 'constant|ramp|hat|pulse|sine|table', 'published list')
         ! Every listed name but 'table' (which needs points; see the table tests) is accepted.
         do i = 1, size(names) - 1
             call time_function_from_load(load_of(trim(names(i)), 0.0_rk, 1.0_rk), tf, err)
@@ -346,9 +435,9 @@ contains
         CHECK_TRUE(allocated(err), 'blank name is an error')
     end subroutine test_unknown_name_lists_valid
 
-    ! Ramp, hat and pulse need t_off > t_on.
+    ! Ramp, hat, pulse and sine need t_off > t_on.
     subroutine test_t_off_not_after_t_on()
-        character(len=5), parameter :: names(3) = [character(len=5) :: 'ramp', 'hat', 'pulse']
+        character(len=5), parameter :: names(4) = [character(len=5) :: 'ramp', 'hat', 'pulse', 'sine']
         type(time_function_t) :: tf
         type(error_t), allocatable :: err
         integer :: i
@@ -403,8 +492,8 @@ contains
     ! Every kind: an actuator's f(t) equals the load's bit for bit on a grid that covers both
     ! sides of [t_on, t_off] and of the table.
     subroutine test_actuator_same_as_load()
-        character(len=8), parameter :: names(5) = [character(len=8) :: 'constant', 'ramp', 'hat', &
-            'pulse', 'table']
+        character(len=8), parameter :: names(6) = [character(len=8) :: 'constant', 'ramp', 'hat', &
+            'pulse', 'sine', 'table']
         type(load_input_t) :: load
         type(time_function_t) :: from_load, from_actuator
         type(error_t), allocatable :: err

@@ -1,0 +1,983 @@
+#include "rs_macros.h"
+!> Viscoelastic rods as special Euclidean strands on a staggered grid (seed 004, methods/
+!> se3_strands.md): the only unknowns are the intrinsic fields P (momentum, at the nodes) and
+!> Sigma (stress, at the segment midpoints and two ghost segments), advanced by the paper's
+!> semi-implicit scheme (eqs. 11-15, methods §3.5): the nonlinear ad coefficients frozen at t_n,
+!> every linear term at t_{n+1}, so a step is ONE sparse linear solve and no Newton loop. The
+!> placement is not an unknown: it is rebuilt from the strains by the closed-form SE(3)
+!> exponential, marched in space from the section at s = 0 (Appendix A, methods §3.6).
+!>
+!> Conventions: rs_se3_strand_kernels (order (3, 1, 2), paper signs of the angular parts).
+!>
+!> Unknowns, interleaved so that the matrix is block tridiagonal with 6 x 6 blocks (half
+!> bandwidth 11 against the paper's 23, methods §3.5): block 0 is the ghost Sigma_{-1,0},
+!> block 2k+1 is P_k (k = 0..N), block 2k+2 is Sigma_{k,k+1} (k = 0..N; N is the ghost
+!> Sigma_{N,N+1}). The state X is these unknowns followed by the pose of the section at s = 0
+!> (x_0, then the 3 x 3 matrix A_0 = [d3 d1 d2]), which moves only at a driven end.
+!>
+!> Additions to the paper (docs/theory/se3_strand.md):
+!> - dead loads (end and distributed, gravity) with their rotation linearized implicitly,
+!>   f_{n+1} = f_n + dt w_{n+1} x f_n (methods §7 item 3: the paper's explicit lag diverges on
+!>   the 600 N bend);
+!> - a Kelvin-Voigt viscous stress Sigma_v = tau A dU/dt = tau dSigma/dt in the divergence and
+!>   the ad^T term of eq. (11), next to the paper's internal law -D_in dU/dt (a body force that
+!>   need not dissipate, methods §2.6);
+!> - a driven end by prescribed spatial velocity and angular velocity (P_0 = M V_0, eq. 13),
+!>   its pose advanced by the exponential of the prescribed twist.
+module rs_se3_strand
+    use rs_core_kinds, only: rk
+    use rs_core_error, only: error_t, set_error
+    use rs_core_strings, only: str
+    use rs_model_scene, only: scene_t, rod_input_t, load_applies_to
+    use rs_model_rod_history, only: rod_history_t
+    use rs_model_time_function, only: time_function_t, time_function_from_load, time_function_from_bc
+    use rs_model_rod_geometry, only: rod_geometry_t, rod_geometry_of, centreline_point, &
+        centreline_frame
+    use rs_math_so3, only: exp_so3, hat
+    use rs_math_se3, only: log_se3, pose_relative
+    use rs_assembly_csr_pattern, only: csr_builder_t, csr_pattern_t
+    use rs_formulations_formulation, only: rod_formulation_t, state_valid, state_invalid
+    use rs_se3_strand_kernels, only: strand_ad, cross_matrix, strand_march
+    implicit none
+    private
+
+    !> An end load (at s = L) or a distributed load, scaled by a time function. Dead loads in
+    !> inertial components; follower loads in K components (F3, F1, F2) of the given director
+    !> components.
+    type :: strand_load_t
+        logical :: at_end = .false.
+        logical :: follower = .false.
+        real(rk) :: force(3) = 0.0_rk
+        real(rk) :: moment(3) = 0.0_rk
+        type(time_function_t) :: factor
+    end type strand_load_t
+
+    !> One driven-end motion: spatial velocity f(t) velocity and angular velocity
+    !> f(t) angular_velocity of the section at s = 0 (several add up).
+    type :: strand_drive_t
+        real(rk) :: velocity(3) = 0.0_rk
+        real(rk) :: angular_velocity(3) = 0.0_rk
+        type(time_function_t) :: factor
+    end type strand_drive_t
+
+    type, extends(rod_formulation_t), public :: se3_strand_t
+        character(len=:), allocatable :: name
+        !> N segments, N + 1 nodes; blocks 0 .. 2N + 2.
+        integer :: n_seg = 0, n_blocks = 0
+        real(rk) :: length = 0.0_rk
+        !> Segment lengths h_k (k = 0..N, the ghost N repeating N - 1), the nodal dual cells
+        !> (s_{k+1} - s_{k-1}) / 2 of eq. (11) (k = 1..N, with the ghost node s_{N+1}), and the
+        !> nodal weights of the energy (trapezoidal: h/2 at both ends).
+        real(rk), allocatable :: seg_h(:), dual(:), weight(:)
+        !> Diagonal inertia M = (rhoI1 + rhoI2, rhoI1, rhoI2, rhoA, rhoA, rhoA) and stiffness
+        !> A = (GJ, EI1, EI2, EA, GA1, GA2) (paper eq. 3), and their inverses.
+        real(rk) :: mass(6) = 0.0_rk, mass_inv(6) = 0.0_rk
+        real(rk) :: stiff(6) = 0.0_rk, stiff_inv(6) = 0.0_rk
+        !> Relaxed strains per segment, -1..N (ghosts repeat their neighbours).
+        real(rk), allocatable :: u_bar(:, :)
+        real(rk) :: eta_external = 0.0_rk, eta_internal = 0.0_rk, tau_kv = 0.0_rk
+        !> True: P_0 prescribed (clamped or driven); the only start supported (methods §3.4).
+        type(strand_drive_t), allocatable :: drives(:)
+        type(strand_load_t), allocatable :: loads(:)
+        !> Loads need the placement at t_n (dead directions); false: no reconstruction per step.
+        logical :: needs_pose = .false.
+        real(rk), allocatable :: initial(:)
+        type(csr_pattern_t) :: pattern
+        !> Column blocks of each block row (0-based, -1 = none) and the CSR position of entry
+        !> (i, j) of block c of row b.
+        integer, allocatable :: row_blocks(:, :), block_map(:, :, :, :)
+        ! The linear system of the current step, A Y = b, cached for the residual, the Jacobian
+        ! and the accepted step (valid for (t_n, h, x_n) = key_*).
+        real(rk), allocatable :: blocks(:, :, :, :), rhs(:, :)
+        logical :: cached = .false.
+        real(rk) :: key_t = 0.0_rk, key_h = 0.0_rk
+        real(rk), allocatable :: key_x(:)
+        ! Workspace (no allocation in the time loop): placement at t_n and t_{n+1}, end-load
+        ! and distributed-load vectors at t_{n+1} in K components.
+        real(rk), allocatable :: pose_a(:, :, :), pose_x(:, :)
+        real(rk), allocatable :: load_f(:, :), load_m(:, :)
+        real(rk) :: end_f(3) = 0.0_rk, end_m(3) = 0.0_rk
+        real(rk) :: end_f_follower(3) = 0.0_rk, end_m_follower(3) = 0.0_rk
+        ! Book-keeping since the last record.
+        real(rk) :: work_since_record = 0.0_rk
+        real(rk) :: dissipated_since_record = 0.0_rk
+        real(rk) :: balance_since_record = 0.0_rk
+        real(rk) :: smallest_step = huge(1.0_rk)
+        real(rk) :: last_residual = 0.0_rk
+        integer :: steps_since_record = 0
+    contains
+        procedure :: init => strand_init
+        procedure :: n_state => strand_n_state
+        procedure :: n_unknown => strand_n_unknown
+        procedure :: jacobian_pattern => strand_jacobian_pattern
+        procedure :: initial_state => strand_initial_state
+        procedure :: predictor => strand_predictor
+        procedure :: update => strand_update
+        procedure :: step_residual => strand_step_residual
+        procedure :: step_jacobian => strand_step_jacobian
+        procedure :: accept_step => strand_accept_step
+        procedure :: init_history => strand_init_history
+        procedure :: record => strand_record
+        procedure :: describe => strand_describe
+        procedure :: n_internal => strand_n_internal
+        procedure :: save_internal => strand_save_internal
+        procedure :: restore_internal => strand_restore_internal
+        procedure :: native_lu => strand_native_lu
+        procedure :: linear_step => strand_linear_step
+        procedure :: banded_unknowns => strand_banded_unknowns
+        procedure :: kinetic_energy => strand_kinetic_energy
+        procedure, private :: assemble, ensure_assembled, march_poses, drive_twist, end_loads
+        procedure, private :: distributed_loads, energies, p_at, s_at
+    end type se3_strand_t
+
+contains
+
+    ! ---- Building the rod ---------------------------------------------------------------------
+
+    subroutine strand_init(this, scene, rods, err)
+        class(se3_strand_t), intent(inout) :: this
+        type(scene_t), intent(in) :: scene
+        integer, intent(in) :: rods(:)
+        type(error_t), allocatable, intent(out) :: err
+        integer :: n
+        if (size(rods) /= 1) then
+            RS_SET_ERROR(err, 'se3_strand%init', 'se3_strand rods cannot be joined')
+            return
+        end if
+        associate (rod => scene%rods(rods(1)))
+            this%name = trim(rod%name)
+            this%n_seg = rod%n_elements
+            n = this%n_seg
+            this%n_blocks = 2 * n + 3
+            this%length = rod%length
+            this%mass = [rod%rhoI1 + rod%rhoI2, rod%rhoI1, rod%rhoI2, rod%rhoA, rod%rhoA, rod%rhoA]
+            this%stiff = [rod%GJ, rod%EI1, rod%EI2, rod%EA, rod%GA1, rod%GA2]
+            if (any(this%mass <= 0.0_rk) .or. any(this%stiff <= 0.0_rk)) then
+                RS_SET_ERROR(err, 'se3_strand%init', 'rod ''' // this%name // ''': se3_strand needs positive inertia and stiffness in all six components')
+                return
+            end if
+            this%mass_inv = 1.0_rk / this%mass
+            this%stiff_inv = 1.0_rk / this%stiff
+            this%eta_external = rod%external_damping
+            this%eta_internal = rod%internal_damping
+            this%tau_kv = rod%kelvin_voigt_time
+            allocate(this%initial(this%n_state()), source=0.0_rk)
+            call reference_configuration(this, rod)
+            call read_supports(this, scene, err)
+            RS_RETURN_IF_ERROR(err)
+            call read_loads(this, scene, err)
+            RS_RETURN_IF_ERROR(err)
+        end associate
+        call build_pattern(this)
+        allocate(this%blocks(6, 6, 3, 0:this%n_blocks - 1), this%rhs(6, 0:this%n_blocks - 1), &
+            source=0.0_rk)
+        allocate(this%key_x(this%n_state()), source=0.0_rk)
+        allocate(this%pose_a(3, 3, 0:n), this%pose_x(3, 0:n), this%load_f(3, 0:n), &
+            this%load_m(3, 0:n), source=0.0_rk)
+    end subroutine strand_init
+
+    !> Uniform segments; the relaxed strains are the discrete strains of the initial placement
+    !> (the SE(3) logarithm of the relative pose of neighbouring nodes, exact for a straight rod,
+    !> a circle or a helix with its frame), or those of the straight rod if `prestressed` (the
+    !> rod starts with the stresses of its initial shape). Initial state: P = M V of the rigid
+    !> velocity field, Sigma = A (U_0 - U_bar), ghosts mirrored so that eqs. (14)-(15) hold with
+    !> no end stress.
+    subroutine reference_configuration(this, rod)
+        type(se3_strand_t), intent(inout) :: this
+        type(rod_input_t), intent(in) :: rod
+        type(rod_geometry_t) :: geometry
+        real(rk) :: d(3, 3), a(3, 3, 0:this%n_seg), x(3, 0:this%n_seg), a_rel(3, 3), r_rel(3)
+        real(rk) :: theta(6), u0(6, -1:this%n_seg), v(3), omega(3), vk(6), h
+        integer :: k, n
+        n = this%n_seg
+        h = rod%length / real(n, rk)
+        allocate(this%seg_h(0:n), this%dual(1:n), this%weight(0:n), this%u_bar(6, -1:n))
+        this%seg_h = h
+        this%dual = h
+        this%weight = h
+        this%weight(0) = 0.5_rk * h
+        this%weight(n) = 0.5_rk * h
+        geometry = rod_geometry_of(rod)
+        do k = 0, n
+            d = centreline_frame(geometry, h * real(k, rk))
+            x(:, k) = centreline_point(geometry, h * real(k, rk))
+            a(:, 1, k) = d(:, 3)
+            a(:, 2, k) = d(:, 1)
+            a(:, 3, k) = d(:, 2)
+        end do
+        do k = 0, n - 1
+            call pose_relative(a(:, :, k), x(:, k), a(:, :, k + 1), x(:, k + 1), a_rel, r_rel)
+            theta = log_se3(a_rel, r_rel) / h
+            ! Standard twist (sigma, kappa) -> paper strain (-kappa, sigma).
+            u0(:, k) = [-theta(4:6), theta(1:3)]
+        end do
+        u0(:, -1) = u0(:, 0)
+        u0(:, n) = u0(:, n - 1)
+        if (rod%prestressed) then
+            do k = -1, n
+                this%u_bar(:, k) = [0.0_rk, 0.0_rk, 0.0_rk, 1.0_rk, 0.0_rk, 0.0_rk]
+            end do
+        else
+            this%u_bar = u0
+        end if
+        ! Stresses: segments 0..N-1, the ghost at 0 copies segment 0 (eq. 14), the ghost at N
+        ! mirrors N-1 (eq. 15 with no end load).
+        do k = 0, n - 1
+            this%initial(s_index(k) + 1:s_index(k) + 6) = this%stiff * (u0(:, k) - this%u_bar(:, k))
+        end do
+        this%initial(s_index(-1) + 1:s_index(-1) + 6) = this%initial(s_index(0) + 1:s_index(0) + 6)
+        this%initial(s_index(n) + 1:s_index(n) + 6) = -this%initial(s_index(n - 1) + 1:s_index(n - 1) + 6)
+        ! Momenta of the rigid velocity field v = velocity + omega x (x - c): body v_K = A^T v,
+        ! paper angular part w = -A^T omega.
+        omega = rod%angular_velocity
+        do k = 0, n
+            v = rod%velocity + matmul(hat(omega), x(:, k) - rod%rotation_center)
+            vk(1:3) = -matmul(transpose(a(:, :, k)), omega)
+            vk(4:6) = matmul(transpose(a(:, :, k)), v)
+            this%initial(p_index(k) + 1:p_index(k) + 6) = this%mass * vk
+        end do
+        ! Pose of the section at s = 0.
+        this%initial(pose_index(this) + 1:pose_index(this) + 3) = x(:, 0)
+        this%initial(pose_index(this) + 4:pose_index(this) + 12) = reshape(a(:, :, 0), [9])
+    end subroutine reference_configuration
+
+    !> The start is clamped (P_0 = 0) or driven (P_0 = M V_0(t)); the end is free (stress
+    !> prescribed by the end loads). --check-input has refused anything else (capability row).
+    subroutine read_supports(this, scene, err)
+        type(se3_strand_t), intent(inout) :: this
+        type(scene_t), intent(in) :: scene
+        type(error_t), allocatable, intent(out) :: err
+        type(strand_drive_t) :: drive
+        character(len=:), allocatable :: message
+        logical :: start_held
+        integer :: i
+        allocate(this%drives(0))
+        start_held = .false.
+        do i = 1, size(scene%bcs)
+            associate (bc => scene%bcs(i))
+                if (trim(bc%rod) /= this%name) cycle
+                if (trim(bc%end) == 'end' .and. trim(bc%kind) /= 'free') then
+                    message = 'rod ''' // this%name // ''': se3_strand prescribes the stress at ' // &
+                        's = L (methods/se3_strands.md §3.4); a ''' // trim(bc%kind) // &
+                        ''' end ''end'' is not available'
+                    RS_SET_ERROR(err, 'se3_strand%init', message)
+                    return
+                end if
+                if (trim(bc%end) /= 'start') cycle
+                select case (trim(bc%kind))
+                case ('clamped')
+                    start_held = .true.
+                case ('driven')
+                    start_held = .true.
+                    drive = strand_drive_t()
+                    call time_function_from_bc(bc, drive%factor, err)
+                    RS_RETURN_IF_ERROR(err)
+                    drive%velocity = bc%velocity
+                    drive%angular_velocity = bc%angular_velocity
+                    this%drives = [this%drives, drive]
+                case default
+                    message = 'rod ''' // this%name // ''': se3_strand prescribes the motion at ' // &
+                        's = 0 (methods/se3_strands.md §3.4); the start must be clamped or driven'
+                    RS_SET_ERROR(err, 'se3_strand%init', message)
+                    return
+                end select
+            end associate
+        end do
+        if (.not. start_held) then
+            message = 'rod ''' // this%name // ''': se3_strand needs a clamped or driven start ' // &
+                '(methods/se3_strands.md §3.4)'
+            RS_SET_ERROR(err, 'se3_strand%init', message)
+        end if
+    end subroutine read_supports
+
+    !> End loads at s = L (eq. 15), distributed loads and gravity (F of eq. 11).
+    subroutine read_loads(this, scene, err)
+        type(se3_strand_t), intent(inout) :: this
+        type(scene_t), intent(in) :: scene
+        type(error_t), allocatable, intent(out) :: err
+        type(strand_load_t) :: load
+        character(len=:), allocatable :: message
+        integer :: i, n
+        allocate(this%loads(size(scene%loads)))
+        n = 0
+        do i = 1, size(scene%loads)
+            associate (input => scene%loads(i))
+                if (.not. load_applies_to(input, this%name)) cycle
+                load = strand_load_t()
+                call time_function_from_load(input, load%factor, err)
+                RS_RETURN_IF_ERROR(err)
+                load%follower = trim(input%frame) == 'follower'
+                select case (trim(input%where))
+                case ('end')
+                    load%at_end = .true.
+                case ('distributed', 'gravity')
+                    load%at_end = .false.
+                case default
+                    message = 'rod ''' // this%name // ''': se3_strand takes loads at the end, ' // &
+                        'distributed loads and gravity (the start is held)'
+                    RS_SET_ERROR(err, 'se3_strand%init', message)
+                    return
+                end select
+                if (trim(input%where) == 'gravity') then
+                    load%force = this%mass(4) * input%acceleration
+                else if (load%follower) then
+                    load%force = [input%force(3), input%force(1), input%force(2)]
+                    load%moment = [input%moment(3), input%moment(1), input%moment(2)]
+                else
+                    load%force = input%force
+                    load%moment = input%moment
+                end if
+                if (.not. load%follower) this%needs_pose = .true.
+                n = n + 1
+                this%loads(n) = load
+            end associate
+        end do
+        this%loads = this%loads(1:n)
+    end subroutine read_loads
+
+    !> Block rows: ghost row 0 {0, 2} (eq. 14); P_0 {1} (eq. 13); node k {2k, 2k+1, 2k+2}
+    !> (eq. 11); segment k {2k+1, 2k+2, 2k+3} (eq. 12); the end ghost {2N, 2N+1, 2N+2} (eq. 15).
+    !> Full 6 x 6 blocks.
+    subroutine build_pattern(this)
+        type(se3_strand_t), intent(inout) :: this
+        type(csr_builder_t) :: builder
+        integer :: b, c, i, j, rows(6), cols(6), nb
+        nb = this%n_blocks
+        allocate(this%row_blocks(3, 0:nb - 1), source=-1)
+        this%row_blocks(1:2, 0) = [0, 2]
+        this%row_blocks(1, 1) = 1
+        do b = 2, nb - 1
+            this%row_blocks(:, b) = [b - 1, b, b + 1]
+        end do
+        this%row_blocks(:, nb - 1) = [nb - 3, nb - 2, nb - 1]
+        call builder%init(6 * nb, 108 * nb)
+        do b = 0, nb - 1
+            rows = [(6 * b + i, i = 1, 6)]
+            do c = 1, 3
+                if (this%row_blocks(c, b) < 0) cycle
+                cols = [(6 * this%row_blocks(c, b) + i, i = 1, 6)]
+                call builder%add_block(rows, cols)
+            end do
+        end do
+        call builder%build(this%pattern)
+        allocate(this%block_map(6, 6, 3, 0:nb - 1), source=0)
+        do b = 0, nb - 1
+            do c = 1, 3
+                if (this%row_blocks(c, b) < 0) cycle
+                do j = 1, 6
+                    do i = 1, 6
+                        this%block_map(i, j, c, b) = this%pattern%position(6 * b + i, &
+                            6 * this%row_blocks(c, b) + j)
+                    end do
+                end do
+            end do
+        end do
+    end subroutine build_pattern
+
+    ! ---- Indices ------------------------------------------------------------------------------
+
+    !> Offset of P_k and of Sigma_{k,k+1} (k = -1..N) in Y and X.
+    pure integer function p_index(k)
+        integer, intent(in) :: k
+        p_index = 6 * (2 * k + 1)
+    end function p_index
+
+    pure integer function s_index(k)
+        integer, intent(in) :: k
+        s_index = 6 * (2 * k + 2)
+    end function s_index
+
+    pure integer function pose_index(this)
+        type(se3_strand_t), intent(in) :: this
+        pose_index = 6 * this%n_blocks
+    end function pose_index
+
+    pure function p_at(this, x, k) result(p)
+        class(se3_strand_t), intent(in) :: this
+        real(rk), intent(in) :: x(:)
+        integer, intent(in) :: k
+        real(rk) :: p(6)
+        p = x(p_index(k) + 1:p_index(k) + 6)
+    end function p_at
+
+    pure function s_at(this, x, k) result(s)
+        class(se3_strand_t), intent(in) :: this
+        real(rk), intent(in) :: x(:)
+        integer, intent(in) :: k
+        real(rk) :: s(6)
+        s = x(s_index(k) + 1:s_index(k) + 6)
+    end function s_at
+
+    ! ---- Sizes, state, predictor, update ----------------------------------------------------
+
+    pure integer function strand_n_state(this)
+        class(se3_strand_t), intent(in) :: this
+        strand_n_state = 6 * this%n_blocks + 12
+    end function strand_n_state
+
+    pure integer function strand_n_unknown(this)
+        class(se3_strand_t), intent(in) :: this
+        strand_n_unknown = 6 * this%n_blocks
+    end function strand_n_unknown
+
+    subroutine strand_jacobian_pattern(this, row_ptr, cols)
+        class(se3_strand_t), intent(in) :: this
+        integer, allocatable, intent(out) :: row_ptr(:), cols(:)
+        call this%pattern%zero_based(row_ptr, cols)
+    end subroutine strand_jacobian_pattern
+
+    subroutine strand_initial_state(this, x)
+        class(se3_strand_t), intent(in) :: this
+        real(rk), intent(out) :: x(:)
+        x = this%initial
+    end subroutine strand_initial_state
+
+    !> Y = X_n's unknowns (the step is linear: any start gives the same solve).
+    subroutine strand_predictor(this, t_n, h, x_n, y)
+        class(se3_strand_t), intent(inout) :: this
+        real(rk), intent(in) :: t_n, h, x_n(:)
+        real(rk), intent(out) :: y(:)
+        y = x_n(1:size(y))
+    end subroutine strand_predictor
+
+    !> X_{n+1}: the unknowns, and the pose at s = 0 moved by the prescribed twist at t_{n+1}
+    !> over the step (x_0 + h v, Exp(h omega) A_0; exact for a constant twist).
+    subroutine strand_update(this, t_n, h, x_n, y, x_1)
+        class(se3_strand_t), intent(inout) :: this
+        real(rk), intent(in) :: t_n, h, x_n(:), y(:)
+        real(rk), intent(out) :: x_1(:)
+        real(rk) :: v(3), omega(3), a0(3, 3)
+        integer :: at
+        at = pose_index(this)
+        x_1(1:at) = y
+        call this%drive_twist(t_n + h, v, omega)
+        a0 = reshape(x_n(at + 4:at + 12), [3, 3])
+        x_1(at + 1:at + 3) = x_n(at + 1:at + 3) + h * v
+        x_1(at + 4:at + 12) = reshape(matmul(exp_so3(h * omega), a0), [9])
+    end subroutine strand_update
+
+    !> The spatial velocity and angular velocity of the section at s = 0 at time t.
+    subroutine drive_twist(this, t, v, omega)
+        class(se3_strand_t), intent(in) :: this
+        real(rk), intent(in) :: t
+        real(rk), intent(out) :: v(3), omega(3)
+        real(rk) :: f
+        integer :: i
+        v = 0.0_rk
+        omega = 0.0_rk
+        do i = 1, size(this%drives)
+            f = this%drives(i)%factor%value(t)
+            v = v + f * this%drives(i)%velocity
+            omega = omega + f * this%drives(i)%angular_velocity
+        end do
+    end subroutine drive_twist
+
+    ! ---- The step: one linear system ----------------------------------------------------------
+
+    !> F(Y) = A Y - b with the cached system of this step.
+    subroutine strand_step_residual(this, t_n, h, x_n, y, f, status)
+        class(se3_strand_t), intent(inout) :: this
+        real(rk), intent(in) :: t_n, h, x_n(:), y(:)
+        real(rk), intent(out) :: f(:)
+        integer, intent(out) :: status
+        integer :: b, c, col
+        call this%ensure_assembled(t_n, h, x_n, status)
+        if (status /= state_valid) return
+        do b = 0, this%n_blocks - 1
+            f(6 * b + 1:6 * b + 6) = -this%rhs(:, b)
+            do c = 1, 3
+                col = this%row_blocks(c, b)
+                if (col < 0) cycle
+                f(6 * b + 1:6 * b + 6) = f(6 * b + 1:6 * b + 6) + &
+                    matmul(this%blocks(:, :, c, b), y(6 * col + 1:6 * col + 6))
+            end do
+        end do
+        if (any(f /= f)) status = state_invalid
+    end subroutine strand_step_residual
+
+    subroutine strand_step_jacobian(this, t_n, h, x_n, y, values, status)
+        class(se3_strand_t), intent(inout) :: this
+        real(rk), intent(in) :: t_n, h, x_n(:), y(:)
+        real(rk), intent(out) :: values(:)
+        integer, intent(out) :: status
+        integer :: b, c, i, j
+        call this%ensure_assembled(t_n, h, x_n, status)
+        if (status /= state_valid) return
+        do b = 0, this%n_blocks - 1
+            do c = 1, 3
+                if (this%row_blocks(c, b) < 0) cycle
+                do j = 1, 6
+                    do i = 1, 6
+                        values(this%block_map(i, j, c, b)) = this%blocks(i, j, c, b)
+                    end do
+                end do
+            end do
+        end do
+    end subroutine strand_step_jacobian
+
+    !> Assemble the system of the step (t_n, h, x_n) unless it is the cached one.
+    subroutine ensure_assembled(this, t_n, h, x_n, status)
+        class(se3_strand_t), intent(inout) :: this
+        real(rk), intent(in) :: t_n, h, x_n(:)
+        integer, intent(out) :: status
+        status = state_valid
+        if (this%cached .and. t_n == this%key_t .and. h == this%key_h) then
+            if (all(x_n == this%key_x)) return
+        end if
+        call this%assemble(t_n, h, x_n, status)
+        this%cached = status == state_valid
+        this%key_t = t_n
+        this%key_h = h
+        this%key_x = x_n
+    end subroutine ensure_assembled
+
+    !> The blocks and right-hand side of eqs. (11)-(15) (methods §3.5) with the additions in the
+    !> module header. Rows are scaled by 1 (node and segment rows, as written) and 1/h (the
+    !> boundary rows), so every diagonal block starts from I/h.
+    subroutine assemble(this, t_n, h, x_n, status)
+        class(se3_strand_t), intent(inout) :: this
+        real(rk), intent(in) :: t_n, h, x_n(:)
+        integer, intent(out) :: status
+        real(rk) :: eye(6, 6), p(6), v(6), v_next(6), s_prev(6), s_here(6), u_prev(6), u_here(6)
+        real(rk) :: c_prev(6, 6), c_here(6, 6), ad_v(6, 6), ad_u(6, 6), theta, p0(6)
+        real(rk) :: vel(3), omega(3), a0(3, 3), g(3, 3)
+        integer :: k, n, b, i
+        status = state_valid
+        n = this%n_seg
+        theta = this%tau_kv / h
+        eye = 0.0_rk
+        do i = 1, 6
+            eye(i, i) = 1.0_rk
+        end do
+        this%blocks = 0.0_rk
+        this%rhs = 0.0_rk
+        ! The placement at t_n only if a dead load needs its directors.
+        if (this%needs_pose) call this%march_poses(x_n)
+        call this%distributed_loads(t_n + h)
+        call this%end_loads(t_n + h)
+
+        ! Eq. (14): the ghost Sigma_{-1,0} copies Sigma_{0,1}.
+        this%blocks(:, :, 1, 0) = eye / h
+        this%blocks(:, :, 2, 0) = -eye / h
+        ! Eq. (13): P_0 = M V_0(t_{n+1}), V_0 the prescribed twist in the body frame at t_{n+1}.
+        call this%drive_twist(t_n + h, vel, omega)
+        a0 = reshape(x_n(pose_index(this) + 4:pose_index(this) + 12), [3, 3])
+        a0 = matmul(exp_so3(h * omega), a0)
+        p0(1:3) = -matmul(transpose(a0), omega)
+        p0(4:6) = matmul(transpose(a0), vel)
+        this%blocks(:, :, 1, 1) = eye / h
+        this%rhs(:, 1) = this%mass * p0 / h
+
+        ! Eq. (11) at the nodes k = 1..N: blocks (Sigma_{k-1}, P_k, Sigma_k).
+        do k = 1, n
+            b = 2 * k + 1
+            p = this%p_at(x_n, k)
+            v = this%mass_inv * p
+            s_prev = this%s_at(x_n, k - 1)
+            s_here = this%s_at(x_n, k)
+            u_prev = this%stiff_inv * s_prev + this%u_bar(:, k - 1)
+            u_here = this%stiff_inv * s_here + this%u_bar(:, k)
+            c_prev = eye / this%dual(k) + 0.5_rk * transpose(strand_ad(u_prev))
+            c_here = -eye / this%dual(k) + 0.5_rk * transpose(strand_ad(u_here))
+            ! P_k: dP/dt - ad_V^T P + D_ex M^-1 P.
+            this%blocks(:, :, 2, b) = eye / h - transpose(strand_ad(v))
+            do i = 1, 6
+                this%blocks(i, i, 2, b) = this%blocks(i, i, 2, b) + this%eta_external * this%mass_inv(i)
+            end do
+            this%rhs(:, b) = p / h
+            ! Stresses, with the Kelvin-Voigt viscous part theta (Sigma - Sigma_n); at k = N the
+            ! ghost's viscous stress mirrors Sigma_{N-1}'s, so the end's total stress is the
+            ! prescribed one.
+            this%blocks(:, :, 1, b) = (1.0_rk + theta) * c_prev
+            this%rhs(:, b) = this%rhs(:, b) + theta * matmul(c_prev, s_prev)
+            if (k < n) then
+                this%blocks(:, :, 3, b) = (1.0_rk + theta) * c_here
+                this%rhs(:, b) = this%rhs(:, b) + theta * matmul(c_here, s_here)
+            else
+                this%blocks(:, :, 3, b) = c_here
+                this%blocks(:, :, 1, b) = this%blocks(:, :, 1, b) - theta * c_here
+                this%rhs(:, b) = this%rhs(:, b) - theta * matmul(c_here, s_prev)
+            end if
+            ! The paper's internal law: + D_in A^-1 (Sigma_k - Sigma_k^n) / dt (right segment).
+            do i = 1, 6
+                this%blocks(i, i, 3, b) = this%blocks(i, i, 3, b) + this%eta_internal * &
+                    this%stiff_inv(i) / h
+            end do
+            this%rhs(:, b) = this%rhs(:, b) + this%eta_internal * this%stiff_inv * s_here / h
+            ! External loads -F_k: paper sign (-torque, force); dead ones turn with the
+            ! section, linearized implicitly: f_{n+1} = f - h [f]x w_{n+1}.
+            this%rhs(1:3, b) = this%rhs(1:3, b) - this%load_m(:, k)
+            this%rhs(4:6, b) = this%rhs(4:6, b) + this%load_f(:, k)
+            if (this%needs_pose) then
+                call dead_turn_block(this, k, h, g)
+                this%blocks(4:6, 1:3, 2, b) = this%blocks(4:6, 1:3, 2, b) + g
+                call dead_moment_turn_block(this, k, h, g)
+                this%blocks(1:3, 1:3, 2, b) = this%blocks(1:3, 1:3, 2, b) + g
+            end if
+        end do
+
+        ! Eq. (12) on the segments k = 0..N-1: blocks (P_k, Sigma_k, P_{k+1}).
+        do k = 0, n - 1
+            b = 2 * k + 2
+            v = this%mass_inv * this%p_at(x_n, k)
+            v_next = this%mass_inv * this%p_at(x_n, k + 1)
+            s_here = this%s_at(x_n, k)
+            u_here = this%stiff_inv * s_here + this%u_bar(:, k)
+            ad_u = strand_ad(u_here)
+            ad_v = strand_ad(v + v_next)
+            do i = 1, 6
+                this%blocks(i, :, 2, b) = 0.25_rk * this%stiff(i) * ad_v(i, :) * this%stiff_inv
+                this%blocks(i, :, 1, b) = -0.25_rk * this%stiff(i) * ad_u(i, :) * this%mass_inv
+                this%blocks(i, :, 3, b) = -0.25_rk * this%stiff(i) * ad_u(i, :) * this%mass_inv
+                this%blocks(i, i, 2, b) = this%blocks(i, i, 2, b) + 1.0_rk / h
+                this%blocks(i, i, 1, b) = this%blocks(i, i, 1, b) + this%stiff(i) * &
+                    this%mass_inv(i) / this%seg_h(k)
+                this%blocks(i, i, 3, b) = this%blocks(i, i, 3, b) - this%stiff(i) * &
+                    this%mass_inv(i) / this%seg_h(k)
+                this%rhs(i, b) = s_here(i) / h - 0.25_rk * this%stiff(i) * &
+                    dot_product(ad_v(i, :), this%u_bar(:, k))
+            end do
+        end do
+
+        ! Eq. (15): Sigma_{N-1} + Sigma_N = 2 Sigma_e(t_{n+1}), Sigma_e = (-m, f) in K components.
+        b = 2 * n + 2
+        this%blocks(:, :, 1, b) = eye / h
+        this%blocks(:, :, 3, b) = eye / h
+        this%rhs(1:3, b) = -2.0_rk * (this%end_m + this%end_m_follower) / h
+        this%rhs(4:6, b) = 2.0_rk * (this%end_f + this%end_f_follower) / h
+        if (this%needs_pose) then
+            ! d Sigma_e / d w = (h [m]x ; -h [f]x), w = M^-1 P_N (angular part).
+            c_here(1:3, 1:3) = cross_matrix(this%end_m)
+            c_here(4:6, 1:3) = cross_matrix(this%end_f)
+            do i = 1, 3
+                this%blocks(1:3, i, 2, b) = -2.0_rk * c_here(1:3, i) * this%mass_inv(i)
+                this%blocks(4:6, i, 2, b) = 2.0_rk * c_here(4:6, i) * this%mass_inv(i)
+            end do
+        end if
+        if (any(this%blocks /= this%blocks) .or. any(this%rhs /= this%rhs)) status = state_invalid
+    end subroutine assemble
+
+    !> d(-F_lin)/dP_ang of a node's dead force density f (K components at t_n):
+    !> f_{n+1} = f - h [f]x w gives h [f]x M_ang^-1.
+    subroutine dead_turn_block(this, k, h, g)
+        type(se3_strand_t), intent(in) :: this
+        integer, intent(in) :: k
+        real(rk), intent(in) :: h
+        real(rk), intent(out) :: g(3, 3)
+        integer :: j
+        g = h * cross_matrix(this%load_f(:, k))
+        do j = 1, 3
+            g(:, j) = g(:, j) * this%mass_inv(j)
+        end do
+    end subroutine dead_turn_block
+
+    !> The same for a dead torque density t: F_ang = -(t - h [t]x w), so d(-F_ang)/dP_ang =
+    !> -h [t]x M_ang^-1.
+    subroutine dead_moment_turn_block(this, k, h, g)
+        type(se3_strand_t), intent(in) :: this
+        integer, intent(in) :: k
+        real(rk), intent(in) :: h
+        real(rk), intent(out) :: g(3, 3)
+        integer :: j
+        g = -h * cross_matrix(this%load_m(:, k))
+        do j = 1, 3
+            g(:, j) = g(:, j) * this%mass_inv(j)
+        end do
+    end subroutine dead_moment_turn_block
+
+    !> The placement at the nodes from the pose at s = 0 and the segment strains of x
+    !> (Appendix A: marched with the closed-form exponential).
+    subroutine march_poses(this, x)
+        class(se3_strand_t), intent(inout) :: this
+        real(rk), intent(in) :: x(:)
+        real(rk) :: u(6)
+        integer :: k
+        this%pose_x(:, 0) = x(pose_index(this) + 1:pose_index(this) + 3)
+        this%pose_a(:, :, 0) = reshape(x(pose_index(this) + 4:pose_index(this) + 12), [3, 3])
+        do k = 0, this%n_seg - 1
+            u = this%stiff_inv * this%s_at(x, k) + this%u_bar(:, k)
+            call strand_march(this%pose_a(:, :, k), this%pose_x(:, k), u, this%seg_h(k), &
+                this%pose_a(:, :, k + 1), this%pose_x(:, k + 1))
+        end do
+    end subroutine march_poses
+
+    !> Distributed force and torque densities at the nodes at time t in K components (dead:
+    !> with the directors of pose_a; follower: as given). Node 0 is held, but filled alike.
+    subroutine distributed_loads(this, t)
+        class(se3_strand_t), intent(inout) :: this
+        real(rk), intent(in) :: t
+        real(rk) :: f
+        integer :: i, k
+        this%load_f = 0.0_rk
+        this%load_m = 0.0_rk
+        do i = 1, size(this%loads)
+            associate (load => this%loads(i))
+                if (load%at_end) cycle
+                f = load%factor%value(t)
+                if (f == 0.0_rk) cycle
+                do k = 0, this%n_seg
+                    if (load%follower) then
+                        this%load_f(:, k) = this%load_f(:, k) + f * load%force
+                        this%load_m(:, k) = this%load_m(:, k) + f * load%moment
+                    else
+                        this%load_f(:, k) = this%load_f(:, k) + f * matmul(load%force, this%pose_a(:, :, k))
+                        this%load_m(:, k) = this%load_m(:, k) + f * matmul(load%moment, this%pose_a(:, :, k))
+                    end if
+                end do
+            end associate
+        end do
+    end subroutine distributed_loads
+
+    !> End force and moment at s = L at time t in K components: dead ones (turned with the
+    !> tip, end_f, end_m) and follower ones apart, since only the dead ones are linearized.
+    subroutine end_loads(this, t)
+        class(se3_strand_t), intent(inout) :: this
+        real(rk), intent(in) :: t
+        real(rk) :: f
+        integer :: i, n
+        n = this%n_seg
+        this%end_f = 0.0_rk
+        this%end_m = 0.0_rk
+        this%end_f_follower = 0.0_rk
+        this%end_m_follower = 0.0_rk
+        do i = 1, size(this%loads)
+            associate (load => this%loads(i))
+                if (.not. load%at_end) cycle
+                f = load%factor%value(t)
+                if (load%follower) then
+                    this%end_f_follower = this%end_f_follower + f * load%force
+                    this%end_m_follower = this%end_m_follower + f * load%moment
+                else
+                    this%end_f = this%end_f + f * matmul(load%force, this%pose_a(:, :, n))
+                    this%end_m = this%end_m + f * matmul(load%moment, this%pose_a(:, :, n))
+                end if
+            end associate
+        end do
+    end subroutine end_loads
+
+    ! ---- After a step -------------------------------------------------------------------------
+
+    !> Energy book-keeping of the step (docs/theory/se3_strand.md): the work of the loads with
+    !> the velocities at t_{n+1} (the scheme's implicit level) and the loads as the step applied
+    !> them, the energy dissipated by the external drag, the paper's internal law (which may be
+    !> negative) and the Kelvin-Voigt stress, and the balance H_{n+1} - H_n - W + D, which
+    !> measures the numerical dissipation of the backward-Euler-like scheme (not round-off).
+    subroutine strand_accept_step(this, t_n, h, x_n, x_1, newton_iterations, residual_norm)
+        class(se3_strand_t), intent(inout) :: this
+        real(rk), intent(in) :: t_n, h, x_n(:), x_1(:)
+        integer, intent(in) :: newton_iterations
+        real(rk), intent(in) :: residual_norm
+        real(rk) :: work, dissipated, kin_n, str_n, kin_1, str_1, v(6), rate(6), f(6), r(6)
+        real(rk) :: w(3), se(6), res
+        integer :: k, n, b, c, col, status
+        n = this%n_seg
+        call this%ensure_assembled(t_n, h, x_n, status)
+        ! The achieved residual of the linear solve, max-norm.
+        res = 0.0_rk
+        do b = 0, this%n_blocks - 1
+            r = -this%rhs(:, b)
+            do c = 1, 3
+                col = this%row_blocks(c, b)
+                if (col < 0) cycle
+                r = r + matmul(this%blocks(:, :, c, b), x_1(6 * col + 1:6 * col + 6))
+            end do
+            res = max(res, maxval(abs(r)))
+        end do
+        work = 0.0_rk
+        dissipated = 0.0_rk
+        do k = 1, n
+            v = this%mass_inv * this%p_at(x_1, k)
+            w = v(1:3)
+            ! F_k as the step applied it (dead loads turned by h w x f).
+            f(1:3) = -(this%load_m(:, k) + h * matmul(hat(w), this%load_m(:, k)))
+            f(4:6) = this%load_f(:, k) + h * matmul(hat(w), this%load_f(:, k))
+            work = work + h * this%weight(k) * dot_product(v, f)
+            dissipated = dissipated + h * this%weight(k) * this%eta_external * dot_product(v, v)
+            rate = this%stiff_inv * (this%s_at(x_1, k) - this%s_at(x_n, k)) / h
+            dissipated = dissipated + h * this%weight(k) * this%eta_internal * dot_product(v, rate)
+        end do
+        ! The end load's power V_N . Sigma_e.
+        v = this%mass_inv * this%p_at(x_1, n)
+        w = v(1:3)
+        se(1:3) = -(this%end_m + h * matmul(hat(w), this%end_m) + this%end_m_follower)
+        se(4:6) = this%end_f + h * matmul(hat(w), this%end_f) + this%end_f_follower
+        work = work + h * dot_product(v, se)
+        ! The driven start's power: V_0 against the stress the rod takes there.
+        v = this%mass_inv * this%p_at(x_1, 0)
+        work = work - h * dot_product(v, this%s_at(x_1, 0))
+        do k = 0, n - 1
+            rate = (this%s_at(x_1, k) - this%s_at(x_n, k)) / h
+            dissipated = dissipated + h * this%seg_h(k) * this%tau_kv * dot_product(rate, &
+                this%stiff_inv * rate)
+        end do
+        call this%energies(x_n, kin_n, str_n)
+        call this%energies(x_1, kin_1, str_1)
+        this%work_since_record = this%work_since_record + work
+        this%dissipated_since_record = this%dissipated_since_record + dissipated
+        this%balance_since_record = this%balance_since_record + (kin_1 + str_1) - (kin_n + str_n) &
+            - work + dissipated
+        this%steps_since_record = this%steps_since_record + max(1, newton_iterations)
+        this%smallest_step = min(this%smallest_step, h)
+        ! SNES ksponly computes no norm (residual_norm is 0): the achieved residual is res.
+        this%last_residual = res
+    end subroutine strand_accept_step
+
+    !> Kinetic energy sum_k w_k P.M^-1 P / 2 (trapezoidal nodal weights) and strain energy
+    !> sum_k h_k Sigma.A^-1 Sigma / 2 over the physical segments.
+    subroutine energies(this, x, kinetic, strain)
+        class(se3_strand_t), intent(in) :: this
+        real(rk), intent(in) :: x(:)
+        real(rk), intent(out) :: kinetic, strain
+        real(rk) :: p(6), s(6)
+        integer :: k
+        kinetic = 0.0_rk
+        strain = 0.0_rk
+        do k = 0, this%n_seg
+            p = this%p_at(x, k)
+            kinetic = kinetic + 0.5_rk * this%weight(k) * dot_product(p, this%mass_inv * p)
+        end do
+        do k = 0, this%n_seg - 1
+            s = this%s_at(x, k)
+            strain = strain + 0.5_rk * this%seg_h(k) * dot_product(s, this%stiff_inv * s)
+        end do
+    end subroutine energies
+
+    real(rk) function strand_kinetic_energy(this, x) result(kinetic)
+        class(se3_strand_t), intent(in) :: this
+        real(rk), intent(in) :: x(:)
+        real(rk) :: strain
+        call this%energies(x, kinetic, strain)
+    end function strand_kinetic_energy
+
+    ! ---- Output (DESIGN.md §7) ---------------------------------------------------------------
+
+    subroutine strand_init_history(this, histories, capacity)
+        class(se3_strand_t), intent(in) :: this
+        type(rod_history_t), intent(inout), target :: histories(:)
+        integer, intent(in) :: capacity
+        integer :: k
+        call histories(1)%init(this%name, 'se3_strand', this%n_seg + 1, this%n_seg, capacity)
+        histories(1)%mesh = [(this%length * real(k, rk) / real(this%n_seg, rk), k = 0, this%n_seg)]
+        histories(1)%stress_mesh = [(this%length * (real(k, rk) + 0.5_rk) / real(this%n_seg, rk), &
+            k = 0, this%n_seg - 1)]
+        deallocate(histories(1)%constraint_residual)
+    end subroutine strand_init_history
+
+    !> The placement rebuilt from the strains; velocities and director rates from V at the nodes
+    !> (standard signs: omega = -A w); stresses and strains at the segment midpoints in director
+    !> components with the standard signs (N1, N2, N3, M1, M2, M3) = (S5, S6, S4, -S2, -S3, -S1),
+    !> strains (Gamma1, Gamma2, Gamma3, K1, K2, K3) = (U5, U6, U4, -U2, -U3, -U1) (Gamma3 = 1
+    !> unstretched); energies; momenta.
+    subroutine strand_record(this, histories, t, x)
+        class(se3_strand_t), intent(inout) :: this
+        type(rod_history_t), intent(inout), target :: histories(:)
+        real(rk), intent(in) :: t, x(:)
+        real(rk) :: a(3, 3), v(6), u(6), s(6), omega(3), vel(3), kinetic, strain, p(6)
+        real(rk) :: linear(3), angular(3), centre(3)
+        integer :: rec, k
+        integer, parameter :: director_column(3) = [2, 3, 1]
+        rec = histories(1)%next_record()
+        if (rec == 0) return
+        call this%march_poses(x)
+        associate (hs => histories(1))
+            hs%time(rec) = t
+            linear = 0.0_rk
+            angular = 0.0_rk
+            centre = 0.0_rk
+            do k = 0, this%n_seg
+                a = this%pose_a(:, :, k)
+                p = this%p_at(x, k)
+                v = this%mass_inv * p
+                omega = -matmul(a, v(1:3))
+                vel = matmul(a, v(4:6))
+                hs%position(:, k + 1, rec) = this%pose_x(:, k)
+                hs%velocity(:, k + 1, rec) = vel
+                hs%directors(:, :, k + 1, rec) = a(:, director_column)
+                hs%director_velocity(:, 1, k + 1, rec) = matmul(hat(omega), a(:, 2))
+                hs%director_velocity(:, 2, k + 1, rec) = matmul(hat(omega), a(:, 3))
+                hs%director_velocity(:, 3, k + 1, rec) = matmul(hat(omega), a(:, 1))
+                linear = linear + this%weight(k) * matmul(a, p(4:6))
+                angular = angular + this%weight(k) * (matmul(hat(this%pose_x(:, k)), matmul(a, p(4:6))) - &
+                    matmul(a, p(1:3)))
+                centre = centre + this%weight(k) * this%pose_x(:, k)
+            end do
+            do k = 0, this%n_seg - 1
+                s = this%s_at(x, k)
+                u = this%stiff_inv * s + this%u_bar(:, k)
+                hs%stress(:, k + 1, rec) = [s(5), s(6), s(4), -s(2), -s(3), -s(1)]
+                hs%strains(:, k + 1, rec) = [u(5), u(6), u(4), -u(2), -u(3), -u(1)]
+            end do
+            call this%energies(x, kinetic, strain)
+            hs%kinetic(rec) = kinetic
+            hs%strain(rec) = strain
+            hs%total(rec) = kinetic + strain
+            hs%external_work(rec) = this%work_since_record
+            hs%dissipated(rec) = this%dissipated_since_record
+            hs%balance_error(rec) = this%balance_since_record
+            hs%linear_momentum(:, rec) = linear
+            hs%angular_momentum(:, rec) = angular
+            hs%center_of_mass(:, rec) = centre / this%length
+            hs%newton_iterations(rec) = this%steps_since_record
+            hs%newton_residual(rec) = this%last_residual
+            hs%dt(rec) = merge(0.0_rk, this%smallest_step, this%smallest_step == huge(1.0_rk))
+        end associate
+        this%work_since_record = 0.0_rk
+        this%dissipated_since_record = 0.0_rk
+        this%balance_since_record = 0.0_rk
+        this%steps_since_record = 0
+        this%smallest_step = huge(1.0_rk)
+    end subroutine strand_record
+
+    function strand_describe(this) result(text)
+        class(se3_strand_t), intent(in) :: this
+        character(len=:), allocatable :: text
+        text = 'rod ''' // this%name // ''': se3_strand, ' // str(this%n_seg) // &
+            ' segments on a staggered grid, ' // str(this%n_unknown()) // ' unknowns, ' // &
+            str(this%pattern%nnz()) // ' matrix non-zeros, one linear solve per step'
+    end function strand_describe
+
+    pure integer function strand_n_internal(this)
+        class(se3_strand_t), intent(in) :: this
+        strand_n_internal = 6
+    end function strand_n_internal
+
+    subroutine strand_save_internal(this, values)
+        class(se3_strand_t), intent(in) :: this
+        real(rk), intent(out) :: values(:)
+        values(1:6) = [this%work_since_record, this%dissipated_since_record, &
+            this%balance_since_record, this%smallest_step, this%last_residual, &
+            real(this%steps_since_record, rk)]
+    end subroutine strand_save_internal
+
+    subroutine strand_restore_internal(this, values)
+        class(se3_strand_t), intent(inout) :: this
+        real(rk), intent(in) :: values(:)
+        this%work_since_record = values(1)
+        this%dissipated_since_record = values(2)
+        this%balance_since_record = values(3)
+        this%smallest_step = values(4)
+        this%last_residual = values(5)
+        this%steps_since_record = nint(values(6))
+    end subroutine strand_restore_internal
+
+    !> Every diagonal block starts from I/dt and the LU needs no pivoting on every benchmark
+    !> (5 times faster than MUMPS at N = 80, docs/performance.md); MUMPS through
+    !> -pc_factor_mat_solver_type mumps where it would.
+    pure logical function strand_native_lu(this)
+        class(se3_strand_t), intent(in) :: this
+        strand_native_lu = .true.
+    end function strand_native_lu
+
+    !> The interleaved unknowns are block tridiagonal: the LU keeps their order.
+    pure logical function strand_banded_unknowns(this)
+        class(se3_strand_t), intent(in) :: this
+        strand_banded_unknowns = .true.
+    end function strand_banded_unknowns
+
+    !> The step problem is linear in Y (coefficients frozen at t_n): one solve, no Newton loop.
+    pure logical function strand_linear_step(this)
+        class(se3_strand_t), intent(in) :: this
+        strand_linear_step = .true.
+    end function strand_linear_step
+
+end module rs_se3_strand
