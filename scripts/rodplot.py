@@ -8,14 +8,18 @@ docs/user/postprocessing.md).
     python3 scripts/rodplot.py tip out/soft_arm_circle.h5 --plane xy
     python3 scripts/rodplot.py animate out/flying_spaghetti.h5 -o spaghetti.gif
     python3 scripts/rodplot.py summary out/flying_spaghetti.h5
+    python3 scripts/rodplot.py sweep out/sweep_cantilever.h5 --x 'rod(1)%EI1' --y tip_z
+    python3 scripts/rodplot.py summary out/sweep_cantilever.h5
 
 Exit status 0 on success, 1 when the output cannot be written (or Pillow, needed for GIFs, is
 missing), 2 for a missing file, a file that is not a rodsolve result, an unknown rod or a
-missing dataset (the message names what is available) and for usage errors.
+missing dataset (the message names what is available) and for usage errors: for `sweep`, a
+file that is not a sweep's, an unknown parameter or quantity (the message lists them).
 """
 
 import argparse
 import os
+import re
 import sys
 import textwrap
 
@@ -23,7 +27,9 @@ try:
     import matplotlib
 
     matplotlib.use("Agg")
+    import h5py
     import matplotlib.pyplot as plt
+    import matplotlib.transforms
     import numpy as np
 
     sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
@@ -421,17 +427,444 @@ def summary_text(res, rod_name=None):
     return "\n".join(lines) + "\n"
 
 
-def summary_command(res, rod_name, out, dpi):
-    """Print the summary; also write it to `out` when given."""
-    text = summary_text(res, rod_name)
+def summary_command(res, rod_name, out, dpi, members=False):
+    """Print the summary (of a sweep: sweep_summary_text); also write it to `out` when
+    given."""
+    if is_sweep(res):
+        if rod_name is not None:
+            raise MissingData("%s: a sweep's result file: --rod does not apply (each member's "
+                              "rods are under /members/<id>/rods)" % res.path)
+        text = sweep_summary_text(res, members)
+    else:
+        text = summary_text(res, rod_name)
     if out is not None:
         with open(out, "w", encoding="utf-8") as f:
             f.write(text)
     sys.stdout.write(text)
 
 
+# ---- Sweeps: a result file with /members/<id>/ and /summary (docs/user/output.md) ----------
+
+#: /summary/status codes.
+SWEEP_STATUS = {0: "completed", 1: "failed", 2: "not run"}
+#: Components of an [members x 3] summary column: suffix -> column.
+COMPONENTS = {"x": 0, "y": 1, "z": 2, "1": 0, "2": 1, "3": 2}
+#: Short names of the tip components (the names the usage and the errors list).
+TIP_NAMES = {"tip_x": ("tip_position", 0), "tip_y": ("tip_position", 1),
+             "tip_z": ("tip_position", 2)}
+#: Curves drawn with their own legend entry; more share one colour map and no legend.
+MAX_LEGEND_CURVES = 10
+
+
+class NotASweep(MissingData):
+    """A sweep command on a file without /summary."""
+
+
+def is_sweep(res):
+    """Whether `res` is a sweep's result file (it has /members and /summary)."""
+    return isinstance(res.file.get("summary"), h5py.Group) and "members" in res.file
+
+
+def spacing_of(values):
+    """'even', 'log' (evenly spaced in log) or '' for the distinct values of a parameter."""
+    u = np.unique(values[np.isfinite(values)])
+    if u.size < 3:
+        return ""
+    step = np.diff(u)
+    if np.ptp(step) <= 1e-6 * np.abs(step).max():
+        return "even"
+    if u[0] > 0:
+        ratio = np.diff(np.log(u))
+        if np.ptp(ratio) <= 1e-6 * ratio.max():
+            return "log"
+    return ""
+
+
+def auto_log(values, min_ratio, by_spacing):
+    """Whether a log axis suits `values`: all positive, spanning at least `min_ratio`, and
+    (`by_spacing`) at least as evenly spaced in log as in linear scale."""
+    v = np.unique(values[np.isfinite(values)])
+    if v.size < 2 or v[0] <= 0 or v[-1] / v[0] < min_ratio:
+        return False
+    if not by_spacing or v.size < 3:
+        return True
+
+    def spread(steps):
+        return np.std(steps) / np.mean(steps)
+    return spread(np.diff(np.log(v))) <= spread(np.diff(v))
+
+
+class SweepTable:
+    """The /summary table of a sweep's result file: one row per member, in id order."""
+
+    def __init__(self, res):
+        if not is_sweep(res):
+            raise NotASweep("%s: not a sweep's result file (no /summary and /members; it holds: "
+                            "%s)" % (res.path, ", ".join(res.file.keys()) or "nothing"))
+        self.res = res
+        self.group = res.file["summary"]
+        if "id" not in self.group or "status" not in self.group:
+            raise MissingData("%s: /summary has no id or status column (it has: %s)"
+                              % (res.path, ", ".join(self.group.keys())))
+        self.ids = self.group["id"][()].astype(int)
+        self.status = self.group["status"][()].astype(int)
+        parameters = self.group.get("parameters")
+        self.parameters = list(parameters.keys()) if isinstance(parameters, h5py.Group) else []
+
+    @property
+    def size(self):
+        return self.ids.size
+
+    def parameter(self, name):
+        """The full name of parameter `name`: exact, else case-insensitive, else the unique
+        parameter whose variable (after the last '%') is `name`; None for the only one."""
+        if name is None:
+            if len(self.parameters) == 1:
+                return self.parameters[0]
+            raise MissingData("%s: the sweep has %d parameters: give one with --x (%s)"
+                              % (self.res.path, len(self.parameters), self._listed()))
+        for match in ([p for p in self.parameters if p == name],
+                      [p for p in self.parameters if p.lower() == name.lower()],
+                      [p for p in self.parameters
+                       if p.rsplit("%", 1)[-1].lower() == name.lower()]):
+            if len(match) == 1:
+                return match[0]
+        raise MissingData("%s: no swept parameter '%s'; the parameters are: %s"
+                          % (self.res.path, name, self._listed()))
+
+    def _listed(self):
+        return ", ".join(self.parameters) or "(none)"
+
+    def parameter_values(self, name):
+        return np.asarray(self.group["parameters"][name][()], dtype=float)
+
+    def parameter_unit(self, name):
+        unit = _attr_text(self.group["parameters"][name], "unit")
+        return "" if unit in ("", "-") else unit
+
+    def quantities(self):
+        """Names `quantity` accepts: the per-member columns of /summary (tip_x, tip_y, tip_z
+        for the [members x 3] tip position)."""
+        names = []
+        for key, item in self.group.items():
+            if not isinstance(item, h5py.Dataset) or key in ("id", "status"):
+                continue
+            if item.ndim == 1:
+                names.append(key)
+            elif key == "tip_position":
+                names += list(TIP_NAMES)
+            elif item.ndim == 2 and item.shape[1] == 3:
+                names += ["%s:%s" % (key, c) for c in "xyz"]
+        return names
+
+    def quantity(self, name):
+        """(label, values [members], unit, description) of a /summary column: a 1-D column by
+        name, tip_x / tip_y / tip_z or NAME:x|y|z|1|2|3 for a [members x 3] column."""
+        column, component = name, None
+        if name in TIP_NAMES:
+            column, component = TIP_NAMES[name]
+        elif ":" in name:
+            column, suffix = name.split(":", 1)
+            component = COMPONENTS.get(suffix.lower())
+            if component is None:
+                raise MissingData("%s: '%s': the component after ':' is x, y, z or 1, 2, 3"
+                                  % (self.res.path, name))
+        item = self.group.get(column)
+        if (not isinstance(item, h5py.Dataset) or column in ("id", "status")
+                or item.ndim != (1 if component is None else 2)):
+            raise MissingData("%s: no summary quantity '%s'; the quantities are: %s"
+                              % (self.res.path, name, ", ".join(self.quantities())))
+        values = np.asarray(item[()], dtype=float)
+        if component is not None:
+            values = values[:, component]
+        label = name if component is None else "%s (%s)" % (column, "xyz"[component])
+        return (label, values, _attr_text(item, "unit"), _attr_text(item, "description"))
+
+    def column(self, name):
+        """A /summary column as float numbers, or None."""
+        item = self.group.get(name)
+        return np.asarray(item[()], dtype=float) if isinstance(item, h5py.Dataset) else None
+
+    def message(self, member_id):
+        group = self.res.file.get("members/%d" % member_id)
+        return _attr_text(group, "message") if group is not None else ""
+
+
+def _attr_text(item, name):
+    """Attribute `name` of an HDF5 object as str ('' when absent)."""
+    value = item.attrs.get(name, "")
+    if isinstance(value, np.ndarray) and value.shape == ():
+        value = value[()]
+    return value.decode("utf-8", "replace") if isinstance(value, bytes) else str(value)
+
+
+def axis_label(name, unit):
+    return "%s [%s]" % (name, unit) if unit and unit != "-" else name
+
+
+def sweep_plot(res, rod_name, out, dpi, x=None, y=None, xscale="auto", yscale="auto"):
+    """Write the figure of `sweep_figure` to `out`."""
+    if rod_name is not None:
+        raise MissingData("%s: --rod does not apply to `sweep` (it plots /summary, which holds "
+                          "each member's first rod)" % res.path)
+    fig, _ = sweep_figure(res, x, y, xscale, yscale)
+    fig.savefig(out, dpi=dpi)
+    plt.close(fig)
+
+
+def sweep_figure(res, x=None, y=None, xscale="auto", yscale="auto"):
+    """(figure, axes): a /summary quantity (`y`) against a swept parameter (`x`), one point
+    per completed member; with more parameters one curve per combination of the others. Failed
+    members are red crosses and members that did not run grey squares, both on the x axis at
+    their parameter value; completed members without the quantity (NaN) are counted in a note.
+    Scales: 'log', 'linear' or 'auto' (x: log for positive values spanning a factor of 10 or
+    more that are at least as evenly spaced in log as in linear scale, e.g. a logspace sweep;
+    y: log for positive values spanning a factor of 1000 or more)."""
+    table = SweepTable(res)
+    if y is None:
+        raise MissingData("%s: give the quantity with --y; the quantities are: %s"
+                          % (res.path, ", ".join(table.quantities())))
+    xname = table.parameter(x)
+    xv = table.parameter_values(xname)
+    ylabel, yv, yunit, ydescription = table.quantity(y)
+    status = table.status
+    plotted = (status == 0) & np.isfinite(yv) & np.isfinite(xv)
+    no_value = (status == 0) & ~plotted
+    others = [p for p in table.parameters if p != xname]
+
+    logx = xscale == "log" or (xscale == "auto" and auto_log(xv, 10.0, True))
+    logy = yscale == "log" or (yscale == "auto" and auto_log(yv[plotted], 1e3, False))
+    hidden = 0
+    if logx:
+        hidden += int(np.count_nonzero(plotted & ~(xv > 0)))
+        plotted &= xv > 0
+    if logy:
+        hidden += int(np.count_nonzero(plotted & ~(yv > 0)))
+        plotted &= yv > 0
+
+    fig, ax = plt.subplots(figsize=(8, 5.5))
+    if others:
+        keys = np.stack([table.parameter_values(p) for p in others], axis=1)
+        combos, group_of = np.unique(keys, axis=0, return_inverse=True)
+        group_of = np.asarray(group_of).reshape(-1)
+    else:
+        combos, group_of = np.zeros((1, 0)), np.zeros(table.size, dtype=int)
+    many = len(combos) > MAX_LEGEND_CURVES
+    cmap = matplotlib.colormaps["viridis"]
+    for g, combo in enumerate(combos):
+        index = np.flatnonzero(plotted & (group_of == g))
+        index = index[np.argsort(xv[index], kind="stable")]
+        if many:
+            style = {"color": cmap(g / max(len(combos) - 1, 1)), "lw": 1.0, "ms": 3}
+        else:
+            style = {"ms": 5}
+            if others:
+                style["label"] = ", ".join("%s = %s" % (p, number(v))
+                                           for p, v in zip(others, combo))
+        ax.plot(xv[index], yv[index], "o-", **style)
+    at_axis = matplotlib.transforms.blended_transform_factory(ax.transData, ax.transAxes)
+    failed, not_run = status == 1, status == 2
+    for mask, marker, style, name in ((failed, "x", {"color": "tab:red", "mew": 2.0, "ms": 9},
+                                       "failed"),
+                                      (not_run, "s", {"color": "0.5", "mfc": "none", "ms": 7},
+                                       "not run")):
+        shown = mask & np.isfinite(xv) & ((xv > 0) if logx else True)
+        if mask.any():
+            # On the x axis itself (axes y = 0): below every data point (5 % margin).
+            ax.plot(xv[shown], np.zeros(int(shown.sum())), marker, transform=at_axis,
+                    clip_on=False, linestyle="none", zorder=5,
+                    label="%s (%d member%s, on the x axis)" % (name, mask.sum(),
+                                                             "" if mask.sum() == 1 else "s"),
+                    **style)
+    if logx:
+        ax.set_xscale("log")
+    if logy and plotted.any():
+        ax.set_yscale("log")
+    notes = []
+    if no_value.any():
+        notes.append("%d completed member(s) have no %s (NaN), not shown"
+                     % (no_value.sum(), ylabel))
+    if hidden:
+        notes.append("%d non-positive value(s) not shown on the log axis" % hidden)
+    if many:
+        notes.append("%d curves, one per value of %s (colour: viridis, in increasing order)"
+                     % (len(combos), ", ".join(others)))
+    if not plotted.any():
+        notes.append("no completed member has a value to draw")
+    if notes:
+        ax.text(0.01, 0.99, "\n".join(notes), transform=ax.transAxes, ha="left", va="top",
+                fontsize="small", color="0.3")
+    ax.set_xlabel(axis_label(xname, table.parameter_unit(xname)))
+    ax.set_ylabel(axis_label(ylabel, yunit))
+    ax.grid(True, which="both", alpha=0.3)
+    if ax.get_legend_handles_labels()[0]:
+        ax.legend(loc="best", fontsize="small")
+    counts = ", ".join("%d %s" % (np.count_nonzero(status == code), name)
+                       for code, name in SWEEP_STATUS.items())
+    heading = textwrap.shorten(res.title or os.path.basename(res.path), 90, placeholder=" ...")
+    ax.set_title("%s\nsweep of %d members: %s" % (heading, table.size, counts),
+                 fontsize="medium")
+    # The description without its shape note (", [member x 3]").
+    ydescription = re.sub(r",?\s*\[[^\]]*\]\s*$", "", ydescription)
+    if ydescription:
+        fig.text(0.5, 0.005, "\n".join(textwrap.wrap("%s: %s" % (ylabel, ydescription), 110)),
+                 ha="center", va="bottom", fontsize="x-small", color="0.3")
+    fig.tight_layout(rect=(0, 0.04 if ydescription else 0, 1, 1))
+    return fig, ax
+
+
+def value_range(values, unit=""):
+    """'low .. high unit' of the finite values, or 'none'."""
+    v = values[np.isfinite(values)]
+    if v.size == 0:
+        return "none"
+    text = "%s .. %s" % (number(v.min()), number(v.max())) if v.min() != v.max() \
+        else number(v.min())
+    return text + (" " + unit if unit and unit != "-" else "")
+
+
+def sweep_summary_text(res, show_members=False):
+    """What a sweep's result file holds: its origin, the members' status, the parameters'
+    ranges, wall times (per member, per rank when /summary/rank says who ran what) and the
+    ranges of the summary quantities; the failed members with their messages; with
+    `show_members` one row per member."""
+    attrs = res.attrs
+    table = SweepTable(res)
+    status = table.status
+    counts = {name: int(np.count_nonzero(status == code)) for code, name in SWEEP_STATUS.items()}
+    head = [("file", res.path), ("title", res.title or "(none)"),
+            ("creator", attrs.get("creator", "(not recorded)")),
+            ("schema version", str(res.schema_version)),
+            ("created", attrs.get("created", "(not recorded)")),
+            ("ranks", str(attrs.get("n_ranks", "(not recorded)"))),
+            ("status", str(attrs.get("status", "(not recorded)"))),
+            ("members", "%d: %d completed, %d failed, %d not run"
+             % (table.size, counts["completed"], counts["failed"], counts["not run"]))]
+    if "wall_time" in attrs:
+        head.append(("wall time", "%s s (root attribute wall_time)"
+                     % number(float(attrs["wall_time"]))))
+    width = max(len(key) for key, _ in head)
+    lines = ["%-*s  %s" % (width, key, value) for key, value in head]
+
+    lines += ["", "parameters"]
+    rows = []
+    for name in table.parameters:
+        values = table.parameter_values(name)
+        spacing = {"even": ", evenly spaced", "log": ", evenly spaced in log",
+                   "": ""}[spacing_of(values)]
+        rows.append((name, "%d values, %s%s" % (np.unique(values).size,
+                                                  value_range(values, table.parameter_unit(name)),
+                                                  spacing)))
+    lines += _aligned(rows or [("(none)", "")])
+
+    lines += ["", "results (of each member's first rod; ranges over the completed members)"]
+    rows = []
+    wall = table.column("wall_time")
+    if wall is not None:
+        ran = np.isfinite(wall) & (wall >= 0) & (status != 2)
+        if ran.any():
+            rows.append(("wall time per member", "%s .. %s s, median %s s, sum %s s"
+                         % (number(wall[ran].min()), number(wall[ran].max()),
+                            number(np.median(wall[ran])), number(wall[ran].sum()))))
+        rank = table.column("rank")
+        if rank is not None and ran.any():
+            rows += rank_rows(wall, rank, ran, int(attrs.get("n_ranks", 0) or 0))
+    done = status == 0
+    for column, what in (("final_time", "final time"), ("records", "records"),
+                         ("newton_iterations", "Newton iterations"),
+                         ("max_balance_error", "max |balance error|")):
+        values = table.column(column)
+        if values is None:
+            continue
+        unit = _attr_text(table.group[column], "unit")
+        text = value_range(values[done], unit)
+        if column == "newton_iterations" and np.isfinite(values[done]).any():
+            text += " per member, %d in all" % int(np.nansum(values[done]))
+        rows.append((what, text))
+    tip = table.group.get("tip_position")
+    if isinstance(tip, h5py.Dataset) and tip.ndim == 2:
+        values = np.asarray(tip[()], dtype=float)[done]
+        unit = _attr_text(tip, "unit")
+        rows.append(("tip position", "; ".join("%s %s" % (c, value_range(values[:, k], unit))
+                                               for k, c in enumerate("xyz"))))
+    lines += _aligned(rows or [("(no result columns)", "")])
+
+    bad = np.flatnonzero(status != 0)
+    if bad.size:
+        lines += ["", "members that did not complete (%d)" % bad.size]
+        for i in bad[:20]:
+            values = ", ".join("%s = %s" % (p, number(table.parameter_values(p)[i]))
+                               for p in table.parameters)
+            name = SWEEP_STATUS.get(status[i], "status %d" % status[i])
+            message = table.message(int(table.ids[i]))
+            text = "id %d (%s), %s" % (table.ids[i], values, name)
+            if message and message != name:
+                text += ": " + message
+            lines += textwrap.wrap(text, 96, initial_indent="  ", subsequent_indent="      ")
+        if bad.size > 20:
+            lines.append("  ... and %d more (/summary/status, /members/<id> message)"
+                         % (bad.size - 20))
+    if show_members:
+        lines += ["", "members"] + member_rows(table)
+    return "\n".join(lines) + "\n"
+
+
+#: Most ranks listed one by one in a sweep's summary (more: the slowest and the fastest).
+MAX_RANK_ROWS = 16
+
+
+def rank_rows(wall, rank, ran, n_ranks):
+    """Summary rows of the members' wall time summed per rank (from /summary/rank, the rank
+    that ran each member) and the slowest rank over the mean: the measured load balance."""
+    n_ranks = max(n_ranks, int(rank[ran].max()) + 1)
+    loads = np.array([wall[ran & (rank == r)].sum() for r in range(n_ranks)])
+    counts = [int(np.count_nonzero(ran & (rank == r))) for r in range(n_ranks)]
+    shown = range(n_ranks) if n_ranks <= MAX_RANK_ROWS else \
+        sorted({int(np.argmax(loads)), int(np.argmin(loads))})
+    rows = [("rank %d" % r, "%d members, %s s" % (counts[r], number(loads[r]))) for r in shown]
+    if loads.mean() > 0:
+        rows.append(("slowest rank / mean", "%.3f (members' wall time summed per rank)"
+                     % (loads.max() / loads.mean())))
+    return rows
+
+
+def _aligned(rows):
+    width = max(len(key) for key, _ in rows)
+    lines = []
+    for key, value in rows:
+        lines += textwrap.wrap(value, 96, initial_indent="  %-*s  " % (width, key),
+                               subsequent_indent=" " * (width + 4),
+                               break_on_hyphens=False) or ["  " + key]
+    return lines
+
+
+def member_rows(table):
+    """One line per member: id, parameters, status, wall time and the summary quantities."""
+    columns = [("id", table.ids.astype(float), "%d")]
+    columns += [(p, table.parameter_values(p), None) for p in table.parameters]
+    for name in ("wall_time", "final_time", "records", "newton_iterations",
+                 "max_balance_error", "rank"):
+        values = table.column(name)
+        if values is not None:
+            columns.append((name, values, "%d" if name in ("records", "rank") else None))
+    tip = table.group.get("tip_position")
+    if isinstance(tip, h5py.Dataset) and tip.ndim == 2:
+        values = np.asarray(tip[()], dtype=float)
+        columns += [(n, values[:, k], None) for k, n in enumerate(("tip_x", "tip_y", "tip_z"))]
+    cells = [[name for name, _, _ in columns] + ["status"]]
+    for i in range(table.size):
+        row = []
+        for _, values, form in columns:
+            v = values[i]
+            row.append("nan" if not np.isfinite(v) else (form % v if form else number(v)))
+        cells.append(row + [SWEEP_STATUS.get(int(table.status[i]), "?")])
+    widths = [max(len(row[k]) for row in cells) for k in range(len(cells[0]))]
+    return ["  " + "  ".join(c.rjust(w) for c, w in zip(row, widths)).rstrip() for row in cells]
+
+
 COMMANDS = {"energy": energy_plot, "momentum": momentum_plot, "snapshots": snapshots_plot,
-            "tip": tip_plot, "animate": animate_plot, "summary": summary_command}
+            "tip": tip_plot, "animate": animate_plot, "summary": summary_command,
+            "sweep": sweep_plot}
 #: What each command writes by default, next to FILE (None: standard output only).
 DEFAULT_SUFFIX = {"animate": ".gif", "summary": None}
 
@@ -463,13 +896,31 @@ def parser():
                "             formulation, records, time span, dt range, Newton iterations\n"
                "             (total, max), largest |energy balance error| (also relative to\n"
                "             max |H|), largest constraint residual and the fields present.\n"
-               "             Printed; also written to -o when given.\n\n"
+               "             Printed; also written to -o when given. For a sweep's file:\n"
+               "             members completed/failed/not run, parameter ranges, wall time\n"
+               "             (per member and per rank), the ranges of the summary columns and\n"
+               "             the members that did not complete; --members adds one row per\n"
+               "             member.\n"
+               "  sweep      a sweep's file: the /summary column --y against the swept\n"
+               "             parameter --x, one point per completed member (with several\n"
+               "             parameters, one curve per combination of the others); failed\n"
+               "             members as red crosses, members not run as grey squares, on the\n"
+               "             x axis. --x: a name under /summary/parameters\n"
+               "             ('rod(1)%EI1', or just 'EI1' when unique; optional for one\n"
+               "             parameter). --y: final_time, max_balance_error,\n"
+               "             newton_iterations, records, wall_time, rank, or tip_x, tip_y,\n"
+               "             tip_z (also tip_position:x|y|z|1|2|3). --xscale/--yscale\n"
+               "             auto|linear|log (--logx, --logy): auto is log for x when the\n"
+               "             values are positive and evenly spaced in log (logspace), for y\n"
+               "             when positive and spanning a factor of 1000 or more.\n\n"
                "output: -o, or by default FILE_<command>.png (.gif for animate) next to FILE;\n"
                "summary prints to standard output.\n\n"
                "exit status: 0 on success; 1 when the output cannot be written (or Pillow is\n"
                "missing for animate); 2 for a missing file, a file that is not a rodsolve\n"
                "result (no schema_version attribute), an unknown rod (the message lists the\n"
-               "rods), a missing dataset, or a usage error.",
+               "rods), a missing dataset, sweep on a file that is not a sweep's or a rod\n"
+               "command on one that is, an unknown parameter or quantity (the message lists\n"
+               "them), or a usage error.",
         formatter_class=argparse.RawDescriptionHelpFormatter)
     p.add_argument("command", choices=list(COMMANDS), help="what to draw or print (see below)")
     p.add_argument("file", help="result file written by rodsolve (FILE.h5)")
@@ -486,6 +937,19 @@ def parser():
                    help="animate only: most frames (default %d)" % N_FRAMES)
     p.add_argument("--fps", type=float, default=10.0,
                    help="animate only: frames per second (default 10)")
+    p.add_argument("--x", metavar="PARAM",
+                   help="sweep only: the swept parameter on the x axis (a name under "
+                        "/summary/parameters; optional when there is one)")
+    p.add_argument("--y", metavar="QUANTITY",
+                   help="sweep only: the /summary column on the y axis (tip_x, tip_y, tip_z, "
+                        "final_time, max_balance_error, newton_iterations, records, wall_time)")
+    for axis in ("x", "y"):
+        p.add_argument("--%sscale" % axis, choices=("auto", "linear", "log"), default="auto",
+                       help="sweep only: scale of the %s axis (default auto)" % axis)
+        p.add_argument("--log%s" % axis, dest="%sscale" % axis, action="store_const",
+                       const="log", help="sweep only: same as --%sscale log" % axis)
+    p.add_argument("--members", action="store_true",
+                   help="summary of a sweep only: also one row per member")
     return p
 
 
@@ -506,8 +970,19 @@ def main(argv=None):
         extra = {"plane": args.plane}
     elif args.command == "animate":
         extra = {"frames": args.frames, "fps": args.fps}
+    elif args.command == "sweep":
+        extra = {"x": args.x, "y": args.y, "xscale": args.xscale, "yscale": args.yscale}
+        if args.y is None:
+            p.error("sweep needs --y QUANTITY (e.g. tip_z, max_balance_error, wall_time)")
+    elif args.command == "summary":
+        extra = {"members": args.members}
     try:
         with open_result(args.file) as res:
+            if args.command not in ("sweep", "summary") and is_sweep(res):
+                raise NotASweep(
+                    "%s is a sweep's result file (%s members): use `rodplot.py sweep` or "
+                    "`summary`; each member's rods and series are under /members/<id>/"
+                    % (args.file, res.attrs.get("members", len(res.file["members"]))))
             if out is not None and os.path.dirname(out):
                 os.makedirs(os.path.dirname(out), exist_ok=True)
             COMMANDS[args.command](res, args.rod, out, dpi, **extra)

@@ -10,7 +10,7 @@ program rodsolve
     use rs_core_strings, only: str
     use rs_core_version, only: rodsolve_version, rodsolve_git_commit
     use rs_model_scene, only: scene_t
-    use rs_parallel_mpi_env, only: world_rank, world_size, mpi_library_version
+    use rs_parallel_mpi_env, only: world_rank, world_size, mpi_library_version, barrier
     use rs_parallel_abort, only: stop_all, set_cleanup
     use rs_parallel_metis, only: metis_version
     use rs_io_cli, only: cli_t, parse_command_line, usage_text
@@ -21,6 +21,8 @@ program rodsolve
     use rs_io_hdf5_info, only: hdf5_version
     use rs_solver_petsc_env, only: petsc_initialize, petsc_finalize, petsc_version, mumps_version
     use rs_app_run_scene, only: run_scene
+    use rs_app_run_sweep, only: run_sweep, merge_sweep
+    use rs_io_sweep, only: sweep_member_count
     implicit none
 
     type(cli_t) :: cli
@@ -42,7 +44,7 @@ program rodsolve
         call print_root(version_text())
     case ('reference')
         call print_root(input_reference_markdown())
-    case ('check', 'run')
+    case ('check', 'run', 'merge')
         call load_scene(cli%scene_file, scene, input_errors)
         if (input_errors%count > 0) call stop_all(exit_input_error, input_errors%joined() // &
             new_line('a') // 'rodsolve: ' // str(input_errors%count) // ' error(s) in ' // &
@@ -53,6 +55,16 @@ program rodsolve
             call print_root(resolved_scene_text(scene) // scene_plan_text(scene, world_size()))
             call log_info('rodsolve: ' // cli%scene_file // ' is valid (' // str(size(scene%rods)) // &
                 ' rod(s)); nothing was run (--check-input)')
+        else if (cli%action == 'merge') then
+            ! A killed sweep: its finished members into its result file (rank 0; DESIGN.md §7).
+            if (sweep_member_count(scene) == 0) call stop_all(exit_input_error, 'rodsolve: ' // &
+                cli%scene_file // ' has no &sweep group: there is nothing to merge')
+            if (world_rank() == 0) call merge_sweep(scene, full_command_line(), err)
+            call barrier()
+            if (allocated(err)) call stop_all(exit_run_error, 'rodsolve: ' // err%describe())
+        else if (sweep_member_count(scene) > 0) then
+            call run_sweep(scene, full_command_line(), err)
+            if (allocated(err)) call stop_all(exit_run_error, 'rodsolve: ' // err%describe())
         else
             call run_scene(scene, full_command_line(), err)
             if (allocated(err)) call stop_all(exit_run_error, 'rodsolve: ' // err%describe())

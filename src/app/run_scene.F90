@@ -25,15 +25,18 @@ module rs_app_run_scene
     use rs_solver_petsc_env, only: petsc_version
     use rs_solver_rod_stepper, only: petsc_apply_options, petsc_options_text
     use rs_solver_rod_run, only: rod_runner_t, step_count
-    use rs_model_coupling, only: coupled_systems
+    use rs_model_coupling, only: coupled_systems, system_costs
+    use rs_parallel_deal, only: deal_by_cost
     implicit none
     private
 
-    public :: run_scene
+    public :: run_scene, run_meta, collective_failure
 
     !> The system of each rod, the rod's place among the system's rods, and each system's rods
     !> (members(first(k):first(k+1)-1)); set at the start of run_scene.
     integer, allocatable :: rod_system(:), rod_slot(:), system_first(:), system_members(:)
+    !> The rank of each system: dealt by estimated cost (rs_parallel_deal).
+    integer, allocatable :: system_rank(:)
 
 contains
 
@@ -65,6 +68,7 @@ contains
         ! Build this rank's systems. Records between two flushes: the flush window at the
         ! stride, the initial record, an endpoint and a failure record.
         call coupled_systems(scene, rod_system, system_first, system_members)
+        system_rank = deal_by_cost(system_costs(scene, system_first, system_members), world_size())
         if (allocated(rod_slot)) deallocate(rod_slot)
         allocate(rod_slot(size(scene%rods)))
         do i = 1, size(system_first) - 1
@@ -189,6 +193,15 @@ contains
             end do
             call barrier()
             message = 'a rod failed (message above); what was computed is in ' // path
+            ! On one rank (a sweep member runs alone) the message itself says why.
+            if (world_size() == 1) then
+                do i = 1, size(runners)
+                    if (.not. runners(i)%failed) cycle
+                    message = 'rod ''' // runners(i)%name() // ''' failed: ' // &
+                        runners(i)%err%message // '; what was computed is in ' // path
+                    exit
+                end do
+            end if
             RS_SET_ERROR(err, 'run_scene', message)
         end if
     contains
@@ -457,7 +470,8 @@ contains
             ' s (slowest rank); results in ' // path)
     end subroutine report_summary
 
-    !> True (on every rank, with `err` set) if `local_err` is set on any rank.
+    !> True (on every rank, with `err` set) if `local_err` is set on any rank: `err` is it
+    !> there, and the message `elsewhere` on the other ranks.
     logical function collective_failure(local_err, err, elsewhere)
         type(error_t), allocatable, intent(inout) :: local_err
         type(error_t), allocatable, intent(inout) :: err
@@ -533,10 +547,11 @@ contains
         end if
     end subroutine copy_file
 
-    !> Rank that runs system k: round robin, so independent rods spread over the ranks.
+    !> Rank that runs system k: dealt by estimated cost at the start (longest first, to the
+    !> least loaded rank), so independent rods spread evenly over the ranks.
     integer function system_owner(k)
         integer, intent(in) :: k
-        system_owner = mod(k - 1, world_size())
+        system_owner = system_rank(k)
     end function system_owner
 
     !> Rank that runs rod i (the owner of its system).

@@ -7,7 +7,7 @@ module rs_core_logger
     private
 
     public :: logger_init, log_error, log_warning, log_info, log_debug, log_level_from_name
-    public :: logger_prints
+    public :: logger_prints, logger_level, logger_set_level
 
     integer, parameter, public :: level_error = 0, level_warning = 1, level_info = 2, level_debug = 3
 
@@ -46,6 +46,17 @@ contains
             level = -1
         end select
     end function log_level_from_name
+
+    !> The most detailed level printed now.
+    integer function logger_level()
+        logger_level = threshold
+    end function logger_level
+
+    !> Print messages up to `level` from now on (a sweep quietens its members' runs).
+    subroutine logger_set_level(level)
+        integer, intent(in) :: level
+        threshold = level
+    end subroutine logger_set_level
 
     !> True on the rank that prints messages of `level`.
     logical function logger_prints(level)

@@ -5,7 +5,7 @@ module rs_core_strings
     implicit none
     private
 
-    public :: str_significant, to_lower, str, edit_distance, closest_name, vector_text
+    public :: str_significant, to_lower, str, edit_distance, closest_name, vector_text, did_you_mean
 
     !> Shortest readable text of a number.
     interface str
@@ -141,6 +141,16 @@ contains
         end do
         if (best_distance > limit) best = ''
     end function closest_name
+
+    !> '; did you mean "x"?' when `name` is close to one of `names` (closest_name), else ''.
+    pure function did_you_mean(name, names) result(text)
+        character(len=*), intent(in) :: name
+        character(len=*), intent(in) :: names(:)
+        character(len=:), allocatable :: text, best
+        best = closest_name(name, names)
+        text = ''
+        if (len(best) > 0) text = '; did you mean "' // best // '"?'
+    end function did_you_mean
 
     !> "x, y, z": the entries of `v` in shortest exact form (`str`), comma-separated.
     pure function vector_text(v) result(text)

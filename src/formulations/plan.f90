@@ -14,7 +14,8 @@ module rs_formulations_plan
     use rs_ph_planar_plan, only: ph_planar_plan_lines
     use rs_se3_pg_plan, only: se3_pg_plan_lines
     use rs_se3_strand_plan, only: se3_strand_plan_lines
-    use rs_model_coupling, only: coupled_systems
+    use rs_model_coupling, only: coupled_systems, system_costs
+    use rs_parallel_deal, only: deal_by_cost
     implicit none
     private
 
@@ -34,7 +35,7 @@ contains
         character(len=:), allocatable :: text, lines, units, why
         type(error_t), allocatable :: err
         integer :: i, n_steps, n_records, rank
-        integer, allocatable :: system_of(:), first(:), members(:)
+        integer, allocatable :: system_of(:), first(:), members(:), system_rank(:)
 
         units = trim(scene%run%units)
         n_steps = plan_step_count(scene)
@@ -66,10 +67,11 @@ contains
         call coupled_systems(scene, system_of, first, members)
         call add('ranks: ' // str(size(scene%rods)) // ' rod(s) in ' // str(size(first) - 1) // &
             ' system(s) (a rod, or rods joined by &joint) on ' // str(n_ranks) // ' rank(s), ' // &
-            'dealt round robin (system k on rank mod(k - 1, ' // str(n_ranks) // ')), each solved on ' // &
-            'its own (no communication in the time loop)')
+            'dealt by estimated cost (nodes; the largest first, each to the least loaded rank), ' // &
+            'each solved on its own (no communication in the time loop but the flushes)')
+        system_rank = deal_by_cost(system_costs(scene, first, members), n_ranks)
         do i = 1, size(scene%rods)
-            rank = mod(system_of(i) - 1, n_ranks)
+            rank = system_rank(system_of(i))
             associate (rod => scene%rods(i))
                 select case (trim(rod%formulation_origin))
                 case ('default')
@@ -97,12 +99,102 @@ contains
                 text = text // lines
             end associate
         end do
+        text = text // sweep_plan_lines(scene)
     contains
         subroutine add(line)
             character(len=*), intent(in) :: line
             text = text // '!   ' // line // new_line('a')
         end subroutine add
     end function scene_plan_text
+
+    !> The sweep part of the plan ('' without &sweep): the number of members and how the sweeps
+    !> combine, each swept variable with its number and range of values, and the values of the
+    !> first three members and the last (DESIGN.md §5; rs_io_sweep builds the members).
+    function sweep_plan_lines(scene) result(text)
+        use rs_model_scene, only: sweep_input_t, sweep_member_count, sweep_member_indices, &
+            sweep_values, sweep_value_count, unset_real
+        type(scene_t), intent(in) :: scene
+        character(len=:), allocatable :: text, blocks, how
+        real(rk), allocatable :: values(:)
+        integer, allocatable :: shown(:)
+        integer :: s, n_members, n_blocks, k
+        text = ''
+        n_members = sweep_member_count(scene)
+        if (n_members == 0) return
+        blocks = ''
+        n_blocks = 0
+        do s = 1, size(scene%sweeps)
+            if (s > 1 .and. trim(scene%sweeps(s)%mode) == 'zip') then
+                blocks = blocks // ' zip ' // trim(scene%sweeps(s)%parameter)
+                cycle
+            end if
+            if (n_blocks > 0) blocks = blocks // ') x '
+            n_blocks = n_blocks + 1
+            blocks = blocks // str(sweep_value_count(scene%sweeps(s))) // ' (' // &
+                trim(scene%sweeps(s)%parameter)
+        end do
+        if (n_blocks > 1) then
+            blocks = 'product of ' // blocks // ')'
+        else
+            blocks = blocks(1:index(blocks, ' (') - 1) // ' values of ' // &
+                blocks(index(blocks, ' (') + 2:)
+        end if
+        text = '!   sweep: ' // str(n_members) // ' members (' // blocks // '), each the scene ' // &
+            'with its values, checked and run as a scene of its own' // new_line('a')
+        do s = 1, size(scene%sweeps)
+            associate (sweep => scene%sweeps(s))
+                values = sweep_values(sweep)
+                if (all(sweep%linspace /= unset_real)) then
+                    how = 'evenly spaced'
+                else if (all(sweep%logspace /= unset_real)) then
+                    how = 'geometrically spaced'
+                else
+                    how = 'as listed'
+                end if
+                text = text // '!     ' // trim(sweep%parameter) // ': ' // str(size(values)) // &
+                    ' value(s) from ' // value_text(sweep, minval(values)) // ' to ' // &
+                    value_text(sweep, maxval(values)) // ', ' // how // new_line('a')
+            end associate
+        end do
+        if (n_members <= 4) then
+            shown = [(k, k = 1, n_members)]
+        else
+            shown = [1, 2, 3, n_members]
+        end if
+        do k = 1, size(shown)
+            if (k == 4 .and. n_members > 4) text = text // '!     ...' // new_line('a')
+            text = text // '!     member ' // str(shown(k)) // ': ' // member_text(shown(k)) // &
+                new_line('a')
+        end do
+    contains
+        !> "rod(1)%EI1 = 2.5, time%dt = 0.01" for member `id`.
+        function member_text(id) result(line)
+            integer, intent(in) :: id
+            character(len=:), allocatable :: line
+            integer, allocatable :: indices(:)
+            real(rk), allocatable :: member_values(:)
+            integer :: j
+            indices = sweep_member_indices(scene%sweeps, id)
+            line = ''
+            do j = 1, size(scene%sweeps)
+                member_values = sweep_values(scene%sweeps(j))
+                if (j > 1) line = line // ', '
+                line = line // trim(scene%sweeps(j)%parameter) // ' = ' // &
+                    value_text(scene%sweeps(j), member_values(indices(j)))
+            end do
+        end function member_text
+
+        function value_text(sweep, value) result(out)
+            type(sweep_input_t), intent(in) :: sweep
+            real(rk), intent(in) :: value
+            character(len=:), allocatable :: out
+            if (sweep%integral) then
+                out = str(nint(value))
+            else
+                out = str(value)
+            end if
+        end function value_text
+    end function sweep_plan_lines
 
     !> Number of steps of the scene's time grid, max(1, ceiling(t_end / dt)) as the run takes
     !> them (the last one may be shorter).

@@ -2,6 +2,7 @@
 !>
 !>     rodsolve [--quiet] SCENE.nml [PETSc options]
 !>     rodsolve --check-input SCENE.nml
+!>     rodsolve --merge SWEEP.nml
 !>     rodsolve --help | --version | --input-reference
 !>
 !> rodsolve's own flags start with "--"; every other argument that starts with "-" begins a
@@ -17,7 +18,7 @@ module rs_io_cli
 
     !> What the command line asks for.
     type :: cli_t
-        !> 'run', 'check', 'help', 'version' or 'reference'.
+        !> 'run', 'check', 'merge', 'help', 'version' or 'reference'.
         character(len=16) :: action = 'run'
         character(len=:), allocatable :: scene_file
         logical :: quiet = .false.
@@ -58,6 +59,8 @@ contains
                         cli%action = 'reference'
                     case ('--check-input')
                         if (cli%action == 'run') cli%action = 'check'
+                    case ('--merge')
+                        if (cli%action == 'run') cli%action = 'merge'
                     case ('--quiet')
                         cli%quiet = .true.
                     case default
@@ -80,7 +83,8 @@ contains
                     'PETSc options start with "-")')
             end if
         end do
-        if ((cli%action == 'run' .or. cli%action == 'check') .and. len(cli%scene_file) == 0 .and. &
+        if ((cli%action == 'run' .or. cli%action == 'check' .or. cli%action == 'merge') .and. &
+                len(cli%scene_file) == 0 .and. &
                 len(cli%error) == 0) call add_error(cli, 'no scene file given')
     end function parse_command_line
 
@@ -97,9 +101,12 @@ contains
         character(len=*), parameter :: nl = new_line('a')
         text = 'usage: mpirun -np N rodsolve [--quiet] SCENE.nml [PETSc options]' // nl // &
             '       rodsolve --check-input SCENE.nml' // nl // &
+            '       rodsolve --merge SWEEP.nml' // nl // &
             '       rodsolve --help | --version | --input-reference' // nl // nl // &
             'Simulates Cosserat rods described by a namelist scene file (docs/user/input.md).' // nl // nl // &
             '  --check-input      read and validate SCENE.nml, print the resolved scene; run nothing' // nl // &
+            '  --merge            rebuild the result file of a killed sweep from its finished' // nl // &
+            '                     members (the files under OUTPUT.h5.members/)' // nl // &
             '  --quiet            print warnings and errors only' // nl // &
             '  --version          print the version of rodsolve and of the libraries it uses' // nl // &
             '  --input-reference  print the reference of every input group and variable' // nl // &

@@ -23,7 +23,7 @@
 !>   Other datasets are contiguous.
 module rs_io_hdf5_file
     use, intrinsic :: iso_c_binding, only: c_char, c_int, c_null_char, c_ptr, c_null_ptr, c_loc
-    use hdf5, only: hid_t, hsize_t, h5open_f, h5eset_auto_f, h5fcreate_f, h5fclose_f, &
+    use hdf5, only: hid_t, hsize_t, h5open_f, h5eset_auto_f, h5fcreate_f, h5fclose_f, h5ocopy_f, &
         h5gcreate_f, h5gclose_f, h5lexists_f, h5oopen_f, h5oclose_f, h5screate_f, &
         h5screate_simple_f, h5sclose_f, h5tcopy_f, h5tset_cset_f, h5tclose_f, h5aexists_f, &
         h5adelete_f, h5acreate_f, h5awrite_f, h5aclose_f, h5pcreate_f, h5pset_chunk_f, &
@@ -75,6 +75,9 @@ module rs_io_hdf5_file
         procedure :: exists => file_exists
         !> Remove the link `path` (its storage is not reclaimed).
         procedure :: delete => file_delete
+        !> Copy the object `object` (a group with everything below it, or a dataset) of another,
+        !> open file to `target` in this one (H5Ocopy); the groups above `target` must exist.
+        procedure :: copy_from => file_copy_from
         !> Dimensions of a dataset in Fortran order (the last one counts records in series).
         procedure :: dataset_dims => file_dataset_dims
         !> Create an empty series dataset (no records yet) of real or integer (`integer_values`)
@@ -621,6 +624,24 @@ contains
         call h5ldelete_f(this%id, path, status)
         if (this%failed(status, 'H5Ldelete', path, 'hdf5_file%delete', __LINE__, err)) return
     end subroutine file_delete
+
+    subroutine file_copy_from(this, source, object, target, err)
+        class(hdf5_file_t), intent(inout) :: this
+        type(hdf5_file_t), intent(in) :: source
+        character(len=*), intent(in) :: object, target
+        type(error_t), allocatable, intent(out) :: err
+        integer :: status
+        call this%check_open(target, 'hdf5_file%copy_from', err)
+        if (allocated(err)) return
+        if (.not. source%is_open()) then
+            call set_error(err, 'cannot copy "' // object // '" to "' // target // &
+                '": the source file is not open', 'hdf5_file%copy_from', __FILE__, __LINE__)
+            return
+        end if
+        call h5ocopy_f(source%id, object, this%id, target, status)
+        if (this%failed(status, 'H5Ocopy of ' // source%path // ':' // object, target, &
+            'hdf5_file%copy_from', __LINE__, err)) return
+    end subroutine file_copy_from
 
     subroutine file_dataset_dims(this, path, dims, err)
         class(hdf5_file_t), intent(inout) :: this

@@ -8,6 +8,7 @@ module rs_io_input_file
     use rs_parallel_mpi_env, only: world_rank, broadcast_text, broadcast_flag
     use rs_io_input_reader, only: read_scene_text
     use rs_io_input_check, only: resolve_scene, check_capabilities
+    use rs_io_sweep, only: resolve_sweeps, check_sweep_members
     implicit none
     private
 
@@ -37,9 +38,14 @@ contains
         ! The language may describe more than this build can run (DESIGN.md §1); only a scene
         ! that reads cleanly is checked against the capability matrix.
         if (errors%count == 0) call check_capabilities(scene, errors)
+        ! Every member of a sweep is a scene of its own and is checked as one (DESIGN.md §5);
+        ! only a valid base scene, else each member would repeat its errors.
+        if (errors%count == 0) call check_sweep_members(text, file, scene, errors)
     end subroutine load_scene
 
-    !> Read, resolve and check scene text (no MPI): for unit tests and sweeps.
+    !> Read, resolve and check scene text (no MPI): for unit tests and sweep members. The
+    !> &sweep groups are checked (rs_io_sweep resolve_sweeps) but their members are not: that
+    !> is load_scene's (check_sweep_members).
     subroutine parse_scene(text, file, scene, errors)
         character(len=*), intent(in) :: text, file
         type(scene_t), intent(out) :: scene
@@ -48,7 +54,10 @@ contains
         before = errors%count
         call read_scene_text(text, file, scene, errors)
         ! Cross-checks of values that could not be read would only repeat those errors.
-        if (errors%count == before) call resolve_scene(scene, errors)
+        if (errors%count == before) then
+            call resolve_scene(scene, errors)
+            call resolve_sweeps(scene, errors)
+        end if
     end subroutine parse_scene
 
     !> The whole contents of a text file; `message` is '' on success.

@@ -6,12 +6,12 @@
 module rs_io_input_reader
     use rs_core_kinds, only: rk
     use rs_core_error, only: error_list_t
-    use rs_core_strings, only: to_lower, str, closest_name
+    use rs_core_strings, only: to_lower, str, closest_name, did_you_mean
     use rs_model_scene, only: scene_t, run_input_t, time_input_t, solver_input_t, output_input_t, &
-        rod_input_t, bc_input_t, load_input_t, actuator_input_t, joint_input_t
+        rod_input_t, bc_input_t, load_input_t, actuator_input_t, joint_input_t, sweep_input_t
     use rs_io_namelist_lexer, only: assignment_t, group_chunk_t, split_namelist
     use rs_io_input_spec, only: group_spec_t, variable_spec_t, input_groups, find_group, find_variable, &
-        range_description, in_range, split_condition
+        range_description, in_range, split_condition, group_names, variable_names
     implicit none
     private
 
@@ -33,7 +33,8 @@ contains
 
         scene%source_file = file
         scene%source_text = text
-        allocate(scene%rods(0), scene%bcs(0), scene%loads(0), scene%actuators(0), scene%joints(0))
+        allocate(scene%rods(0), scene%bcs(0), scene%loads(0), scene%actuators(0), scene%joints(0), &
+            scene%sweeps(0))
         groups = input_groups()
         allocate(first_line(size(groups)))
         first_line = 0
@@ -43,7 +44,7 @@ contains
             g = find_group(groups, chunks(c)%name)
             if (g == 0) then
                 call errors%add(file // ':' // str(chunks(c)%line) // ': unknown group &' // &
-                    chunks(c)%name // suggestion(chunks(c)%name, group_names(groups)) // &
+                    chunks(c)%name // did_you_mean(chunks(c)%name, group_names(groups)) // &
                     '; groups are ' // list_of(group_names(groups)))
                 cycle
             end if
@@ -74,6 +75,7 @@ contains
         type(load_input_t) :: load
         type(actuator_input_t) :: actuator
         type(joint_input_t) :: joint
+        type(sweep_input_t) :: sweep
         logical, allocatable :: given(:)
         character(len=:), allocatable :: where, value, message
         integer :: k, v, ios
@@ -85,12 +87,13 @@ contains
         load%input_line = chunk%line
         actuator%input_line = chunk%line
         joint%input_line = chunk%line
+        sweep%input_line = chunk%line
         do k = 1, size(chunk%assignments)
             associate (a => chunk%assignments(k))
                 v = find_variable(group, a%name)
                 if (v == 0) then
                     call errors%add(file // ':' // str(a%line) // ': &' // chunk%name // ': unknown variable "' // &
-                        a%name // '"' // suggestion(a%name, variable_names(group)))
+                        a%name // '"' // did_you_mean(a%name, variable_names(group)))
                     cycle
                 end if
                 ! Named as the reference spells it (maxwell_tau_E, EA), as the cross-checks do.
@@ -107,7 +110,7 @@ contains
                     cycle
                 end if
                 call read_assignment(trim(group%name), a%target, value, scene, rod, bc, load, &
-                    actuator, joint, ios, message)
+                    actuator, joint, sweep, ios, message)
                 if (ios /= 0) call errors%add(where // 'cannot read "' // a%value // '" as ' // &
                     kind_phrase(group%variables(v)) // ' (' // trim(message) // ')')
             end associate
@@ -129,6 +132,8 @@ contains
             scene%actuators = [scene%actuators, actuator]
         case ('joint')
             scene%joints = [scene%joints, joint]
+        case ('sweep')
+            scene%sweeps = [scene%sweeps, sweep]
         end select
     end subroutine read_chunk
 
@@ -219,7 +224,7 @@ contains
                 text = to_lower(unquote(a%value))
                 if (.not. is_allowed(text, spec%allowed)) then
                     message = '"' // unquote(a%value) // '" is not allowed; allowed: ' // &
-                        allowed_list(spec%allowed) // suggestion(text, split_allowed(spec%allowed))
+                        allowed_list(spec%allowed) // did_you_mean(text, split_allowed(spec%allowed))
                     return
                 end if
                 value = "'" // text // "'"
@@ -240,10 +245,10 @@ contains
     !> Read `target = value` of group `group` through a namelist whose object is a copy of the
     !> group's plain type (`&rod_nml rod%target = value /`), so only that component changes; the
     !> single groups live in `scene`, the occurrence of a repeatable group being read in `rod`,
-    !> `bc`, `load`, `actuator` or `joint`. On failure nothing changes. All namelists live in this one
+    !> `bc`, `load`, `actuator`, `joint` or `sweep`. On failure nothing changes. All namelists live in this one
     !> procedure, so no group name may equal an object name (hence the `_nml` suffix).
-    subroutine read_assignment(group, target, value, scene, rod, bc, load, actuator, joint, ios, &
-            message)
+    subroutine read_assignment(group, target, value, scene, rod, bc, load, actuator, joint, sweep, &
+            ios, message)
         character(len=*), intent(in) :: group, target, value
         type(scene_t), intent(inout) :: scene
         type(rod_input_t), intent(inout) :: rod
@@ -251,6 +256,7 @@ contains
         type(load_input_t), intent(inout) :: load
         type(actuator_input_t), intent(inout) :: actuator
         type(joint_input_t), intent(inout) :: joint
+        type(sweep_input_t), intent(inout) :: sweep
         integer, intent(out) :: ios
         character(len=:), allocatable, intent(out) :: message
         type(run_input_t) :: run_copy
@@ -262,6 +268,7 @@ contains
         type(load_input_t) :: load_copy
         type(actuator_input_t) :: actuator_copy
         type(joint_input_t) :: joint_copy
+        type(sweep_input_t) :: sweep_copy
         namelist /run_nml/ run_copy
         namelist /time_nml/ time_copy
         namelist /solver_nml/ solver_copy
@@ -271,6 +278,7 @@ contains
         namelist /load_nml/ load_copy
         namelist /actuator_nml/ actuator_copy
         namelist /joint_nml/ joint_copy
+        namelist /sweep_nml/ sweep_copy
         character(len=256) :: msg
         character(len=:), allocatable :: buffer
 
@@ -283,6 +291,7 @@ contains
         load_copy = load
         actuator_copy = actuator
         joint_copy = joint
+        sweep_copy = sweep
         msg = ''
         buffer = '&' // group // '_nml ' // group // '_copy%' // target // ' = ' // value // ' /'
         select case (group)
@@ -304,6 +313,8 @@ contains
             read(buffer, nml=actuator_nml, iostat=ios, iomsg=msg)
         case ('joint')
             read(buffer, nml=joint_nml, iostat=ios, iomsg=msg)
+        case ('sweep')
+            read(buffer, nml=sweep_nml, iostat=ios, iomsg=msg)
         case default
             ios = -1
             msg = 'no reader for group &' // group
@@ -319,6 +330,7 @@ contains
         load = load_copy
         actuator = actuator_copy
         joint = joint_copy
+        sweep = sweep_copy
     end subroutine read_assignment
 
     ! --- message helpers ---------------------------------------------------------------------
@@ -392,35 +404,8 @@ contains
         if (spec%max_count > 1) text = text // 's'
     end function kind_phrase
 
-    !> "; did you mean 'x'?" when `name` is close to one of `names`, else ''.
-    pure function suggestion(name, names) result(text)
-        character(len=*), intent(in) :: name
-        character(len=*), intent(in) :: names(:)
-        character(len=:), allocatable :: text, best
-        best = closest_name(name, names)
-        text = ''
-        if (len(best) > 0) text = '; did you mean "' // best // '"?'
-    end function suggestion
 
-    pure function group_names(groups) result(names)
-        type(group_spec_t), intent(in) :: groups(:)
-        character(len=16), allocatable :: names(:)
-        integer :: i
-        allocate(names(size(groups)))
-        do i = 1, size(groups)
-            names(i) = groups(i)%name
-        end do
-    end function group_names
 
-    pure function variable_names(group) result(names)
-        type(group_spec_t), intent(in) :: group
-        character(len=32), allocatable :: names(:)
-        integer :: i
-        allocate(names(size(group%variables)))
-        do i = 1, size(group%variables)
-            names(i) = group%variables(i)%name
-        end do
-    end function variable_names
 
     pure function list_of(names) result(text)
         character(len=*), intent(in) :: names(:)

@@ -8,14 +8,15 @@
 module rs_io_input_spec
     use rs_core_kinds, only: rk
     use rs_core_strings, only: to_lower, str
-    use rs_model_scene, only: max_table, max_branches, max_polyline_points
+    use rs_model_scene, only: max_table, max_branches, max_polyline_points, max_sweep_values, &
+        max_sweep_members
     use rs_model_units, only: unit_systems
     use rs_model_time_function, only: time_function_names
     implicit none
     private
 
     public :: variable_spec_t, group_spec_t, input_groups, find_group, find_variable, spec_v
-    public :: range_description, in_range, split_condition
+    public :: range_description, in_range, split_condition, group_names, variable_names
 
     !> One input variable.
     type :: variable_spec_t
@@ -103,7 +104,7 @@ contains
         groups(7) = load_group()
         groups(8) = actuator_group()
         groups(9) = joint_group()
-        groups(10) = planned_group('sweep', 'Parameter sweeps over any input variable.')
+        groups(10) = sweep_group()
     end function input_groups
 
     !> Index of group `name` in `groups`, 0 if unknown.
@@ -568,6 +569,46 @@ contains
                 allowed='revolute|rigid|spherical', required=.true., example="'revolute'")]
     end function joint_group
 
+    function sweep_group() result(g)
+        type(group_spec_t) :: g
+        g%name = 'sweep'
+        g%repeatable = .true.
+        g%description = 'One swept variable of a parameter sweep (DESIGN.md §5): every ' // &
+            'member is the scene without its &sweep groups, with the swept variables set to ' // &
+            'one combination of their values, and is checked as a scene of its own. The ' // &
+            'sweeps combine in file order (mode); docs/user/input.md, Parameter sweeps.'
+        g%variables = [ &
+            spec_v('parameter', 'string', '-', '(required)', &
+                'The swept variable, a path into the scene (case-insensitive): ' // &
+                'group%variable for &run, &time, &solver and &output (time%dt; a group the ' // &
+                'scene lacks is added), group(k)%variable for the k-th &rod, &bc, &load, ' // &
+                '&actuator or &joint in file order (rod(1)%EI1), and variable(i) for element ' // &
+                'i of an array (load(1)%force(3)); arrays must be swept element by element. ' // &
+                'Only real and integer variables can be swept; each variable at most once.', &
+                required=.true., example="'rod(1)%EI1'"), &
+            spec_v('values', 'real', '-', '-', &
+                'The values, in order (the leading given entries), in the unit of the swept ' // &
+                'variable. Exactly one of values, ' // &
+                'linspace and logspace. For an integer variable every value must be a whole ' // &
+                'number; every value must lie in the variable''s allowed range.', count=1, &
+                max_count=max_sweep_values, example='1e3, 2e3, 5e3'), &
+            spec_v('linspace', 'real', '-', '-', &
+                'first, last, count: count values evenly spaced from first to last, both ' // &
+                'included (count a whole number from 2 to ' // str(max_sweep_values) // ').', &
+                count=3, example='0.5, 2.0, 16'), &
+            spec_v('logspace', 'real', '-', '-', &
+                'first, last, count: count values geometrically spaced from first to last, ' // &
+                'both included and both > 0 (count a whole number from 2 to ' // &
+                str(max_sweep_values) // ').', count=3, example='1e2, 1e4, 64'), &
+            spec_v('mode', 'string', '-', "'product'", &
+                "How this sweep combines with the sweeps before it in the file: 'product' " // &
+                "takes every combination with them, 'zip' pairs its values one to one with " // &
+                'those of the sweep just before it (same number of values). Ignored for the ' // &
+                'first sweep. Members are numbered from 1 with the first sweep varying ' // &
+                'slowest; at most ' // str(max_sweep_members) // ' members.', &
+                allowed='product|zip', example="'zip'")]
+    end function sweep_group
+
     !> time_function, t_on, t_off, table_times, table_values of a group whose `what` they scale.
     function time_function_variables(what) result(variables)
         character(len=*), intent(in) :: what
@@ -585,14 +626,26 @@ contains
                 max_count=max_table, example='0, 1, 0.5')]
     end function time_function_variables
 
-    function planned_group(name, description) result(g)
-        character(len=*), intent(in) :: name, description
-        type(group_spec_t) :: g
-        g%name = name
-        g%repeatable = .true.
-        g%implemented = .false.
-        g%description = description
-        allocate(g%variables(0))
-    end function planned_group
+    !> The names of `groups`, in order.
+    pure function group_names(groups) result(names)
+        type(group_spec_t), intent(in) :: groups(:)
+        character(len=16), allocatable :: names(:)
+        integer :: i
+        allocate(names(size(groups)))
+        do i = 1, size(groups)
+            names(i) = groups(i)%name
+        end do
+    end function group_names
+
+    !> The names of the variables of `group`, in order.
+    pure function variable_names(group) result(names)
+        type(group_spec_t), intent(in) :: group
+        character(len=32), allocatable :: names(:)
+        integer :: i
+        allocate(names(size(group%variables)))
+        do i = 1, size(group%variables)
+            names(i) = group%variables(i)%name
+        end do
+    end function variable_names
 
 end module rs_io_input_spec

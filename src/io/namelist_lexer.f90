@@ -12,7 +12,7 @@ module rs_io_namelist_lexer
     implicit none
     private
 
-    public :: assignment_t, group_chunk_t, split_namelist
+    public :: assignment_t, group_chunk_t, split_namelist, remove_blanks
 
     !> One `target = value` of a group.
     type :: assignment_t
@@ -26,6 +26,10 @@ module rs_io_namelist_lexer
         integer :: line = 0
         !> Number of values after expanding repeat counts; 0 if the value is empty.
         integer :: n_values = 0
+        !> Position in the text of the first and last characters of the value (without a
+        !> trailing comma; value_last = value_first - 1 if empty): where rs_io_sweep edits it.
+        integer :: value_first = 0
+        integer :: value_last = -1
     end type assignment_t
 
     !> One `&group ... /` occurrence.
@@ -33,6 +37,11 @@ module rs_io_namelist_lexer
         character(len=:), allocatable :: name
         integer :: line = 0
         type(assignment_t), allocatable :: assignments(:)
+        !> Position in the text of its "&", of the last character of its name and of its
+        !> closing "/" (or of the "d" of "&end").
+        integer :: first = 0
+        integer :: name_end = 0
+        integer :: last = 0
     end type group_chunk_t
 
     character(len=*), parameter :: blanks = ' ' // achar(9) // achar(10) // achar(13)
@@ -77,6 +86,8 @@ contains
                 end if
                 chunk%name = to_lower(clean(p + 1:name_end))
                 chunk%line = line_of(p)
+                chunk%first = p
+                chunk%name_end = name_end
                 body_end = find_group_end(clean, name_end + 1)
                 if (body_end == 0) then
                     call errors%add(file // ':' // str(chunk%line) // ': &' // chunk%name // &
@@ -91,9 +102,10 @@ contains
                     cycle
                 end if
                 call split_assignments(clean, line_of, name_end + 1, body_end - 1, file, chunk, errors)
+                chunk%last = body_end
+                if (clean(body_end:body_end) == '&') chunk%last = body_end + 3   ! "&end"
                 chunks = [chunks, chunk]
-                p = body_end + 1
-                if (p <= n .and. clean(body_end:body_end) == '&') p = body_end + 4   ! "&end"
+                p = chunk%last + 1
             else
                 if (line_of(p) /= reported_line) then
                     call errors%add(file // ':' // str(line_of(p)) // ': text outside a namelist group: "' // &
@@ -242,11 +254,40 @@ contains
             a%line = line_of(starts(k))
             value_end = last
             if (k < size(equals)) value_end = starts(k + 1) - 1
+            call value_span(clean, equals(k) + 1, value_end, a%value_first, a%value_last)
             a%value = one_line(clean(equals(k) + 1:value_end))
             a%n_values = count_values(a%value)
             chunk%assignments = [chunk%assignments, a]
         end do
     end subroutine split_assignments
+
+    !> First and last non-blank characters of clean(from:to) without one trailing comma, as
+    !> one_line keeps them; last = first - 1 if there are none.
+    pure subroutine value_span(clean, from, to, first, last)
+        character(len=*), intent(in) :: clean
+        integer, intent(in) :: from, to
+        integer, intent(out) :: first, last
+        first = from
+        do while (first <= to)
+            if (index(blanks, clean(first:first)) == 0) exit
+            first = first + 1
+        end do
+        last = to
+        do while (last >= first)
+            if (index(blanks, clean(last:last)) == 0) exit
+            last = last - 1
+        end do
+        if (last >= first) then
+            if (clean(last:last) == ',') then
+                last = last - 1
+                do while (last >= first)
+                    if (index(blanks, clean(last:last)) == 0) exit
+                    last = last - 1
+                end do
+            end if
+        end if
+        if (last < first) last = first - 1
+    end subroutine value_span
 
     !> Start of the variable name that ends just before position `last` + 1 (skipping blanks
     !> and one subscript in parentheses).

@@ -38,7 +38,7 @@ module rs_io_result_file
 
     public :: result_meta_t, write_result_file, rod_layout_t, layout_of, pack_layout, unpack_layout
     public :: result_writer_t, prepare_result_file, finish_result_file, read_checkpoint
-    public :: selectable_fields, unknown_fields
+    public :: selectable_fields, unknown_fields, prepare_sweep_file
 
     !> Version of the layout written by this module; readers check it.
     integer, parameter, public :: result_schema_version = 1
@@ -464,6 +464,20 @@ contains
         call file%close(close_err)
         if (.not. allocated(err) .and. allocated(close_err)) call move_alloc(close_err, err)
     end subroutine prepare_result_file
+
+    !> The result file of a sweep (DESIGN.md §7): the root attributes and /input of the base
+    !> scene; the caller adds /members/<id>/ and /summary.
+    subroutine prepare_sweep_file(path, meta, file, err)
+        character(len=*), intent(in) :: path
+        type(result_meta_t), intent(in) :: meta
+        type(hdf5_file_t), intent(inout) :: file
+        type(error_t), allocatable, intent(out) :: err
+        call file%create(path, err)
+        if (allocated(err)) return
+        call write_root(file, meta, err)
+        if (allocated(err)) return
+        call write_input(file, meta, err)
+    end subroutine prepare_sweep_file
 
     !> /rods/<name>/ with its meshes and empty growing datasets; /checkpoint/<name>/.
     subroutine create_rod(file, layout, selection, system, err)

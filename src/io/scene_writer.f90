@@ -11,7 +11,7 @@ module rs_io_scene_writer
     use rs_core_strings, only: to_lower, str
     use rs_io_input_spec, only: group_spec_t, input_groups, find_group, find_variable
     use rs_model_scene, only: section_derived_names, scene_t, run_input_t, time_input_t, solver_input_t, output_input_t, &
-        rod_input_t, bc_input_t, load_input_t, actuator_input_t, joint_input_t
+        rod_input_t, bc_input_t, load_input_t, actuator_input_t, joint_input_t, sweep_input_t, sweep_values
     implicit none
     private
 
@@ -100,7 +100,33 @@ contains
                 text = text // tidy_group('joint', lines)
             end do
         end if
+        if (allocated(scene%sweeps)) then
+            ! The resolved values themselves (a linspace or logspace written out), one per line.
+            do i = 1, size(scene%sweeps)
+                text = text // sweep_group_text(scene%sweeps(i))
+            end do
+        end if
     end function resolved_scene_text
+
+    !> A resolved &sweep group: its canonical path, mode and every value.
+    function sweep_group_text(sweep) result(text)
+        type(sweep_input_t), intent(in) :: sweep
+        character(len=:), allocatable :: text
+        real(rk), allocatable :: values(:)
+        character(len=32) :: number
+        integer :: j
+        values = sweep_values(sweep)
+        text = '&sweep' // new_line('a') // '    parameter = ''' // trim(sweep%parameter) // '''' // &
+            new_line('a') // '    mode = ''' // trim(sweep%mode) // '''' // new_line('a') // &
+            '    values ='
+        do j = 1, size(values)
+            write(number, '(es24.16e3)') values(j)
+            text = text // ' ' // trim(adjustl(number))
+            if (j < size(values)) text = text // ','
+            if (j < size(values) .and. mod(j, 4) == 0) text = text // new_line('a') // '        '
+        end do
+        text = text // new_line('a') // '/' // new_line('a')
+    end function sweep_group_text
 
     !> With a section, the stiffnesses it determines are shown as comments: given again next
     !> to the section they would be an input error (either section or stiffnesses).

@@ -2,11 +2,12 @@
 !> that is solved as a whole; every other rod is a system of its own. The systems are numbered
 !> by their first rod, so a scene without joints has system i = rod i.
 module rs_model_coupling
+    use rs_core_kinds, only: rk
     use rs_model_scene, only: scene_t
     implicit none
     private
 
-    public :: coupled_systems
+    public :: coupled_systems, system_costs
 
 contains
 
@@ -71,5 +72,23 @@ contains
             end do
         end function rod_named
     end subroutine coupled_systems
+
+    !> Estimated cost of a step of each system (first, members as from coupled_systems): the
+    !> nodes of its rods, n_elements * degree + 1 each, as the unknowns grow with them. Used to
+    !> deal systems to ranks (rs_parallel_deal); the time steps are the scene's, the same for all.
+    pure function system_costs(scene, first, members) result(cost)
+        type(scene_t), intent(in) :: scene
+        integer, intent(in) :: first(:), members(:)
+        real(rk) :: cost(size(first) - 1)
+        integer :: k, m
+        cost = 0.0_rk
+        do k = 1, size(first) - 1
+            do m = first(k), first(k + 1) - 1
+                associate (rod => scene%rods(members(m)))
+                    cost(k) = cost(k) + real(max(rod%n_elements, 1) * max(rod%degree, 1) + 1, rk)
+                end associate
+            end do
+        end do
+    end function system_costs
 
 end module rs_model_coupling

@@ -11,7 +11,8 @@ module rs_model_scene
     implicit none
     private
 
-    public :: load_applies_to
+    public :: load_applies_to, sweep_value_count, sweep_values, sweep_member_count, &
+        sweep_member_indices
 
     !> Marks a real variable that was not given and has no default.
     real(rk), parameter, public :: unset_real = huge(1.0_rk)
@@ -23,6 +24,11 @@ module rs_model_scene
     integer, parameter, public :: max_branches = 8
     !> Capacity of polyline centrelines (&rod points: 3 coordinates per point).
     integer, parameter, public :: max_polyline_points = 64
+    !> Capacity of the values of one &sweep (values = ...; also the largest count of linspace
+    !> and logspace).
+    integer, parameter, public :: max_sweep_values = 4096
+    !> Largest number of members of a scene's sweeps (the product of their value counts).
+    integer, parameter, public :: max_sweep_members = 1000000
     !> Length of name-like strings (rod names, formulation names, kinds).
     integer, parameter, public :: name_len = 64
     !> Length of free text (titles, paths, option strings).
@@ -232,6 +238,25 @@ module rs_model_scene
         character(len=name_len) :: kind = ''
     end type joint_input_t
 
+    !> &sweep: one swept variable (DESIGN.md §5, §6). `parameter` is a path into the scene,
+    !> 'rod(1)%EI1', 'time%dt', 'load(1)%force(3)'; its values are the leading given entries of
+    !> `values`, or `linspace` / `logspace` = first, last, count. The sweeps of a scene combine
+    !> in file order: 'product' forms the Cartesian product with the sweeps before it, 'zip'
+    !> pairs element-wise with the sweep just before it. Validated and resolved by rs_io_sweep.
+    type, public :: sweep_input_t
+        !> Line of the group in the input file (set by the reader; not an input variable).
+        integer :: input_line = 0
+        !> The path; the resolver rewrites it in its canonical spelling ('rod(1)%EI1').
+        character(len=name_len) :: parameter = ''
+        real(rk) :: values(max_sweep_values) = unset_real
+        real(rk) :: linspace(3) = unset_real
+        real(rk) :: logspace(3) = unset_real
+        character(len=name_len) :: mode = 'product'
+        !> The swept variable is an integer, so the values are whole numbers, rounded from
+        !> round-off (set by the resolver; not an input variable).
+        logical :: integral = .false.
+    end type sweep_input_t
+
     !> A whole scene: the single groups and the repeatable ones in file order.
     type, public :: scene_t
         character(len=:), allocatable :: source_file
@@ -245,6 +270,7 @@ module rs_model_scene
         type(load_input_t), allocatable :: loads(:)
         type(actuator_input_t), allocatable :: actuators(:)
         type(joint_input_t), allocatable :: joints(:)
+        type(sweep_input_t), allocatable :: sweeps(:)
     end type scene_t
 
 contains
@@ -257,5 +283,90 @@ contains
         load_applies_to = trim(load%rod) == trim(rod_name) .or. &
             (len_trim(load%rod) == 0 .and. trim(load%where) == 'gravity')
     end function load_applies_to
+
+    !> Number of values of `sweep`: the count of linspace or logspace, else the number of
+    !> leading given entries of values.
+    pure integer function sweep_value_count(sweep) result(n)
+        type(sweep_input_t), intent(in) :: sweep
+        if (all(sweep%linspace /= unset_real)) then
+            n = nint(sweep%linspace(3))
+        else if (all(sweep%logspace /= unset_real)) then
+            n = nint(sweep%logspace(3))
+        else
+            n = 0
+            do while (n < max_sweep_values)
+                if (sweep%values(n + 1) == unset_real) exit
+                n = n + 1
+            end do
+        end if
+    end function sweep_value_count
+
+    !> The values of a valid `sweep`, in order: as given, or evenly (linspace) or geometrically
+    !> (logspace) spaced from first to last, both ends exact; whole numbers for an integral
+    !> sweep.
+    pure function sweep_values(sweep) result(values)
+        type(sweep_input_t), intent(in) :: sweep
+        real(rk), allocatable :: values(:)
+        real(rk) :: first, last
+        integer :: n, j
+        n = sweep_value_count(sweep)
+        allocate(values(n))
+        if (all(sweep%linspace /= unset_real)) then
+            first = sweep%linspace(1)
+            last = sweep%linspace(2)
+            ! (last - first) (j - 1) first, then the division: exact where the grid is whole.
+            do j = 1, n
+                values(j) = first + (last - first) * real(j - 1, rk) / real(n - 1, rk)
+            end do
+            values(n) = last
+        else if (all(sweep%logspace /= unset_real)) then
+            first = sweep%logspace(1)
+            last = sweep%logspace(2)
+            do j = 1, n
+                values(j) = first * exp(log(last / first) * real(j - 1, rk) / real(n - 1, rk))
+            end do
+            values(1) = first
+            values(n) = last
+        else
+            values = sweep%values(1:n)
+        end if
+        if (sweep%integral) values = anint(values)
+    end function sweep_values
+
+    !> Number of members of the sweeps of `scene` (0 without &sweep): the product of the value
+    !> counts of the blocks, a block being a sweep with the 'zip' sweeps that follow it.
+    pure integer function sweep_member_count(scene) result(n)
+        type(scene_t), intent(in) :: scene
+        integer :: s
+        n = 0
+        if (.not. allocated(scene%sweeps)) return
+        if (size(scene%sweeps) == 0) return
+        n = 1
+        do s = 1, size(scene%sweeps)
+            if (s > 1 .and. trim(scene%sweeps(s)%mode) == 'zip') cycle
+            n = n * sweep_value_count(scene%sweeps(s))
+        end do
+    end function sweep_member_count
+
+    !> The value index of each of `sweeps` in member `id` (1-based): nested loops over the
+    !> blocks in file order, the first block varying slowest; the sweeps of a block ('zip')
+    !> take the same index.
+    pure function sweep_member_indices(sweeps, id) result(indices)
+        type(sweep_input_t), intent(in) :: sweeps(:)
+        integer, intent(in) :: id
+        integer :: indices(size(sweeps))
+        integer :: s, rest, n
+        rest = id - 1
+        do s = size(sweeps), 1, -1
+            if (s > 1 .and. trim(sweeps(s)%mode) == 'zip') cycle
+            n = sweep_value_count(sweeps(s))
+            indices(s) = mod(rest, n) + 1
+            rest = rest / n
+        end do
+        ! A zip sweep takes the index of the block it joins (the nearest product sweep before it).
+        do s = 2, size(sweeps)
+            if (trim(sweeps(s)%mode) == 'zip') indices(s) = indices(s - 1)
+        end do
+    end function sweep_member_indices
 
 end module rs_model_scene

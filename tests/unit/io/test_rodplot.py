@@ -17,6 +17,15 @@ Debian package to install. `summary` prints title, creator, schema version, rank
 the formulation, records, time span, dt range, Newton iterations, balance error (absolute and
 relative to max |H|), constraint residual and fields, each number compared with the file read
 here with h5py; -o writes the same text; --rod limits it to one rod.
+`sweep` and the summary of a sweep run on synthetic sweep files written here with h5py in the
+layout of src/app/run_sweep.F90 (/members/<id>, /summary; one parameter in logspace with a
+failed and a member not run, and a product of two parameters): the figure's curve holds exactly
+the completed members' values sorted by the parameter, on log axes for a logspace parameter and
+linear ones for a linspace, the failed and not-run members are drawn at their parameter values
+with their own markers, the tip components and the parameter are found by every documented
+name, one curve per value of the other parameter; unknown names, a file that is not a sweep and
+a rod command on a sweep file exit with status 2 naming what there is; the sweep summary's
+counts, ranges, per-rank wall time and failure messages match the file.
 Exit status 1 with a list of failures.
 """
 
@@ -296,6 +305,210 @@ def summary_checks(rodplot, result, out_dir):
           "summary of a file without series: exit %d: %r %r" % (p.returncode, p.stdout, p.stderr))
 
 
+SWEEP_PARAMETER = "rod(1)%EI1"
+
+
+def write_sweep_file(path, parameters, status, rank, seed=1):
+    """A synthetic sweep result (the layout of src/app/run_sweep.F90): `parameters` maps a
+    parameter path to its values per member; tip z = -1 / (3 EI1 ...), a wall time per member,
+    NaN where a member did not complete; /members/<id> with the parameters as attributes."""
+    rng = np.random.default_rng(seed)
+    names = list(parameters)
+    values = np.stack([np.asarray(parameters[n], dtype=float) for n in names], axis=1)
+    n = values.shape[0]
+    status = np.asarray(status)
+    done = status == 0
+    scale = values.prod(axis=1)
+    tip = np.stack([np.full(n, 1.0), np.zeros(n), -1.0 / (3.0 * scale)], axis=1)
+    wall = np.where(status == 2, -1.0, 0.5 + rng.random(n))
+    nan = np.full(n, np.nan)
+    tip[~done] = np.nan
+    with h5py.File(path, "w") as f:
+        f.attrs["schema_version"] = 1
+        f.attrs["title"] = "synthetic sweep"
+        f.attrs["creator"] = "test_rodplot.py"
+        f.attrs["n_ranks"] = int(max(rank) + 1)
+        f.attrs["status"] = "completed" if done.all() else "some members failed"
+        f.attrs["members"] = n
+        f.attrs["wall_time"] = float(wall[wall > 0].sum())
+        for i in range(n):
+            g = f.create_group("members/%d" % (i + 1))
+            for k, name in enumerate(names):
+                g.attrs[name] = values[i, k]
+            g.attrs["status"] = ("completed", "failed", "not run")[status[i]]
+            g.attrs["message"] = ("", "Newton failed after 0 cut-backs at t = 0.1",
+                                  "not run")[status[i]]
+            g.attrs["wall_time"] = wall[i]
+        s = f.create_group("summary")
+        s["id"] = np.arange(1, n + 1, dtype=np.int32)
+        for k, name in enumerate(names):
+            s["parameters/" + name] = values[:, k]
+            s["parameters/" + name].attrs["unit"] = "-"
+        s["status"] = status.astype(np.int32)
+        s["wall_time"] = wall
+        s["wall_time"].attrs["unit"] = "s"
+        s["final_time"] = np.where(done, 1.0, nan)
+        s["final_time"].attrs["unit"] = "s"
+        s["tip_position"] = tip
+        s["tip_position"].attrs["unit"] = "m"
+        s["tip_position"].attrs["description"] = "position of the last node of rod 'beam'"
+        s["max_balance_error"] = np.where(done, 1e-14 * (1 + np.arange(n)), nan)
+        s["max_balance_error"].attrs["unit"] = "J"
+        s["newton_iterations"] = np.where(done, 10.0 + np.arange(n), nan)
+        s["records"] = np.where(done, 11, 0).astype(np.int32)
+        s["rank"] = np.asarray(rank, dtype=np.int32)
+    return values, tip, wall
+
+
+def data_lines(ax):
+    """The axes' lines drawn in data coordinates (the curves), and the others (markers at
+    the axis), as (marker, x, y) tuples."""
+    curves, at_axis = [], []
+    for line in ax.get_lines():
+        item = (line.get_marker(), np.asarray(line.get_xdata(), dtype=float),
+                np.asarray(line.get_ydata(), dtype=float))
+        (curves if line.get_transform() == ax.transData else at_axis).append(item)
+    return curves, at_axis
+
+
+def sweep_checks(rodplot, result, out_dir):
+    sys.path.insert(0, os.path.dirname(os.path.abspath(rodplot)))
+    import rodplot as module
+    from rodresults import open_result
+
+    # One parameter in logspace: member 3 failed, member 8 not run.
+    one = os.path.join(out_dir, "sweep_one.h5")
+    ei = np.logspace(0, 3, 8)
+    status = [0, 0, 1, 0, 0, 0, 0, 2]
+    rank = [0, 1, 1, 0, 1, 0, 1, -1]
+    values, tip, wall = write_sweep_file(one, {SWEEP_PARAMETER: ei[::-1]}, status, rank)
+    x = values[:, 0]
+    done = np.asarray(status) == 0
+    with open_result(one) as res:
+        table = module.SweepTable(res)
+        for name in ("tip_z", "tip_position:z", "tip_position:3", "tip_position:Z"):
+            _, got, unit, _ = table.quantity(name)
+            check(np.array_equal(got, tip[:, 2], equal_nan=True) and unit == "m",
+                  "sweep: quantity %s is /summary/tip_position[:, 2] in m" % name)
+        _, got, _, _ = table.quantity("tip_x")
+        check(np.array_equal(got, tip[:, 0], equal_nan=True), "sweep: tip_x is column 0")
+        for name in (SWEEP_PARAMETER, "ROD(1)%ei1", "EI1", None):
+            check(table.parameter(name) == SWEEP_PARAMETER,
+                  "sweep: parameter %r found as %s" % (name, SWEEP_PARAMETER))
+        fig, ax = module.sweep_figure(res, None, "tip_z")
+        curves, at_axis = data_lines(ax)
+        order = np.argsort(x[done])
+        check(len(curves) == 1 and np.array_equal(curves[0][1], x[done][order])
+              and np.array_equal(curves[0][2], tip[done, 2][order]),
+              "sweep: one curve of the 6 completed members sorted by EI1: %s" % curves)
+        markers = {m: xs for m, xs, _ in at_axis}
+        check(set(markers) == {"x", "s"} and np.array_equal(markers["x"], x[[2]])
+              and np.array_equal(markers["s"], x[[7]]),
+              "sweep: failed (x) and not run (s) members at their EI1: %s" % markers)
+        check(ax.get_xscale() == "log" and ax.get_yscale() == "linear",
+              "sweep: auto scales of a logspace EI1 against a tip z spanning 1e3: %s, %s"
+              % (ax.get_xscale(), ax.get_yscale()))
+        module.plt.close(fig)
+        fig, ax = module.sweep_figure(res, "EI1", "max_balance_error", "linear", "log")
+        check(ax.get_xscale() == "linear" and ax.get_yscale() == "log",
+              "sweep: --xscale linear --yscale log: %s, %s" % (ax.get_xscale(), ax.get_yscale()))
+        module.plt.close(fig)
+    check(module.auto_log(np.logspace(0, 3, 8), 10.0, True)
+          and not module.auto_log(np.linspace(1, 1000, 8), 10.0, True)
+          and not module.auto_log(np.linspace(-1, 1, 8), 10.0, True),
+          "auto_log: log for a logspace, linear for a linspace and for signed values")
+
+    for extra in ([], ["--x", SWEEP_PARAMETER, "--logy"], ["--x", "EI1", "--y", "tip_position:1"]):
+        out = os.path.join(out_dir, "sweep%s.png" % len(extra))
+        if os.path.exists(out):
+            os.remove(out)
+        args = extra if "--y" in extra else extra + ["--y", "tip_z"]
+        p = run(rodplot, "sweep", one, "-o", out, *args)
+        check(p.returncode == 0, "sweep %s: exit %d: %s" % (args, p.returncode, p.stderr))
+        check_png(out, "sweep %s" % args)
+    default = os.path.splitext(one)[0] + "_sweep.png"
+    p = run(rodplot, "sweep", one, "--y", "wall_time")
+    check(p.returncode == 0 and os.path.isfile(default),
+          "sweep without -o writes %s: exit %d: %s" % (default, p.returncode, p.stderr))
+    never = os.path.join(out_dir, "never.png")
+    for args, words in ((["--x", "EI2", "--y", "tip_z"], ["EI2", SWEEP_PARAMETER]),
+                        (["--y", "tip_w"], ["tip_w", "tip_x, tip_y, tip_z", "final_time"]),
+                        (["--y", "tip_position:4"], ["x, y, z"])):
+        p = run(rodplot, "sweep", one, "-o", never, *args)
+        check(p.returncode == 2 and all(w in p.stderr for w in words),
+              "sweep %s: exit %d, expected 2 naming %s: %r" % (args, p.returncode, words,
+                                                               p.stderr))
+    p = run(rodplot, "sweep", one, "-o", never)
+    check(p.returncode == 2 and "--y" in p.stderr,
+          "sweep without --y: usage error: exit %d: %r" % (p.returncode, p.stderr))
+    p = run(rodplot, "sweep", result, "--y", "tip_z", "-o", never)
+    check(p.returncode == 2 and "not a sweep" in p.stderr,
+          "sweep on a single run's file: exit %d: %r" % (p.returncode, p.stderr))
+    p = run(rodplot, "energy", one, "-o", never)
+    check(p.returncode == 2 and "sweep" in p.stderr and "/members/<id>" in p.stderr,
+          "energy on a sweep file: exit %d: %r" % (p.returncode, p.stderr))
+    check(not os.path.exists(never), "no image for failed sweep plots")
+
+    # A product of two parameters in linspace: one curve per load.
+    two = os.path.join(out_dir, "sweep_two.h5")
+    ei2 = np.tile(np.linspace(1.0, 4.0, 4), 3)
+    load = np.repeat([1.0, 2.0, 3.0], 4)
+    write_sweep_file(two, {SWEEP_PARAMETER: ei2, "load(1)%amplitude": load}, [0] * 12,
+                     [0, 1] * 6)
+    with open_result(two) as res:
+        p = None
+        try:
+            module.sweep_figure(res, None, "tip_z")
+        except module.MissingData as exc:
+            p = str(exc)
+        check(p is not None and "--x" in p and "load(1)%amplitude" in p,
+              "sweep: two parameters and no --x: an error naming both: %r" % p)
+        fig, ax = module.sweep_figure(res, "EI1", "tip_z")
+        curves, at_axis = data_lines(ax)
+        check(len(curves) == 3 and not at_axis and all(
+            np.array_equal(c[1], np.linspace(1.0, 4.0, 4)) and np.allclose(
+                c[2], -1.0 / (3.0 * np.linspace(1.0, 4.0, 4) * a), rtol=1e-14, atol=0)
+            for c, a in zip(curves, (1.0, 2.0, 3.0))),
+            "sweep: one curve per load amplitude, sorted by EI1: %s" % curves)
+        labels = ax.get_legend_handles_labels()[1]
+        check(labels == ["load(1)%%amplitude = %g" % a for a in (1, 2, 3)],
+              "sweep: curves labelled by the other parameter: %s" % labels)
+        check(ax.get_xscale() == "linear", "sweep: linspace EI1 on a linear axis")
+        module.plt.close(fig)
+
+    # The summary of a sweep.
+    p = run(rodplot, "summary", one)
+    check(p.returncode == 0, "summary of a sweep: exit %d: %s" % (p.returncode, p.stderr))
+    text = p.stdout
+    has_line(text, "members", "8: 6 completed, 1 failed, 1 not run", "sweep summary")
+    has_line(text, "status", "some members failed", "sweep summary")
+    has_line(text, SWEEP_PARAMETER, "8 values, 1 .. 1000, evenly spaced in log", "sweep summary")
+    ran = np.asarray(status) != 2
+    has_line(text, "wall time per member", "%s .. %s s, median %s s, sum %s s"
+             % (g(wall[ran].min()), g(wall[ran].max()), g(np.median(wall[ran])),
+                g(wall[ran].sum())), "sweep summary")
+    loads = [wall[ran & (np.asarray(rank) == r)].sum() for r in (0, 1)]
+    has_line(text, "rank 0", "3 members, %s s" % g(loads[0]), "sweep summary")
+    has_line(text, "rank 1", "4 members, %s s" % g(loads[1]), "sweep summary")
+    has_line(text, "slowest rank / mean", "%.3f (members' wall time summed per rank)"
+             % (max(loads) / np.mean(loads)), "sweep summary")
+    has_line(text, "Newton iterations", "%s .. %s per member, %d in all"
+             % (g(10 + np.flatnonzero(done).min()), g(10 + np.flatnonzero(done).max()),
+                (10 + np.flatnonzero(done)).sum()), "sweep summary")
+    check("id 3 (%s = %s), failed: Newton failed after 0 cut-backs" % (SWEEP_PARAMETER, g(x[2]))
+          in text and "id 8 (%s = %s), not run\n" % (SWEEP_PARAMETER, g(x[7])) in text,
+          "sweep summary lists the failed and the not-run member: %r" % text)
+    check("\nmembers\n" not in text, "sweep summary: no member rows without --members")
+    p = run(rodplot, "summary", one, "--members")
+    rows = p.stdout.split("\nmembers\n")[-1].strip().splitlines()
+    check(p.returncode == 0 and len(rows) == 9 and rows[0].split()[:2] == ["id", SWEEP_PARAMETER]
+          and rows[3].split()[-1] == "failed" and rows[8].split()[-1] == "run",
+          "summary --members: a header and 8 rows: %r" % rows)
+    p = run(rodplot, "summary", one, "--rod", "beam")
+    check(p.returncode == 2 and "/members/<id>" in p.stderr,
+          "summary --rod on a sweep: exit %d: %r" % (p.returncode, p.stderr))
+
+
 def main():
     rodplot, result, out_dir = sys.argv[1:4]
     os.makedirs(out_dir, exist_ok=True)
@@ -337,13 +550,15 @@ def main():
     p = run(rodplot, "--help")
     check(p.returncode == 0, "--help exit %d" % p.returncode)
     for word in ("energy", "momentum", "snapshots", "tip", "animate", "summary", "--rod",
-                 "--output", "--plane", "--frames", "--fps", "exit status", "viridis", "Pillow"):
+                 "--output", "--plane", "--frames", "--fps", "exit status", "viridis", "Pillow",
+                 "sweep", "--x", "--y", "--logx", "--yscale", "--members", "tip_z"):
         check(word in p.stdout, "--help mentions %s" % word)
 
     tip_checks(rodplot, out_dir)
     momentum_checks(rodplot, out_dir)
     animate_checks(rodplot, result, out_dir)
     summary_checks(rodplot, result, out_dir)
+    sweep_checks(rodplot, result, out_dir)
 
     for message in failures:
         print("FAILED: " + message)
