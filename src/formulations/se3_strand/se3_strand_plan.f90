@@ -16,7 +16,7 @@ contains
         type(scene_t), intent(in) :: scene
         integer, intent(in) :: i
         character(len=:), allocatable :: lines
-        character(len=:), allocatable :: supports, damping
+        character(len=:), allocatable :: supports, damping, skipped
         integer :: j, n, n_follower, n_dead
         associate (rod => scene%rods(i))
             n = rod%n_elements
@@ -57,9 +57,9 @@ contains
             call add('damping:' // damping)
             if (scene%time%relaxation) call add('relaxation: stop when the kinetic energy < ' // &
                 str_significant(scene%time%kinetic_energy_tol, 3) // ' J')
-            call add('skipped: Newton, constraints, Maxwell branches, actuators, joints' // &
-                trim(merge(', pose reconstruction per step (no dead loads)', &
-                '                                              ', n_dead == 0)))
+            skipped = 'skipped: Newton, constraints, Maxwell branches, actuators, joints'
+            if (n_dead == 0) skipped = skipped // ', pose reconstruction per step (no dead loads)'
+            call add(skipped)
         end associate
     contains
         subroutine add(line)
