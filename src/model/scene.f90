@@ -24,6 +24,8 @@ module rs_model_scene
     integer, parameter, public :: max_branches = 8
     !> Capacity of polyline centrelines (&rod points: 3 coordinates per point).
     integer, parameter, public :: max_polyline_points = 64
+    !> Rods tied to one &plate.
+    integer, parameter, public :: max_plate_rods = 128
     !> Capacity of the values of one &sweep (values = ...; also the largest count of linspace
     !> and logspace).
     integer, parameter, public :: max_sweep_values = 4096
@@ -160,6 +162,13 @@ module rs_model_scene
         real(rk) :: external_damping = 0.0_rk
         real(rk) :: internal_damping = 0.0_rk
         real(rk) :: kelvin_voigt_time = 0.0_rk
+        !> Radius of the rod's surface in rod-rod contact (&contact); default: the circle
+        !> section's radius.
+        real(rk) :: contact_radius = unset_real
+        !> Helix only: angle (rad) of the start point about the axis, measured from the
+        !> default normal of the axis (rs_model_rod_geometry): lays wires of a strand around
+        !> one axis.
+        real(rk) :: helix_phase = 0.0_rk
     end type rod_input_t
 
     !> &bc: the support at one end of a rod.
@@ -236,7 +245,56 @@ module rs_model_scene
         character(len=name_len) :: rod_b = ''
         character(len=name_len) :: end_b = ''
         character(len=name_len) :: kind = ''
+        !> 'revolute' in 3D: the hinge axis in the reference configuration (inertial
+        !> components, normalized); it stays fixed in both end sections. Planar formulations
+        !> turn about e_z and leave it unset.
+        real(rk) :: axis(3) = unset_real
     end type joint_input_t
+
+    !> &plate: a rigid end plate to which rod ends are tied (issue 10: bundles clamped to
+    !> common end plates). Each listed end keeps its reference position and orientation
+    !> relative to the plate; the plate is fixed, or driven: moved by f(t) displacement and
+    !> turned by the rotation vector f(t) rotation about `centre` (inertial components; f the
+    !> time function). A pull is a displacement along the bundle, a twist a rotation about it.
+    type, public :: plate_input_t
+        !> Line of the group in the input file (set by the reader; not an input variable).
+        integer :: input_line = 0
+        character(len=name_len) :: name = ''
+        !> The rods tied to the plate (leading given entries) and their tied end ('start' or
+        !> 'end', the same for all).
+        character(len=name_len) :: rods(max_plate_rods) = ''
+        character(len=name_len) :: end = ''
+        !> Centre of the plate's rotation; default: the mean reference position of its ends.
+        real(rk) :: centre(3) = unset_real
+        real(rk) :: displacement(3) = 0.0_rk
+        real(rk) :: rotation(3) = 0.0_rk
+        character(len=name_len) :: time_function = 'constant'
+        real(rk) :: t_on = 0.0_rk
+        real(rk) :: t_off = unset_real
+        real(rk) :: table_times(max_table) = unset_real
+        real(rk) :: table_values(max_table) = unset_real
+    end type plate_input_t
+
+    !> &contact: rod-rod and self contact between all rods of the scene (issue 10, DESIGN.md
+    !> §5): the penalty potential of rs_contact_potential between Gauss points of elements
+    !> closer than the contact distance radius_a + radius_b (each rod's contact_radius).
+    type, public :: contact_input_t
+        !> The group was given (set by the reader; not an input variable): contact is on.
+        logical :: given = .false.
+        integer :: input_line = 0
+        !> Penalty stiffness k (N/m: energy per length squared).
+        real(rk) :: stiffness = unset_real
+        !> Broad-phase margin (m) added to the contact distance when candidate pairs are
+        !> collected; default: the largest contact_radius.
+        real(rk) :: margin = unset_real
+        !> Elements of one rod this many or fewer apart along it are never a pair (self
+        !> contact); default: derived from the contact distance and the element length.
+        integer :: skip = unset_int
+        !> Self contact of a rod beyond `skip` elements.
+        logical :: self_contact = .true.
+        !> Friction: 'none' (frictionless normal contact).
+        character(len=name_len) :: friction = 'none'
+    end type contact_input_t
 
     !> &sweep: one swept variable (DESIGN.md §5, §6). `parameter` is a path into the scene,
     !> 'rod(1)%EI1', 'time%dt', 'load(1)%force(3)'; its values are the leading given entries of
@@ -270,6 +328,8 @@ module rs_model_scene
         type(load_input_t), allocatable :: loads(:)
         type(actuator_input_t), allocatable :: actuators(:)
         type(joint_input_t), allocatable :: joints(:)
+        type(plate_input_t), allocatable :: plates(:)
+        type(contact_input_t) :: contact
         type(sweep_input_t), allocatable :: sweeps(:)
     end type scene_t
 
