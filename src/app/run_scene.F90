@@ -37,6 +37,9 @@ module rs_app_run_scene
     integer, allocatable :: rod_system(:), rod_slot(:), system_first(:), system_members(:)
     !> The rank of each system: dealt by estimated cost (rs_parallel_deal).
     integer, allocatable :: system_rank(:)
+    !> Systems solved by all ranks together (DESIGN.md §5: a bundle of ph_director rods coupled
+    !> by joints, plates or contact, on PETSC_COMM_WORLD); rank 0 writes their records.
+    logical, allocatable :: system_shared(:)
 
 contains
 
@@ -69,6 +72,7 @@ contains
         ! stride, the initial record, an endpoint and a failure record.
         call coupled_systems(scene, rod_system, system_first, system_members)
         system_rank = deal_by_cost(system_costs(scene, system_first, system_members), world_size())
+        call mark_shared(scene)
         if (allocated(rod_slot)) deallocate(rod_slot)
         allocate(rod_slot(size(scene%rods)))
         do i = 1, size(system_first) - 1
@@ -78,9 +82,9 @@ contains
         capacity = scene%output%flush_every / scene%output%stride + 4
         allocate(runners(size(system_first) - 1))
         do i = 1, size(runners)
-            if (system_owner(i) /= world_rank()) cycle
+            if (.not. runs_here(i)) cycle
             call runners(i)%start(scene, system_members(system_first(i):system_first(i + 1) - 1), &
-                capacity, restarting, local_err)
+                capacity, restarting, local_err, shared=system_shared(i))
             if (allocated(local_err)) exit
         end do
         if (collective_failure(local_err, err, 'a rod could not be built (see above)')) return
@@ -133,7 +137,7 @@ contains
         last_sidecar = -huge(1.0_rk)
         do n = first_step, n_steps
             do i = 1, size(runners)
-                if (system_owner(i) == world_rank()) call runners(i)%advance(scene, n)
+                if (runs_here(i)) call runners(i)%advance(scene, n)
             end do
             call log_debug('rodsolve: step ' // str(n) // ' done')
             ! &time relaxation: the run ends when every system has relaxed (or failed).
@@ -211,7 +215,7 @@ contains
             logical :: running(size(runners))
             integer :: k
             do k = 1, size(runners)
-                running(k) = system_owner(k) == world_rank() .and. .not. runners(k)%relaxed .and. &
+                running(k) = runs_here(k) .and. .not. runners(k)%relaxed .and. &
                     .not. runners(k)%failed
             end do
         end function still_running
@@ -258,7 +262,7 @@ contains
         character(len=:), allocatable :: message
         steps = [-huge(1), -huge(1)]
         do i = 1, size(records)
-            if (rod_owner(i) /= world_rank()) cycle
+            if (.not. runs_here(rod_system(i))) cycle
             if (rod_slot(i) > 1) then
                 ! A system's state is in its first rod's checkpoint, read before (rod order);
                 ! every rod of the system has as many records.
@@ -335,6 +339,9 @@ contains
                 end associate
             else
                 call writer%write_records(i, err)
+                ! The other ranks of a shared system keep the same records: drop them.
+                if (system_shared(rod_system(i))) &
+                    call runners(rod_system(i))%histories(rod_slot(i))%clear()
             end if
             if (allocated(err) .or. failed(i) == 1) cycle
             if (rod_owner(i) == world_rank() .and. rod_slot(i) == 1) then
@@ -450,10 +457,12 @@ contains
         iterations = 0
         cutbacks = 0
         do i = 1, size(runners)
-            if (system_owner(i) /= world_rank()) cycle
+            if (.not. runs_here(i)) cycle
             assembly = assembly + runners(i)%assembly_seconds()
             solve = solve + runners(i)%solve_seconds - runners(i)%assembly_seconds()
-            call runners(i)%finish()
+            call runners(i)%finish(quiet=system_owner(i) /= world_rank())
+            ! A shared system's counts once (its owner's).
+            if (system_owner(i) /= world_rank()) cycle
             iterations = iterations + runners(i)%total_iterations
             cutbacks = cutbacks + runners(i)%total_cutbacks
         end do
@@ -553,6 +562,30 @@ contains
         integer, intent(in) :: k
         system_owner = system_rank(k)
     end function system_owner
+
+    !> True if this rank takes part in system k: it owns it, or the system is shared.
+    logical function runs_here(k)
+        integer, intent(in) :: k
+        runs_here = system_owner(k) == world_rank() .or. system_shared(k)
+    end function runs_here
+
+    !> The shared systems: on more than one rank, a ph_director system that couples rods
+    !> (joints, plates, contact) is solved by all ranks, and rank 0 owns its records.
+    subroutine mark_shared(scene)
+        type(scene_t), intent(in) :: scene
+        integer :: k
+        logical :: couples
+        if (allocated(system_shared)) deallocate(system_shared)
+        allocate(system_shared(size(system_first) - 1), source=.false.)
+        if (world_size() == 1) return
+        do k = 1, size(system_shared)
+            couples = system_first(k + 1) - system_first(k) > 1 .or. scene%contact%given
+            if (allocated(scene%plates)) couples = couples .or. size(scene%plates) > 0
+            system_shared(k) = couples .and. &
+                trim(scene%rods(system_members(system_first(k)))%formulation) == 'ph_director'
+            if (system_shared(k)) system_rank(k) = 0
+        end do
+    end subroutine mark_shared
 
     !> Rank that runs rod i (the owner of its system).
     integer function rod_owner(i)

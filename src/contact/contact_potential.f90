@@ -8,19 +8,25 @@
 !>
 !>     psi(d2) = k / (3 r_c^4) (r_c^2 - d2)^3    for d2 < r_c^2,    psi(d2) = 0 otherwise,
 !>
-!> with r_c = radius_a + radius_b + margin the contact distance and k the stiffness (energy per
-!> length squared, N/m). psi, psi' and psi'' vanish at d2 = r_c^2, so psi is C2 (psi''' jumps).
+!> with r_c = radius_a + radius_b + margin the contact distance and k the stiffness. Summed over
+!> pairs of quadrature points with weights w_a w_b (lengths), psi approximates a double line
+!> integral (rs_contact_element), so psi is an energy per length squared (J/m^2 = N/m) and k,
+!> psi divided by a length squared, has units N/m^3. psi, psi' and psi'' vanish at d2 = r_c^2,
+!> so psi is C2 (psi''' jumps).
 !> Write s = r_c^2 - d2 (> 0 in the support) and c = k / (3 r_c^4): psi = c s^3,
 !> psi' = -3 c s^2, psi'' = 6 c s (derivatives with respect to d2).
 !>
-!> Normal force. The pair pushes a and b apart with |F| = -2 psi'(d2) d, d = sqrt(d2); at the
+!> Normal force. The pair pushes a and b apart with |F| = -2 psi'(d2) d, d = sqrt(d2), a force
+!> per length squared (N/m^2; times w_a w_b it is the force between the two points); at the
 !> penetration delta = r_c - d, exactly
 !>
 !>     |F|(delta) = 8 k delta^2 / r_c (1 - delta / r_c) (1 - delta / (2 r_c))^2,
 !>
-!> so |F| ~ 8 k delta^2 / r_c for delta << r_c: a load F is carried at delta ~ sqrt(F r_c / (8 k)).
-!> |F| peaks at d = r_c / sqrt(5) (delta = 0.553 r_c) and falls to 0 at d = 0: the stiffness must
-!> keep the working penetration well below that (DESIGN.md §5: penetration is reported).
+!> so |F| ~ 8 k delta^2 / r_c for delta << r_c. |F| peaks at d = r_c / sqrt(5) (delta =
+!> 0.553 r_c) and falls to 0 at d = 0. Rods touch along lines, not at points: for choosing k use
+!> the line-contact law of rs_contact_element (force per length ~ 12.07 k delta^(5/2) / sqrt(r_c),
+!> contact_line_force, contact_line_penetration), and keep the working penetration well below
+!> its peak (DESIGN.md §5: penetration is reported).
 !>
 !> The midpoint step (methods/ph_director_3d.md §5.1, §5.3 item 1). The unknowns are the
 !> positions at t_{n+1} (suffix `_1`; t_n is suffix `_n`). With r = x_a - x_b and
@@ -67,7 +73,7 @@ module rs_contact_potential
     !> Parameters of the potential of one pair of rods; set them with contact_params_init, which
     !> also fills the derived components.
     type :: contact_params_t
-        !> Stiffness k (energy per length squared).
+        !> Stiffness k (N/m^3; psi = k (r_c^2 - d2)^3 / (3 r_c^4) is an energy per length squared).
         real(rk) :: stiffness = 0.0_rk
         !> Contact distance r_c = radius_a + radius_b + margin.
         real(rk) :: contact_distance = 0.0_rk

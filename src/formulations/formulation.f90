@@ -79,6 +79,20 @@ module rs_formulations_formulation
         !> Kinetic energy of the state X, for runs that stop when it is small (&time
         !> relaxation); default -1: not reported.
         procedure :: kinetic_energy => default_kinetic_energy
+        !> Before each step from X_n: refresh what the step needs besides X_n (bundles: the
+        !> contact candidate pairs). `repattern` is true when the Jacobian pattern changed, so
+        !> the stepper must be built again; default: nothing to do.
+        procedure :: prepare_step => default_prepare_step
+        !> A system solved on all ranks together (DESIGN.md §5: bundles on PETSC_COMM_WORLD):
+        !> the rods as the vertices of the coupling graph, in CSR form (0-based adjncy), with
+        !> their unknowns as weights; default: no graph (a system of one rank).
+        procedure :: coupling_graph => default_coupling_graph
+        !> Give the system's rods to ranks (part(i) = rank of rod i of the graph) and say which
+        !> rank this is; the unknowns are renumbered so that each rank owns a contiguous range.
+        procedure :: distribute => default_distribute
+        !> The 0-based half-open ranges [lo, hi) of the state and the unknowns this rank owns;
+        !> default: everything.
+        procedure :: owned_range => default_owned_range
     end type rod_formulation_t
 
     abstract interface
@@ -205,6 +219,33 @@ contains
         class(rod_formulation_t), intent(inout) :: this
         real(rk), intent(in) :: values(:)
     end subroutine default_restore_internal
+
+    subroutine default_prepare_step(this, t_n, h, x_n, repattern)
+        class(rod_formulation_t), intent(inout) :: this
+        real(rk), intent(in) :: t_n, h, x_n(:)
+        logical, intent(out) :: repattern
+        repattern = .false.
+    end subroutine default_prepare_step
+
+    subroutine default_coupling_graph(this, xadj, adjncy, weights)
+        class(rod_formulation_t), intent(in) :: this
+        integer, allocatable, intent(out) :: xadj(:), adjncy(:), weights(:)
+        allocate(xadj(0), adjncy(0), weights(0))
+    end subroutine default_coupling_graph
+
+    subroutine default_distribute(this, part, rank)
+        class(rod_formulation_t), intent(inout) :: this
+        integer, intent(in) :: part(:), rank
+    end subroutine default_distribute
+
+    subroutine default_owned_range(this, state_lo, state_hi, unknown_lo, unknown_hi)
+        class(rod_formulation_t), intent(in) :: this
+        integer, intent(out) :: state_lo, state_hi, unknown_lo, unknown_hi
+        state_lo = 0
+        state_hi = this%n_state()
+        unknown_lo = 0
+        unknown_hi = this%n_unknown()
+    end subroutine default_owned_range
 
     subroutine default_predictor(this, t_n, h, x_n, y)
         class(rod_formulation_t), intent(inout) :: this

@@ -59,7 +59,15 @@ module rs_model_rod_history
         real(rk), allocatable :: newton_residual(:)
         !> Time step that ended at this record (after any cut-backs, the smallest substep).
         real(rk), allocatable :: dt(:)
+        !> Rods of a bundle (issue 10; allocated by init_coupling): the rod's share of the
+        !> contact energy (half of each of its pairs), the total contact force on it, its
+        !> deepest contact penetration r_c - d (0 without contact), and the forces of joints and
+        !> plates on its two ends, tie_force(:, end, step) with end 1 = start, 2 = end.
+        real(rk), allocatable :: contact_energy(:), penetration(:)
+        real(rk), allocatable :: contact_force(:, :), tie_force(:, :, :)
     contains
+        !> Room for the bundle series of `capacity` records.
+        procedure :: init_coupling => rod_history_init_coupling
         procedure :: init => rod_history_init
         procedure :: free => rod_history_free
         procedure :: next_record => rod_history_next_record
@@ -136,7 +144,18 @@ contains
         if (allocated(this%linear_momentum)) deallocate(this%linear_momentum)
         if (allocated(this%angular_momentum)) deallocate(this%angular_momentum)
         if (allocated(this%center_of_mass)) deallocate(this%center_of_mass)
+        if (allocated(this%contact_energy)) deallocate(this%contact_energy)
+        if (allocated(this%penetration)) deallocate(this%penetration)
+        if (allocated(this%contact_force)) deallocate(this%contact_force)
+        if (allocated(this%tie_force)) deallocate(this%tie_force)
     end subroutine rod_history_free
+
+    subroutine rod_history_init_coupling(this, capacity)
+        class(rod_history_t), intent(inout) :: this
+        integer, intent(in) :: capacity
+        allocate(this%contact_energy(capacity), this%penetration(capacity), source=0.0_rk)
+        allocate(this%contact_force(3, capacity), this%tie_force(3, 2, capacity), source=0.0_rk)
+    end subroutine rod_history_init_coupling
 
     !> Index of the next record, or 0 when the capacity is used up.
     function rod_history_next_record(this) result(record)

@@ -282,7 +282,7 @@ module rs_model_scene
         !> The group was given (set by the reader; not an input variable): contact is on.
         logical :: given = .false.
         integer :: input_line = 0
-        !> Penalty stiffness k (N/m: energy per length squared).
+        !> Penalty stiffness k (N/m^3: the pair potential is an energy per length squared).
         real(rk) :: stiffness = unset_real
         !> Broad-phase margin (m) added to the contact distance when candidate pairs are
         !> collected; default: the largest contact_radius.
@@ -294,6 +294,9 @@ module rs_model_scene
         logical :: self_contact = .true.
         !> Friction: 'none' (frictionless normal contact).
         character(len=name_len) :: friction = 'none'
+        !> Contact points (Gauss points) per element; default: enough to resolve the contact
+        !> patch at a penetration of 5% of the contact distance (docs/theory/bundles.md).
+        integer :: points_per_element = unset_int
     end type contact_input_t
 
     !> &sweep: one swept variable (DESIGN.md §5, §6). `parameter` is a path into the scene,

@@ -19,11 +19,12 @@
 module rs_model_time_function
     use rs_core_kinds, only: rk
     use rs_core_error, only: error_t, set_error
-    use rs_model_scene, only: load_input_t, actuator_input_t, bc_input_t, unset_real
+    use rs_model_scene, only: load_input_t, actuator_input_t, bc_input_t, plate_input_t, unset_real
     implicit none
     private
 
     public :: time_function_from_load, time_function_from_actuator, time_function_from_bc
+    public :: time_function_from_plate
 
     !> The names `time_function_from_load`, `time_function_from_actuator` and
     !> `time_function_from_bc` accept.
@@ -72,6 +73,16 @@ contains
         call time_function_from_parts('time_function_from_bc', bc%time_function, bc%t_on, &
             bc%t_off, bc%table_times, bc%table_values, tf, err)
     end subroutine time_function_from_bc
+
+    !> The time function f of a driven `&plate` (its pose at t is the motion scaled by f(t));
+    !> the same names and rules as `time_function_from_load`.
+    subroutine time_function_from_plate(plate, tf, err)
+        type(plate_input_t), intent(in) :: plate
+        type(time_function_t), intent(out) :: tf
+        type(error_t), allocatable, intent(out) :: err
+        call time_function_from_parts('time_function_from_plate', plate%time_function, plate%t_on, &
+            plate%t_off, plate%table_times, plate%table_values, tf, err)
+    end subroutine time_function_from_plate
 
     !> The time function named `name` on [t_on, t_off] or through the set entries of
     !> (times, values); errors name `routine`, the public entry point.

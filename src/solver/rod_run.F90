@@ -19,6 +19,9 @@ module rs_solver_rod_run
     use rs_formulations_formulation, only: rod_formulation_t, state_valid
     use rs_formulations_factory, only: create_formulation
     use rs_solver_rod_stepper, only: rod_stepper_t
+    use rs_model_scene, only: solver_input_t
+    use rs_parallel_mpi_env, only: world_rank, world_size
+    use rs_parallel_metis, only: partition_graph
     implicit none
     private
 
@@ -47,6 +50,13 @@ module rs_solver_rod_run
         class(rod_formulation_t), pointer :: formulation => null()
         type(callback_context_t), pointer :: context => null()
         type(rod_stepper_t) :: stepper
+        !> The system is solved by all ranks together (DESIGN.md §5: a bundle on
+        !> PETSC_COMM_WORLD); its state x is whole on every rank.
+        logical :: shared = .false.
+        !> The scene's solver settings, to build the stepper again when the pattern changes.
+        type(solver_input_t) :: solver
+        !> Times the stepper was built again for a new Jacobian pattern (contact pairs).
+        integer :: repatterns = 0
         !> The state X after the last accepted step.
         real(rk), allocatable :: x(:)
         !> The system stopped: its solver failed (`err` says where and why).
@@ -97,21 +107,32 @@ contains
 
     !> Build the system of the scene's rods `rods` with room for `capacity` records between two
     !> writes.
-    subroutine runner_start(this, scene, rods, capacity, restarting, err)
+    subroutine runner_start(this, scene, rods, capacity, restarting, err, shared)
         class(rod_runner_t), intent(inout) :: this
         type(scene_t), intent(in) :: scene
         integer, intent(in) :: rods(:), capacity
         logical, intent(in) :: restarting
         type(error_t), allocatable, intent(out) :: err
+        !> Solve the system on all ranks together (default false: on this rank alone).
+        logical, intent(in), optional :: shared
         class(rod_formulation_t), allocatable :: built
-        integer, allocatable :: row_ptr(:), cols(:)
+        logical :: bundle
 
         this%rods = rods
-        call create_formulation(scene%rods(rods(1))%formulation, built, err)
+        this%solver = scene%solver
+        this%shared = .false.
+        if (present(shared)) this%shared = shared .and. world_size() > 1
+        bundle = size(rods) > 1 .or. scene%contact%given
+        if (allocated(scene%plates)) bundle = bundle .or. size(scene%plates) > 0
+        call create_formulation(scene%rods(rods(1))%formulation, built, err, bundle=bundle)
         RS_RETURN_IF_ERROR(err)
         allocate(this%formulation, source=built)
         call this%formulation%init(scene, rods, err)
         RS_RETURN_IF_ERROR(err)
+        if (this%shared) then
+            call distribute_system(this, err)
+            RS_RETURN_IF_ERROR(err)
+        end if
         call log_info(this%formulation%describe())
 
         allocate(this%histories(size(rods)))
@@ -121,20 +142,71 @@ contains
         if (.not. restarting) call this%formulation%record(this%histories, 0.0_rk, this%x)
         call this%note_record()
 
-        call this%formulation%jacobian_pattern(row_ptr, cols)
         allocate(this%context)
         this%context%formulation => this%formulation
+        call build_stepper(this, err)
+    end subroutine runner_start
+
+    !> A shared system's rods to ranks: METIS on the formulation's coupling graph (DESIGN.md
+    !> §5; every rank computes the same partition), logged.
+    subroutine distribute_system(this, err)
+        type(rod_runner_t), intent(inout) :: this
+        type(error_t), allocatable, intent(out) :: err
+        integer, allocatable :: xadj(:), adjncy(:), weights(:), part(:)
+        integer :: i
+        call this%formulation%coupling_graph(xadj, adjncy, weights)
+        allocate(part(size(weights)))
+        if (size(weights) <= world_size()) then
+            part = [(i - 1, i = 1, size(weights))]
+        else
+            call partition_graph(xadj, adjncy, weights, world_size(), part, err)
+            RS_RETURN_IF_ERROR(err)
+        end if
+        call this%formulation%distribute(part, world_rank())
+    end subroutine distribute_system
+
+    !> The stepper of the formulation's current pattern (again after a pattern change).
+    subroutine build_stepper(this, err)
+        type(rod_runner_t), intent(inout) :: this
+        type(error_t), allocatable, intent(out) :: err
+        integer, allocatable :: row_ptr(:), cols(:)
+        integer :: owned(4)
+        call this%formulation%jacobian_pattern(row_ptr, cols)
         this%context%n_state = this%formulation%n_state()
         this%context%n_unknown = this%formulation%n_unknown()
         this%context%n_values = size(cols)
-        call this%stepper%create(this%context%n_state, this%context%n_unknown, row_ptr, cols, &
-            c_funloc(residual_callback), c_funloc(jacobian_callback), &
-            c_funloc(predictor_callback), c_funloc(update_callback), c_funloc(poststep_callback), &
-            c_loc(this%context), scene%solver%newton_atol, scene%solver%newton_rtol, &
-            scene%solver%max_newton, scene%solver%max_cutbacks, err, &
-            native_lu=this%formulation%native_lu(), full_newton=this%formulation%full_newton(), &
-            linear_step=this%formulation%linear_step(), banded=this%formulation%banded_unknowns())
-    end subroutine runner_start
+        if (this%shared) then
+            call this%formulation%owned_range(owned(1), owned(2), owned(3), owned(4))
+            call this%stepper%create(this%context%n_state, this%context%n_unknown, row_ptr, cols, &
+                c_funloc(residual_callback), c_funloc(jacobian_callback), &
+                c_funloc(predictor_callback), c_funloc(update_callback), c_funloc(poststep_callback), &
+                c_loc(this%context), this%solver%newton_atol, this%solver%newton_rtol, &
+                this%solver%max_newton, this%solver%max_cutbacks, err, &
+                native_lu=this%formulation%native_lu(), full_newton=this%formulation%full_newton(), &
+                linear_step=this%formulation%linear_step(), banded=this%formulation%banded_unknowns(), &
+                owned=owned)
+        else
+            call this%stepper%create(this%context%n_state, this%context%n_unknown, row_ptr, cols, &
+                c_funloc(residual_callback), c_funloc(jacobian_callback), &
+                c_funloc(predictor_callback), c_funloc(update_callback), c_funloc(poststep_callback), &
+                c_loc(this%context), this%solver%newton_atol, this%solver%newton_rtol, &
+                this%solver%max_newton, this%solver%max_cutbacks, err, &
+                native_lu=this%formulation%native_lu(), full_newton=this%formulation%full_newton(), &
+                linear_step=this%formulation%linear_step(), banded=this%formulation%banded_unknowns())
+        end if
+    end subroutine build_stepper
+
+    !> Before a step from x: the formulation refreshes what the step needs (contact pairs) and
+    !> the stepper is built again if the Jacobian pattern changed.
+    subroutine prepare(this, t_n, h)
+        type(rod_runner_t), intent(inout) :: this
+        real(rk), intent(in) :: t_n, h
+        logical :: repattern
+        call this%formulation%prepare_step(t_n, h, this%x, repattern)
+        if (.not. repattern) return
+        this%repatterns = this%repatterns + 1
+        call build_stepper(this, this%err)
+    end subroutine prepare
 
     subroutine runner_restore(this, scene, step, state, internal, err)
         class(rod_runner_t), intent(inout) :: this
@@ -164,13 +236,19 @@ contains
         integer, intent(in) :: n
         real(rk) :: t_n, h, fnorm, started, kinetic
         integer :: n_steps, substeps, cutbacks, iterations
+        substeps = 0
+        cutbacks = 0
+        iterations = 0
+        fnorm = 0.0_rk
 
         if (this%failed .or. this%relaxed) return
         n_steps = step_count(scene)
         t_n = real(n - 1, rk) * scene%time%dt
         h = min(scene%time%dt, scene%time%t_end - t_n)
         started = wall_time()
-        call this%stepper%advance(t_n, h, this%x, substeps, cutbacks, iterations, fnorm, this%err)
+        call prepare(this, t_n, h)
+        if (.not. allocated(this%err)) call this%stepper%advance(t_n, h, this%x, substeps, &
+            cutbacks, iterations, fnorm, this%err)
         this%solve_seconds = this%solve_seconds + (wall_time() - started)
         this%total_iterations = this%total_iterations + iterations
         this%total_cutbacks = this%total_cutbacks + cutbacks
@@ -185,8 +263,9 @@ contains
             ! the last record is the equilibrium at the final load itself.
             call this%formulation%set_endpoint_solve(.true., scene%time%t_end)
             started = wall_time()
-            call this%stepper%advance(t_n, h, this%x, substeps, cutbacks, iterations, fnorm, &
-                this%err)
+            call prepare(this, t_n, h)
+            if (.not. allocated(this%err)) call this%stepper%advance(t_n, h, this%x, substeps, &
+                cutbacks, iterations, fnorm, this%err)
             this%solve_seconds = this%solve_seconds + (wall_time() - started)
             call this%formulation%set_endpoint_solve(.false., scene%time%t_end)
             this%total_iterations = this%total_iterations + iterations
@@ -277,12 +356,17 @@ contains
         if (associated(this%context)) runner_assembly_seconds = this%context%assembly_seconds
     end function runner_assembly_seconds
 
-    subroutine runner_finish(this)
+    subroutine runner_finish(this, quiet)
         class(rod_runner_t), intent(inout) :: this
+        !> No summary line (another rank of a shared system prints it).
+        logical, intent(in), optional :: quiet
         real(rk) :: elapsed
         call this%stepper%destroy()
         if (associated(this%context)) deallocate(this%context)
         if (associated(this%formulation)) deallocate(this%formulation)
+        if (present(quiet)) then
+            if (quiet) return
+        end if
         ! The summary line is also what tests/bench/ reads (time loop only, output excluded).
         elapsed = this%solve_seconds
         call log_info('  ' // this%name() // ': ' // str(this%steps_done) // ' steps, ' // &

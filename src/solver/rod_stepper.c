@@ -34,6 +34,16 @@ typedef struct {
     rs_cb_poststep poststep;
     void          *ctx;
     fenv_t         caller_env; /* floating-point environment of the Fortran caller */
+    /* A system shared by all ranks (DESIGN.md §5: bundles on PETSC_COMM_WORLD): each rank owns
+       the rows [unknown_lo, unknown_hi) and the state entries [state_lo, state_hi); the
+       callbacks see the whole X_n and Y, gathered on every rank, and fill the owned rows. */
+    int            distributed;
+    MPI_Comm       comm;
+    PetscInt       state_lo, state_hi, unknown_lo, unknown_hi;
+    VecScatter     gather_state, gather_unknown;
+    Vec            x_all, x2_all, y_all;   /* sequential, whole length */
+    PetscScalar   *f_all, *values_all, *out_all;
+    PetscInt      *row_ptr_all, *cols_all; /* the whole CSR pattern (0-based) */
 } RsStepper;
 
 /* Enter PETSc from the caller: remember its environment, switch traps off. */
@@ -104,6 +114,85 @@ static void set_petsc_message(char *errmsg, int errlen, const char *what, PetscE
 
 /* ---- The step problem of rodmid, on raw arrays -------------------------------------------- */
 
+/* Distributed mode: the whole of a distributed vector V on every rank, in `all`. */
+static PetscErrorCode gather(VecScatter scatter, Vec V, Vec all)
+{
+    PetscFunctionBegin;
+    PetscCall(VecScatterBegin(scatter, V, all, INSERT_VALUES, SCATTER_FORWARD));
+    PetscCall(VecScatterEnd(scatter, V, all, INSERT_VALUES, SCATTER_FORWARD));
+    PetscFunctionReturn(0);
+}
+
+/* Distributed mode: copy the owned part [lo, hi) of a whole-length array into V. */
+static PetscErrorCode scatter_owned(const PetscScalar *whole, PetscInt lo, PetscInt hi, Vec V)
+{
+    PetscScalar *a;
+
+    PetscFunctionBegin;
+    PetscCall(VecGetArray(V, &a));
+    PetscCall(PetscArraycpy(a, whole + lo, hi - lo));
+    PetscCall(VecRestoreArray(V, &a));
+    PetscFunctionReturn(0);
+}
+
+/* Distributed mode: a status every rank agrees on (the largest), so that a domain error seen
+   by one rank cuts the step on all. */
+static PetscErrorCode agree(const RsStepper *s, int *status)
+{
+    int local = *status;
+
+    PetscFunctionBegin;
+    PetscCallMPI(MPI_Allreduce(&local, status, 1, MPI_INT, MPI_MAX, s->comm));
+    PetscFunctionReturn(0);
+}
+
+static PetscErrorCode step_residual_distributed(RsStepper *s, PetscReal t_n, PetscReal h, Vec X_n,
+                                                Vec Y, Vec F, int *status)
+{
+    const PetscScalar *x, *y;
+    fenv_t             env;
+
+    PetscFunctionBegin;
+    PetscCall(gather(s->gather_state, X_n, s->x_all));
+    PetscCall(gather(s->gather_unknown, Y, s->y_all));
+    PetscCall(VecGetArrayRead(s->x_all, &x));
+    PetscCall(VecGetArrayRead(s->y_all, &y));
+    enter_user(s, &env);
+    *status = s->residual(s->ctx, t_n, h, x, y, s->f_all);
+    leave_user(&env);
+    PetscCall(VecRestoreArrayRead(s->y_all, &y));
+    PetscCall(VecRestoreArrayRead(s->x_all, &x));
+    PetscCall(agree(s, status));
+    PetscCall(scatter_owned(s->f_all, s->unknown_lo, s->unknown_hi, F));
+    PetscFunctionReturn(0);
+}
+
+static PetscErrorCode step_jacobian_distributed(RsStepper *s, PetscReal t_n, PetscReal h, Vec X_n,
+                                                Vec Y, Mat J, int *status)
+{
+    const PetscScalar *x, *y;
+    fenv_t             env;
+
+    PetscFunctionBegin;
+    PetscCall(gather(s->gather_state, X_n, s->x_all));
+    PetscCall(gather(s->gather_unknown, Y, s->y_all));
+    PetscCall(VecGetArrayRead(s->x_all, &x));
+    PetscCall(VecGetArrayRead(s->y_all, &y));
+    enter_user(s, &env);
+    *status = s->jacobian(s->ctx, t_n, h, x, y, s->values_all);
+    leave_user(&env);
+    PetscCall(VecRestoreArrayRead(s->y_all, &y));
+    PetscCall(VecRestoreArrayRead(s->x_all, &x));
+    PetscCall(agree(s, status));
+    /* The owned rows, each with the columns of the preallocated pattern. */
+    for (PetscInt row = s->unknown_lo; row < s->unknown_hi; ++row) {
+        const PetscInt first = s->row_ptr_all[row], n = s->row_ptr_all[row + 1] - first;
+        PetscCall(MatSetValues(J, 1, &row, n, s->cols_all + first, s->values_all + first,
+                               INSERT_VALUES));
+    }
+    PetscFunctionReturn(0);
+}
+
 static PetscErrorCode step_residual(PetscReal t_n, PetscReal h, Vec X_n, Vec Y, Vec F, void *ctx)
 {
     RsStepper         *s = (RsStepper *)ctx;
@@ -114,15 +203,19 @@ static PetscErrorCode step_residual(PetscReal t_n, PetscReal h, Vec X_n, Vec Y, 
     fenv_t             env;
 
     PetscFunctionBegin;
-    PetscCall(VecGetArrayRead(X_n, &x));
-    PetscCall(VecGetArrayRead(Y, &y));
-    PetscCall(VecGetArray(F, &f));
-    enter_user(s, &env);
-    status = s->residual(s->ctx, t_n, h, x, y, f);
-    leave_user(&env);
-    PetscCall(VecRestoreArray(F, &f));
-    PetscCall(VecRestoreArrayRead(Y, &y));
-    PetscCall(VecRestoreArrayRead(X_n, &x));
+    if (s->distributed) {
+        PetscCall(step_residual_distributed(s, t_n, h, X_n, Y, F, &status));
+    } else {
+        PetscCall(VecGetArrayRead(X_n, &x));
+        PetscCall(VecGetArrayRead(Y, &y));
+        PetscCall(VecGetArray(F, &f));
+        enter_user(s, &env);
+        status = s->residual(s->ctx, t_n, h, x, y, f);
+        leave_user(&env);
+        PetscCall(VecRestoreArray(F, &f));
+        PetscCall(VecRestoreArrayRead(Y, &y));
+        PetscCall(VecRestoreArrayRead(X_n, &x));
+    }
     if (status == 1) {
         /* DESIGN.md §3: an invalid state cuts the step, not the run. */
         PetscCall(TSGetSNES(s->ts, &snes));
@@ -148,15 +241,19 @@ static PetscErrorCode step_jacobian(PetscReal t_n, PetscReal h, Vec X_n, Vec Y, 
     /* The values of an AIJ matrix are stored row by row with sorted columns, i.e. in the order
        of the CSR pattern it was preallocated from: the callback writes them in place. The
        pattern never changes, so the factorization's symbolic phase is not redone (§3). */
-    PetscCall(VecGetArrayRead(X_n, &x));
-    PetscCall(VecGetArrayRead(Y, &y));
-    PetscCall(MatSeqAIJGetArray(J, &values));
-    enter_user(s, &env);
-    status = s->jacobian(s->ctx, t_n, h, x, y, values);
-    leave_user(&env);
-    PetscCall(MatSeqAIJRestoreArray(J, &values));
-    PetscCall(VecRestoreArrayRead(Y, &y));
-    PetscCall(VecRestoreArrayRead(X_n, &x));
+    if (s->distributed) {
+        PetscCall(step_jacobian_distributed(s, t_n, h, X_n, Y, J, &status));
+    } else {
+        PetscCall(VecGetArrayRead(X_n, &x));
+        PetscCall(VecGetArrayRead(Y, &y));
+        PetscCall(MatSeqAIJGetArray(J, &values));
+        enter_user(s, &env);
+        status = s->jacobian(s->ctx, t_n, h, x, y, values);
+        leave_user(&env);
+        PetscCall(MatSeqAIJRestoreArray(J, &values));
+        PetscCall(VecRestoreArrayRead(Y, &y));
+        PetscCall(VecRestoreArrayRead(X_n, &x));
+    }
     PetscCall(MatAssemblyBegin(J, MAT_FINAL_ASSEMBLY));
     PetscCall(MatAssemblyEnd(J, MAT_FINAL_ASSEMBLY));
     if (status == 1) {
@@ -179,13 +276,23 @@ static PetscErrorCode step_predictor(PetscReal t_n, PetscReal h, Vec X_n, Vec Y,
     fenv_t             env;
 
     PetscFunctionBegin;
-    PetscCall(VecGetArrayRead(X_n, &x));
-    PetscCall(VecGetArray(Y, &y));
-    enter_user(s, &env);
-    status = s->predictor(s->ctx, t_n, h, x, y);
-    leave_user(&env);
-    PetscCall(VecRestoreArray(Y, &y));
-    PetscCall(VecRestoreArrayRead(X_n, &x));
+    if (s->distributed) {
+        PetscCall(gather(s->gather_state, X_n, s->x_all));
+        PetscCall(VecGetArrayRead(s->x_all, &x));
+        enter_user(s, &env);
+        status = s->predictor(s->ctx, t_n, h, x, s->out_all);
+        leave_user(&env);
+        PetscCall(VecRestoreArrayRead(s->x_all, &x));
+        PetscCall(scatter_owned(s->out_all, s->unknown_lo, s->unknown_hi, Y));
+    } else {
+        PetscCall(VecGetArrayRead(X_n, &x));
+        PetscCall(VecGetArray(Y, &y));
+        enter_user(s, &env);
+        status = s->predictor(s->ctx, t_n, h, x, y);
+        leave_user(&env);
+        PetscCall(VecRestoreArray(Y, &y));
+        PetscCall(VecRestoreArrayRead(X_n, &x));
+    }
     PetscCheck(status == 0, PETSC_COMM_SELF, PETSC_ERR_USER,
                "the predictor callback failed with status %d at t = %g, h = %g", status,
                (double)t_n, (double)h);
@@ -201,15 +308,28 @@ static PetscErrorCode step_update(PetscReal t_n, PetscReal h, Vec X_n, Vec Y, Ve
     fenv_t             env;
 
     PetscFunctionBegin;
-    PetscCall(VecGetArrayRead(X_n, &x));
-    PetscCall(VecGetArrayRead(Y, &y));
-    PetscCall(VecGetArray(X_np1, &x1));
-    enter_user(s, &env);
-    status = s->update(s->ctx, t_n, h, x, y, x1);
-    leave_user(&env);
-    PetscCall(VecRestoreArray(X_np1, &x1));
-    PetscCall(VecRestoreArrayRead(Y, &y));
-    PetscCall(VecRestoreArrayRead(X_n, &x));
+    if (s->distributed) {
+        PetscCall(gather(s->gather_state, X_n, s->x_all));
+        PetscCall(gather(s->gather_unknown, Y, s->y_all));
+        PetscCall(VecGetArrayRead(s->x_all, &x));
+        PetscCall(VecGetArrayRead(s->y_all, &y));
+        enter_user(s, &env);
+        status = s->update(s->ctx, t_n, h, x, y, s->out_all);
+        leave_user(&env);
+        PetscCall(VecRestoreArrayRead(s->y_all, &y));
+        PetscCall(VecRestoreArrayRead(s->x_all, &x));
+        PetscCall(scatter_owned(s->out_all, s->state_lo, s->state_hi, X_np1));
+    } else {
+        PetscCall(VecGetArrayRead(X_n, &x));
+        PetscCall(VecGetArrayRead(Y, &y));
+        PetscCall(VecGetArray(X_np1, &x1));
+        enter_user(s, &env);
+        status = s->update(s->ctx, t_n, h, x, y, x1);
+        leave_user(&env);
+        PetscCall(VecRestoreArray(X_np1, &x1));
+        PetscCall(VecRestoreArrayRead(Y, &y));
+        PetscCall(VecRestoreArrayRead(X_n, &x));
+    }
     PetscCheck(status == 0, PETSC_COMM_SELF, PETSC_ERR_USER,
                "the update callback failed with status %d at t = %g, h = %g", status, (double)t_n,
                (double)h);
@@ -280,6 +400,40 @@ static int check_arguments(int n_state, int n_unknown, const int *row_ptr, const
     return 0;
 }
 
+/* Distributed mode: X and Y split by the owned ranges, the Jacobian's owned rows preallocated
+   from the whole pattern, the gathers and the whole-length work arrays of the callbacks. */
+static PetscErrorCode distributed_setup(RsStepper *s, const int *row_ptr, const int *cols,
+                                        Vec *Y_template)
+{
+    const PetscInt n_rows = s->unknown_hi - s->unknown_lo, nnz = row_ptr[s->n_unknown];
+    PetscInt      *local_ptr;
+
+    PetscFunctionBegin;
+    PetscCall(VecCreateMPI(s->comm, s->state_hi - s->state_lo, s->n_state, &s->X));
+    PetscCall(VecCreateMPI(s->comm, n_rows, s->n_unknown, Y_template));
+    PetscCall(VecScatterCreateToAll(s->X, &s->gather_state, &s->x_all));
+    PetscCall(VecDuplicate(s->x_all, &s->x2_all));
+    PetscCall(VecScatterCreateToAll(*Y_template, &s->gather_unknown, &s->y_all));
+    PetscCall(PetscMalloc1(s->n_unknown + 1, &s->row_ptr_all));
+    PetscCall(PetscMalloc1(nnz, &s->cols_all));
+    for (PetscInt i = 0; i <= s->n_unknown; ++i) s->row_ptr_all[i] = row_ptr[i];
+    for (PetscInt k = 0; k < nnz; ++k) s->cols_all[k] = cols[k];
+    PetscCall(PetscCalloc1(s->n_unknown, &s->f_all));
+    PetscCall(PetscCalloc1(nnz > 0 ? nnz : 1, &s->values_all));
+    PetscCall(PetscCalloc1(s->n_state > s->n_unknown ? s->n_state : s->n_unknown, &s->out_all));
+
+    PetscCall(PetscMalloc1(n_rows + 1, &local_ptr));
+    for (PetscInt i = 0; i <= n_rows; ++i)
+        local_ptr[i] = row_ptr[s->unknown_lo + i] - row_ptr[s->unknown_lo];
+    PetscCall(MatCreate(s->comm, &s->J));
+    PetscCall(MatSetSizes(s->J, n_rows, n_rows, s->n_unknown, s->n_unknown));
+    PetscCall(MatSetType(s->J, MATMPIAIJ));
+    PetscCall(MatMPIAIJSetPreallocationCSR(s->J, local_ptr,
+                                           s->cols_all + row_ptr[s->unknown_lo], NULL));
+    PetscCall(PetscFree(local_ptr));
+    PetscFunctionReturn(0);
+}
+
 static PetscErrorCode stepper_setup(RsStepper *s, const int *row_ptr, const int *cols,
                                     double newton_atol, double newton_rtol, int max_newton,
                                     int max_cutbacks, int native_lu, int full_newton,
@@ -310,22 +464,25 @@ static PetscErrorCode stepper_setup(RsStepper *s, const int *row_ptr, const int 
     PetscCheck(rs_petsc_apply_options(defaults, NULL, message, (int)sizeof(message)) == 0,
                PETSC_COMM_SELF, PETSC_ERR_LIB, "%s", message);
 
-    PetscCall(VecCreateSeq(PETSC_COMM_SELF, s->n_state, &s->X));
+    if (s->distributed) {
+        PetscCall(distributed_setup(s, row_ptr, cols, &Y_template));
+    } else {
+        PetscCall(VecCreateSeq(PETSC_COMM_SELF, s->n_state, &s->X));
+        PetscCall(MatCreate(PETSC_COMM_SELF, &s->J));
+        PetscCall(MatSetSizes(s->J, s->n_unknown, s->n_unknown, s->n_unknown, s->n_unknown));
+        PetscCall(MatSetType(s->J, MATSEQAIJ));
+        PetscCall(MatSeqAIJSetPreallocationCSR(s->J, (const PetscInt *)row_ptr,
+                                               (const PetscInt *)cols, NULL));
+        if (s->n_unknown != s->n_state)
+            PetscCall(VecCreateSeq(PETSC_COMM_SELF, s->n_unknown, &Y_template));
+    }
     PetscCall(VecDuplicate(s->X, &s->X_prev));
-
-    PetscCall(MatCreate(PETSC_COMM_SELF, &s->J));
-    PetscCall(MatSetSizes(s->J, s->n_unknown, s->n_unknown, s->n_unknown, s->n_unknown));
-    PetscCall(MatSetType(s->J, MATSEQAIJ));
-    PetscCall(MatSeqAIJSetPreallocationCSR(s->J, (const PetscInt *)row_ptr, (const PetscInt *)cols,
-                                           NULL));
     PetscCall(MatSetOption(s->J, MAT_NEW_NONZERO_ALLOCATION_ERR, PETSC_TRUE));
 
-    PetscCall(TSCreate(PETSC_COMM_SELF, &s->ts));
+    PetscCall(TSCreate(s->comm, &s->ts));
     PetscCall(TSSetType(s->ts, TSRODMID));
     PetscCall(TSSetProblemType(s->ts, TS_NONLINEAR));
     PetscCall(TSSetSolution(s->ts, s->X));
-    if (s->n_unknown != s->n_state)
-        PetscCall(VecCreateSeq(PETSC_COMM_SELF, s->n_unknown, &Y_template));
     PetscCall(TSRodmidSetStepProblem(s->ts, Y_template, s->J, step_residual, step_jacobian,
                                      s->predictor ? step_predictor : NULL,
                                      s->update ? step_update : NULL, s));
@@ -380,6 +537,16 @@ static void stepper_free(RsStepper *s)
     MatDestroy(&s->J);
     VecDestroy(&s->X_prev);
     VecDestroy(&s->X);
+    VecScatterDestroy(&s->gather_state);
+    VecScatterDestroy(&s->gather_unknown);
+    VecDestroy(&s->x_all);
+    VecDestroy(&s->x2_all);
+    VecDestroy(&s->y_all);
+    PetscFree(s->f_all);
+    PetscFree(s->values_all);
+    PetscFree(s->out_all);
+    PetscFree(s->row_ptr_all);
+    PetscFree(s->cols_all);
     leave_petsc(s);
     free(s);
 }
@@ -388,7 +555,8 @@ int rs_stepper_create(void **handle, int n_state, int n_unknown, const int *row_
                       const int *cols, rs_cb_residual residual, rs_cb_jacobian jacobian,
                       rs_cb_vec predictor, rs_cb_update update, rs_cb_poststep poststep, void *ctx,
                       double newton_atol, double newton_rtol, int max_newton, int max_cutbacks,
-                      int native_lu, int full_newton, int linear_step, char *errmsg, int errlen)
+                      int native_lu, int full_newton, int linear_step, const int *owned,
+                      char *errmsg, int errlen)
 {
     RsErrorCapture capture = {"", 0};
     RsStepper     *s;
@@ -416,6 +584,15 @@ int rs_stepper_create(void **handle, int n_state, int n_unknown, const int *row_
     s->update    = update;
     s->poststep  = poststep;
     s->ctx       = ctx;
+    s->comm      = PETSC_COMM_SELF;
+    if (owned) {
+        s->distributed = 1;
+        s->comm        = PETSC_COMM_WORLD;
+        s->state_lo    = owned[0];
+        s->state_hi    = owned[1];
+        s->unknown_lo  = owned[2];
+        s->unknown_hi  = owned[3];
+    }
 
     enter_petsc(s);
     PetscPushErrorHandler(capture_error, &capture);
@@ -458,9 +635,13 @@ static PetscErrorCode stepper_advance(RsStepper *s, double t_n, double dt, doubl
     fenv_t              env;
 
     PetscFunctionBegin;
-    PetscCall(VecGetArray(s->X, &a));
-    PetscCall(PetscArraycpy(a, x, s->n_state));
-    PetscCall(VecRestoreArray(s->X, &a));
+    if (s->distributed) {
+        PetscCall(scatter_owned(x, s->state_lo, s->state_hi, s->X));
+    } else {
+        PetscCall(VecGetArray(s->X, &a));
+        PetscCall(PetscArraycpy(a, x, s->n_state));
+        PetscCall(VecRestoreArray(s->X, &a));
+    }
     PetscCall(TSSetTime(s->ts, t_n));
     PetscCall(TSSetMaxTime(s->ts, t_n + dt));
     PetscCall(TSGetStepNumber(s->ts, &steps_before));
@@ -491,13 +672,21 @@ static PetscErrorCode stepper_advance(RsStepper *s, double t_n, double dt, doubl
         r->newton_its += (int)its;
         r->fnorm = fnorm;
         if (s->poststep) {
-            PetscCall(VecGetArrayRead(s->X_prev, &x0));
-            PetscCall(VecGetArrayRead(s->X, &x1));
+            Vec before = s->X_prev, after = s->X;
+            if (s->distributed) {
+                /* The whole states on every rank. */
+                PetscCall(gather(s->gather_state, s->X_prev, s->x_all));
+                PetscCall(gather(s->gather_state, s->X, s->x2_all));
+                before = s->x_all;
+                after  = s->x2_all;
+            }
+            PetscCall(VecGetArrayRead(before, &x0));
+            PetscCall(VecGetArrayRead(after, &x1));
             enter_user(s, &env);
             status = s->poststep(s->ctx, t0, h_taken, x0, x1, (int)its, fnorm);
             leave_user(&env);
-            PetscCall(VecRestoreArrayRead(s->X, &x1));
-            PetscCall(VecRestoreArrayRead(s->X_prev, &x0));
+            PetscCall(VecRestoreArrayRead(after, &x1));
+            PetscCall(VecRestoreArrayRead(before, &x0));
             PetscCheck(status == 0, PETSC_COMM_SELF, PETSC_ERR_USER,
                        "the poststep callback failed with status %d at t = %g, h = %g", status, t0,
                        h_taken);
@@ -508,9 +697,14 @@ static PetscErrorCode stepper_advance(RsStepper *s, double t_n, double dt, doubl
     }
     PetscCall(TSGetStepNumber(s->ts, &steps_after));
     r->substeps = (int)(steps_after - steps_before);
-    PetscCall(VecGetArrayRead(s->X, &x0));
+    if (s->distributed) {
+        PetscCall(gather(s->gather_state, s->X, s->x_all));
+        PetscCall(VecGetArrayRead(s->x_all, &x0));
+    } else {
+        PetscCall(VecGetArrayRead(s->X, &x0));
+    }
     PetscCall(PetscArraycpy(x, x0, s->n_state));
-    PetscCall(VecRestoreArrayRead(s->X, &x0));
+    PetscCall(VecRestoreArrayRead(s->distributed ? s->x_all : s->X, &x0));
     PetscFunctionReturn(0);
 }
 
@@ -626,9 +820,9 @@ static PetscErrorCode stepper_view(RsStepper *s, const char *path)
 
     PetscFunctionBegin;
     if (!path || !path[0]) {
-        PetscCall(TSView(s->ts, PETSC_VIEWER_STDOUT_SELF));
+        PetscCall(TSView(s->ts, PETSC_VIEWER_STDOUT_(s->comm)));
     } else {
-        PetscCall(PetscViewerASCIIOpen(PETSC_COMM_SELF, path, &viewer));
+        PetscCall(PetscViewerASCIIOpen(s->comm, path, &viewer));
         PetscCall(TSView(s->ts, viewer));
         PetscCall(PetscViewerDestroy(&viewer));
     }

@@ -97,8 +97,8 @@ module rs_solver_rod_stepper
     interface
         integer(c_int) function rs_stepper_create(handle, n_state, n_unknown, row_ptr, cols, &
                 residual, jacobian, predictor, update, poststep, ctx, newton_atol, newton_rtol, &
-                max_newton, max_cutbacks, native_lu, full_newton, linear_step, errmsg, errlen) &
-                bind(C)
+                max_newton, max_cutbacks, native_lu, full_newton, linear_step, owned, errmsg, &
+                errlen) bind(C)
             import :: c_int, c_double, c_char, c_ptr, c_funptr
             type(c_ptr), intent(out) :: handle
             integer(c_int), value :: n_state, n_unknown
@@ -107,6 +107,7 @@ module rs_solver_rod_stepper
             type(c_ptr), value :: ctx
             real(c_double), value :: newton_atol, newton_rtol
             integer(c_int), value :: max_newton, max_cutbacks, native_lu, full_newton, linear_step
+            type(c_ptr), value :: owned
             character(kind=c_char), intent(out) :: errmsg(*)
             integer(c_int), value :: errlen
         end function rs_stepper_create
@@ -181,7 +182,7 @@ contains
     !> unknowns are numbered for a narrow band, so the LU keeps their order.
     subroutine rod_stepper_create(this, n_state, n_unknown, row_ptr, cols, residual, jacobian, &
             predictor, update, poststep, ctx, newton_atol, newton_rtol, max_newton, max_cutbacks, &
-            err, native_lu, full_newton, linear_step, banded)
+            err, native_lu, full_newton, linear_step, banded, owned)
         class(rod_stepper_t), intent(inout) :: this
         integer, intent(in) :: n_state, n_unknown
         integer, intent(in) :: row_ptr(:), cols(:)
@@ -193,6 +194,11 @@ contains
         integer, intent(in) :: max_newton, max_cutbacks
         type(error_t), allocatable, intent(out) :: err
         logical, intent(in), optional :: native_lu, full_newton, linear_step, banded
+        !> A system shared by all ranks (rs_stepper_create): this rank's 0-based ranges
+        !> [state_lo, state_hi, unknown_lo, unknown_hi).
+        integer, intent(in), optional :: owned(4)
+        integer(c_int), target :: owned_c(4)
+        type(c_ptr) :: owned_ptr
         character(kind=c_char) :: message(message_length)
         character(len=:), allocatable :: problem
         integer(c_int) :: ierr
@@ -224,11 +230,16 @@ contains
             return
         end if
         message = c_null_char
+        owned_ptr = c_null_ptr
+        if (present(owned)) then
+            owned_c = int(owned, c_int)
+            owned_ptr = c_loc(owned_c)
+        end if
         ierr = rs_stepper_create(this%handle, int(n_state, c_int), int(n_unknown, c_int), &
             int(row_ptr, c_int), int(cols, c_int), residual, jacobian, predictor, update, &
             poststep, ctx, real(newton_atol, c_double), real(newton_rtol, c_double), &
             int(max_newton, c_int), int(max_cutbacks, c_int), lu_kind, &
-            merge(1_c_int, 0_c_int, full), merge(1_c_int, 0_c_int, linear), &
+            merge(1_c_int, 0_c_int, full), merge(1_c_int, 0_c_int, linear), owned_ptr, &
             message, int(message_length, c_int))
         if (ierr /= 0) then
             this%handle = c_null_ptr
