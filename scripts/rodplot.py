@@ -8,6 +8,7 @@ docs/user/postprocessing.md).
     python3 scripts/rodplot.py tip out/soft_arm_circle.h5 --plane xy
     python3 scripts/rodplot.py animate out/flying_spaghetti.h5 -o spaghetti.gif
     python3 scripts/rodplot.py summary out/flying_spaghetti.h5
+    python3 scripts/rodplot.py contact out/pressed_rods.h5
     python3 scripts/rodplot.py sweep out/sweep_cantilever.h5 --x 'rod(1)%EI1' --y tip_z
     python3 scripts/rodplot.py summary out/sweep_cantilever.h5
 
@@ -297,6 +298,70 @@ def momentum_plot(res, rod_name, out, dpi):
     fig.tight_layout()
     fig.savefig(out, dpi=dpi)
     plt.close(fig)
+
+
+#: The bundle series of a rod (docs/user/output.md): contact force, penetration, energy share.
+CONTACT_SERIES = ("contact/force", "contact/penetration", "contact/energy")
+TIE_SERIES = "ties/force"
+
+
+def contact_plot(res, rod_name, out, dpi):
+    """Write the figure of `contact_figure` to `out`."""
+    fig, _ = contact_figure(res, rod_name)
+    fig.savefig(out, dpi=dpi)
+    plt.close(fig)
+
+
+def contact_figure(res, rod_name=None):
+    """(figure, axes): per rod of a bundle, |contact force|, deepest penetration and contact
+    energy share against time, and |tie force| on its start (solid) and end (dashed) when the
+    file has series/ties/force. The axes are those of the panels drawn, in this order; rods
+    without these series are left out (all of them: MissingData)."""
+    names = [rod_name] if rod_name is not None else res.rods()
+    rods = [res.rod(name) for name in names]
+    rods = [rod for rod in rods
+            if any(name in rod.series_names() for name in CONTACT_SERIES + (TIE_SERIES,))]
+    if not rods:
+        raise MissingData("%s: %s no contact or tie series (series/contact/..., "
+                          "series/ties/force: rods of a bundle, &output fields 'contact' and "
+                          "'ties')" % (res.path, "rod '%s' has" % rod_name if rod_name
+                                       else "no rod has"))
+    panels = [(name, title) for name, title in (
+        ("contact/force", "|contact force| on the rod"),
+        ("contact/penetration", "deepest penetration r$_c$ - d (0: no contact)"),
+        ("contact/energy", "contact energy share (half of each contact pair)"),
+        (TIE_SERIES, "|force of joints and plates| on the start (solid) and end (dashed)"))
+        if any(name in rod.series_names() for rod in rods)]
+    fig, axes = plt.subplots(len(panels), 1, figsize=(8, 2.6 * len(panels) + 0.8), sharex=True,
+                             squeeze=False)
+    axes = axes[:, 0]
+    colors = plt.rcParams["axes.prop_cycle"].by_key()["color"]
+    for ax, (name, title) in zip(axes, panels):
+        unit = ""
+        for number, rod in enumerate(rods):
+            if name not in rod.series_names():
+                continue
+            time = rod.field("time")
+            values = np.asarray(rod.series(name), dtype=float)
+            unit = rod.unit("series/" + name)
+            color = colors[number % len(colors)]
+            if name == TIE_SERIES:
+                ax.plot(time, np.linalg.norm(values[:, 0, :], axis=1), "-", color=color,
+                        label="%s start" % rod.name)
+                ax.plot(time, np.linalg.norm(values[:, 1, :], axis=1), "--", color=color,
+                        label="%s end" % rod.name)
+            elif values.ndim == 2:
+                ax.plot(time, np.linalg.norm(values, axis=1), ".-", color=color, label=rod.name)
+            else:
+                ax.plot(time, values, ".-", color=color, label=rod.name)
+        ax.set_ylabel("%s [%s]" % (name.split("/")[-1], unit))
+        ax.set_title(title, fontsize="medium")
+        ax.legend(loc="best", fontsize="small", ncol=2)
+        ax.grid(True, alpha=0.3)
+    axes[-1].set_xlabel("time [s]")
+    fig.suptitle("%s: contact and ties" % (res.title or os.path.basename(res.path)))
+    fig.tight_layout()
+    return fig, axes
 
 
 class PillowMissing(Exception):
@@ -864,7 +929,7 @@ def member_rows(table):
 
 COMMANDS = {"energy": energy_plot, "momentum": momentum_plot, "snapshots": snapshots_plot,
             "tip": tip_plot, "animate": animate_plot, "summary": summary_command,
-            "sweep": sweep_plot}
+            "sweep": sweep_plot, "contact": contact_plot}
 #: What each command writes by default, next to FILE (None: standard output only).
 DEFAULT_SUFFIX = {"animate": ".gif", "summary": None}
 
@@ -889,6 +954,10 @@ def parser():
                "             viridis) and projected on a coordinate plane (--plane; by\n"
                "             default the one across which it moves least). Without --rod:\n"
                "             every rod.\n"
+               "  contact    rods of a bundle: |contact force|, deepest penetration and\n"
+               "             contact energy share against time, and |tie force| on each\n"
+               "             rod's start (solid) and end (dashed) when the file has\n"
+               "             series/ties/force. Without --rod: every rod that has them.\n"
                "  animate    3D centrelines over time as a GIF (needs Pillow): one frame per\n"
                "             record, at most --frames evenly spaced, --fps frames a second,\n"
                "             fixed equal axes. Without --rod: every rod.\n"

@@ -11,7 +11,8 @@
 !>     /rods/<name>/series/    energy/{kinetic,strain,total,external_work,actuator_work,
 !>                             dissipated,balance_error}, momentum/{linear,angular},
 !>                             center_of_mass, constraint_residual, newton/{iterations,residual},
-!>                             dt
+!>                             dt; rods of a bundle: contact/{energy,force,penetration},
+!>                             ties/force
 !>     /checkpoint/<name>/     state, internal, step, records, time: what a restart needs
 !>     /series/                time, energy/..., momentum/... summed over all rods (at the end)
 !>
@@ -121,9 +122,11 @@ module rs_io_result_file
         procedure :: close => writer_close
     end type result_writer_t
 
-    !> The fields `&output fields` may select; the per-record series and `time` are always written.
+    !> The fields `&output fields` may select: nodal and stress fields, and the bundle series
+    !> ('contact': the three series/contact/ datasets, 'ties': series/ties/force); the other
+    !> per-record series and `time` are always written.
     character(len=*), parameter :: selectable_fields = &
-        'position,directors,velocity,director_velocity,stress,strain,branch_stress'
+        'position,directors,velocity,director_velocity,stress,strain,branch_stress,contact,ties'
 
     character(len=*), parameter :: energy_names(7) = [character(len=13) :: 'kinetic', &
         'strain', 'total', 'external_work', 'actuator_work', 'dissipated', 'balance_error']
@@ -215,6 +218,10 @@ contains
         end if
         if (has_1(h%newton_residual)) call note('series/newton/residual')
         if (has_1(h%dt)) call note('series/dt')
+        if (has_1(h%contact_energy)) call note('series/contact/energy')
+        if (has_2(h%contact_force)) call note('series/contact/force')
+        if (has_1(h%penetration)) call note('series/contact/penetration')
+        if (has_3(h%tie_force)) call note('series/ties/force')
     contains
         subroutine note(path)
             character(len=*), intent(in) :: path
@@ -368,6 +375,20 @@ contains
             'scaling of the formulation''s method document (DESIGN.md §3), [step]')
         call add('series/dt', [integer ::], 's', 'time step that ended at this record ' // &
             '(after cut-backs, the smallest substep), [step]')
+        if (field_selected(selection, 'contact')) then
+            call add('series/contact/energy', [integer ::], 'J', 'the rod''s share of the ' // &
+                'contact energy at the record: half the energy of each of its contact pairs ' // &
+                '(rod-rod and self contact), [step]')
+            call add('series/contact/force', [3], 'N', 'total contact force on the rod at ' // &
+                'the record, spatial components, [step, component]')
+            call add('series/contact/penetration', [integer ::], 'm', 'deepest penetration ' // &
+                'r_c - d over the rod''s contact point pairs at the record (r_c the sum of ' // &
+                'the contact radii, d the distance of the centrelines); 0 without contact, [step]')
+        end if
+        if (field_selected(selection, 'ties')) call add('series/ties/force', [3, 2], 'N', &
+            'force of the joints and end plates on the rod''s ends at the record, spatial ' // &
+            'components, [step, end, component] with end 0 = start, 1 = end; zero at an end ' // &
+            'no joint or plate ties')
     contains
         subroutine add(path, dims, unit, description, components, integer_values)
             character(len=*), intent(in) :: path, unit, description
@@ -425,6 +446,14 @@ contains
             values = h%newton_residual(first:last)
         case ('series/dt')
             values = h%dt(first:last)
+        case ('series/contact/energy')
+            values = h%contact_energy(first:last)
+        case ('series/contact/force')
+            values = reshape(h%contact_force(:, first:last), [3 * n])
+        case ('series/contact/penetration')
+            values = h%penetration(first:last)
+        case ('series/ties/force')
+            values = reshape(h%tie_force(:, :, first:last), [6 * n])
         case default
             call energy_of(h, path(len('series/energy/') + 1:), series)
             values = series(first:last)
@@ -926,6 +955,10 @@ contains
             if (too_short_1(h%constraint_residual, h%n_stored)) what = 'constraint_residual'
             if (too_short_1(h%newton_residual, h%n_stored)) what = 'newton_residual'
             if (too_short_1(h%dt, h%n_stored)) what = 'dt'
+            if (too_short_1(h%contact_energy, h%n_stored)) what = 'contact_energy'
+            if (too_short_2(h%contact_force, h%n_stored)) what = 'contact_force'
+            if (too_short_1(h%penetration, h%n_stored)) what = 'penetration'
+            if (too_short_3(h%tie_force, h%n_stored)) what = 'tie_force'
             if (allocated(h%newton_iterations)) then
                 if (size(h%newton_iterations) > 0 .and. size(h%newton_iterations) < h%n_stored) &
                     what = 'newton_iterations'

@@ -57,6 +57,10 @@ module rs_solver_rod_run
         type(solver_input_t) :: solver
         !> Times the stepper was built again for a new Jacobian pattern (contact pairs).
         integer :: repatterns = 0
+        !> A bundle (rods coupled by joints, plates or contact): its summary splits the time.
+        logical :: bundle = .false.
+        !> Wall time in `prepare` (bundles: the contact broad phase and any new stepper).
+        real(rk) :: prepare_seconds = 0.0_rk
         !> The state X after the last accepted step.
         real(rk), allocatable :: x(:)
         !> The system stopped: its solver failed (`err` says where and why).
@@ -124,6 +128,7 @@ contains
         if (present(shared)) this%shared = shared .and. world_size() > 1
         bundle = size(rods) > 1 .or. scene%contact%given
         if (allocated(scene%plates)) bundle = bundle .or. size(scene%plates) > 0
+        this%bundle = bundle
         call create_formulation(scene%rods(rods(1))%formulation, built, err, bundle=bundle)
         RS_RETURN_IF_ERROR(err)
         allocate(this%formulation, source=built)
@@ -202,10 +207,14 @@ contains
         type(rod_runner_t), intent(inout) :: this
         real(rk), intent(in) :: t_n, h
         logical :: repattern
+        real(rk) :: started
+        started = wall_time()
         call this%formulation%prepare_step(t_n, h, this%x, repattern)
-        if (.not. repattern) return
-        this%repatterns = this%repatterns + 1
-        call build_stepper(this, this%err)
+        if (repattern) then
+            this%repatterns = this%repatterns + 1
+            call build_stepper(this, this%err)
+        end if
+        this%prepare_seconds = this%prepare_seconds + (wall_time() - started)
     end subroutine prepare
 
     subroutine runner_restore(this, scene, step, state, internal, err)
@@ -360,7 +369,8 @@ contains
         class(rod_runner_t), intent(inout) :: this
         !> No summary line (another rank of a shared system prints it).
         logical, intent(in), optional :: quiet
-        real(rk) :: elapsed
+        real(rk) :: elapsed, assembly
+        assembly = this%assembly_seconds()
         call this%stepper%destroy()
         if (associated(this%context)) deallocate(this%context)
         if (associated(this%formulation)) deallocate(this%formulation)
@@ -374,6 +384,11 @@ contains
             ' cut-backs; time loop ' // str_significant(elapsed, 4) // ' s, per step ' // &
             str_significant(elapsed / max(1, this%steps_done), 4) // ' s, per Newton ' // &
             'iteration ' // str_significant(elapsed / max(1, this%total_iterations), 4) // ' s')
+        if (this%bundle) call log_info('  ' // this%name() // ': of that, assembly ' // &
+            str_significant(assembly, 4) // ' s, contact search ' // &
+            str_significant(this%prepare_seconds, 4) // ' s (' // str(this%repatterns) // &
+            ' new Jacobian patterns), linear solves and the rest ' // &
+            str_significant(elapsed - assembly - this%prepare_seconds, 4) // ' s')
     end subroutine runner_finish
 
     ! ---- PETSc callbacks (src/solver/rod_stepper.c) -------------------------------------------

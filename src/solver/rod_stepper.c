@@ -455,12 +455,17 @@ static PetscErrorCode stepper_setup(RsStepper *s, const int *row_ptr, const int 
        search, the absolute Newton test of the method documents with PETSc's relative tests
        off unless the scene asks, and LU (the package is set below, per system). */
     /* A step problem affine in Y (seed 004) is one linear solve: SNES KSPONLY, no Newton loop. */
+    /* A shared system gives MUMPS a distributed matrix, for which MUMPS does not permute large
+       entries onto the diagonal (ICNTL(6) needs centralized input): the zero diagonal of the
+       multiplier rows then delays pivots, which overruns a 50% work-space margin and, with
+       PORD, multiplies the flops about 37-fold on the 7-wire strand. AMD and a 400% margin
+       measured best there (docs/performance.md). */
     snprintf(defaults, sizeof(defaults),
              "-snes_type %s -snes_atol %.17g -snes_rtol %.17g "
              "-snes_stol 0 -snes_max_it %d -ksp_type preonly -pc_type lu "
-             "-mat_mumps_icntl_14 50 -ts_rodmid_max_cutbacks %d",
+             "-mat_mumps_icntl_14 %d -mat_mumps_icntl_7 %d -ts_rodmid_max_cutbacks %d",
              linear_step ? "ksponly" : "newtonls", newton_atol, newton_rtol, max_newton,
-             max_cutbacks);
+             s->distributed ? 400 : 50, s->distributed ? 0 : 7, max_cutbacks);
     PetscCheck(rs_petsc_apply_options(defaults, NULL, message, (int)sizeof(message)) == 0,
                PETSC_COMM_SELF, PETSC_ERR_LIB, "%s", message);
 

@@ -160,6 +160,7 @@ module rs_ph_bundle
         procedure :: coupling_graph => bundle_coupling_graph
         procedure :: distribute => bundle_distribute
         procedure :: owned_range => bundle_owned_range
+        procedure :: full_newton => bundle_full_newton
         procedure :: partition_summary
     end type ph_bundle_t
 
@@ -1364,6 +1365,15 @@ contains
             text = text // ' (' // str(n) // ' rod unknowns)'
         end do
     end function partition_summary
+
+    !> Full Newton steps: the tie rows (positions, in m) and the momentum rows (h times forces)
+    !> have different scales, and backtracking on their joint norm takes tiny steps where the
+    !> full step converges quadratically (measured on the strand scenes, docs/theory/bundles.md);
+    !> a failed step is still halved by the stepper.
+    pure logical function bundle_full_newton(this)
+        class(ph_bundle_t), intent(in) :: this
+        bundle_full_newton = .true.
+    end function bundle_full_newton
 
     pure logical function bundle_wants_endpoint_solve(this)
         class(ph_bundle_t), intent(in) :: this
