@@ -345,7 +345,7 @@ contains
             end if
             if (allocated(err) .or. failed(i) == 1) cycle
             if (rod_owner(i) == world_rank() .and. rod_slot(i) == 1) then
-                call writer%write_checkpoint(i, n, t, err, runners(rod_system(i))%x, &
+                call writer%write_checkpoint(i, n, t, err, runners(rod_system(i))%checkpoint_state(), &
                     runners(rod_system(i))%internal())
             else if (rod_owner(i) == world_rank()) then
                 ! Coupled to the system's first rod, which holds the checkpoint.

@@ -93,6 +93,10 @@ module rs_formulations_formulation
         !> The 0-based half-open ranges [lo, hi) of the state and the unknowns this rank owns;
         !> default: everything.
         procedure :: owned_range => default_owned_range
+        !> The state X in a layout that does not depend on the ranks (checkpoints, DESIGN.md
+        !> §7: a run may continue on another number of ranks), and back; default: X itself.
+        procedure :: canonical_state => default_canonical_state
+        procedure :: from_canonical => default_from_canonical
     end type rod_formulation_t
 
     abstract interface
@@ -246,6 +250,20 @@ contains
         unknown_lo = 0
         unknown_hi = this%n_unknown()
     end subroutine default_owned_range
+
+    subroutine default_canonical_state(this, x, canonical)
+        class(rod_formulation_t), intent(in) :: this
+        real(rk), intent(in) :: x(:)
+        real(rk), intent(out) :: canonical(:)
+        canonical = x
+    end subroutine default_canonical_state
+
+    subroutine default_from_canonical(this, canonical, x)
+        class(rod_formulation_t), intent(in) :: this
+        real(rk), intent(in) :: canonical(:)
+        real(rk), intent(out) :: x(:)
+        x = canonical
+    end subroutine default_from_canonical
 
     subroutine default_predictor(this, t_n, h, x_n, y)
         class(rod_formulation_t), intent(inout) :: this

@@ -92,6 +92,8 @@ module rs_solver_rod_run
         procedure :: advance => runner_advance
         !> The formulation's book-keeping for a checkpoint.
         procedure :: internal => runner_internal
+        !> The state X for a checkpoint (rank-independent layout).
+        procedure :: checkpoint_state => runner_checkpoint_state
         !> Wall time spent assembling residuals and Jacobians.
         procedure :: assembly_seconds => runner_assembly_seconds
         !> Destroy the stepper and the formulation and print the rod's summary line.
@@ -232,7 +234,7 @@ contains
             RS_SET_ERROR(err, 'rod_runner%restore', message)
             return
         end if
-        this%x = state
+        call this%formulation%from_canonical(state, this%x)
         call this%formulation%restore_internal(internal)
         this%step = step
         this%t_recorded = min(real(step, rk) * scene%time%dt, scene%time%t_end)
@@ -351,6 +353,14 @@ contains
             name = name // '+' // this%histories(i)%name
         end do
     end function runner_name
+
+    !> The state for a checkpoint, in the formulation's rank-independent layout.
+    function runner_checkpoint_state(this) result(values)
+        class(rod_runner_t), intent(in) :: this
+        real(rk), allocatable :: values(:)
+        allocate(values(size(this%x)))
+        call this%formulation%canonical_state(this%x, values)
+    end function runner_checkpoint_state
 
     function runner_internal(this) result(values)
         class(rod_runner_t), intent(in) :: this

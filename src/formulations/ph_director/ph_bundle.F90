@@ -62,6 +62,8 @@ module rs_ph_bundle
         integer :: state_offset = 0
         integer :: unknown_offset = 0
         integer :: part = 0
+        !> 0-based offset of the rod's block in the canonical state (all rods on one rank).
+        integer :: canonical_offset = 0
         !> Global CSR position of each entry of the rod's own Jacobian pattern.
         integer, allocatable :: value_map(:)
         real(rk), allocatable :: values(:)
@@ -88,6 +90,7 @@ module rs_ph_bundle
         real(rk) :: q_ref(12) = 0.0_rk
         integer :: state_offset = 0
         integer :: unknown_offset = 0
+        integer :: canonical_offset = 0
     end type bundle_tie_t
 
     type :: bundle_plate_t
@@ -161,6 +164,8 @@ module rs_ph_bundle
         procedure :: distribute => bundle_distribute
         procedure :: owned_range => bundle_owned_range
         procedure :: full_newton => bundle_full_newton
+        procedure :: canonical_state => bundle_canonical_state
+        procedure :: from_canonical => bundle_from_canonical
         procedure :: partition_summary
     end type ph_bundle_t
 
@@ -412,6 +417,17 @@ contains
         class(ph_bundle_t), intent(inout) :: this
         integer, intent(in) :: part(:), rank
         integer :: p, m, t, so, uo
+        ! The canonical layout: every rod on one rank, in scene order.
+        so = 0
+        do m = 1, size(this%members)
+            this%members(m)%canonical_offset = so
+            so = so + this%members(m)%rod%n_state()
+            do t = 1, size(this%ties)
+                if (this%ties(t)%member_a /= m) cycle
+                this%ties(t)%canonical_offset = so
+                so = so + this%ties(t)%tie%n
+            end do
+        end do
         this%rank = rank
         this%n_ranks = maxval(part) + 1
         this%members%part = part
@@ -1424,6 +1440,47 @@ contains
             at = at + n
         end do
     end subroutine bundle_restore_internal
+
+    !> The state in the layout of one rank (checkpoints do not depend on the partition).
+    subroutine bundle_canonical_state(this, x, canonical)
+        class(ph_bundle_t), intent(in) :: this
+        real(rk), intent(in) :: x(:)
+        real(rk), intent(out) :: canonical(:)
+        integer :: m, t, n
+        do m = 1, size(this%members)
+            associate (member => this%members(m))
+                n = member%rod%n_state()
+                canonical(member%canonical_offset + 1:member%canonical_offset + n) = &
+                    x(member%state_offset + 1:member%state_offset + n)
+            end associate
+        end do
+        do t = 1, size(this%ties)
+            associate (tie => this%ties(t))
+                canonical(tie%canonical_offset + 1:tie%canonical_offset + tie%tie%n) = &
+                    x(tie%state_offset + 1:tie%state_offset + tie%tie%n)
+            end associate
+        end do
+    end subroutine bundle_canonical_state
+
+    subroutine bundle_from_canonical(this, canonical, x)
+        class(ph_bundle_t), intent(in) :: this
+        real(rk), intent(in) :: canonical(:)
+        real(rk), intent(out) :: x(:)
+        integer :: m, t, n
+        do m = 1, size(this%members)
+            associate (member => this%members(m))
+                n = member%rod%n_state()
+                x(member%state_offset + 1:member%state_offset + n) = &
+                    canonical(member%canonical_offset + 1:member%canonical_offset + n)
+            end associate
+        end do
+        do t = 1, size(this%ties)
+            associate (tie => this%ties(t))
+                x(tie%state_offset + 1:tie%state_offset + tie%tie%n) = &
+                    canonical(tie%canonical_offset + 1:tie%canonical_offset + tie%tie%n)
+            end associate
+        end do
+    end subroutine bundle_from_canonical
 
     ! ---- The coupling graph ---------------------------------------------------------------
 
