@@ -63,15 +63,19 @@ contains
             unit_in_system('kg', units) // ', time ' // unit_in_system('s', units) // ', force ' // &
             unit_in_system('N', units) // ', stress ' // unit_in_system('Pa', units) // '); the ' // &
             'numbers are used as given')
-        ! Rods joined by &joint groups are one system, solved together (rs_model_coupling).
+        ! Rods joined by &joint or &plate groups, or all rods with &contact, are one system,
+        ! solved together (rs_model_coupling).
         call coupled_systems(scene, system_of, first, members)
         call add('ranks: ' // str(size(scene%rods)) // ' rod(s) in ' // str(size(first) - 1) // &
-            ' system(s) (a rod, or rods joined by &joint) on ' // str(n_ranks) // ' rank(s), ' // &
-            'dealt by estimated cost (nodes; the largest first, each to the least loaded rank), ' // &
-            'each solved on its own (no communication in the time loop but the flushes)')
+            ' system(s) (a rod, or rods coupled by &joint, &plate or &contact) on ' // &
+            str(n_ranks) // ' rank(s), dealt by estimated cost (nodes; the largest first, each ' // &
+            'to the least loaded rank), each solved on its own (no communication in the time ' // &
+            'loop but the flushes); on several ranks a ph_director bundle is solved by all ' // &
+            'ranks together (rods partitioned by METIS, MUMPS in parallel)')
         system_rank = deal_by_cost(system_costs(scene, first, members), n_ranks)
         do i = 1, size(scene%rods)
             rank = system_rank(system_of(i))
+            if (n_ranks > 1 .and. bundle_system(system_of(i))) rank = -1
             associate (rod => scene%rods(i))
                 select case (trim(rod%formulation_origin))
                 case ('default')
@@ -81,8 +85,13 @@ contains
                 case default
                     why = 'given in &rod'
                 end select
-                call add('rod ''' // trim(rod%name) // ''' on rank ' // str(rank) // ': ' // &
-                    trim(rod%formulation) // ' (' // why // ')')
+                if (rank < 0) then
+                    call add('rod ''' // trim(rod%name) // ''' on all ' // str(n_ranks) // &
+                        ' ranks (a shared bundle): ' // trim(rod%formulation) // ' (' // why // ')')
+                else
+                    call add('rod ''' // trim(rod%name) // ''' on rank ' // str(rank) // ': ' // &
+                        trim(rod%formulation) // ' (' // why // ')')
+                end if
                 select case (trim(rod%formulation))
                 case ('ph_director')
                     call ph_director_plan_lines(scene, i, lines, err)
@@ -105,6 +114,15 @@ contains
             character(len=*), intent(in) :: line
             text = text // '!   ' // line // new_line('a')
         end subroutine add
+
+        !> System k is a ph_director bundle (the rule of run_scene's shared systems).
+        logical function bundle_system(k)
+            integer, intent(in) :: k
+            bundle_system = first(k + 1) - first(k) > 1 .or. scene%contact%given
+            if (allocated(scene%plates)) bundle_system = bundle_system .or. size(scene%plates) > 0
+            bundle_system = bundle_system .and. &
+                trim(scene%rods(members(first(k)))%formulation) == 'ph_director'
+        end function bundle_system
     end function scene_plan_text
 
     !> The sweep part of the plan ('' without &sweep): the number of members and how the sweeps

@@ -9,15 +9,19 @@
 !> ...), resolves `formulation = 'auto'` per joint-connected system of rods
 !> (ph_planar when they lie in a plane, rs_model_planarity, else ph_director) and checks the
 !> joints (existing rods, no end tied to itself, no redundant joint, ends that coincide, one
-!> formulation per system). Every problem is added to `errors`, naming the file, line, group
-!> and variable.
+!> formulation per system, an axis for revolute joints only); resolves and checks the end
+!> plates (&plate: existing rods, each tied end on one plate only, without &bc or joint, the
+!> centre defaulted to the mean of the tied ends, the time function of a driven plate) and
+!> contact (&contact: every rod's contact_radius, defaulted to a circle or tube section's
+!> radius, the margin and the skip derived). Every problem is added to `errors`, naming the
+!> file, line, group and variable.
 module rs_io_input_check
     use rs_core_kinds, only: rk
     use rs_core_error, only: error_list_t, error_t
-    use rs_core_strings, only: str, vector_text
+    use rs_core_strings, only: str, vector_text, did_you_mean
     use rs_model_scene, only: scene_t, rod_input_t, actuator_input_t, bc_input_t, time_input_t, &
-        unset_real, section_derived_names
-    use rs_model_time_function, only: time_function_t, time_function_from_bc
+        unset_real, unset_int, section_derived_names, name_len
+    use rs_model_time_function, only: time_function_t, time_function_from_bc, time_function_from_plate
     use rs_model_rod_geometry, only: rod_geometry_t, straight_geometry, helix_geometry, &
         polyline_geometry, centreline_tangent, default_normal, rod_geometry_of, centreline_point
     use rs_model_section, only: section_properties_t, circle_section, tube_section, rectangle_section
@@ -67,11 +71,15 @@ contains
             call resolve_rod(scene, i, geometry_ok(i), errors)
         end do
         if (.not. allocated(scene%joints)) allocate(scene%joints(0))
+        if (.not. allocated(scene%plates)) allocate(scene%plates(0))
         call check_unique_names(scene, errors)
         call check_bcs(scene, geometry_ok, errors)
         call check_loads(scene, errors)
         call check_actuators(scene, errors)
         call check_joints(scene, geometry_ok, errors)
+        call resolve_joint_axes(scene)
+        call resolve_plates(scene, geometry_ok, errors)
+        call resolve_contact(scene, geometry_ok, errors)
         ! 'auto' needs every rod, load and joint resolved: it looks at whole systems.
         call resolve_auto_formulations(scene)
         call resolve_formulation_options(scene)
@@ -269,7 +277,7 @@ contains
                 ! The reader reports missing helix variables; nothing to resolve without them.
                 if (any([rod%helix_radius, rod%helix_pitch, rod%helix_turns] == unset_real)) return
                 geometry = helix_geometry(rod%start, rod%direction, rod%helix_radius, &
-                    rod%helix_pitch, rod%helix_turns)
+                    rod%helix_pitch, rod%helix_turns, rod%helix_phase)
             else
                 if (rod%length == unset_real) return
                 geometry = straight_geometry(rod%start, rod%direction, rod%length)
@@ -771,11 +779,12 @@ contains
             ''' (radius ' // str(rod%radius) // ')')
     end subroutine check_offset
 
-    !> &joint: both rods exist; a joint ties two different rod ends; no joint is redundant (the
-    !> tied ends form a graph whose groups are the joint points: a joint between ends already in
-    !> one group, the same pair twice or a cycle, adds nothing and would make the system
-    !> singular); and the two ends coincide in the reference geometry, to joint_tolerance times
-    !> the longer rod. The joints' kinds against the formulations: check_capabilities.
+    !> &joint: an axis for a revolute joint only; both rods exist; a joint ties two different
+    !> rod ends; no joint is redundant (the tied ends form a graph whose groups are the joint
+    !> points: a joint between ends already in one group, the same pair twice or a cycle, adds
+    !> nothing and would make the system singular); and the two ends coincide in the reference
+    !> geometry, to joint_tolerance times the longer rod. The joints' kinds, axes and supports
+    !> against the formulations: check_capabilities.
     subroutine check_joints(scene, geometry_ok, errors)
         type(scene_t), intent(in) :: scene
         logical, intent(in) :: geometry_ok(:)
@@ -791,6 +800,10 @@ contains
         do j = 1, size(scene%joints)
             associate (joint => scene%joints(j))
                 here = at(scene, joint%input_line) // '&joint '
+                if (any(joint%axis /= unset_real) .and. len_trim(joint%kind) > 0 .and. &
+                        trim(joint%kind) /= 'revolute') call errors%add(here // 'axis: only a ' // &
+                    'revolute joint turns about an axis (this one is ''' // trim(joint%kind) // &
+                    '''); remove axis')
                 ra = rod_of(joint%rod_a, 'rod_a')
                 rb = rod_of(joint%rod_b, 'rod_b')
                 if (ra == 0 .or. rb == 0) cycle
@@ -886,6 +899,199 @@ contains
         end function root
     end subroutine check_joints
 
+    !> A given &joint axis (revolute joints, DESIGN.md §1): components not given are 0, and a
+    !> non-zero axis is normalized (kept bit for bit when unit to round-off, so that resolving a
+    !> resolved scene changes nothing). Whether the formulation takes an axis, and a zero axis:
+    !> check_joint_kind.
+    subroutine resolve_joint_axes(scene)
+        type(scene_t), intent(inout) :: scene
+        integer :: j
+        do j = 1, size(scene%joints)
+            associate (axis => scene%joints(j)%axis)
+                if (all(axis == unset_real)) cycle
+                where (axis == unset_real) axis = 0.0_rk
+                if (norm2(axis) > 0.0_rk .and. abs(norm2(axis) - 1.0_rk) > round_off) &
+                    axis = axis / norm2(axis)
+            end associate
+        end do
+    end subroutine resolve_joint_axes
+
+    !> &plate (issue 10): a unique name; its rods given from the first entry without gaps, each
+    !> an existing rod listed once; every tied end carries no &bc other than 'free', is tied by
+    !> no &joint and is on no other plate, and its rod starts at rest (the plate holds the end
+    !> as a clamp does); the time function as for a load, and f(0) = 0 for a driven plate (it
+    !> starts at its reference pose); `centre` defaults, component by component, to the mean
+    !> reference position of the tied ends. That the rods' formulation has end plates:
+    !> check_capabilities.
+    subroutine resolve_plates(scene, geometry_ok, errors)
+        type(scene_t), intent(inout) :: scene
+        logical, intent(in) :: geometry_ok(:)
+        type(error_list_t), intent(inout) :: errors
+        character(len=:), allocatable :: here
+        character(len=name_len), allocatable :: names(:)
+        type(time_function_t) :: f
+        type(error_t), allocatable :: err
+        real(rk) :: mean(3)
+        integer :: p, q, k, n, r
+        logical :: all_ends_known
+        allocate(names(size(scene%rods)))
+        do r = 1, size(scene%rods)
+            names(r) = scene%rods(r)%name
+        end do
+        do p = 1, size(scene%plates)
+            associate (plate => scene%plates(p))
+                here = at(scene, plate%input_line) // '&plate ''' // trim(plate%name) // ''' '
+                do q = 1, p - 1
+                    if (scene%plates(q)%name == plate%name .and. len_trim(plate%name) > 0) &
+                        call errors%add(here // 'name: ''' // trim(plate%name) // ''' is already ' // &
+                        'the name of the plate at line ' // str(scene%plates(q)%input_line))
+                end do
+                n = 0
+                do while (n < size(plate%rods))
+                    if (len_trim(plate%rods(n + 1)) == 0) exit
+                    n = n + 1
+                end do
+                if (any(len_trim(plate%rods(n + 1:)) > 0)) then
+                    call errors%add(here // 'rods: entry ' // str(n + 1) // ' is not given but a ' // &
+                        'later one is; give the rods from the first entry on without gaps')
+                    cycle
+                end if
+                all_ends_known = len_trim(plate%end) > 0
+                mean = 0.0_rk
+                do k = 1, n
+                    r = rod_index(scene, plate%rods(k))
+                    if (r == 0) then
+                        call errors%add(here // 'rods: no rod is named ''' // trim(plate%rods(k)) // &
+                            '''' // did_you_mean(trim(plate%rods(k)), names) // '; rods: ' // &
+                            rod_names(scene))
+                        all_ends_known = .false.
+                        cycle
+                    end if
+                    if (any(plate%rods(1:k - 1) == plate%rods(k))) then
+                        call errors%add(here // 'rods: rod ''' // trim(plate%rods(k)) // ''' is ' // &
+                            'listed twice; list each rod once')
+                        cycle
+                    end if
+                    if (len_trim(plate%end) == 0) cycle
+                    call check_tied_end(p, r, here, scene, errors)
+                    if (geometry_ok(r)) then
+                        mean = mean + end_point(scene%rods(r), plate%end)
+                    else
+                        all_ends_known = .false.
+                    end if
+                end do
+                if (all_ends_known .and. n > 0) then
+                    mean = mean / real(n, rk)
+                    where (plate%centre == unset_real) plate%centre = mean
+                end if
+                call check_time_function(here, plate%time_function, plate%t_on, plate%t_off, &
+                    plate%table_times, plate%table_values, errors)
+                if (all(plate%displacement == 0.0_rk) .and. all(plate%rotation == 0.0_rk)) cycle
+                call time_function_from_plate(plate, f, err)
+                if (allocated(err)) then
+                    deallocate(err)
+                    cycle
+                end if
+                if (f%value(0.0_rk) /= 0.0_rk) call errors%add(here // 'time_function: f(0) = ' // &
+                    str(f%value(0.0_rk)) // '; a driven plate (displacement or rotation not ' // &
+                    'zero) starts at its reference pose, so f(0) = 0 (a ramp, hat, pulse, sine ' // &
+                    'or a table starting at 0)')
+            end associate
+        end do
+    end subroutine resolve_plates
+
+    !> The end of rod `r` tied to plate `p` (message prefix `here`): no &bc but 'free', no
+    !> joint, on no earlier plate, and the rod starts at rest.
+    subroutine check_tied_end(p, r, here, scene, errors)
+        integer, intent(in) :: p, r
+        character(len=*), intent(in) :: here
+        type(scene_t), intent(in) :: scene
+        type(error_list_t), intent(inout) :: errors
+        integer :: b, j, q
+        associate (plate => scene%plates(p), rod => scene%rods(r))
+            do b = 1, size(scene%bcs)
+                if (scene%bcs(b)%rod /= rod%name .or. scene%bcs(b)%end /= plate%end) cycle
+                if (trim(scene%bcs(b)%kind) == 'free') cycle
+                call errors%add(here // 'rods: the ''' // trim(plate%end) // ''' end of rod ''' // &
+                    trim(rod%name) // ''' has a ''' // trim(scene%bcs(b)%kind) // ''' &bc (line ' // &
+                    str(scene%bcs(b)%input_line) // '); the plate holds the ends tied to it, so ' // &
+                    'they carry no &bc: remove the &bc (a driven plate moves the end)')
+            end do
+            do j = 1, size(scene%joints)
+                if (.not. ((scene%joints(j)%rod_a == rod%name .and. scene%joints(j)%end_a == &
+                        plate%end) .or. (scene%joints(j)%rod_b == rod%name .and. &
+                        scene%joints(j)%end_b == plate%end))) cycle
+                call errors%add(here // 'rods: the ''' // trim(plate%end) // ''' end of rod ''' // &
+                    trim(rod%name) // ''' is also tied by the &joint at line ' // &
+                    str(scene%joints(j)%input_line) // '; an end is on a plate or in a joint, ' // &
+                    'not both (list the other rod on the plate instead)')
+            end do
+            do q = 1, p - 1
+                if (scene%plates(q)%end /= plate%end) cycle
+                if (.not. any(scene%plates(q)%rods == rod%name)) cycle
+                call errors%add(here // 'rods: the ''' // trim(plate%end) // ''' end of rod ''' // &
+                    trim(rod%name) // ''' is already on the &plate ''' // &
+                    trim(scene%plates(q)%name) // ''' (line ' // str(scene%plates(q)%input_line) // &
+                    '); an end is on one plate at most')
+            end do
+            if (any(rod%velocity /= 0.0_rk) .or. any(rod%angular_velocity /= 0.0_rk)) &
+                call errors%add(at(scene, rod%input_line) // '&rod ''' // trim(rod%name) // &
+                ''' velocity, angular_velocity: (' // vector_text(rod%velocity) // '), (' // &
+                vector_text(rod%angular_velocity) // ') given, but its ''' // trim(plate%end) // &
+                ''' end is tied to the &plate ''' // trim(plate%name) // ''' (line ' // &
+                str(plate%input_line) // '), which starts at rest; allowed: 0, 0, 0')
+        end associate
+    end subroutine check_tied_end
+
+    !> &contact (issue 10, DESIGN.md §5). Without it no rod takes a contact_radius. With it every
+    !> rod needs one: a 'circle' or 'tube' section's radius by default, required otherwise; the
+    !> margin defaults to the largest contact_radius, and skip to ceiling(3 r_max / h_min) + 1
+    !> (r_max the largest contact_radius, h_min the shortest element, length / n_elements):
+    !> elements closer along a rod than 1.5 contact distances never pair, the rule of
+    !> rs_ph_bundle, resolved here so that the echo and the plan show it. points_per_element is
+    !> left to the formulation (it depends on its quadrature). stiffness > 0, margin >= 0,
+    !> skip >= 0 and friction 'none' are the reader's (rs_io_input_spec); that all rods can
+    !> touch (ph_director): check_capabilities.
+    subroutine resolve_contact(scene, geometry_ok, errors)
+        type(scene_t), intent(inout) :: scene
+        logical, intent(in) :: geometry_ok(:)
+        type(error_list_t), intent(inout) :: errors
+        character(len=:), allocatable :: here
+        real(rk) :: r_max, h_min
+        integer :: i
+        logical :: all_known
+        all_known = .true.
+        do i = 1, size(scene%rods)
+            associate (rod => scene%rods(i))
+                here = at(scene, rod%input_line) // '&rod ''' // trim(rod%name) // ''' '
+                if (.not. scene%contact%given) then
+                    if (rod%contact_radius /= unset_real) call errors%add(here // 'contact_radius: ' // &
+                        str(rod%contact_radius) // ' given, but the scene has no &contact group, ' // &
+                        'which is what uses it; remove it or add &contact')
+                    cycle
+                end if
+                if (rod%contact_radius == unset_real) then
+                    if ((trim(rod%section) == 'circle' .or. trim(rod%section) == 'tube') .and. &
+                            rod%radius /= unset_real) then
+                        rod%contact_radius = rod%radius
+                    else
+                        call errors%add(here // 'contact_radius: required with &contact (line ' // &
+                            str(scene%contact%input_line) // ') for section = ''' // &
+                            trim(rod%section) // ''' (only a circle or tube section gives it by ' // &
+                            'default, its radius); give the radius of the rod''s surface')
+                        all_known = .false.
+                    end if
+                end if
+                if (.not. geometry_ok(i) .or. rod%n_elements < 1) all_known = .false.
+            end associate
+        end do
+        if (.not. scene%contact%given .or. .not. all_known .or. size(scene%rods) == 0) return
+        r_max = maxval(scene%rods%contact_radius)
+        h_min = minval(scene%rods%length / real(scene%rods%n_elements, rk))
+        if (scene%contact%margin == unset_real) scene%contact%margin = r_max
+        if (scene%contact%skip == unset_int) scene%contact%skip = ceiling(3.0_rk * r_max / h_min) + 1
+    end subroutine resolve_contact
+
     !> `formulation = 'auto'` (DESIGN.md §4): the rods of each system of joined rods
     !> (rs_model_coupling) that say 'auto' get ph_planar when the system, its loads and initial
     !> velocities lie in one plane (rs_model_planarity) and ph_planar can run all they ask
@@ -937,6 +1143,7 @@ contains
         row = capability_of('ph_planar')
         do m = 1, size(rods)
             call check_rod_capabilities(scene, rods(m), row, errors)
+            call check_bundle_capabilities(scene, rods(m), row, errors)
         end do
         do j = 1, size(scene%joints)
             if (.not. any(scene%rods(rods)%name == scene%joints(j)%rod_a)) cycle
@@ -1030,21 +1237,89 @@ contains
                 end if
                 call check_rod_capabilities(scene, i, row, errors)
                 call check_formulation_variables(scene, i, row, errors)
+                call check_bundle_capabilities(scene, i, row, errors)
             end associate
         end do
-        if (.not. allocated(scene%joints)) return
-        do j = 1, size(scene%joints)
-            ra = rod_index(scene, scene%joints(j)%rod_a)
-            rb = rod_index(scene, scene%joints(j)%rod_b)
-            if (ra == 0 .or. rb == 0) cycle
-            row = capability_of(trim(scene%rods(ra)%formulation))
-            if (row%available) call check_joint_kind(scene, j, ra, row, errors)
-            if (scene%rods(rb)%formulation == scene%rods(ra)%formulation) cycle
-            row = capability_of(trim(scene%rods(rb)%formulation))
-            if (row%available) call check_joint_kind(scene, j, rb, row, errors)
-        end do
+        if (allocated(scene%joints)) then
+            do j = 1, size(scene%joints)
+                ra = rod_index(scene, scene%joints(j)%rod_a)
+                rb = rod_index(scene, scene%joints(j)%rod_b)
+                if (ra == 0 .or. rb == 0) cycle
+                call check_jointed_ends(scene, j, ra, rb, errors)
+                row = capability_of(trim(scene%rods(ra)%formulation))
+                if (row%available) call check_joint_kind(scene, j, ra, row, errors)
+                if (scene%rods(rb)%formulation == scene%rods(ra)%formulation) cycle
+                row = capability_of(trim(scene%rods(rb)%formulation))
+                if (row%available) call check_joint_kind(scene, j, rb, row, errors)
+            end do
+        end if
         call check_planar_systems(scene, errors)
     end subroutine check_capabilities
+
+    !> End plates and contact against `row` (rod `i`'s formulation, or ph_planar for 'auto'):
+    !> a &plate naming rod `i` needs end plates, &contact needs contact of every rod.
+    subroutine check_bundle_capabilities(scene, i, row, errors)
+        type(scene_t), intent(in) :: scene
+        integer, intent(in) :: i
+        type(capability_t), intent(in) :: row
+        type(error_list_t), intent(inout) :: errors
+        integer :: p
+        associate (rod => scene%rods(i))
+            if (allocated(scene%plates) .and. .not. row%end_plates) then
+                do p = 1, size(scene%plates)
+                    if (.not. any(scene%plates(p)%rods == rod%name)) cycle
+                    call errors%add(at(scene, scene%plates(p)%input_line) // '&plate rods: end ' // &
+                        'plates are not available for formulation ''' // trim(row%formulation) // &
+                        ''' (rod ''' // trim(rod%name) // ''')' // see_matrix)
+                end do
+            end if
+            if (scene%contact%given .and. .not. row%contact) call errors%add(at(scene, &
+                scene%contact%input_line) // '&contact: rod-rod contact is not available for ' // &
+                'formulation ''' // trim(row%formulation) // ''' (rod ''' // trim(rod%name) // &
+                '''); with &contact every rod of the scene must run on a formulation with ' // &
+                'contact' // see_matrix)
+        end associate
+    end subroutine check_bundle_capabilities
+
+    !> Joints that are constraints with multipliers (a 3D formulation, ph_director) tie free
+    !> ends: a jointed end carries no &bc other than 'free' (a clamped or driven end would be
+    !> held twice and the multipliers would not be unique). Planar formulations share the nodal
+    !> unknowns instead and keep their supports.
+    subroutine check_jointed_ends(scene, j, ra, rb, errors)
+        type(scene_t), intent(in) :: scene
+        integer, intent(in) :: j, ra, rb
+        type(error_list_t), intent(inout) :: errors
+        type(capability_t) :: row
+        character(len=:), allocatable :: end_name, variable
+        integer :: side, r, b
+        associate (joint => scene%joints(j))
+            do side = 1, 2
+                if (side == 1) then
+                    r = ra
+                    end_name = trim(joint%end_a)
+                    variable = 'end_a'
+                else
+                    r = rb
+                    end_name = trim(joint%end_b)
+                    variable = 'end_b'
+                end if
+                row = capability_of(trim(scene%rods(r)%formulation))
+                if (.not. row%available .or. row%planar) cycle
+                if (.not. lists_name(row%joints, joint%kind)) cycle
+                do b = 1, size(scene%bcs)
+                    if (scene%bcs(b)%rod /= scene%rods(r)%name .or. trim(scene%bcs(b)%end) /= end_name) &
+                        cycle
+                    if (trim(scene%bcs(b)%kind) == 'free') cycle
+                    call errors%add(at(scene, joint%input_line) // '&joint ' // variable // ': the ''' // &
+                        end_name // ''' end of rod ''' // trim(scene%rods(r)%name) // ''' has a ''' // &
+                        trim(scene%bcs(b)%kind) // ''' &bc (line ' // str(scene%bcs(b)%input_line) // &
+                        '); a clamped or driven end cannot also be jointed (formulation ''' // &
+                        trim(row%formulation) // ''' ties joints by multipliers between free ends): ' // &
+                        'remove the &bc or the joint')
+                end do
+            end do
+        end associate
+    end subroutine check_jointed_ends
 
     !> Variables that only some formulations read: the planar elements take n_gauss 1 or 2 (for
     !> cl_em_planar the quadrature of the axial and shear terms, 1 reduced, 2 full:
@@ -1079,24 +1354,39 @@ contains
         end subroutine strand_only
     end subroutine check_formulation_variables
 
-    !> The kind of joint `j` against `row`, the capability row of rod `r`'s formulation.
+    !> The kind of joint `j` against `row`, the capability row of rod `r`'s formulation, and its
+    !> axis: a revolute joint of a 3D formulation needs a non-zero axis, a planar formulation
+    !> turns about the plane normal and refuses one.
     subroutine check_joint_kind(scene, j, r, row, errors)
         type(scene_t), intent(in) :: scene
         integer, intent(in) :: j, r
         type(capability_t), intent(in) :: row
         type(error_list_t), intent(inout) :: errors
-        character(len=:), allocatable :: available, later
+        character(len=:), allocatable :: available, here, what
         associate (joint => scene%joints(j))
-            if (lists_name(row%joints, joint%kind)) return
-            available = trim(row%joints)
-            if (len(available) == 0) available = 'none'
-            later = ''
-            if (trim(row%formulation) == 'ph_director') later = '; joints between ph_director ' // &
-                'rods arrive with issue 10 (use a planar formulation for a planar mechanism)'
-            call errors%add(at(scene, joint%input_line) // '&joint kind: ''' // trim(joint%kind) // &
-                ''' joints are not available for formulation ''' // trim(row%formulation) // &
-                ''' (rod ''' // trim(scene%rods(r)%name) // '''); available: ' // available // later // &
-                see_matrix)
+            here = at(scene, joint%input_line) // '&joint '
+            what = 'formulation ''' // trim(row%formulation) // ''' (rod ''' // &
+                trim(scene%rods(r)%name) // ''')'
+            if (.not. lists_name(row%joints, joint%kind)) then
+                available = trim(row%joints)
+                if (len(available) == 0) available = 'none'
+                call errors%add(here // 'kind: ''' // trim(joint%kind) // ''' joints are not ' // &
+                    'available for ' // what // '; available: ' // available // see_matrix)
+                return
+            end if
+            if (trim(joint%kind) /= 'revolute') return
+            if (row%planar) then
+                if (any(joint%axis /= unset_real)) call errors%add(here // 'axis: ' // what // &
+                    ' is planar: its revolute joints turn about the plane normal and take no ' // &
+                    'axis; remove axis')
+            else if (all(joint%axis == unset_real)) then
+                call errors%add(here // 'axis: required for a revolute joint of ' // what // &
+                    ': the hinge axis, about which alone the two ends turn relative to each ' // &
+                    'other (e.g. axis = 0, 0, 1)')
+            else if (all(joint%axis == 0.0_rk)) then
+                call errors%add(here // 'axis: must not be the zero vector (the hinge axis of a ' // &
+                    'revolute joint)')
+            end if
         end associate
     end subroutine check_joint_kind
 

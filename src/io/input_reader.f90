@@ -8,7 +8,8 @@ module rs_io_input_reader
     use rs_core_error, only: error_list_t
     use rs_core_strings, only: to_lower, str, closest_name, did_you_mean
     use rs_model_scene, only: scene_t, run_input_t, time_input_t, solver_input_t, output_input_t, &
-        rod_input_t, bc_input_t, load_input_t, actuator_input_t, joint_input_t, sweep_input_t
+        rod_input_t, bc_input_t, load_input_t, actuator_input_t, joint_input_t, plate_input_t, &
+        contact_input_t, sweep_input_t
     use rs_io_namelist_lexer, only: assignment_t, group_chunk_t, split_namelist
     use rs_io_input_spec, only: group_spec_t, variable_spec_t, input_groups, find_group, find_variable, &
         range_description, in_range, split_condition, group_names, variable_names
@@ -34,7 +35,7 @@ contains
         scene%source_file = file
         scene%source_text = text
         allocate(scene%rods(0), scene%bcs(0), scene%loads(0), scene%actuators(0), scene%joints(0), &
-            scene%sweeps(0))
+            scene%plates(0), scene%sweeps(0))
         groups = input_groups()
         allocate(first_line(size(groups)))
         first_line = 0
@@ -75,6 +76,7 @@ contains
         type(load_input_t) :: load
         type(actuator_input_t) :: actuator
         type(joint_input_t) :: joint
+        type(plate_input_t) :: plate
         type(sweep_input_t) :: sweep
         logical, allocatable :: given(:)
         character(len=:), allocatable :: where, value, message
@@ -87,7 +89,13 @@ contains
         load%input_line = chunk%line
         actuator%input_line = chunk%line
         joint%input_line = chunk%line
+        plate%input_line = chunk%line
         sweep%input_line = chunk%line
+        if (group%name == 'contact') then
+            ! The single &contact lives in `scene`; its presence turns contact on.
+            scene%contact%given = .true.
+            scene%contact%input_line = chunk%line
+        end if
         do k = 1, size(chunk%assignments)
             associate (a => chunk%assignments(k))
                 v = find_variable(group, a%name)
@@ -110,7 +118,7 @@ contains
                     cycle
                 end if
                 call read_assignment(trim(group%name), a%target, value, scene, rod, bc, load, &
-                    actuator, joint, sweep, ios, message)
+                    actuator, joint, plate, sweep, ios, message)
                 if (ios /= 0) call errors%add(where // 'cannot read "' // a%value // '" as ' // &
                     kind_phrase(group%variables(v)) // ' (' // trim(message) // ')')
             end associate
@@ -132,6 +140,8 @@ contains
             scene%actuators = [scene%actuators, actuator]
         case ('joint')
             scene%joints = [scene%joints, joint]
+        case ('plate')
+            scene%plates = [scene%plates, plate]
         case ('sweep')
             scene%sweeps = [scene%sweeps, sweep]
         end select
@@ -203,8 +213,14 @@ contains
             message = 'no value given'
             return
         end if
-        if (spec%kind == 'string' .and. (a%n_values /= 1 .or. .not. is_quoted(a%value))) then
+        if (spec%kind == 'string' .and. spec%max_count == 1 .and. &
+                (a%n_values /= 1 .or. .not. is_quoted(a%value))) then
             message = 'expects one quoted string, e.g. ''text'' (given: ' // a%value // ')'
+            return
+        end if
+        if (spec%kind == 'string' .and. spec%max_count > 1 .and. .not. all_quoted(a%value)) then
+            message = 'expects quoted strings separated by commas, e.g. ''a'', ''b'' (given: ' // &
+                a%value // ')'
             return
         end if
         if (.not. a%subscripted) then
@@ -220,7 +236,7 @@ contains
         end if
         select case (spec%kind)
         case ('string')
-            if (len_trim(spec%allowed) > 0) then
+            if (len_trim(spec%allowed) > 0 .and. spec%max_count == 1) then
                 text = to_lower(unquote(a%value))
                 if (.not. is_allowed(text, spec%allowed)) then
                     message = '"' // unquote(a%value) // '" is not allowed; allowed: ' // &
@@ -245,10 +261,11 @@ contains
     !> Read `target = value` of group `group` through a namelist whose object is a copy of the
     !> group's plain type (`&rod_nml rod%target = value /`), so only that component changes; the
     !> single groups live in `scene`, the occurrence of a repeatable group being read in `rod`,
-    !> `bc`, `load`, `actuator`, `joint` or `sweep`. On failure nothing changes. All namelists live in this one
-    !> procedure, so no group name may equal an object name (hence the `_nml` suffix).
-    subroutine read_assignment(group, target, value, scene, rod, bc, load, actuator, joint, sweep, &
-            ios, message)
+    !> `bc`, `load`, `actuator`, `joint`, `plate` or `sweep`. On failure nothing changes. All
+    !> namelists live in this one procedure, so no group name may equal an object name (hence
+    !> the `_nml` suffix).
+    subroutine read_assignment(group, target, value, scene, rod, bc, load, actuator, joint, plate, &
+            sweep, ios, message)
         character(len=*), intent(in) :: group, target, value
         type(scene_t), intent(inout) :: scene
         type(rod_input_t), intent(inout) :: rod
@@ -256,6 +273,7 @@ contains
         type(load_input_t), intent(inout) :: load
         type(actuator_input_t), intent(inout) :: actuator
         type(joint_input_t), intent(inout) :: joint
+        type(plate_input_t), intent(inout) :: plate
         type(sweep_input_t), intent(inout) :: sweep
         integer, intent(out) :: ios
         character(len=:), allocatable, intent(out) :: message
@@ -268,6 +286,8 @@ contains
         type(load_input_t) :: load_copy
         type(actuator_input_t) :: actuator_copy
         type(joint_input_t) :: joint_copy
+        type(plate_input_t) :: plate_copy
+        type(contact_input_t) :: contact_copy
         type(sweep_input_t) :: sweep_copy
         namelist /run_nml/ run_copy
         namelist /time_nml/ time_copy
@@ -278,6 +298,8 @@ contains
         namelist /load_nml/ load_copy
         namelist /actuator_nml/ actuator_copy
         namelist /joint_nml/ joint_copy
+        namelist /plate_nml/ plate_copy
+        namelist /contact_nml/ contact_copy
         namelist /sweep_nml/ sweep_copy
         character(len=256) :: msg
         character(len=:), allocatable :: buffer
@@ -291,6 +313,8 @@ contains
         load_copy = load
         actuator_copy = actuator
         joint_copy = joint
+        plate_copy = plate
+        contact_copy = scene%contact
         sweep_copy = sweep
         msg = ''
         buffer = '&' // group // '_nml ' // group // '_copy%' // target // ' = ' // value // ' /'
@@ -313,6 +337,10 @@ contains
             read(buffer, nml=actuator_nml, iostat=ios, iomsg=msg)
         case ('joint')
             read(buffer, nml=joint_nml, iostat=ios, iomsg=msg)
+        case ('plate')
+            read(buffer, nml=plate_nml, iostat=ios, iomsg=msg)
+        case ('contact')
+            read(buffer, nml=contact_nml, iostat=ios, iomsg=msg)
         case ('sweep')
             read(buffer, nml=sweep_nml, iostat=ios, iomsg=msg)
         case default
@@ -330,6 +358,8 @@ contains
         load = load_copy
         actuator = actuator_copy
         joint = joint_copy
+        plate = plate_copy
+        scene%contact = contact_copy
         sweep = sweep_copy
     end subroutine read_assignment
 
@@ -343,6 +373,53 @@ contains
         if (n >= 2) is_quoted = (text(1:1) == "'" .and. text(n:n) == "'") .or. &
             (text(1:1) == '"' .and. text(n:n) == '"')
     end function is_quoted
+
+    !> True if every value of the value text `text` (separated by commas or blanks outside
+    !> quotes) is a quoted string; repeat counts (3*'a') are not taken for strings.
+    pure logical function all_quoted(text)
+        character(len=*), intent(in) :: text
+        character :: quote
+        integer :: i, n
+        logical :: in_token, token_quoted
+        all_quoted = .true.
+        quote = ' '
+        in_token = .false.
+        token_quoted = .false.
+        n = len_trim(text)
+        i = 0
+        do while (i < n)
+            i = i + 1
+            if (quote /= ' ') then
+                if (text(i:i) /= quote) cycle
+                ! A doubled quote stands for one quote inside the string.
+                if (i < n) then
+                    if (text(i + 1:i + 1) == quote) then
+                        i = i + 1
+                        cycle
+                    end if
+                end if
+                quote = ' '
+                cycle
+            end if
+            select case (text(i:i))
+            case (',', ' ')
+                if (in_token .and. .not. token_quoted) all_quoted = .false.
+                in_token = .false.
+            case ('''', '"')
+                ! A quote must open its token (it may not follow other characters).
+                if (in_token) all_quoted = .false.
+                quote = text(i:i)
+                in_token = .true.
+                token_quoted = .true.
+            case default
+                if (in_token .and. token_quoted) all_quoted = .false.
+                if (.not. in_token) token_quoted = .false.
+                in_token = .true.
+            end select
+        end do
+        if (in_token .and. .not. token_quoted) all_quoted = .false.
+        if (quote /= ' ') all_quoted = .false.
+    end function all_quoted
 
     pure function unquote(text) result(out)
         character(len=*), intent(in) :: text

@@ -9,7 +9,7 @@ module rs_io_input_spec
     use rs_core_kinds, only: rk
     use rs_core_strings, only: to_lower, str
     use rs_model_scene, only: max_table, max_branches, max_polyline_points, max_sweep_values, &
-        max_sweep_members
+        max_sweep_members, max_plate_rods
     use rs_model_units, only: unit_systems
     use rs_model_time_function, only: time_function_names
     implicit none
@@ -94,7 +94,7 @@ contains
     !> All groups of the input language, in the order the reference documents them.
     function input_groups() result(groups)
         type(group_spec_t), allocatable :: groups(:)
-        allocate(groups(10))
+        allocate(groups(12))
         groups(1) = run_group()
         groups(2) = time_group()
         groups(3) = solver_group()
@@ -104,7 +104,9 @@ contains
         groups(7) = load_group()
         groups(8) = actuator_group()
         groups(9) = joint_group()
-        groups(10) = sweep_group()
+        groups(10) = plate_group()
+        groups(11) = contact_group()
+        groups(12) = sweep_group()
     end function input_groups
 
     !> Index of group `name` in `groups`, 0 if unknown.
@@ -337,8 +339,9 @@ contains
                 required_if='geometry=straight', example='2.5'), &
             spec_v('helix_radius', 'real', 'm', '(helix: required)', &
                 'Radius of the helix. The centreline starts at start; the axis is the line through ' // &
-                'start - helix_radius u along direction, with u = e_z x direction normalized (e_x ' // &
-                'when direction is along e_z).', lower=0.0_rk, lower_inclusive=.false., &
+                'start - helix_radius u along direction, with u = cos(helix_phase) n + ' // &
+                'sin(helix_phase) (direction x n) and n = e_z x direction normalized (e_x when ' // &
+                'direction is along e_z).', lower=0.0_rk, lower_inclusive=.false., &
                 required_if='geometry=helix', only_if='geometry=helix', example='0.05'), &
             spec_v('helix_pitch', 'real', 'm', '(helix: required)', &
                 'Rise of the helix along its axis per turn: > 0 winds right-handed about ' // &
@@ -347,6 +350,14 @@ contains
             spec_v('helix_turns', 'real', '-', '(helix: required)', 'Number of turns (need not be whole).', &
                 lower=0.0_rk, lower_inclusive=.false., required_if='geometry=helix', &
                 only_if='geometry=helix', example='3.5'), &
+            spec_v('helix_phase', 'real', 'rad', '0', &
+                'Helix only: the angle phi of the start point about the axis, from n ' // &
+                '(helix_radius): ' // &
+                'u = cos(phi) n + sin(phi) (direction x n), so the axis passes through start - ' // &
+                'helix_radius u. Wires of a strand share one axis when wire k starts at that ' // &
+                'axis point + helix_radius u_k with its own phase: phases 0, pi/3, ..., 5 pi/3 ' // &
+                'lay six wires around a core.', only_if='geometry=helix', &
+                example='1.0471975511965976'), &
             spec_v('points', 'real', 'm', '(polyline: required)', &
                 'Vertices of a polyline centreline, x1, y1, z1, x2, y2, z2, ... (2 to ' // &
                 str(max_polyline_points) // ' points): consecutive points distinct, no segment ' // &
@@ -368,6 +379,12 @@ contains
                 allowed='none|circle|rectangle|tube', example="'circle'"), &
             spec_v('radius', 'real', 'm', '-', 'Radius of a circle, outer radius of a tube.', &
                 lower=0.0_rk, lower_inclusive=.false., example='0.01'), &
+            spec_v('contact_radius', 'real', 'm', 'circle, tube: radius', &
+                'Radius of the rod''s surface in rod-rod contact (&contact): two rods touch ' // &
+                'when their centrelines come within the sum of their contact radii. Default: ' // &
+                'the radius of a ''circle'' or ''tube'' section; required with &contact for ' // &
+                'other sections; only used with &contact (an error without it).', lower=0.0_rk, &
+                lower_inclusive=.false., example='0.001'), &
             spec_v('inner_radius', 'real', 'm', '-', 'Inner radius of a tube.', lower=0.0_rk, &
                 example='0.008'), &
             spec_v('width', 'real', 'm', '-', 'Rectangle side along d1.', lower=0.0_rk, &
@@ -550,9 +567,11 @@ contains
         g%name = 'joint'
         g%repeatable = .true.
         g%description = 'Two rod ends tied together at a point where both ends lie in the ' // &
-            'reference geometry (to 1e-9 of the longer rod). The rods of a chain of joints ' // &
-            'form one system with one formulation; a joint that ties ends already tied ' // &
-            '(directly or through other joints) is redundant and an error.'
+            'reference geometry (to 1e-9 of the longer rod). Planar formulations share the ' // &
+            'nodal unknowns of the two ends; ph_director ties them by constraints with ' // &
+            'multipliers. The rods of a chain of joints form one system with one formulation; ' // &
+            'a joint that ties ends already tied (directly or through other joints) is ' // &
+            'redundant and an error.'
         g%variables = [ &
             spec_v('rod_a', 'string', '-', '(required)', 'Name of the first rod.', required=.true., &
                 example="'crank'"), &
@@ -563,11 +582,101 @@ contains
             spec_v('end_b', 'string', '-', '(required)', 'Its end at the joint.', allowed='start|end', &
                 required=.true., example="'start'"), &
             spec_v('kind', 'string', '-', '(required)', &
-                "'revolute': shared position, each rod keeps its own rotation (a pin; in a " // &
-                "planar formulation a shared nodal (x, y)). 'rigid': shared position and " // &
-                "rotation. 'spherical': shared position in 3D (a ball joint).", &
-                allowed='revolute|rigid|spherical', required=.true., example="'revolute'")]
+                "'rigid': the position and orientation of the two end sections tied. " // &
+                "'spherical': the position tied, any relative rotation (a ball joint; 3D only). " // &
+                "'revolute': the position tied, relative rotation only about axis (a hinge); " // &
+                'in a planar formulation a pin about the plane normal (a shared nodal (x, y), ' // &
+                'each rod its own theta). Which kinds a formulation has: ' // &
+                'docs/user/capabilities.md. ph_director: a jointed end carries no &bc (a ' // &
+                'clamped or driven end cannot also be jointed) and is on no &plate.', &
+                allowed='revolute|rigid|spherical', required=.true., example="'revolute'"), &
+            spec_v('axis', 'real', '-', '(3D revolute: required)', &
+                'Revolute joints of 3D formulations (ph_director): the hinge axis in the ' // &
+                'reference configuration (inertial components, normalized; not the zero ' // &
+                'vector; components not given are 0). It stays fixed in both end sections, ' // &
+                'which turn relative to each other about it only. Planar formulations turn ' // &
+                'about the plane normal and refuse an axis; rigid and spherical joints take none.', &
+                count=3, example='0, 0, 1')]
     end function joint_group
+
+    function plate_group() result(g)
+        type(group_spec_t) :: g
+        g%name = 'plate'
+        g%repeatable = .true.
+        g%description = 'A rigid end plate to which rod ends are tied (ph_director): each ' // &
+            'listed end keeps its reference position and orientation relative to the plate. ' // &
+            'The plate is fixed, or driven: moved by f(t) displacement and turned by the ' // &
+            'rotation vector f(t) rotation about centre (f the time function). The rods of a ' // &
+            'plate form one system. A tied end carries no &bc and is in no &joint and on no ' // &
+            'other &plate.'
+        g%variables = [ &
+            spec_v('name', 'string', '-', '(required)', 'Name of the plate (unique among the ' // &
+                'plates), used in the plan and the output.', required=.true., example="'top'"), &
+            spec_v('rods', 'string', '-', '(required)', 'The rods tied to the plate, 1 to ' // &
+                str(max_plate_rods) // ' names, each at most once (e.g. every wire of a strand); ' // &
+                'all ph_director.', count=1, max_count=max_plate_rods, required=.true., &
+                example="'core', 'wire1', 'wire2'"), &
+            spec_v('end', 'string', '-', '(required)', 'The end of every listed rod that is ' // &
+                'tied to the plate (the same for all).', allowed='start|end', required=.true., &
+                example="'end'"), &
+            spec_v('centre', 'real', 'm', 'mean of the tied ends', 'Centre of the plate''s ' // &
+                'rotation (inertial components); default: the mean reference position of its ' // &
+                'tied ends.', count=3, example='0, 0, 1'), &
+            spec_v('displacement', 'real', 'm', '0, 0, 0', 'Displacement of the plate at ' // &
+                'f(t) = 1 (inertial components): the plate''s reference pose moved by f(t) ' // &
+                'displacement; a pull is a displacement along the bundle.', count=3, &
+                example='0, 0, 1e-3'), &
+            spec_v('rotation', 'real', 'rad', '0, 0, 0', 'Rotation vector of the plate at ' // &
+                'f(t) = 1 (inertial components, about centre): the plate turned by Exp(f(t) ' // &
+                'rotation); a twist is a rotation about the bundle''s axis. A driven plate ' // &
+                '(displacement or rotation not zero) starts at its reference pose: f(0) = 0.', &
+                count=3, example='0, 0, 0.1'), &
+            time_function_variables('plate motion')]
+    end function plate_group
+
+    function contact_group() result(g)
+        type(group_spec_t) :: g
+        g%name = 'contact'
+        g%description = 'Rod-rod and self contact between all rods of the scene (ph_director; ' // &
+            'DESIGN.md §5): a penalty potential between the Gauss points of nearby elements, ' // &
+            'energy consistent in the midpoint step, frictionless; candidate pairs come from a ' // &
+            'cell grid rebuilt every step. With &contact all rods of the scene form one system, ' // &
+            'and every rod needs a contact_radius (&rod).'
+        g%variables = [ &
+            spec_v('stiffness', 'real', 'N/m^3', '(required)', &
+                'Penalty stiffness k of the pair potential psi(d2) = k (r_c^2 - d2)^3 / ' // &
+                '(3 r_c^4) for d2 < r_c^2 (else 0), d2 the squared distance of two centreline ' // &
+                'points and r_c the sum of their rods'' contact_radius. psi is an energy per ' // &
+                'length squared (J/m^2), integrated over the arc lengths of both rods. A pair ' // &
+                'carrying the force f per length squared penetrates by about sqrt(f r_c / ' // &
+                '(8 k)): choose k to keep that well below r_c.', lower=0.0_rk, &
+                lower_inclusive=.false., required=.true., example='1e12'), &
+            spec_v('margin', 'real', 'm', 'largest contact_radius', &
+                'Broad-phase margin: elements whose centrelines come within contact_radius_a + ' // &
+                'contact_radius_b + margin of each other are candidate pairs (the boxes of the ' // &
+                'cell grid grow by margin / 2). It does not change the potential; a larger ' // &
+                'margin finds pairs that close within a step at the cost of more candidates.', &
+                lower=0.0_rk, example='0.002'), &
+            spec_v('skip', 'integer', '-', '(derived)', &
+                'Elements of one rod this many or fewer apart along it are never a pair, and ' // &
+                'neither are elements within skip of a joint (neighbours are held by the rod ' // &
+                'itself). Default: ceiling(3 r_max / h_min) + 1, with r_max the largest ' // &
+                'contact_radius and h_min the shortest element (length / n_elements) of the ' // &
+                'scene: elements closer along a rod than 1.5 contact distances never pair.', &
+                lower=0.0_rk, example='3'), &
+            spec_v('points_per_element', 'integer', '-', '(derived)', &
+                'Contact points (Gauss points of the contact integral) per element. Default: ' // &
+                'enough to resolve the contact patch at a penetration of 5% of the contact ' // &
+                'distance (at least the element''s n_gauss; docs/theory/bundles.md); fewer ' // &
+                'points keep the energy but give a stiffer, bumpier contact law.', lower=1.0_rk, &
+                example='8'), &
+            spec_v('self_contact', 'logical', '-', '.true.', &
+                'Contact of a rod with itself beyond skip elements (a twisted rod forming a ' // &
+                'loop); .false. keeps contact between different rods only.', example='.false.'), &
+            spec_v('friction', 'string', '-', "'none'", &
+                "Friction: 'none' (frictionless normal contact; friction is not available in " // &
+                'this version).', allowed='none', example="'none'")]
+    end function contact_group
 
     function sweep_group() result(g)
         type(group_spec_t) :: g
@@ -580,9 +689,10 @@ contains
         g%variables = [ &
             spec_v('parameter', 'string', '-', '(required)', &
                 'The swept variable, a path into the scene (case-insensitive): ' // &
-                'group%variable for &run, &time, &solver and &output (time%dt; a group the ' // &
-                'scene lacks is added), group(k)%variable for the k-th &rod, &bc, &load, ' // &
-                '&actuator or &joint in file order (rod(1)%EI1), and variable(i) for element ' // &
+                'group%variable for &run, &time, &solver, &output and &contact (time%dt; a ' // &
+                'group the scene lacks is added), group(k)%variable for the k-th &rod, &bc, ' // &
+                '&load, &actuator, &joint or &plate in file order (rod(1)%EI1), and variable(i) ' // &
+                'for element ' // &
                 'i of an array (load(1)%force(3)); arrays must be swept element by element. ' // &
                 'Only real and integer variables can be swept; each variable at most once.', &
                 required=.true., example="'rod(1)%EI1'"), &

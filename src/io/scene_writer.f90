@@ -4,14 +4,16 @@
 !>
 !> Each group is written with Fortran's namelist output (so no variable can be forgotten) and
 !> then tidied: component prefixes dropped, names in the reference's spelling, reals in their
-!> shortest exact form, padding inside strings removed, variables that are still unset and
-!> components that are not input variables left out.
+!> shortest exact form, padding inside strings removed, variables that are still unset,
+!> variables whose only_if condition does not hold (helix_phase of a straight rod) and
+!> components that are not input variables left out. &contact is written when it was given.
 module rs_io_scene_writer
     use rs_core_kinds, only: rk
     use rs_core_strings, only: to_lower, str
-    use rs_io_input_spec, only: group_spec_t, input_groups, find_group, find_variable
+    use rs_io_input_spec, only: group_spec_t, input_groups, find_group, find_variable, split_condition
     use rs_model_scene, only: section_derived_names, scene_t, run_input_t, time_input_t, solver_input_t, output_input_t, &
-        rod_input_t, bc_input_t, load_input_t, actuator_input_t, joint_input_t, sweep_input_t, sweep_values
+        rod_input_t, bc_input_t, load_input_t, actuator_input_t, joint_input_t, plate_input_t, &
+        contact_input_t, sweep_input_t, sweep_values
     implicit none
     private
 
@@ -19,6 +21,12 @@ module rs_io_scene_writer
 
     integer, parameter :: max_lines = 400
     integer, parameter :: line_len = 4096
+
+    !> One variable of a group as gfortran wrote it: its index in the group's spec, raw value.
+    type :: entry_t
+        integer :: variable = 0
+        character(len=:), allocatable :: value
+    end type entry_t
 
 contains
 
@@ -36,6 +44,8 @@ contains
         type(load_input_t) :: load
         type(actuator_input_t) :: actuator
         type(joint_input_t) :: joint
+        type(plate_input_t) :: plate
+        type(contact_input_t) :: contact
         namelist /run_nml/ run
         namelist /time_nml/ time
         namelist /solver_nml/ solver
@@ -45,6 +55,8 @@ contains
         namelist /load_nml/ load
         namelist /actuator_nml/ actuator
         namelist /joint_nml/ joint
+        namelist /plate_nml/ plate
+        namelist /contact_nml/ contact
         integer :: i
 
         allocate(lines(max_lines))
@@ -99,6 +111,20 @@ contains
                 write(lines, nml=joint_nml, delim='apostrophe')
                 text = text // tidy_group('joint', lines)
             end do
+        end if
+        if (allocated(scene%plates)) then
+            do i = 1, size(scene%plates)
+                plate = scene%plates(i)
+                lines = ''
+                write(lines, nml=plate_nml, delim='apostrophe')
+                text = text // tidy_group('plate', lines)
+            end do
+        end if
+        if (scene%contact%given) then
+            contact = scene%contact
+            lines = ''
+            write(lines, nml=contact_nml, delim='apostrophe')
+            text = text // tidy_group('contact', lines)
         end if
         if (allocated(scene%sweeps)) then
             ! The resolved values themselves (a linspace or logspace written out), one per line.
@@ -156,20 +182,22 @@ contains
         end do
     end function section_values_as_comments
 
-    !> Turn gfortran's namelist output of one group object into `&group` / `name = value` lines.
+    !> Turn gfortran's namelist output of one group object into `&group` / `name = value` lines;
+    !> a variable with an only_if condition that does not hold is left out (its value is the
+    !> default the reader would refuse there, e.g. helix_phase = 0 of a straight rod).
     function tidy_group(group, lines) result(text)
         character(len=*), intent(in) :: group
         character(len=*), intent(in) :: lines(:)
         character(len=:), allocatable :: text, name, value, line
         type(group_spec_t), allocatable :: groups(:)
-        integer :: i, eq, pct, g, v
-        logical :: choice
+        type(entry_t), allocatable :: entries(:)
+        integer :: i, eq, pct, g, v, n
         groups = input_groups()
         g = find_group(groups, group)
-        text = '&' // group // new_line('a')
-        name = ''
+        allocate(entries(size(lines)))
+        n = 0
+        v = 0
         value = ''
-        choice = .false.
         do i = 1, size(lines)
             line = trim(adjustl(lines(i)))
             if (len(line) == 0) cycle
@@ -178,30 +206,73 @@ contains
             eq = index(line, '=')
             if (pct > 0 .and. eq > pct .and. verify(line(1:pct - 1), &
                     'abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ_') == 0) then
-                text = text // variable_line(name, value, choice)
+                call keep(v, value)
                 name = to_lower(trim(line(pct + 1:eq - 1)))
                 ! The spelling of the reference (EA, rhoI1), not the namelist's upper case;
                 ! components that are not input variables (input_line) are left out.
                 v = find_variable(groups(g), name)
-                choice = .false.
-                if (v > 0) then
-                    name = trim(groups(g)%variables(v)%name)
-                    choice = len_trim(groups(g)%variables(v)%allowed) > 0
-                else
-                    name = ''
-                end if
                 value = line(eq + 1:)
             else
                 value = value // ' ' // line
             end if
         end do
-        text = text // variable_line(name, value, choice) // '/' // new_line('a')
+        call keep(v, value)
+        text = '&' // group // new_line('a')
+        do i = 1, size(entries(1:n))
+            if (.not. condition_holds(entries(i)%variable)) cycle
+            associate (spec => groups(g)%variables(entries(i)%variable))
+                text = text // variable_line(trim(spec%name), entries(i)%value, &
+                    len_trim(spec%allowed) > 0 .or. (spec%kind == 'string' .and. spec%max_count > 1))
+            end associate
+        end do
+        text = text // '/' // new_line('a')
+    contains
+        !> Note variable `v` (0: not an input variable) with its raw value.
+        subroutine keep(v, raw)
+            integer, intent(in) :: v
+            character(len=*), intent(in) :: raw
+            if (v == 0) return
+            n = n + 1
+            entries(n)%variable = v
+            entries(n)%value = raw
+        end subroutine keep
+
+        !> True unless variable `v` has an only_if condition that the written values (or the
+        !> default of the condition's variable) do not meet.
+        logical function condition_holds(v)
+            integer, intent(in) :: v
+            character(len=:), allocatable :: variable, wanted, actual
+            character(len=:), allocatable :: tokens(:)
+            integer :: c, k
+            condition_holds = .true.
+            if (len_trim(groups(g)%variables(v)%only_if) == 0) return
+            call split_condition(groups(g)%variables(v)%only_if, variable, wanted)
+            c = find_variable(groups(g), variable)
+            actual = unquoted(trim(groups(g)%variables(c)%default_text))
+            do k = 1, n
+                if (entries(k)%variable /= c) cycle
+                call split_tokens(entries(k)%value, tokens)
+                if (size(tokens) > 0) actual = unquoted(tidy_token(trim(tokens(1))))
+            end do
+            condition_holds = to_lower(actual) == wanted
+        end function condition_holds
     end function tidy_group
+
+    !> `text` without its enclosing quotes and padding inside them.
+    pure function unquoted(text) result(out)
+        character(len=*), intent(in) :: text
+        character(len=:), allocatable :: out
+        out = trim(text)
+        if (len(out) >= 2) then
+            if (out(1:1) == "'" .and. out(len(out):len(out)) == "'") out = trim(out(2:len(out) - 1))
+        end if
+    end function unquoted
 
     !> "    name = v1, v2" with values tidied; '' for no name (a component that is not an input
     !> variable) or a value whose every entry is still unset. A blank string of a variable with
     !> a list of allowed values (`choice`) is unset too (blank is never allowed; &rod em_variant
-    !> stays blank for formulations other than cl_em_planar).
+    !> stays blank for formulations other than cl_em_planar), and so is a blank entry of a
+    !> string array (the unused places of &plate rods, written as 126*'' by gfortran).
     function variable_line(name, raw, choice) result(text)
         character(len=*), intent(in) :: name, raw
         logical, intent(in) :: choice
@@ -217,6 +288,7 @@ contains
             token = tidy_token(trim(tokens(i)))
             if (len(token) == 0) cycle
             if (choice .and. token == "''") cycle
+            if (choice .and. token(1:1) /= "'" .and. index(token, "*''") == len(token) - 2) cycle
             if (n_kept > 0) values = values // ', '
             values = values // token
             n_kept = n_kept + 1
@@ -246,7 +318,10 @@ contains
             read(token(1:star - 1), *, iostat=ios) repeat
             body = token(star + 1:)
         end if
-        if (scan(body, '.EeDd') > 0 .and. scan(body, 'TF') == 0) then
+        if (index(body, "'") == 1) then
+            ! A repeated string (the blank places of a string array: 126*'  ').
+            body = "'" // trim(body(2:len(body) - 1)) // "'"
+        else if (scan(body, '.EeDd') > 0 .and. scan(body, 'TF') == 0) then
             read(body, *, iostat=ios) r_value
             if (ios == 0) then
                 if (r_value == huge(1.0_rk)) then

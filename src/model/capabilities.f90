@@ -35,6 +35,10 @@ module rs_model_capabilities
         logical :: curved_reference = .false.
         !> Kinds of &joint it can tie its rods' ends with ('revolute', 'rigid', 'spherical').
         character(len=64) :: joints = ''
+        !> Rod ends tied to rigid end plates, fixed or driven (&plate).
+        logical :: end_plates = .false.
+        !> Rod-rod and self contact (&contact).
+        logical :: contact = .false.
         !> A planar formulation: its rods and everything acting on them must lie in one plane
         !> (rs_model_planarity).
         logical :: planar = .false.
@@ -60,11 +64,14 @@ contains
             ! (methods/ph_director_3d.md §2.3, §3, §6.3): shear-rigid and inextensible
             ! constraints, quasistatics, Maxwell branches, actuators; and a curved stress-free
             ! reference (the reference strains at the Gauss points, docs/theory/ph_director.md).
+            ! Bundles (issue 10, DESIGN.md §5): rigid, spherical and revolute joints and end
+            ! plates as constraints with multipliers on the end nodes (rs_ph_director_tie), and
+            ! rod-rod and self contact by an energy-consistent penalty (rs_contact_potential).
             row = capability_t(formulation='ph_director', available=.true., end_kinds='clamped|free', &
                 load_places='start|end|distributed|gravity', load_frames='spatial', &
                 constraints='none|kirchhoff|inextensible', quasistatic=.true., viscoelastic=.true., &
-                actuation=.true., curved_reference=.true.)
-            ! No joints yet: they arrive with issue 10.
+                actuation=.true., curved_reference=.true., joints='rigid|spherical|revolute', &
+                end_plates=.true., contact=.true.)
         case ('ph_planar', 'cl_em_planar')
             ! seed 001 (methods/ph_planar.md §2.5, §5, §6.3): straight planar rods with
             ! clamped, pinned (ground pin: position fixed, angle free) and free ends; dead end

@@ -1,6 +1,8 @@
-!> Which rods a scene couples (DESIGN.md §4, §5): rods tied by &joint groups form one system
-!> that is solved as a whole; every other rod is a system of its own. The systems are numbered
-!> by their first rod, so a scene without joints has system i = rod i.
+!> Which rods a scene couples (DESIGN.md §4, §5): rods tied by &joint groups, and the rods of
+!> one &plate, form one system that is solved as a whole; with &contact every rod may touch
+!> every other, so all rods of the scene form one system. Every other rod is a system of its
+!> own. The systems are numbered by their first rod, so a scene without joints, plates and
+!> contact has system i = rod i.
 module rs_model_coupling
     use rs_core_kinds, only: rk
     use rs_model_scene, only: scene_t
@@ -16,16 +18,30 @@ contains
     pure subroutine coupled_systems(scene, system_of, first, members)
         type(scene_t), intent(in) :: scene
         integer, allocatable, intent(out) :: system_of(:), first(:), members(:)
-        integer :: parent(size(scene%rods)), i, j, a, b, n_rods, n_systems, k, at
+        integer :: parent(size(scene%rods)), i, j, a, b, n_rods, n_systems, k, at, lead
         n_rods = size(scene%rods)
         parent = [(i, i = 1, n_rods)]
-        ! Union of the two rods of every joint (the smaller index is the root).
+        ! Union of the two rods of every joint and of the rods of every plate (the smaller index
+        ! is the root); contact ties every rod to the first.
         if (allocated(scene%joints)) then
             do j = 1, size(scene%joints)
-                a = root(rod_named(scene%joints(j)%rod_a))
-                b = root(rod_named(scene%joints(j)%rod_b))
-                if (a == 0 .or. b == 0) cycle
-                parent(max(a, b)) = min(a, b)
+                call unite(parent, rod_named(scene%joints(j)%rod_a), rod_named(scene%joints(j)%rod_b))
+            end do
+        end if
+        if (allocated(scene%plates)) then
+            do j = 1, size(scene%plates)
+                lead = 0
+                do k = 1, size(scene%plates(j)%rods)
+                    b = rod_named(scene%plates(j)%rods(k))
+                    if (b == 0) cycle
+                    if (lead == 0) lead = b
+                    call unite(parent, lead, b)
+                end do
+            end do
+        end if
+        if (scene%contact%given) then
+            do i = 2, n_rods
+                call unite(parent, 1, i)
             end do
         end if
         allocate(system_of(n_rods))
@@ -51,6 +67,18 @@ contains
         end do
         first(n_systems + 1) = at
     contains
+        !> Join the systems of rods r and s in the forest `forest` (the host's parent; passed,
+        !> as a pure procedure may not change its host's variables); 0 is an unknown name.
+        pure subroutine unite(forest, r, s)
+            integer, intent(inout) :: forest(:)
+            integer, intent(in) :: r, s
+            integer :: ra, rb
+            ra = root(r)
+            rb = root(s)
+            if (ra == 0 .or. rb == 0) return
+            forest(max(ra, rb)) = min(ra, rb)
+        end subroutine unite
+
         pure integer function root(i)
             integer, intent(in) :: i
             root = i
@@ -64,6 +92,7 @@ contains
             character(len=*), intent(in) :: name
             integer :: r
             rod_named = 0
+            if (len_trim(name) == 0) return
             do r = 1, n_rods
                 if (trim(scene%rods(r)%name) == trim(name)) then
                     rod_named = r

@@ -6,10 +6,12 @@
 !> - straight: phi(s) = start + s t with t the unit `direction`.
 !> - helix: axis a (unit `direction`), radius R, rise per turn P, b = P / (2 pi), speed
 !>   c = sqrt(R^2 + b^2) (so L = turns sqrt((2 pi R)^2 + P^2)), theta = s / c and
-!>   phi(s) = start + R (cos theta - 1) u + R sin theta w + b theta a, with u = normal(a) (the
-!>   default-d1 rule below) and w = a x u: the centreline starts at `start`, the axis is the
-!>   line through start - R u along a, and the helix winds right-handed about a for P > 0
-!>   (left-handed for P < 0).
+!>   phi(s) = start + R (cos theta - 1) u + R sin theta w + b theta a, with the radial
+!>   direction u = cos(phase) n + sin(phase) (a x n), n = normal(a) (the default-d1 rule
+!>   below), phase the &rod helix_phase (default 0: u = n), and w = a x u: the centreline
+!>   starts at `start`, the axis is the line through start - R u along a, and the helix winds
+!>   right-handed about a for P > 0 (left-handed for P < 0). Helices of one axis point p and
+!>   phases phase_k, started at p + R u_k, share their axis (the wires of a strand).
 !> - polyline: vertices p_1 .. p_k joined by straight segments, s the arc length along them.
 !> - The frame (d1, d2, d3) has d3 = the unit tangent, d1 = the given d1 at s = 0 carried by
 !>   parallel transport (the rotation-minimizing or Bishop frame: d1' has no component along
@@ -75,11 +77,13 @@ contains
     end function straight_geometry
 
     !> The helix of unit axis `axis`, `radius` > 0, rise per turn `pitch` and `turns` > 0 turns,
-    !> starting at `start` (module header).
-    pure function helix_geometry(start, axis, radius, pitch, turns) result(g)
+    !> starting at `start`, its start at angle `phase` (rad, default 0) about the axis from
+    !> default_normal(axis) (module header).
+    pure function helix_geometry(start, axis, radius, pitch, turns, phase) result(g)
         real(rk), intent(in) :: start(3), axis(3), radius, pitch, turns
+        real(rk), intent(in), optional :: phase
         type(rod_geometry_t) :: g
-        real(rk) :: per_turn
+        real(rk) :: per_turn, n(3)
         g%kind = geometry_helix
         g%start = start
         g%axis = axis
@@ -88,7 +92,12 @@ contains
         per_turn = sqrt((2.0_rk * pi * radius)**2 + pitch**2)
         g%speed = per_turn / (2.0_rk * pi)
         g%length = turns * per_turn
-        g%radial = default_normal(axis)
+        n = default_normal(axis)
+        g%radial = n
+        ! Phase 0 keeps u = n bit for bit (the helices of scenes without helix_phase).
+        if (present(phase)) then
+            if (phase /= 0.0_rk) g%radial = cos(phase) * n + sin(phase) * cross(axis, n)
+        end if
         g%lateral = cross(axis, g%radial)
     end function helix_geometry
 
@@ -145,7 +154,7 @@ contains
         select case (trim(rod%geometry))
         case ('helix')
             g = helix_geometry(rod%start, rod%direction, rod%helix_radius, rod%helix_pitch, &
-                rod%helix_turns)
+                rod%helix_turns, rod%helix_phase)
         case ('polyline')
             n_points = 0
             do while (3 * n_points + 3 <= size(rod%points))

@@ -140,6 +140,9 @@ module rs_ph_bundle
         real(rk), allocatable :: segment_ends(:, :, :), segment_radius(:)
         integer, allocatable :: segment_rod(:), segment_index(:)
         integer :: repatterns = 0
+        !> The first step cut because an iterate moved further than the margin allows was
+        !> logged.
+        logical :: warned_motion = .false.
     contains
         procedure :: init => bundle_init
         procedure :: n_state => bundle_n_state
@@ -908,6 +911,11 @@ contains
         status = state_valid
         if (this%contact) then
             if (.not. motion_within_margin(this, x_n, y)) then
+                if (.not. this%warned_motion) call log_info('bundle: at t = ' // str(t_n) // &
+                    ' a Newton iterate moved a centreline point more than margin / 2 = ' // &
+                    str(this%motion_limit) // ' m, so the step is cut (docs/theory/bundles.md); ' // &
+                    'for faster motion raise &contact margin')
+                this%warned_motion = .true.
                 status = state_invalid
                 return
             end if

@@ -1,12 +1,13 @@
 !> What the ph_director formulation will do for one rod of a resolved, checked scene (the plan
 !> of `rodsolve --check-input`, DESIGN.md §4): the rod is built as for a run and its unknowns
 !> and the parts that run or are skipped are read off the built object, so the plan cannot
-!> drift from what runs.
+!> drift from what runs. The bundle lines (joints, end plates, contact: issue 10) are read off
+!> the resolved scene.
 module rs_ph_director_plan
     use rs_core_kinds, only: rk
     use rs_core_error, only: error_t
     use rs_core_strings, only: str
-    use rs_model_scene, only: scene_t, unset_real
+    use rs_model_scene, only: scene_t, unset_real, unset_int
     use rs_model_rod_geometry, only: rod_geometry_t, rod_geometry_of, helix_axis_point
     use rs_model_units, only: unit_in_system
     use rs_ph_director, only: ph_director_t
@@ -62,7 +63,7 @@ contains
             call add('mesh: ' // str(rod%n_elements) // ' elements of degree ' // str(p) // ', ' // &
                 str(rod%n_nodes) // ' nodes at equal arc length, ' // str(rod%basis%n_gauss) // &
                 ' Gauss points per element')
-            call add('supports: ' // supports_text(rod%clamped(1), rod%clamped(rod%n_nodes)))
+            call add('supports: ' // supports_text(scene, i, rod%clamped(1), rod%clamped(rod%n_nodes)))
             if (rod%condensed) then
                 call add('unknowns: ' // str(rod%n_unknown()) // ' Newton unknowns = ' // str(n_free) // &
                     ' free nodes x 18 (q 12, multipliers 6); velocities and the ' // &
@@ -108,6 +109,9 @@ contains
                 call add('actuators: none (skipped)')
             end if
             call add('loads: ' // loads_text())
+            call add('joints: ' // joints_text())
+            call add('end plates: ' // plates_text())
+            call add('contact: ' // contact_text())
             call add('initial velocity: ' // velocity_text())
             if (rod%condensed) then
                 call add('stress condensation: on (condense_stresses = .true.)')
@@ -142,6 +146,115 @@ contains
                     str(n_gravity) // ' gravity (dead, spatial)'
             end if
         end function loads_text
+
+        !> The joints at this rod's ends, counted by kind, each with its other end.
+        function joints_text() result(t)
+            character(len=:), allocatable :: t, list, mine, other, other_end, tied
+            integer :: n_kind(3), k
+            character(len=9), parameter :: kinds(3) = [character(len=9) :: 'rigid', 'spherical', &
+                'revolute']
+            n_kind = 0
+            list = ''
+            do j = 1, size(scene%joints)
+                associate (joint => scene%joints(j))
+                    if (joint%rod_a == scene%rods(i)%name) then
+                        mine = trim(joint%end_a)
+                        other = trim(joint%rod_b)
+                        other_end = trim(joint%end_b)
+                    else if (joint%rod_b == scene%rods(i)%name) then
+                        mine = trim(joint%end_b)
+                        other = trim(joint%rod_a)
+                        other_end = trim(joint%end_a)
+                    else
+                        cycle
+                    end if
+                    select case (trim(joint%kind))
+                    case ('rigid')
+                        tied = 'position and orientation tied'
+                    case ('spherical')
+                        tied = 'position tied, free relative rotation'
+                    case default
+                        tied = 'position tied, relative rotation about (' // &
+                            vector_text(joint%axis) // ') only'
+                    end select
+                    do k = 1, size(kinds)
+                        if (trim(joint%kind) == trim(kinds(k))) n_kind(k) = n_kind(k) + 1
+                    end do
+                    if (len(list) > 0) list = list // '; '
+                    list = list // '''' // mine // ''' end ' // trim(joint%kind) // ' with the ''' // &
+                        other_end // ''' end of rod ''' // other // ''' (' // tied // '; &joint at ' // &
+                        'line ' // str(joint%input_line) // ')'
+                end associate
+            end do
+            if (sum(n_kind) == 0) then
+                t = 'none (skipped)'
+                return
+            end if
+            t = str(sum(n_kind)) // ' (' // str(n_kind(1)) // ' rigid, ' // str(n_kind(2)) // &
+                ' spherical, ' // str(n_kind(3)) // ' revolute), constraints with multipliers on ' // &
+                'the end nodes: ' // list
+        end function joints_text
+
+        !> The end plates this rod is tied to: name, end, rods and how the plate moves.
+        function plates_text() result(t)
+            character(len=:), allocatable :: t, rods, drive
+            integer :: p, k
+            t = ''
+            do p = 1, size(scene%plates)
+                associate (plate => scene%plates(p))
+                    if (.not. any(plate%rods == scene%rods(i)%name)) cycle
+                    rods = ''
+                    do k = 1, size(plate%rods)
+                        if (len_trim(plate%rods(k)) == 0) exit
+                        if (k > 1) rods = rods // ', '
+                        rods = rods // '''' // trim(plate%rods(k)) // ''''
+                    end do
+                    if (all(plate%displacement == 0.0_rk) .and. all(plate%rotation == 0.0_rk)) then
+                        drive = 'fixed'
+                    else
+                        drive = 'driven: displacement f(t) (' // vector_text(plate%displacement) // &
+                            ') ' // unit_in_system('m', units) // ' and rotation f(t) (' // &
+                            vector_text(plate%rotation) // ') rad about (' // &
+                            vector_text(plate%centre) // '), f = ''' // trim(plate%time_function) // ''''
+                    end if
+                    if (len(t) > 0) t = t // '; '
+                    t = t // '''' // trim(plate%name) // ''' at the ''' // trim(plate%end) // &
+                        ''' end of ' // rods // ', ' // drive // ' (6 constraint rows per tied ' // &
+                        'end; &plate at line ' // str(plate%input_line) // ')'
+                end associate
+            end do
+            if (len(t) == 0) t = 'none (skipped)'
+        end function plates_text
+
+        !> Contact of the scene as this rod takes part in it.
+        function contact_text() result(t)
+            character(len=:), allocatable :: t, m, points
+            real(rk) :: ratio
+            if (.not. scene%contact%given) then
+                t = 'none (no &contact: no contact search)'
+                return
+            end if
+            m = unit_in_system('m', units)
+            associate (c => scene%contact, input => scene%rods(i))
+                points = 'derived'
+                if (c%points_per_element /= unset_int) points = str(c%points_per_element)
+                t = 'stiffness ' // str(c%stiffness) // ' ' // unit_in_system('N/m^3', units) // &
+                    ', contact radius ' // str(input%contact_radius) // ' ' // m // ', margin ' // &
+                    str(c%margin) // ' ' // m // ', skip ' // str(c%skip) // ' element(s) along a ' // &
+                    'rod, points per element: ' // points // ', self contact ' // &
+                    trim(merge('on ', 'off', c%self_contact)) // &
+                    ', friction ''' // trim(c%friction) // '''; candidate pairs from a cell grid ' // &
+                    'rebuilt every step'
+                ! Not an error: a sheath or a coating may be thicker than the section.
+                if ((trim(input%section) == 'circle' .or. trim(input%section) == 'tube') .and. &
+                        input%radius /= unset_real) then
+                    ratio = input%contact_radius / input%radius
+                    if (ratio > 2.0_rk .or. ratio < 0.5_rk) t = t // '; note: the contact ' // &
+                        'radius is ' // str(ratio) // ' times the section radius ' // &
+                        str(input%radius) // ' ' // m
+                end if
+            end associate
+        end function contact_text
 
         function velocity_text() result(t)
             character(len=:), allocatable :: t
@@ -203,12 +316,46 @@ contains
         end associate
     end function geometry_text
 
-    function supports_text(start_clamped, end_clamped) result(text)
+    !> The supports of rod `i`'s two ends: clamped (from the built rod), else held by a plate or a
+    !> joint (multipliers, issue 10), else free.
+    function supports_text(scene, i, start_clamped, end_clamped) result(text)
+        type(scene_t), intent(in) :: scene
+        integer, intent(in) :: i
         logical, intent(in) :: start_clamped, end_clamped
         character(len=:), allocatable :: text
-        text = 'start ' // trim(merge('clamped (no unknowns at its node)', 'free                             ', &
-            start_clamped)) // ', end ' // trim(merge('clamped (no unknowns at its node)', &
-            'free                             ', end_clamped))
+        text = 'start ' // end_text('start', start_clamped) // ', end ' // end_text('end', end_clamped)
+    contains
+        function end_text(end_name, clamped) result(t)
+            character(len=*), intent(in) :: end_name
+            logical, intent(in) :: clamped
+            character(len=:), allocatable :: t
+            integer :: k
+            if (clamped) then
+                t = 'clamped (no unknowns at its node)'
+                return
+            end if
+            t = 'free'
+            associate (name => scene%rods(i)%name)
+                if (allocated(scene%plates)) then
+                    do k = 1, size(scene%plates)
+                        if (trim(scene%plates(k)%end) /= end_name) cycle
+                        if (.not. any(scene%plates(k)%rods == name)) cycle
+                        t = 'tied to &plate ''' // trim(scene%plates(k)%name) // ''' (multipliers)'
+                        return
+                    end do
+                end if
+                if (allocated(scene%joints)) then
+                    do k = 1, size(scene%joints)
+                        if ((scene%joints(k)%rod_a == name .and. trim(scene%joints(k)%end_a) == end_name) &
+                                .or. (scene%joints(k)%rod_b == name .and. &
+                                trim(scene%joints(k)%end_b) == end_name)) then
+                            t = 'jointed (multipliers)'
+                            return
+                        end if
+                    end do
+                end if
+            end associate
+        end function end_text
     end function supports_text
 
     function vector_text(v) result(text)

@@ -7,7 +7,8 @@
 !> ranks, the units; and that the plan is comments only: the resolved scene followed by its
 !> plan reads back to the same scene. For the planar formulations (rs_ph_planar_plan): what
 !> 'auto' chose and why, the plane and planar coordinates, the unknowns (3 per node + 3 per
-!> element, 3 per node when condensed or for cl_em_planar), supports and joints.
+!> element, 3 per node when condensed or for cl_em_planar), supports and joints. For a
+!> ph_director bundle (issue 10): its joints by kind, plates, supports and contact settings.
 module rs_test_formulations_plan
     use rs_core_kinds, only: rk
     use rs_core_error, only: error_list_t
@@ -34,6 +35,7 @@ contains
         call run_test('plan_is_comments', test_plan_is_comments)
         call run_test('planar_plan', test_planar_plan)
         call run_test('auto_3d_reason', test_auto_3d_reason)
+        call run_test('bundle_plan', test_bundle_plan)
     end subroutine run_all_tests
 
     !> A clamped-free rod of 4 quadratic elements (9 nodes, 8 free) with an end load.
@@ -222,6 +224,49 @@ contains
         CHECK_EQUAL(errors%count, 0, 'resolved text with the plan parses: ' // errors%joined())
         CHECK_TRUE(resolved_scene_text(again) == text, 'the plan does not change the scene')
     end subroutine test_plan_is_comments
+
+    ! A bundle (issue 10): each ph_director rod's plan names its joints by kind with the other
+    ! end, the plates it is tied to (with their rods and drive), the supports held by them, and
+    ! the contact settings (derived margin and skip); a scene without them says 'none'.
+    subroutine test_bundle_plan()
+        character(len=:), allocatable :: plan, expected, rods
+        rods = "&rod name = 'a', n_elements = 4, length = 1, section = 'circle', radius = 0.01," // nl // &
+            '     E = 1e9, nu = 0.3, density = 1000 /' // nl // &
+            "&rod name = 'b', n_elements = 4, length = 1, start = 1, 0, 0, direction = 0, 1, 0," // nl // &
+            "     section = 'circle', radius = 0.01, contact_radius = 0.025, E = 1e9, nu = 0.3," // nl // &
+            '     density = 1000 /' // nl
+        plan = plan_of('&time t_end = 1, dt = 0.5 /' // nl // rods // &
+            "&joint rod_a = 'a', end_a = 'end', rod_b = 'b', end_b = 'start', kind = 'revolute'," // nl // &
+            '       axis = 0, 0, 1 /' // nl // &
+            "&plate name = 'foot', rods = 'a', end = 'start' /" // nl // &
+            "&plate name = 'hand', rods = 'b', end = 'end', rotation = 0, 0.5, 0," // nl // &
+            "       time_function = 'ramp', t_off = 1 /" // nl // &
+            '&contact stiffness = 1e9, self_contact = .false. /' // nl, 1)
+        expected = "joints: 1 (0 rigid, 0 spherical, 1 revolute), constraints with multipliers on " // &
+            "the end nodes: 'end' end revolute with the 'start' end of rod 'b' (position tied, " // &
+            'relative rotation about (0.0, 0.0, 1.0) only; &joint at line 7)'
+        CHECK_CONTAINS(plan, expected, 'joints of a')
+        expected = "supports: start tied to &plate 'foot' (multipliers), end jointed (multipliers)"
+        CHECK_CONTAINS(plan, expected, 'supports of a')
+        expected = "end plates: 'foot' at the 'start' end of 'a', fixed (6 constraint rows per " // &
+            'tied end; &plate at line 9)'
+        CHECK_CONTAINS(plan, expected, 'fixed plate')
+        expected = "end plates: 'hand' at the 'end' end of 'b', driven: displacement f(t) (0.0, " // &
+            "0.0, 0.0) m and rotation f(t) (0.0, 0.5, 0.0) rad about (1.0, 1.0, 0.0), f = 'ramp'"
+        CHECK_CONTAINS(plan, expected, 'driven plate about the mean of its ends')
+        expected = "contact: stiffness 1.0e+09 N/m^3, contact radius 0.01 m, margin 0.025 m, " // &
+            "skip 2 element(s) along a rod, points per element: derived, self contact off, " // &
+            "friction 'none'; candidate pairs " // &
+            'from a cell grid rebuilt every step'
+        CHECK_CONTAINS(plan, expected, 'contact of a: derived margin and skip')
+        CHECK_CONTAINS(plan, 'contact radius 0.025 m', 'contact radius of b')
+        CHECK_CONTAINS(plan, 'note: the contact radius is 2.5 times the section radius 0.01 m', 'note')
+        CHECK_CONTAINS(plan, 'ranks: 2 rod(s) in 1 system(s)', 'one system')
+        plan = plan_of(cantilever('', ''), 1)
+        CHECK_CONTAINS(plan, 'joints: none (skipped)', 'no joints')
+        CHECK_CONTAINS(plan, 'end plates: none (skipped)', 'no plates')
+        CHECK_CONTAINS(plan, 'contact: none (no &contact: no contact search)', 'no contact')
+    end subroutine test_bundle_plan
 
     function replace(text, old, new) result(out)
         character(len=*), intent(in) :: text, old, new

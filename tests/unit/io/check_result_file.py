@@ -2,8 +2,9 @@
 them against the closed form the Fortran test used: shapes, every value, units and
 descriptions on every dataset, the root attributes, chunking along the steps, the sums in
 /series/ (the new dissipated and actuator_work included), the strain and branch_stress datasets
-(branch_stress only for the rod with Maxwell branches) with their units and components, and the
-attributes written through the HDF5 layer. Also exercises
+(branch_stress only for the rod with Maxwell branches) with their units and components, the
+bundle series series/contact/{energy,force,penetration} and series/ties/force (only for the rod
+of a bundle, arm), and the attributes written through the HDF5 layer. Also exercises
 scripts/rodresults.py (on PYTHONPATH). Exit status 1 with a list of failures.
 """
 
@@ -58,6 +59,14 @@ INPUT_TEXT = ("! scene of the synthetic test, caf\u00e9\n&rod name = 'arm', n_el
               "\t&rod name = 'tail' /\n")
 INPUT_RESOLVED = "&run\n    title = 'two synthetic rods'\n/\n"
 PETSC_OPTIONS = "-snes_rtol 0 -snes_stol 0"
+# The bundle series (issue 10) of the rod of a bundle: unit and a description fragment.
+BUNDLE_SERIES = {
+    "contact/energy": ("J", "half the energy of each of its contact pairs"),
+    "contact/force": ("N", "total contact force on the rod"),
+    "contact/penetration": ("m", "deepest penetration r_c - d"),
+    "ties/force": ("N", "end 0 = start, 1 = end"),
+}
+BUNDLE_RODS = ("arm",)
 
 failures = []
 
@@ -140,6 +149,15 @@ def expected_rod(k, n_nodes, n_points, n_branches):
         "dt": TIME_STEP + 0 * t,
     }
     series["energy/total"] = series["energy/kinetic"] + series["energy/strain"]
+    if k == 1:  # the rod of a bundle
+        series["contact/energy"] = 1.0e-3 * j
+        series["contact/penetration"] = 1.0e-5 * (j % 3)
+        series["contact/force"] = np.stack([1.0 * j, -2.0 * j, 0.5 + 0 * t], axis=1)
+        # h5py [step, end, component]; end 0 = start holds Fortran's end 1.
+        ends = np.arange(1, 3)
+        series["ties/force"] = np.stack([ends[None, :] + 0 * j[:, None],
+                                         10.0 * j[:, None] + 0 * ends[None, :],
+                                         -1.0 * ends[None, :] * j[:, None]], axis=2)
     return e, series
 
 
@@ -229,6 +247,18 @@ def check_result(path):
             check(g["stress"].attrs.get("components") == "N1 N2 N3 M1 M2 M3",
                   "%s/stress components" % name)
             check(g["series/newton/iterations"].dtype.kind == "i", "iterations are integers")
+            for key, (unit, fragment) in BUNDLE_SERIES.items():
+                ds = g["series"].get(key)
+                check((ds is not None) == (name in BUNDLE_RODS),
+                      "%s/series/%s present exactly for a rod of a bundle" % (name, key))
+                if ds is not None:
+                    check(ds.attrs.get("unit") == unit, "%s/series/%s unit %r"
+                          % (name, key, ds.attrs.get("unit")))
+                    check(fragment in str(ds.attrs.get("description", "")),
+                          "%s/series/%s description holds %r" % (name, key, fragment))
+            if name not in BUNDLE_RODS:
+                check("contact" not in g["series"] and "ties" not in g["series"],
+                      "%s: no contact or ties group" % name)
             # Chunked along the steps (64 records a chunk, fewer only when a chunk would exceed
             # 1 MiB; records arrive a few at a time) and extendable there; the meshes are
             # contiguous.
@@ -256,6 +286,8 @@ def check_result(path):
             if ds is not None:
                 check_close(ds[()], value, "/series/%s" % key)
         check("constraint_residual" not in f["series"], "no root constraint_residual")
+        check("contact" not in f["series"] and "ties" not in f["series"],
+              "no root contact or ties series")
 
 
 def check_reader(path):

@@ -12,16 +12,19 @@
 !> damping variables (refused for other formulations), relaxation (against the capability row
 !> and quasistatics), driven ends moved by velocity or by pose as the formulation drives them
 !> (several velocity drives on one end add up, anything else twice is an error) and its end
-!> kinds, other at s = L than at s = 0. Each error is checked for its file, line, group and
-!> variable.
+!> kinds, other at s = L than at s = 0. Bundles (issue 10): the plate's centre, the contact
+!> radii, margin and skip derived, the joint axis normalized, one system, 'auto' choosing 3D for
+!> contact or a hinge axis, and the bundle errors of one scene reported together. Each error is
+!> checked for its file, line, group and variable.
 module rs_test_io_input_check
     use rs_core_kinds, only: rk
     use rs_core_error, only: error_list_t
     use rs_test_assert, only: run_test, assert_true, assert_equal, assert_contains, assert_close
-    use rs_model_scene, only: scene_t, unset_real, max_branches
+    use rs_model_scene, only: scene_t, unset_real, unset_int, max_branches
     use rs_model_capabilities, only: capability_t, capability_of
     use rs_io_input_file, only: parse_scene
     use rs_io_input_check, only: check_capabilities, check_rod_capabilities
+    use rs_model_coupling, only: coupled_systems
     implicit none
     private
 
@@ -66,6 +69,9 @@ contains
         call run_test('velocity_drives', test_velocity_drives)
         call run_test('drive_kind_per_formulation', test_drive_kind_per_formulation)
         call run_test('strand_end_kinds', test_strand_end_kinds)
+        call run_test('bundle_resolution', test_bundle_resolution)
+        call run_test('auto_with_bundles', test_auto_with_bundles)
+        call run_test('bundle_errors_collected', test_bundle_errors_collected)
     end subroutine run_all_tests
 
     !> Parse `text` as file 'c.nml' and check that it has exactly `n_errors` errors.
@@ -736,6 +742,134 @@ contains
             "available there for formulation 'se3_strand'; available: clamped|driven"
         CHECK_CONTAINS(errors%joined(), fragment, 'free start: names the end')
     end subroutine test_strand_end_kinds
+
+    ! Bundles (issue 10), lines: 1 &time, 2-4 rods a, b, c, 5 &joint, 6 &plate, 7 &contact.
+    ! The plate's rods land in order and its centre defaults to the mean of the tied ends,
+    ! (1, 0, 0) and (2, 0.1, 0), except the given centre(3); the joint axis is normalized; the
+    ! circle's and the tube's contact radii are their radii, c's is given; the margin is the
+    ! largest contact radius 0.05 and skip = ceiling(3 0.05 / 0.1) + 1 = 3 (c's elements are the
+    ! shortest, 0.5 / 5); every rod is in one system; everything runs on ph_director.
+    subroutine test_bundle_resolution()
+        type(scene_t) :: scene
+        type(error_list_t) :: errors
+        character(len=:), allocatable :: text
+        integer, allocatable :: system_of(:), first(:), members(:)
+        real(rk), parameter :: centre(3) = [1.5_rk, 0.05_rk, 5.0_rk], e_z(3) = [0.0_rk, 0.0_rk, 1.0_rk]
+        real(rk), parameter :: radii(3) = [0.01_rk, 0.03_rk, 0.05_rk]
+        text = time // &
+            rod_x // "a', section = 'circle', radius = 0.01, E = 1e9, nu = 0.3, " // &
+            'density = 1000 /' // nl // &
+            "&rod name = 'b', n_elements = 10, length = 2, start = 0, 0.1, 0, section = 'tube', " // &
+            'radius = 0.03, inner_radius = 0.02, E = 1e9, nu = 0.3, density = 1000 /' // nl // &
+            "&rod name = 'c', n_elements = 5, length = 0.5, start = -0.5, 0, 0, contact_radius = " // &
+            '0.05, ' // direct // ' /' // nl // &
+            "&joint rod_a = 'c', end_a = 'end', rod_b = 'a', end_b = 'start', kind = 'revolute', " // &
+            'axis = 0, 0, 2 /' // nl // &
+            "&plate name = 'head', rods = 'a', 'b', end = 'end', centre(3) = 5 /" // nl // &
+            '&contact stiffness = 1e9 /' // nl
+        call parse(text, scene, errors, 0)
+        if (size(scene%rods) /= 3 .or. size(scene%plates) /= 1) return
+        CHECK_EQUAL(scene%plates(1)%input_line, 6, 'plate line')
+        CHECK_EQUAL(trim(scene%plates(1)%rods(1)) // ',' // trim(scene%plates(1)%rods(2)), 'a,b', 'rods')
+        CHECK_EQUAL(len_trim(scene%plates(1)%rods(3)), 0, 'two rods')
+        CHECK_CLOSE(scene%plates(1)%centre, centre, 1.0e-15_rk, 0.0_rk, 'centre: mean, and centre(3)')
+        CHECK_CLOSE(scene%joints(1)%axis, e_z, 0.0_rk, 0.0_rk, 'axis normalized')
+        CHECK_TRUE(scene%contact%given, 'contact given')
+        CHECK_EQUAL(scene%contact%input_line, 7, 'contact line')
+        CHECK_CLOSE(scene%rods%contact_radius, radii, 0.0_rk, 0.0_rk, 'radii')
+        CHECK_CLOSE(scene%contact%margin, 0.05_rk, 0.0_rk, 0.0_rk, 'margin: largest radius')
+        CHECK_EQUAL(scene%contact%skip, 3, 'skip: ceiling(3 r_max / h_min) + 1')
+        CHECK_EQUAL(scene%contact%points_per_element, unset_int, 'points per element: the formulation''s')
+        CHECK_TRUE(scene%contact%self_contact, 'self contact by default')
+        CHECK_EQUAL(trim(scene%contact%friction), 'none', 'frictionless')
+        call coupled_systems(scene, system_of, first, members)
+        CHECK_TRUE(all(system_of == 1), 'one system')
+        errors = error_list_t()
+        call check_capabilities(scene, errors)
+        CHECK_EQUAL(errors%count, 0, 'ph_director runs bundles: ' // errors%joined())
+        ! Given margin, skip and points are kept (0 is allowed for margin and skip); the default
+        ! skip does not depend on the margin: ceiling(3 0.0625 / (1 / 64)) + 1 = 13 (exact).
+        text = time // rod_x // "a', contact_radius = 0.01, " // direct // ' /' // nl // &
+            '&contact stiffness = 1e9, margin = 0, skip = 0, points_per_element = 5 /' // nl // &
+            "&rod name = 'b', n_elements = 64, length = 1, start = 0, 1, 0, contact_radius = 0.0625, " // &
+            direct // ' /' // nl
+        call parse(text, scene, errors, 0)
+        CHECK_CLOSE(scene%contact%margin, 0.0_rk, 0.0_rk, 0.0_rk, 'margin given')
+        CHECK_EQUAL(scene%contact%skip, 0, 'skip given')
+        CHECK_EQUAL(scene%contact%points_per_element, 5, 'points given')
+        text = replace_first(text, ', skip = 0', '')
+        call parse(text, scene, errors, 0)
+        CHECK_EQUAL(scene%contact%skip, 13, 'skip = ceiling(3 0.0625 / (1 / 64)) + 1')
+    end subroutine test_bundle_resolution
+
+    ! 'auto' on a planar pair: ph_planar without bundle parts, ph_director with &contact or a
+    ! revolute joint with an axis (ph_planar cannot run them), and the reason says why.
+    subroutine test_auto_with_bundles()
+        type(scene_t) :: scene
+        type(error_list_t) :: errors
+        character(len=:), allocatable :: pair, joint, why
+        pair = "&run formulation_default = 'auto' /" // nl // time // &
+            rod_x // "a', contact_radius = 0.01, " // direct // ' /' // nl // &
+            rod_x // "b', start = 1, 0, 0, contact_radius = 0.01, " // direct // ' /' // nl
+        joint = "&joint rod_a = 'a', end_a = 'end', rod_b = 'b', end_b = 'start', kind = 'revolute'"
+        call parse(pair // '&contact stiffness = 1e9 /' // nl, scene, errors, 0)
+        CHECK_EQUAL(trim(scene%rods(1)%formulation), 'ph_director', 'contact: 3D')
+        why = "because ph_planar cannot run them: &contact: rod-rod contact is not available for " // &
+            "formulation 'ph_planar' (rod 'a')"
+        CHECK_CONTAINS(scene%rods(2)%formulation_reason, why, 'why')
+        pair = replace_first(replace_first(pair, 'contact_radius = 0.01, ', ''), &
+            'contact_radius = 0.01, ', '')
+        call parse(pair // joint // ' /' // nl, scene, errors, 0)
+        CHECK_EQUAL(trim(scene%rods(1)%formulation), 'ph_planar', 'pin in the plane: planar')
+        errors = error_list_t()
+        call check_capabilities(scene, errors)
+        CHECK_EQUAL(errors%count, 0, 'planar revolute joint without axis: ' // errors%joined())
+        call parse(pair // joint // ', axis = 0, 1, 0 /' // nl, scene, errors, 0)
+        CHECK_EQUAL(trim(scene%rods(2)%formulation), 'ph_director', 'hinge with an axis: 3D')
+        CHECK_CONTAINS(scene%rods(1)%formulation_reason, '&joint axis: formulation ''ph_planar''', 'axis')
+        errors = error_list_t()
+        call check_capabilities(scene, errors)
+        CHECK_EQUAL(errors%count, 0, 'ph_director hinge: ' // errors%joined())
+    end subroutine test_auto_with_bundles
+
+    ! One scene with several bundle errors: all are reported, each with its line and variable.
+    ! Lines: 1 &time, 2-3 rods a, b, 4 &bc, 5-6 joints, 7-8 plates, 9 &contact (11 errors).
+    subroutine test_bundle_errors_collected()
+        type(scene_t) :: scene
+        type(error_list_t) :: errors
+        character(len=:), allocatable :: text, joined
+        text = time // rod_x // "a', " // direct // ' /' // nl // &
+            rod_x // "b', start = 1, 0, 0, " // direct // ' /' // nl // &
+            "&bc rod = 'b', end = 'end', kind = 'clamped' /" // nl // &
+            "&joint rod_a = 'a', end_a = 'end', rod_b = 'b', end_b = 'start', kind = 'spherical', " // &
+            'axis = 1, 0, 0 /' // nl // &
+            "&joint rod_a = 'a', end_a = 'start', rod_b = 'b', end_b = 'end', kind = 'revolute' /" // nl // &
+            "&plate name = 'p', rods = 'a', 'bb', 'a', end = 'end' /" // nl // &
+            "&plate name = 'p', rods = 'b', end = 'end', displacement = 0, 0, 1 /" // nl // &
+            '&contact stiffness = 1e9 /' // nl
+        call parse(text, scene, errors, 11)
+        joined = errors%joined()
+        CHECK_CONTAINS(joined, "c.nml:5: &joint axis: only a revolute joint turns about an axis", 'axis')
+        CHECK_CONTAINS(joined, "c.nml:6: &joint end_b: the 'end' end of rod 'b' at (2.0, 0.0, 0.0)", 'apart')
+        CHECK_CONTAINS(joined, "c.nml:7: &plate 'p' rods: no rod is named 'bb'; did you mean", 'unknown')
+        CHECK_CONTAINS(joined, "c.nml:7: &plate 'p' rods: the 'end' end of rod 'a' is also tied", 'joint')
+        CHECK_CONTAINS(joined, "c.nml:7: &plate 'p' rods: rod 'a' is listed twice", 'twice')
+        CHECK_CONTAINS(joined, "c.nml:8: &plate 'p' name: 'p' is already the name", 'name')
+        CHECK_CONTAINS(joined, "c.nml:8: &plate 'p' rods: the 'end' end of rod 'b' has a 'clamped' &bc", 'bc')
+        CHECK_CONTAINS(joined, "c.nml:8: &plate 'p' time_function: f(0) = 1.0", 'f(0)')
+        CHECK_CONTAINS(joined, "c.nml:8: &plate 'p' rods: the 'end' end of rod 'b' is also tied", 'joint b')
+        CHECK_CONTAINS(joined, "c.nml:2: &rod 'a' contact_radius: required with &contact (line 9)", 'r')
+        CHECK_CONTAINS(joined, "c.nml:3: &rod 'b' contact_radius: required with &contact (line 9)", 'r b')
+    end subroutine test_bundle_errors_collected
+
+    function replace_first(text, old, new) result(out)
+        character(len=*), intent(in) :: text, old, new
+        character(len=:), allocatable :: out
+        integer :: at
+        at = index(text, old)
+        out = text
+        if (at > 0) out = text(1:at - 1) // new // text(at + len(old):)
+    end function replace_first
 
 end module rs_test_io_input_check
 

@@ -5,7 +5,8 @@
 !> output path, G from nu, stiffnesses and inertias from circle, tube and rectangle sections by
 !> hand formulas), the count and text of errors for a few invalid scenes, the variables
 !> required or allowed only under a condition (geometry), and that the example of every variable
-!> in the input reference reads. The malformed scenes of tests/input/bad/ are not repeated here.
+!> in the input reference reads; string arrays (&plate rods) and the &contact flag. The
+!> malformed scenes of tests/input/bad/ are not repeated here.
 module rs_test_io_input_reader
     use rs_core_kinds, only: rk, pi
     use rs_core_error, only: error_list_t
@@ -48,6 +49,7 @@ contains
         call run_test('section_errors', test_section_errors)
         call run_test('every_example_reads', test_every_example_reads)
         call run_test('conditional_variables', test_conditional_variables)
+        call run_test('string_arrays', test_string_arrays)
     end subroutine run_all_tests
 
     !> Parse `text` as file `file` and check that it has exactly `n_errors` errors; on a
@@ -504,6 +506,43 @@ contains
             end do
         end do
     end subroutine test_every_example_reads
+
+    ! A string array (&plate rods): quoted names separated by commas or blanks, a subscripted
+    ! entry, a doubled quote inside a name; unquoted entries, text after a quoted one and repeat
+    ! counts are refused; &contact is marked given at its line, and absent it stays off.
+    subroutine test_string_arrays()
+        type(scene_t) :: scene
+        type(error_list_t) :: errors
+        character(len=:), allocatable :: text, joined
+        text = '&plate name = ''p'', end = ''end'', rods = ''a'', "b" ''c''   ''it''''s'' /' // nl // &
+            '&contact stiffness = 1 /' // nl // &
+            '&plate name = ''q'', end = ''end'', rods(6) = ''f'' /' // nl
+        call read_scene_text(text, 'arrays.nml', scene, errors)
+        CHECK_EQUAL(errors%count, 0, 'read: ' // errors%joined())
+        if (size(scene%plates) /= 2) return
+        CHECK_EQUAL(trim(scene%plates(1)%rods(1)), 'a', 'first')
+        CHECK_EQUAL(trim(scene%plates(1)%rods(2)), 'b', 'double quotes')
+        CHECK_EQUAL(trim(scene%plates(1)%rods(3)), 'c', 'blank separator')
+        CHECK_EQUAL(trim(scene%plates(1)%rods(4)), "it's", 'doubled quote')
+        CHECK_EQUAL(len_trim(scene%plates(1)%rods(5)), 0, 'four rods')
+        CHECK_EQUAL(trim(scene%plates(2)%rods(6)), 'f', 'subscripted entry')
+        CHECK_EQUAL(len_trim(scene%plates(2)%rods(1)), 0, 'before it blank (resolve refuses the gap)')
+        CHECK_TRUE(scene%contact%given, '&contact given')
+        CHECK_EQUAL(scene%contact%input_line, 2, '&contact line')
+        errors = error_list_t()
+        text = "&plate rods = 'a', b /" // nl // "&plate rods = 'a'x /" // nl // &
+            "&plate rods = 2*'a' /" // nl
+        call read_scene_text(text, 'arrays.nml', scene, errors)
+        joined = errors%joined()
+        CHECK_CONTAINS(joined, "arrays.nml:1: &plate rods: expects quoted strings separated by commas", 'b')
+        CHECK_CONTAINS(joined, "arrays.nml:2: &plate rods: expects quoted strings", 'a''x')
+        CHECK_CONTAINS(joined, "arrays.nml:3: &plate rods: expects quoted strings", 'repeat')
+        CHECK_TRUE(.not. scene%contact%given, 'no &contact: contact off')
+        errors = error_list_t()
+        call read_scene_text('&time t_end = 1 /' // nl, 'none.nml', scene, errors)
+        CHECK_TRUE(.not. scene%contact%given, 'contact off by default')
+        CHECK_EQUAL(size(scene%plates), 0, 'no plates')
+    end subroutine test_string_arrays
 
     ! required_if and only_if: a helix needs its three variables, a straight rod its length, and
     ! helix or polyline variables are refused with another geometry; each names the condition.

@@ -6,13 +6,15 @@
 !> back with h5py and compares with the same closed form. Here: the return status of good
 !> writes, and the errors for an unwritable path, rods that do not share a time grid, duplicate
 !> or unusable names and a history with fewer records than n_stored (stress, strains,
-!> branch_stress, dissipated).
+!> branch_stress, dissipated, tie_force), and the bundle series (contact, ties) with their
+!> `&output fields` selection.
 module rs_test_io_result_file
     use rs_core_kinds, only: rk
     use rs_core_error, only: error_t
     use rs_model_rod_history, only: rod_history_t
     use rs_io_hdf5_file, only: hdf5_file_t
-    use rs_io_result_file, only: result_meta_t, write_result_file, result_schema_version
+    use rs_io_result_file, only: result_meta_t, write_result_file, result_schema_version, &
+        rod_layout_t, layout_of, prepare_result_file, result_writer_t, unknown_fields
     use rs_test_assert, only: run_test, assert_true, assert_equal, assert_contains
     implicit none
     private
@@ -23,6 +25,7 @@ module rs_test_io_result_file
     character(len=*), parameter :: out_dir = 'result_file_test'
     character(len=*), parameter :: result_path = out_dir // '/nested/two_rods.h5'
     character(len=*), parameter :: layer_path = out_dir // '/layer.h5'
+    character(len=*), parameter :: selection_path = out_dir // '/selection.h5'
 
     ! The closed form; check_result_file.py has the same definitions.
     integer, parameter :: n_stored = 8
@@ -38,13 +41,14 @@ contains
         call run_test('bad_names', test_bad_names)
         call run_test('short_history', test_short_history)
         call run_test('hdf5_layer', test_hdf5_layer)
+        call run_test('bundle_series_selection', test_bundle_series_selection)
     end subroutine run_all_tests
 
     !> Rod k of the synthetic scene: 'arm' (k = 1: 5 nodes, 8 stress points, 2 Maxwell
     !> branches, length 1, room for 10 records, every array) or 'tail' (k = 2: 7 nodes, 6 stress
     !> points, no branches, length 2, room for 12 records, no director velocity, an empty
-    !> constraint residual). The records after n_stored hold garbage that must not reach the
-    !> file.
+    !> constraint residual). Only 'arm' is a rod of a bundle: it has the contact and tie series
+    !> (init_coupling). The records after n_stored hold garbage that must not reach the file.
     function synthetic_rod(k) result(h)
         integer, intent(in) :: k
         type(rod_history_t) :: h
@@ -69,6 +73,13 @@ contains
         h%dissipated = -999.0_rk
         h%newton_iterations = -999
         if (allocated(h%branch_stress)) h%branch_stress = -999.0_rk
+        if (k == 1) then
+            call h%init_coupling(10)
+            h%contact_energy = -999.0_rk
+            h%penetration = -999.0_rk
+            h%contact_force = -999.0_rk
+            h%tie_force = -999.0_rk
+        end if
         do a = 1, n_nodes
             h%mesh(a) = length * (a - 1) / (n_nodes - 1)
         end do
@@ -117,6 +128,14 @@ contains
             h%newton_iterations(j) = j + k
             h%newton_residual(j) = 1.0e-10_rk / j
             h%dt(j) = time_step
+            if (k == 1) then
+                h%contact_energy(j) = 1.0e-3_rk * j
+                h%penetration(j) = 1.0e-5_rk * mod(j, 3)
+                h%contact_force(:, j) = [real(j, rk), -2.0_rk * j, 0.5_rk]
+                do a = 1, 2
+                    h%tie_force(:, a, j) = [real(a, rk), 10.0_rk * j, -1.0_rk * a * j]
+                end do
+            end if
         end do
         if (k == 2) then
             deallocate(h%director_velocity)
@@ -249,6 +268,10 @@ contains
         rods(1) = synthetic_rod(1)
         rods(1)%dissipated = rods(1)%dissipated(1:n_stored - 1)
         call expect_short('dissipated')
+        rods(1) = synthetic_rod(1)
+        deallocate(rods(1)%tie_force)
+        allocate(rods(1)%tie_force(3, 2, n_stored - 1), source=0.0_rk)
+        call expect_short('tie_force')
         inquire(file=path, exist=exists)
         CHECK_TRUE(.not. exists, 'no file for a short history')
     contains
@@ -307,6 +330,87 @@ contains
         call file%write_attribute('/', 'late', 1, err)
         CHECK_TRUE(allocated(err), 'writing to a closed file is an error')
     end subroutine test_hdf5_layer
+
+    !> The bundle series of a rod that has them (arm) follow `&output fields`: 'contact'
+    !> selects series/contact/{energy,force,penetration}, 'ties' series/ties/force, 'all' both;
+    !> a rod without them (tail) has neither under any selection. Shapes are checked in
+    !> Fortran order ([3, 2, steps] is h5py's (steps, 2, 3)); check_result_file.py checks the
+    !> values of the file test_two_rods wrote.
+    subroutine test_bundle_series_selection()
+        type(rod_history_t) :: rods(2)
+        character(len=*), parameter :: contact(3) = [character(len=26) :: &
+            'series/contact/energy', 'series/contact/force', 'series/contact/penetration']
+        character(len=*), parameter :: ties = 'series/ties/force'
+        !> The selection under test, for the messages.
+        character(len=:), allocatable :: what
+        rods(1) = synthetic_rod(1)
+        rods(2) = synthetic_rod(2)
+        CHECK_EQUAL(unknown_fields('position, contact,ties'), '', 'contact and ties selectable')
+        CHECK_EQUAL(unknown_fields('contacts'), "'contacts'", 'a misspelling is unknown')
+        call write_selected('all', .true., .true.)
+        call write_selected('position,ties', .false., .true.)
+        call write_selected('contact, stress', .true., .false.)
+        call write_selected('position', .false., .false.)
+    contains
+        !> Write both rods with `selection`; expect the arm's contact and tie datasets as told.
+        subroutine write_selected(selection, with_contact, with_ties)
+            character(len=*), intent(in) :: selection
+            logical, intent(in) :: with_contact, with_ties
+            type(rod_layout_t) :: layouts(2)
+            type(result_writer_t) :: writer
+            type(hdf5_file_t) :: file
+            type(error_t), allocatable :: err
+            integer :: i
+            what = ' (fields ''' // selection // ''')'
+            do i = 1, 2
+                layouts(i) = layout_of(rods(i), 0, 0)
+            end do
+            CHECK_TRUE(index(layouts(1)%recorded, ',' // ties // ',') > 0, 'arm records ties')
+            CHECK_TRUE(index(layouts(2)%recorded, 'contact') == 0, 'tail records no contact')
+            CHECK_TRUE(index(layouts(2)%recorded, 'ties') == 0, 'tail records no ties')
+            call prepare_result_file(selection_path, synthetic_meta(), layouts, selection, err)
+            if (.not. allocated(err)) call writer%open(selection_path, layouts, selection, &
+                [0, 0], .false., err)
+            if (.not. allocated(err)) call writer%extend([n_stored, n_stored], err)
+            do i = 1, 2
+                if (.not. allocated(err)) call writer%write_records(i, err, rods(i))
+            end do
+            if (.not. allocated(err)) call writer%close(err)
+            CHECK_TRUE(.not. allocated(err), 'written' // what)
+            if (allocated(err)) then
+                print '(a)', err%describe()
+                return
+            end if
+            call file%open(selection_path, err, writable=.false.)
+            CHECK_TRUE(.not. allocated(err), 'reopened' // what)
+            if (allocated(err)) return
+            call expect_dims(file, '/rods/arm/' // trim(contact(1)), with_contact, [n_stored])
+            call expect_dims(file, '/rods/arm/' // trim(contact(2)), with_contact, [3, n_stored])
+            call expect_dims(file, '/rods/arm/' // trim(contact(3)), with_contact, [n_stored])
+            call expect_dims(file, '/rods/arm/' // ties, with_ties, [3, 2, n_stored])
+            CHECK_TRUE(file%exists('/rods/arm/series/dt'), 'other series stay' // what)
+            CHECK_TRUE(.not. file%exists('/rods/tail/series/contact'), 'tail: no contact' // what)
+            CHECK_TRUE(.not. file%exists('/rods/tail/series/ties'), 'tail: no ties' // what)
+            call file%close(err)
+        end subroutine write_selected
+
+        subroutine expect_dims(file, path, present_, dims)
+            type(hdf5_file_t), intent(inout) :: file
+            character(len=*), intent(in) :: path
+            logical, intent(in) :: present_
+            integer, intent(in) :: dims(:)
+            type(error_t), allocatable :: err
+            integer, allocatable :: actual(:)
+            CHECK_EQUAL(file%exists(path), present_, path // ' present or absent' // what)
+            if (.not. (present_ .and. file%exists(path))) return
+            call file%dataset_dims(path, actual, err)
+            CHECK_TRUE(.not. allocated(err), path // ' dims read' // what)
+            if (allocated(err)) return
+            CHECK_EQUAL(size(actual), size(dims), path // ' rank' // what)
+            if (size(actual) /= size(dims)) return
+            CHECK_TRUE(all(actual == dims), path // ' shape' // what)
+        end subroutine expect_dims
+    end subroutine test_bundle_series_selection
 
 end module rs_test_io_result_file
 

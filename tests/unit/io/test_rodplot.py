@@ -26,6 +26,9 @@ with their own markers, the tip components and the parameter are found by every 
 name, one curve per value of the other parameter; unknown names, a file that is not a sweep and
 a rod command on a sweep file exit with status 2 naming what there is; the sweep summary's
 counts, ranges, per-rank wall time and failure messages match the file.
+`contact` draws the bundle series of the rod that has them ('arm'): the curves are
+|contact force|, penetration, contact energy and |tie force| at both ends of the closed form of
+test_result_file.F90; for a rod without them ('tail') it exits with status 2 naming the rod.
 Exit status 1 with a list of failures.
 """
 
@@ -509,6 +512,46 @@ def sweep_checks(rodplot, result, out_dir):
           "summary --rod on a sweep: exit %d: %r" % (p.returncode, p.stderr))
 
 
+def contact_checks(rodplot, result, out_dir):
+    """`contact` on the file of test_result_file.F90: 'arm' has the bundle series (its closed
+    form: contact force (j, -2j, 0.5), penetration 1e-5 (j mod 3), energy 1e-3 j, tie force
+    (e, 10j, -e j) on end e = 1 (start), 2 (end), record j = 1, 2, ...), 'tail' none."""
+    out = os.path.join(out_dir, "contact.png")
+    if os.path.exists(out):
+        os.remove(out)
+    p = run(rodplot, "contact", result, "-o", out)
+    check(p.returncode == 0, "contact: exit %d: %s" % (p.returncode, p.stderr))
+    check_png(out, "contact")
+    p = run(rodplot, "contact", result, "--rod", "tail", "-o",
+            os.path.join(out_dir, "never_contact.png"))
+    check(p.returncode == 2, "contact --rod tail: exit %d, expected 2" % p.returncode)
+    check("rod 'tail' has no contact or tie series" in p.stderr,
+          "contact --rod tail: message %r" % p.stderr)
+
+    sys.path.insert(0, os.path.dirname(os.path.abspath(rodplot)))
+    import rodplot as module
+    from rodresults import open_result
+    with open_result(result) as res:
+        n = len(res.rod("arm").field("time"))
+        j = np.arange(1.0, n + 1)
+        expected = [
+            [np.sqrt(j**2 + 4 * j**2 + 0.25)],
+            [1.0e-5 * (j % 3)],
+            [1.0e-3 * j],
+            [np.sqrt(1 + 101 * j**2), np.sqrt(4 + 104 * j**2)],
+        ]
+        fig, axes = module.contact_figure(res)
+        check(len(axes) == 4, "contact: 4 panels, got %d" % len(axes))
+        for number, (ax, want) in enumerate(zip(axes, expected)):
+            curves, _ = data_lines(ax)
+            check(len(curves) == len(want), "contact panel %d: %d curves (only arm), got %d"
+                  % (number, len(want), len(curves)))
+            for (_, _, y), w in zip(curves, want):
+                check(y.shape == w.shape and np.allclose(y, w, rtol=1e-12, atol=0),
+                      "contact panel %d: %s, expected %s" % (number, y, w))
+        module.plt.close(fig)
+
+
 def main():
     rodplot, result, out_dir = sys.argv[1:4]
     os.makedirs(out_dir, exist_ok=True)
@@ -549,7 +592,8 @@ def main():
 
     p = run(rodplot, "--help")
     check(p.returncode == 0, "--help exit %d" % p.returncode)
-    for word in ("energy", "momentum", "snapshots", "tip", "animate", "summary", "--rod",
+    for word in ("energy", "momentum", "snapshots", "tip", "animate", "summary", "contact",
+                 "--rod",
                  "--output", "--plane", "--frames", "--fps", "exit status", "viridis", "Pillow",
                  "sweep", "--x", "--y", "--logx", "--yscale", "--members", "tip_z"):
         check(word in p.stdout, "--help mentions %s" % word)
@@ -559,6 +603,7 @@ def main():
     animate_checks(rodplot, result, out_dir)
     summary_checks(rodplot, result, out_dir)
     sweep_checks(rodplot, result, out_dir)
+    contact_checks(rodplot, result, out_dir)
 
     for message in failures:
         print("FAILED: " + message)

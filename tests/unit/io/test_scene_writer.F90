@@ -6,14 +6,16 @@
 !> rodsolve reads back to the same scene"). Also the form of the text: one block per group
 !> occurrence, reference spelling of names, unset variables and the hidden input_line left out,
 !> only the given entries of tables and Maxwell arrays; and tables filled to capacity
-!> (max_table points) round-trip.
+!> (max_table points) round-trip. The bundle groups (issue 10): &plate and &contact, a joint
+!> axis, contact radii and a helix phase round-trip; helix_phase is left out for straight rods,
+!> the unused places of a plate's rods and an absent &contact are not written.
 module rs_test_io_scene_writer
     use rs_core_kinds, only: rk, i8
     use rs_core_error, only: error_list_t
     use rs_test_assert, only: run_test, assert_true, assert_equal, assert_contains
     use rs_core_strings, only: str
     use rs_model_scene, only: scene_t, rod_input_t, bc_input_t, load_input_t, actuator_input_t, &
-        joint_input_t, &
+        joint_input_t, plate_input_t, contact_input_t, &
         max_table, max_polyline_points
     use rs_io_input_file, only: parse_scene
     use rs_io_scene_writer, only: resolved_scene_text
@@ -35,6 +37,8 @@ contains
         call run_test('round_trip_section_rod', test_round_trip_section_rod)
         call run_test('round_trip_full_tables', test_round_trip_full_tables)
         call run_test('round_trip_curved_rods', test_round_trip_curved_rods)
+        call run_test('round_trip_bundle', test_round_trip_bundle)
+        call run_test('bundle_text_form', test_bundle_text_form)
     end subroutine run_all_tests
 
     !> A scene that sets (almost) every variable of every implemented group to a value other
@@ -217,6 +221,72 @@ contains
             'curved.nml')
     end subroutine test_round_trip_curved_rods
 
+    !> A bundle (issue 10): a core and a helical wire with a phase, a revolute joint with an
+    !> oblique axis, a fixed plate and a driven one (a table), and &contact with given margin
+    !> and self_contact; the wire's contact_radius given, the core's derived from its circle.
+    function bundle() result(text)
+        character(len=:), allocatable :: text
+        text = '&time t_end = 1, dt = 0.25 /' // nl // &
+            "&rod name = 'core', n_elements = 6, length = 0.3, direction = 0, 0, 1," // nl // &
+            "     section = 'circle', radius = 1e-3, E = 2e11, nu = 0.3, density = 7800 /" // nl // &
+            "&rod name = 'wire', n_elements = 5, geometry = 'helix', direction = 0, 0, 1," // nl // &
+            '     start = 1e-3, 1.7320508075688772e-3, 0, helix_radius = 2e-3,' // nl // &
+            '     helix_phase = 1.0471975511965976, helix_pitch = 0.1, helix_turns = 3,' // nl // &
+            "     contact_radius = 1.1e-3, section = 'circle', radius = 1e-3, E = 2e11, nu = 0.3," // nl // &
+            '     density = 7800 /' // nl // &
+            "&rod name = 'tail', n_elements = 2, length = 0.1, start = 0, 0, 0.3, direction = 1, 1, 1," // nl // &
+            "     section = 'tube', radius = 1e-3, inner_radius = 5e-4, E = 2e11, nu = 0.3," // nl // &
+            '     density = 7800 /' // nl // &
+            "&joint rod_a = 'core', end_a = 'end', rod_b = 'tail', end_b = 'start'," // nl // &
+            "       kind = 'revolute', axis = 0.1, -0.7, 0.3 /" // nl // &
+            "&plate name = 'base', rods = 'core', 'wire', end = 'start' /" // nl // &
+            "&plate name = 'head', rods = 'wire', end = 'end', centre = 0, 0, 0.3," // nl // &
+            '       displacement = 0, 0, 1e-4, rotation = 0, 0, 0.05, time_function = ''table'',' // nl // &
+            '       table_times = 0, 0.5, 1, table_values = 0, 1, 0.3333333333333333 /' // nl // &
+            '&contact stiffness = 1.5e12, margin = 2e-4, self_contact = .false.,' // nl // &
+            '         points_per_element = 6 /' // nl
+    end function bundle
+
+    ! The bundle round-trips (derived plate centre, contact radius, skip, normalized axis and the
+    ! helix's phase read back to the same bits).
+    subroutine test_round_trip_bundle()
+        call check_round_trip(bundle(), 'bundle.nml')
+    end subroutine test_round_trip_bundle
+
+    ! The form of the bundle groups: one block per plate, its rods without the unused places,
+    ! &contact after the plates; helix_phase only for the helix (straight rods leave it out);
+    ! without &contact no &contact block and no contact_radius.
+    subroutine test_bundle_text_form()
+        type(scene_t) :: scene
+        type(error_list_t) :: errors
+        character(len=:), allocatable :: text
+        call parse_scene(bundle(), 'bundle.nml', scene, errors)
+        CHECK_EQUAL(errors%count, 0, 'valid bundle: ' // errors%joined())
+        text = resolved_scene_text(scene)
+        CHECK_EQUAL(occurrences(text, nl // '&plate' // nl), 2, 'one &plate block per plate')
+        CHECK_EQUAL(occurrences(text, nl // '&contact' // nl), 1, 'one &contact block')
+        CHECK_CONTAINS(text, nl // "    rods = 'core', 'wire'" // nl, 'plate rods, given places only')
+        CHECK_CONTAINS(text, nl // "    rods = 'wire'" // nl, 'one rod')
+        CHECK_EQUAL(occurrences(text, "*''"), 0, 'no repeated blank strings (unused rods)')
+        CHECK_EQUAL(occurrences(text, 'helix_phase'), 1, 'helix_phase for the helix only')
+        CHECK_CONTAINS(text, nl // '    helix_phase = 1.0471975511965976' // nl, 'the phase')
+        CHECK_EQUAL(occurrences(text, 'contact_radius'), 3, 'every rod''s contact radius')
+        CHECK_CONTAINS(text, nl // '    self_contact = .false.' // nl, 'self_contact')
+        CHECK_CONTAINS(text, nl // '    points_per_element = 6' // nl, 'points_per_element')
+        CHECK_TRUE(index(text, '&joint') < index(text, '&plate'), 'joints before plates')
+        CHECK_TRUE(index(text, '&plate') < index(text, '&contact'), 'plates before contact')
+        CHECK_EQUAL(occurrences(text, 'given'), 0, 'contact%given is not an input variable')
+        text = text(1:index(text, '&contact') - 1)
+        call parse_scene(text, 'bundle.nml', scene, errors)
+        CHECK_EQUAL(errors%count, 3, 'without &contact the three contact radii are refused')
+        CHECK_CONTAINS(errors%joined(), "&rod 'wire' contact_radius: 0.0011 given, but", 'wire')
+        errors = error_list_t()
+        call parse_scene(every_group(), 'every_group.nml', scene, errors)
+        text = resolved_scene_text(scene)
+        CHECK_EQUAL(occurrences(text, '&contact'), 0, 'no &contact block without contact')
+        CHECK_EQUAL(occurrences(text, '&plate'), 0, 'no &plate block without plates')
+    end subroutine test_bundle_text_form
+
     ! A rod whose stiffnesses come from a section, E, nu and density (as in most scenes of
     ! input/): its resolved text must read back, too.
     subroutine test_round_trip_section_rod()
@@ -300,9 +370,11 @@ contains
         CHECK_EQUAL(size(b%loads), size(a%loads), 'number of loads')
         CHECK_EQUAL(size(b%actuators), size(a%actuators), 'number of actuators')
         CHECK_EQUAL(size(b%joints), size(a%joints), 'number of joints')
+        CHECK_EQUAL(size(b%plates), size(a%plates), 'number of plates')
+        call check_same_contact(a%contact, b%contact)
         if (size(b%rods) /= size(a%rods) .or. size(b%bcs) /= size(a%bcs) .or. &
             size(b%loads) /= size(a%loads) .or. size(b%actuators) /= size(a%actuators) .or. &
-            size(b%joints) /= size(a%joints)) return
+            size(b%joints) /= size(a%joints) .or. size(b%plates) /= size(a%plates)) return
         do i = 1, size(a%rods)
             call check_same_rod(a%rods(i), b%rods(i))
         end do
@@ -317,6 +389,9 @@ contains
         end do
         do i = 1, size(a%joints)
             call check_same_joint(a%joints(i), b%joints(i))
+        end do
+        do i = 1, size(a%plates)
+            call check_same_plate(a%plates(i), b%plates(i))
         end do
     end subroutine check_same_scene
 
@@ -368,6 +443,8 @@ contains
         call check_reals(b%maxwell_tau_E, a%maxwell_tau_E, r // 'maxwell_tau_E')
         call check_reals(b%maxwell_tau_G, a%maxwell_tau_G, r // 'maxwell_tau_G')
         CHECK_EQUAL(b%em_variant, a%em_variant, r // 'em_variant')
+        call check_real(b%contact_radius, a%contact_radius, r // 'contact_radius')
+        call check_real(b%helix_phase, a%helix_phase, r // 'helix_phase')
     end subroutine check_same_rod
 
     subroutine check_same_bc(a, b)
@@ -421,7 +498,37 @@ contains
         CHECK_EQUAL(b%rod_b, a%rod_b, 'joint rod_b')
         CHECK_EQUAL(b%end_b, a%end_b, 'joint end_b')
         CHECK_EQUAL(b%kind, a%kind, 'joint kind')
+        call check_reals(b%axis, a%axis, 'joint axis')
     end subroutine check_same_joint
+
+    subroutine check_same_plate(a, b)
+        type(plate_input_t), intent(in) :: a, b
+        integer :: k
+        CHECK_EQUAL(b%name, a%name, 'plate name')
+        do k = 1, size(a%rods)
+            CHECK_EQUAL(b%rods(k), a%rods(k), 'plate rods')
+        end do
+        CHECK_EQUAL(b%end, a%end, 'plate end')
+        call check_reals(b%centre, a%centre, 'plate centre')
+        call check_reals(b%displacement, a%displacement, 'plate displacement')
+        call check_reals(b%rotation, a%rotation, 'plate rotation')
+        CHECK_EQUAL(b%time_function, a%time_function, 'plate time_function')
+        call check_real(b%t_on, a%t_on, 'plate t_on')
+        call check_real(b%t_off, a%t_off, 'plate t_off')
+        call check_reals(b%table_times, a%table_times, 'plate table_times')
+        call check_reals(b%table_values, a%table_values, 'plate table_values')
+    end subroutine check_same_plate
+
+    subroutine check_same_contact(a, b)
+        type(contact_input_t), intent(in) :: a, b
+        CHECK_EQUAL(b%given, a%given, 'contact given')
+        call check_real(b%stiffness, a%stiffness, 'contact stiffness')
+        call check_real(b%margin, a%margin, 'contact margin')
+        CHECK_EQUAL(b%skip, a%skip, 'contact skip')
+        CHECK_EQUAL(b%points_per_element, a%points_per_element, 'contact points_per_element')
+        CHECK_EQUAL(b%self_contact, a%self_contact, 'contact self_contact')
+        CHECK_EQUAL(b%friction, a%friction, 'contact friction')
+    end subroutine check_same_contact
 
 end module rs_test_io_scene_writer
 

@@ -306,7 +306,8 @@ contains
         joined = errors%joined()
         CHECK_CONTAINS(joined, "sweep.nml:7: &sweep parameter: 'rod(1).EI1' is not a path into the scene", 'p')
         want = 'sweep.nml:8: &sweep parameter: unknown group "rood" in ''rood(1)%EI1''; ' // &
-            'did you mean "rod"?; groups are run, time, solver, output, rod, bc, load, actuator, joint'
+            'did you mean "rod"?; groups are run, time, solver, output, rod, bc, load, actuator, ' // &
+            'joint, plate, contact'
         CHECK_CONTAINS(joined, want, 'g')
         CHECK_CONTAINS(joined, 'sweep.nml:9: &sweep parameter: a sweep cannot sweep a &sweep group', 's')
         want = "sweep.nml:10: &sweep parameter: &rod may appear several times: name " // &

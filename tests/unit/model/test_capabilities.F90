@@ -4,7 +4,8 @@
 !> each column (src/io/input_spec.f90: bc kind, load where, load frame, rod constraint) and its
 !> logical columns (quasistatic, viscoelastic, actuation, curved reference), the rows of
 !> ph_planar and cl_em_planar (seed 001: pinned ends, revolute and rigid joints, planar), the
-!> joint columns (ph_director: none before issue 10), the row of se3_strand (seed 004: other end
+!> bundle columns (issue 10: ph_director has rigid, spherical and revolute joints, end plates
+!> and contact; no other formulation has end plates or contact), the row of se3_strand (seed 004: other end
 !> kinds at s = L than at s = 0, `end_kinds_at`, relaxation, ends driven by velocity against
 !> se3_pg's by pose), the rows of unknown formulations, the list `formulation_names` (every
 !> formulation the input language names has a row), and `lists_name`, which matches whole
@@ -57,6 +58,8 @@ contains
         character(len=12), parameter :: frames(2) = [character(len=12) :: 'spatial', 'follower']
         character(len=12), parameter :: constraints(3) = [character(len=12) :: 'none', 'kirchhoff', &
             'inextensible']
+        character(len=12), parameter :: joints(3) = [character(len=12) :: 'revolute', 'rigid', &
+            'spherical']
         character(len=12) :: supported_kinds(2), supported_frames(1)
         type(capability_t) :: row
         row = capability_of('ph_director')
@@ -73,7 +76,9 @@ contains
         CHECK_TRUE(row%viscoelastic, 'Maxwell branches')
         CHECK_TRUE(row%actuation, 'pneumatic chambers and tendons')
         CHECK_TRUE(row%curved_reference, 'curved stress-free reference (helix, polyline)')
-        CHECK_EQUAL(len_trim(row%joints), 0, 'no joints before issue 10')
+        call check_column(row%joints, joints, joints, 'joint')
+        CHECK_TRUE(row%end_plates, 'end plates (issue 10)')
+        CHECK_TRUE(row%contact, 'rod-rod and self contact (issue 10)')
         CHECK_TRUE(.not. row%planar, 'ph_director is 3D')
         CHECK_TRUE(.not. row%relaxation, 'statics by quasistatics, not relaxation')
         CHECK_EQUAL(len_trim(row%drive), 0, 'no driven ends, so no drive')
@@ -111,6 +116,8 @@ contains
             CHECK_TRUE(.not. row%actuation, trim(names(k)) // ': no actuators')
             CHECK_TRUE(.not. row%curved_reference, trim(names(k)) // ': straight rods only')
             CHECK_TRUE(row%planar, trim(names(k)) // ' is planar')
+            CHECK_TRUE(.not. row%end_plates, trim(names(k)) // ': no end plates')
+            CHECK_TRUE(.not. row%contact, trim(names(k)) // ': no contact')
             CHECK_TRUE(.not. row%relaxation, trim(names(k)) // ': no relaxation')
             CHECK_EQUAL(len_trim(row%drive), 0, trim(names(k)) // ': no driven ends')
         end do
@@ -143,6 +150,8 @@ contains
         CHECK_TRUE(.not. row%actuation, 'no actuation: "' // name // '"')
         CHECK_TRUE(.not. row%curved_reference, 'no curved reference: "' // name // '"')
         CHECK_EQUAL(len_trim(row%joints), 0, 'no joints: "' // name // '"')
+        CHECK_TRUE(.not. row%end_plates, 'no end plates: "' // name // '"')
+        CHECK_TRUE(.not. row%contact, 'no contact: "' // name // '"')
         CHECK_TRUE(.not. row%planar, 'not planar: "' // name // '"')
         CHECK_TRUE(.not. row%relaxation, 'no relaxation: "' // name // '"')
         CHECK_EQUAL(len_trim(row%drive), 0, 'no drive: "' // name // '"')
@@ -190,6 +199,7 @@ contains
         CHECK_TRUE(row%quasistatic .and. row%curved_reference, 'statics and curved references')
         CHECK_TRUE(.not. row%viscoelastic .and. .not. row%actuation .and. .not. row%planar, 'nothing more')
         CHECK_EQUAL(trim(row%joints), '', 'no joints')
+        CHECK_TRUE(.not. row%end_plates .and. .not. row%contact, 'no end plates or contact')
         CHECK_EQUAL(trim(row%drive), 'pose', 'driven by displacement and rotation')
         CHECK_TRUE(.not. row%relaxation, 'statics by load increments, not relaxation')
         CHECK_EQUAL(len_trim(row%end_kinds_at_end), 0, 'same end kinds at both ends')
@@ -228,6 +238,7 @@ contains
         CHECK_TRUE(.not. row%actuation, 'no actuators')
         CHECK_TRUE(row%curved_reference, 'curved relaxed shapes')
         CHECK_EQUAL(len_trim(row%joints), 0, 'no joints')
+        CHECK_TRUE(.not. row%end_plates .and. .not. row%contact, 'no end plates or contact')
         CHECK_TRUE(.not. row%planar, 'se3_strand is 3D')
     end subroutine test_se3_strand_row
 

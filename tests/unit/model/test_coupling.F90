@@ -1,10 +1,12 @@
 #include "rs_assert.h"
-!> Unit tests of rs_model_coupling: the systems a scene's joints make (DESIGN.md §5). A scene
-!> without joints has one system per rod; joints join their rods into one system whose first
-!> rod leads; chains join transitively; a joint naming an unknown rod joins nothing.
+!> Unit tests of rs_model_coupling: the systems a scene's joints, plates and contact make
+!> (DESIGN.md §5). A scene without joints has one system per rod; joints join their rods into
+!> one system whose first rod leads; chains join transitively; a joint naming an unknown rod
+!> joins nothing; the rods of a plate are one system (and a plate and a joint chain join);
+!> &contact makes every rod of the scene one system.
 module rs_test_model_coupling
     use rs_test_assert, only: run_test, assert_true, assert_equal
-    use rs_model_scene, only: scene_t, rod_input_t, joint_input_t
+    use rs_model_scene, only: scene_t, rod_input_t, joint_input_t, plate_input_t
     use rs_model_coupling, only: coupled_systems
     implicit none
     private
@@ -18,6 +20,8 @@ contains
         call run_test('four_bar_and_a_free_rod', test_four_bar_and_a_free_rod)
         call run_test('chain_out_of_order', test_chain_out_of_order)
         call run_test('unknown_rod_joins_nothing', test_unknown_rod_joins_nothing)
+        call run_test('plates_join_their_rods', test_plates_join_their_rods)
+        call run_test('contact_joins_all_rods', test_contact_joins_all_rods)
     end subroutine run_all_tests
 
     !> A scene with rods named r1..rn and the given joints (pairs of rod numbers).
@@ -76,6 +80,39 @@ contains
         call coupled_systems(scene, system_of, first, members)
         CHECK_TRUE(all(system_of == [1, 2]), 'an unknown rod name joins nothing')
     end subroutine test_unknown_rod_joins_nothing
+
+    ! Rods 1..6: plate 'top' ties r5 and r3 (listed out of order, after a blank and an
+    ! unknown name), plate 'bottom' r6 alone, joint 3-4: systems {1}, {2}, {3, 4, 5}, {6}.
+    subroutine test_plates_join_their_rods()
+        type(scene_t) :: scene
+        integer, allocatable :: system_of(:), first(:), members(:)
+        scene = scene_with(6, reshape([3, 4], [2, 1]))
+        allocate(scene%plates(2))
+        scene%plates(1)%name = 'top'
+        scene%plates(1)%rods(1:3) = [character(len=8) :: 'nobody', 'r5', 'r3']
+        scene%plates(2)%name = 'bottom'
+        scene%plates(2)%rods(1) = 'r6'
+        call coupled_systems(scene, system_of, first, members)
+        CHECK_TRUE(all(system_of == [1, 2, 3, 3, 3, 4]), 'plate rods and their joint one system')
+        CHECK_TRUE(all(first == [1, 2, 3, 6, 7]), 'sizes 1, 1, 3, 1')
+        CHECK_TRUE(all(members == [1, 2, 3, 4, 5, 6]), 'members in rod order, first rod leads')
+    end subroutine test_plates_join_their_rods
+
+    ! Contact may couple any two rods: with &contact every rod is in system 1; without it the
+    ! same scene has one system per rod.
+    subroutine test_contact_joins_all_rods()
+        type(scene_t) :: scene
+        integer, allocatable :: system_of(:), first(:), members(:)
+        integer :: empty(2, 0)
+        scene = scene_with(4, empty)
+        call coupled_systems(scene, system_of, first, members)
+        CHECK_EQUAL(size(first) - 1, 4, 'without contact: four systems')
+        scene%contact%given = .true.
+        call coupled_systems(scene, system_of, first, members)
+        CHECK_TRUE(all(system_of == 1), 'with contact: one system')
+        CHECK_TRUE(all(first == [1, 5]), 'of four members')
+        CHECK_TRUE(all(members == [1, 2, 3, 4]), 'in rod order')
+    end subroutine test_contact_joins_all_rods
 
 end module rs_test_model_coupling
 

@@ -41,6 +41,7 @@ contains
         call run_test('helix_frame_orthonormal', test_helix_frame_orthonormal)
         call run_test('helix_parallel_transport', test_helix_parallel_transport)
         call run_test('helix_pitch_zero_is_circle', test_helix_pitch_zero_is_circle)
+        call run_test('helix_phases_share_axis', test_helix_phases_share_axis)
         call run_test('polyline_points_and_length', test_polyline_points_and_length)
         call run_test('polyline_transport', test_polyline_transport)
         call run_test('polyline_vertex_bisects', test_polyline_vertex_bisects)
@@ -146,6 +147,48 @@ contains
             end do
         end do
     end subroutine test_helix_on_cylinder
+
+    ! helix_phase: six helices with phases k pi/3 (k = 0..5) about one oblique axis, each
+    ! started at axis_point + R u_k with u_k = cos(k pi/3) n + sin(k pi/3) (a x n), n the
+    ! default normal of the axis: every one has that axis (helix_axis_point is axis_point, every
+    ! point lies at distance R from the line), all have the same length, wire k is wire 0
+    ! turned by k pi/3 about the axis at every s, and phase 0 is the helix without a phase.
+    subroutine test_helix_phases_share_axis()
+        type(rod_geometry_t) :: g(0:5), plain
+        real(rk) :: a(3), n(3), u(3), p(3), x(3), x0(3), r(3), phase, s, axial, c, sn
+        real(rk), parameter :: radius = 0.3_rk, pitch = 0.7_rk, turns = 1.75_rk
+        integer :: k, j
+        a = [1.0_rk, -2.0_rk, 0.5_rk]
+        a = a / norm2(a)
+        n = default_normal(a)
+        p = [0.25_rk, -1.0_rk, 2.0_rk]
+        do k = 0, 5
+            phase = real(k, rk) * pi / 3.0_rk
+            u = cos(phase) * n + sin(phase) * cross(a, n)
+            g(k) = helix_geometry(p + radius * u, a, radius, pitch, turns, phase)
+            CHECK_CLOSE(helix_axis_point(g(k)), p, tight, 0.0_rk, 'axis through the common point')
+            CHECK_CLOSE(g(k)%length, g(0)%length, tight, 0.0_rk, 'same length')
+            CHECK_CLOSE(dot_product(g(k)%radial, a), 0.0_rk, tight, 0.0_rk, 'u normal to the axis')
+            CHECK_CLOSE(norm2(g(k)%radial), 1.0_rk, tight, 0.0_rk, 'u unit')
+            do j = 0, 8
+                s = g(k)%length * real(j, rk) / 8.0_rk
+                x = centreline_point(g(k), s)
+                axial = dot_product(x - p, a)
+                r = x - p - axial * a
+                CHECK_CLOSE(norm2(r), radius, tight, 0.0_rk, 'on the cylinder about the common axis')
+                ! Wire 0 turned by the phase about the axis (Rodrigues' formula) is wire k.
+                x0 = centreline_point(g(0), s) - p
+                c = cos(phase)
+                sn = sin(phase)
+                x0 = c * x0 + sn * cross(a, x0) + (1.0_rk - c) * dot_product(a, x0) * a
+                CHECK_CLOSE(x - p, x0, tight, 0.0_rk, 'wire k = wire 0 turned by k pi / 3')
+            end do
+        end do
+        plain = helix_geometry(p + radius * n, a, radius, pitch, turns)
+        CHECK_CLOSE(g(0)%radial, plain%radial, 0.0_rk, 0.0_rk, 'phase 0 is no phase, bit for bit')
+        x = centreline_point(g(0), 0.3_rk)
+        CHECK_CLOSE(x, centreline_point(plain, 0.3_rk), 0.0_rk, 0.0_rk, 'phase 0: same points')
+    end subroutine test_helix_phases_share_axis
 
     ! L = turns sqrt((2 pi R)^2 + P^2); phi' has unit length and equals the tangent (central
     ! differences); the chord sum of a fine subdivision approaches L from below.
