@@ -473,7 +473,10 @@ contains
         if (this%contact) then
             call reference_candidates(this)
         else
-            allocate(this%pattern_pairs(4, 0), this%active_pairs(4, 0), this%active_slot(0))
+            ! No contact: empty pair lists (assigned: distribute runs again on several ranks).
+            this%pattern_pairs = reshape([integer ::], [4, 0])
+            this%active_pairs = this%pattern_pairs
+            this%active_slot = [integer ::]
         end if
         call build_pattern(this)
     end subroutine bundle_distribute
@@ -978,21 +981,26 @@ contains
 
     !> The tie terms (module rs_ph_director_tie): + h G(z_t)^T lambda in the momentum rows of the
     !> tied nodes, g(z_{n+1}) in the tie's rows, and their derivatives.
-    subroutine assemble_ties(this, t_n, h, x_n, y, f, values)
+    subroutine assemble_ties(this, t_n, h, x_n, y, f, values, all_rows)
         type(ph_bundle_t), intent(in) :: this
         real(rk), intent(in) :: t_n, h, x_n(:), y(:)
         real(rk), intent(inout), optional :: f(:), values(:)
+        !> Fill every row, not only this rank's (default false).
+        logical, intent(in), optional :: all_rows
         type(ph_director_tie_t) :: tie_force, tie_end
         real(rk) :: z_n(24), z_1(24), z_t(24), lam(6), gradient(6, 24), hessian(24, 24), force(24)
         real(rk) :: t_force, theta, t_end
         integer :: t, i, j, n, rows(24), cols(24), lam_index(6), p
+        logical :: everything
+        everything = .false.
+        if (present(all_rows)) everything = all_rows
         call step_times(this, t_n, h, t_force, theta)
         t_end = merge(this%t_static, t_n + h, this%static)
         do t = 1, size(this%ties)
             associate (tie => this%ties(t))
                 rows = tie_rows(this, tie)
-                if (.not. (any([(owns_row(this, rows(i)), i = 1, 24)]) .or. &
-                    owns_member(this, tie%member_a))) cycle
+                if (.not. (everything .or. owns_member(this, tie%member_a) .or. &
+                    any([(owns_row(this, rows(i)), i = 1, 24)]))) cycle
                 n = tie%tie%n
                 tie_force = tie_at(this, tie, t_force)
                 tie_end = tie_at(this, tie, t_end)
@@ -1011,16 +1019,16 @@ contains
                 if (present(f)) then
                     force = h * matmul(lam(1:n), gradient(1:n, :))
                     do i = 1, 24
-                        if (owns_row(this, rows(i))) f(rows(i)) = f(rows(i)) + force(i)
+                        if (everything .or. owns_row(this, rows(i))) f(rows(i)) = f(rows(i)) + force(i)
                     end do
-                    if (owns_member(this, tie%member_a)) f(lam_index(1:n)) = &
+                    if (everything .or. owns_member(this, tie%member_a)) f(lam_index(1:n)) = &
                         ph_director_tie_value(tie_end, z_1)
                 end if
                 if (present(values)) then
                     cols = tie_cols(this, tie)
                     hessian = theta * h * ph_director_tie_hessian(tie_force, lam(1:n))
                     do i = 1, 24
-                        if (.not. owns_row(this, rows(i))) cycle
+                        if (.not. (everything .or. owns_row(this, rows(i)))) cycle
                         do j = 1, 24
                             if (cols(j) <= 0 .or. hessian(i, j) == 0.0_rk) cycle
                             p = this%pattern%position(rows(i), cols(j))
@@ -1031,7 +1039,7 @@ contains
                             values(p) = values(p) + h * gradient(j, i)
                         end do
                     end do
-                    if (owns_member(this, tie%member_a)) then
+                    if (everything .or. owns_member(this, tie%member_a)) then
                         gradient(1:n, :) = ph_director_tie_gradient(tie_end, z_1)
                         do j = 1, 24
                             if (cols(j) <= 0) cycle
@@ -1069,20 +1077,26 @@ contains
     !> energy in the momentum rows of the positions (in the endpoint solve the gradient at
     !> X_{n+1}: both arguments of the discrete gradient at X_{n+1}, whose derivative is twice
     !> the partial one by symmetry).
-    subroutine assemble_contact(this, h, x_n, y, f, values)
+    subroutine assemble_contact(this, h, x_n, y, f, values, all_rows)
         type(ph_bundle_t), intent(in) :: this
         real(rk), intent(in) :: h, x_n(:), y(:)
         real(rk), intent(inout), optional :: f(:), values(:)
+        !> Fill every row, not only this rank's (default false).
+        logical, intent(in), optional :: all_rows
         real(rk) :: xa_n(3, 8), xa_1(3, 8), xb_n(3, 8), xb_1(3, 8), r_a(3, 8), r_b(3, 8)
         real(rk) :: tangent(48, 48), energy_n, energy_1, scale
         type(contact_params_t) :: params
         integer :: k, na, nb, i, j, p, slot, first
         integer, allocatable :: rows(:), cols(:)
         logical :: ok
+        logical :: everything
+        everything = .false.
+        if (present(all_rows)) everything = all_rows
         scale = merge(2.0_rk, 1.0_rk, this%static)
         do k = 1, this%n_active
             associate (pair => this%active_pairs(:, k))
-                if (.not. (owns_member(this, pair(1)) .or. owns_member(this, pair(3)))) cycle
+                if (.not. (everything .or. owns_member(this, pair(1)) .or. &
+                    owns_member(this, pair(3)))) cycle
                 associate (a => this%members(pair(1)), b => this%members(pair(3)))
                     na = a%rod%degree + 1
                     nb = b%rod%degree + 1
@@ -1113,14 +1127,14 @@ contains
                     do i = 1, na
                         first = 3 * (i - 1)
                         do j = 1, 3
-                            if (owns_row(this, rows(first + j))) f(rows(first + j)) = &
+                            if (everything .or. owns_row(this, rows(first + j))) f(rows(first + j)) = &
                                 f(rows(first + j)) + h * r_a(j, i)
                         end do
                     end do
                     do i = 1, nb
                         first = 3 * (na + i - 1)
                         do j = 1, 3
-                            if (owns_row(this, rows(first + j))) f(rows(first + j)) = &
+                            if (everything .or. owns_row(this, rows(first + j))) f(rows(first + j)) = &
                                 f(rows(first + j)) + h * r_b(j, i)
                         end do
                     end do
@@ -1130,7 +1144,7 @@ contains
                     do j = 1, 3 * (na + nb)
                         if (cols(j) <= 0) cycle
                         do i = 1, 3 * (na + nb)
-                            if (.not. owns_row(this, rows(i))) cycle
+                            if (.not. (everything .or. owns_row(this, rows(i)))) cycle
                             p = this%pair_map(i, j, slot)
                             values(p) = values(p) + scale * h * tangent(i, j)
                         end do
@@ -1229,32 +1243,12 @@ contains
 
     !> The tie and contact terms of the momentum rows of ALL rows (whatever the rank owns).
     subroutine coupling_forces(this, t_n, h, x_n, y, force)
-        type(ph_bundle_t), intent(inout) :: this
+        type(ph_bundle_t), intent(in) :: this
         real(rk), intent(in) :: t_n, h, x_n(:), y(:)
         real(rk), intent(inout) :: force(:)
-        integer :: lo, hi
-        ! Own every row for the moment.
-        lo = this%unknown_lo
-        hi = this%unknown_hi
-        this%unknown_lo = 0
-        this%unknown_hi = this%n_unknown_total
-        call assemble_ties(this, t_n, h, x_n, y, f=force)
-        if (this%contact) call assemble_contact_all(this, h, x_n, y, force)
-        this%unknown_lo = lo
-        this%unknown_hi = hi
+        call assemble_ties(this, t_n, h, x_n, y, f=force, all_rows=.true.)
+        if (this%contact) call assemble_contact(this, h, x_n, y, f=force, all_rows=.true.)
     end subroutine coupling_forces
-
-    !> assemble_contact over all pairs, whoever owns them.
-    subroutine assemble_contact_all(this, h, x_n, y, force)
-        type(ph_bundle_t), intent(inout) :: this
-        real(rk), intent(in) :: h, x_n(:), y(:)
-        real(rk), intent(inout) :: force(:)
-        integer :: part(size(this%members))
-        part = this%members%part
-        this%members%part = this%rank
-        call assemble_contact(this, h, x_n, y, f=force)
-        this%members%part = part
-    end subroutine assemble_contact_all
 
     !> Contact energy shares, contact forces and penetrations of the rods, and the tie forces
     !> on their ends, at the state x (unknowns y), for the records.
