@@ -49,9 +49,9 @@ def vector(values):
     return ", ".join(repr(float(v)) for v in values)
 
 
-def run(args, text, name, ranks=1, extra=()):
+def run(args, text, name, ranks=1, extra=(), want_log=False):
     """Write scene `name`.nml with its output in the work directory, run it, return the path
-    of the result file."""
+    of the result file (and the run's log, standard output and error, with `want_log`)."""
     os.makedirs(args.workdir, exist_ok=True)
     output = os.path.join(args.workdir, name + ".h5")
     if os.path.exists(output):
@@ -66,6 +66,8 @@ def run(args, text, name, ranks=1, extra=()):
         sys.stdout.write(result.stdout)
         sys.stderr.write(result.stderr)
         raise SystemExit(f"{' '.join(command)} failed with status {result.returncode}")
+    if want_log:
+        return output, result.stdout + result.stderr
     return output
 
 

@@ -40,7 +40,6 @@ energy changes: the joints move energy between them).
 """
 import os
 import re
-import subprocess
 import sys
 
 import numpy as np
@@ -174,18 +173,8 @@ def two_ranks(args, checks):
     text = rs.set_variable(rs.read_example(args.source, "jointed_chain.nml"), "time", "t_end",
                            "0.5")
     one = {name: rs.rod(rs.run(args, text, "one_rank"), name) for name in RODS}
-    two_path = os.path.join(args.workdir, "two_ranks.h5")
-    if os.path.exists(two_path):
-        os.remove(two_path)
-    scene = os.path.join(args.workdir, "two_ranks.nml")
-    with open(scene, "w", encoding="utf-8") as f:
-        f.write(rs.set_variable(text, "output", "path", f"'{two_path}'"))
-    result = subprocess.run([args.mpiexec, "--oversubscribe", "-np", "2", args.rodsolve, scene],
-                            capture_output=True, text=True)
-    if result.returncode != 0:
-        sys.stdout.write(result.stdout + result.stderr)
-        raise SystemExit(f"the 2-rank run failed with status {result.returncode}")
-    partition = [line for line in (result.stdout + result.stderr).splitlines()
+    two_path, log = rs.run(args, text, "two_ranks", ranks=2, want_log=True)
+    partition = [line for line in log.splitlines()
                  if "rank 1:" in line]
     print("info: " + "\ninfo: ".join(partition))
     checks.check("the 2-rank run puts rods on rank 1 (log lines naming rank 1)",

@@ -75,7 +75,6 @@ Tolerances (docs/theory/bundles.md, "Costello's theory and the rodsolve model", 
 import math
 import os
 import re
-import subprocess
 import sys
 
 import numpy as np
@@ -242,19 +241,8 @@ def stiffness(args, checks, points=None, tolerance=0.01, torque_tolerance=0.015)
 def two_ranks(args, checks):
     text = rs.read_example(args.source, SCENE)
     one = rs.run(args, text, "one_rank")
-    os.makedirs(args.workdir, exist_ok=True)
-    scene = os.path.join(args.workdir, "two_ranks.nml")
-    two_path = os.path.join(args.workdir, "two_ranks.h5")
-    if os.path.exists(two_path):
-        os.remove(two_path)
-    with open(scene, "w", encoding="utf-8") as f:
-        f.write(rs.set_variable(text, "output", "path", f"'{two_path}'"))
-    result = subprocess.run([args.mpiexec, "--oversubscribe", "-np", "2", args.rodsolve, scene],
-                            capture_output=True, text=True)
-    if result.returncode != 0:
-        sys.stdout.write(result.stdout + result.stderr)
-        raise SystemExit("the 2-rank run failed")
-    partition = [line for line in (result.stdout + result.stderr).splitlines()
+    two_path, log = rs.run(args, text, "two_ranks", ranks=2, want_log=True)
+    partition = [line for line in log.splitlines()
                  if "rank 1:" in line]
     print("info: " + "\ninfo: ".join(partition[:8]))
     checks.check("the 2-rank run puts rods on rank 1 (log lines naming rank 1)",
