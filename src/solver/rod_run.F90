@@ -191,7 +191,7 @@ contains
                 this%solver%max_newton, this%solver%max_cutbacks, err, &
                 native_lu=this%formulation%native_lu(), full_newton=this%formulation%full_newton(), &
                 linear_step=this%formulation%linear_step(), banded=this%formulation%banded_unknowns(), &
-                owned=owned)
+                owned=owned, bundle=this%bundle)
         else
             call this%stepper%create(this%context%n_state, this%context%n_unknown, row_ptr, cols, &
                 c_funloc(residual_callback), c_funloc(jacobian_callback), &
@@ -199,7 +199,8 @@ contains
                 c_loc(this%context), this%solver%newton_atol, this%solver%newton_rtol, &
                 this%solver%max_newton, this%solver%max_cutbacks, err, &
                 native_lu=this%formulation%native_lu(), full_newton=this%formulation%full_newton(), &
-                linear_step=this%formulation%linear_step(), banded=this%formulation%banded_unknowns())
+                linear_step=this%formulation%linear_step(), banded=this%formulation%banded_unknowns(), &
+                bundle=this%bundle)
         end if
     end subroutine build_stepper
 

@@ -437,9 +437,9 @@ static PetscErrorCode distributed_setup(RsStepper *s, const int *row_ptr, const 
 static PetscErrorCode stepper_setup(RsStepper *s, const int *row_ptr, const int *cols,
                                     double newton_atol, double newton_rtol, int max_newton,
                                     int max_cutbacks, int native_lu, int full_newton,
-                                    int linear_step)
+                                    int linear_step, int bundle)
 {
-    char      defaults[512], message[1024];
+    char      defaults[768], mumps[160], message[1024];
     Vec       Y_template = NULL;
     SNES           snes;
     SNESLineSearch line_search;
@@ -455,17 +455,27 @@ static PetscErrorCode stepper_setup(RsStepper *s, const int *row_ptr, const int 
        search, the absolute Newton test of the method documents with PETSc's relative tests
        off unless the scene asks, and LU (the package is set below, per system). */
     /* A step problem affine in Y (seed 004) is one linear solve: SNES KSPONLY, no Newton loop. */
-    /* A shared system gives MUMPS a distributed matrix, for which MUMPS does not permute large
-       entries onto the diagonal (ICNTL(6) needs centralized input): the zero diagonal of the
-       multiplier rows then delays pivots, which overruns a 50% work-space margin and, with
-       PORD, multiplies the flops about 37-fold on the 7-wire strand. AMD and a 400% margin
-       measured best there (docs/performance.md). */
+    /* MUMPS for bundles (docs/performance.md, "Bundles"): AMD needs 2 to 4 times fewer flops
+       than the automatic choice (PORD: Debian's MUMPS has neither METIS nor SCOTCH). A shared
+       system gives MUMPS a distributed matrix, for which MUMPS does not permute large entries
+       onto the diagonal (ICNTL(6) needs centralized input): the zero diagonal of the
+       multiplier rows delays thousands of pivots, which overruns a 50% work-space margin (a
+       400% margin holds), and a relative pivot threshold of 1e-4 instead of 1e-2 halves the
+       delayed pivots and the flops with the same Newton iterations; the root node is
+       factored without ScaLAPACK (ICNTL(13) = 1), faster on a loaded machine. */
+    if (s->distributed)
+        snprintf(mumps, sizeof(mumps), "-mat_mumps_icntl_14 400 -mat_mumps_icntl_7 0 "
+                                       "-mat_mumps_cntl_1 1e-4 -mat_mumps_icntl_13 1");
+    else
+        snprintf(mumps, sizeof(mumps), "-mat_mumps_icntl_14 50 -mat_mumps_icntl_7 %d "
+                                       "-mat_mumps_cntl_1 0.01 -mat_mumps_icntl_13 0",
+                 bundle ? 0 : 7);
     snprintf(defaults, sizeof(defaults),
              "-snes_type %s -snes_atol %.17g -snes_rtol %.17g "
-             "-snes_stol 0 -snes_max_it %d -ksp_type preonly -pc_type lu "
-             "-mat_mumps_icntl_14 %d -mat_mumps_icntl_7 %d -ts_rodmid_max_cutbacks %d",
-             linear_step ? "ksponly" : "newtonls", newton_atol, newton_rtol, max_newton,
-             s->distributed ? 400 : 50, s->distributed ? 0 : 7, max_cutbacks);
+             "-snes_stol 0 -snes_max_it %d -ksp_type preonly -pc_type lu %s "
+             "-ts_rodmid_max_cutbacks %d",
+             linear_step ? "ksponly" : "newtonls", newton_atol, newton_rtol, max_newton, mumps,
+             max_cutbacks);
     PetscCheck(rs_petsc_apply_options(defaults, NULL, message, (int)sizeof(message)) == 0,
                PETSC_COMM_SELF, PETSC_ERR_LIB, "%s", message);
 
@@ -560,8 +570,8 @@ int rs_stepper_create(void **handle, int n_state, int n_unknown, const int *row_
                       const int *cols, rs_cb_residual residual, rs_cb_jacobian jacobian,
                       rs_cb_vec predictor, rs_cb_update update, rs_cb_poststep poststep, void *ctx,
                       double newton_atol, double newton_rtol, int max_newton, int max_cutbacks,
-                      int native_lu, int full_newton, int linear_step, const int *owned,
-                      char *errmsg, int errlen)
+                      int native_lu, int full_newton, int linear_step, int bundle,
+                      const int *owned, char *errmsg, int errlen)
 {
     RsErrorCapture capture = {"", 0};
     RsStepper     *s;
@@ -602,7 +612,7 @@ int rs_stepper_create(void **handle, int n_state, int n_unknown, const int *row_
     enter_petsc(s);
     PetscPushErrorHandler(capture_error, &capture);
     ierr = stepper_setup(s, row_ptr, cols, newton_atol, newton_rtol, max_newton, max_cutbacks,
-                         native_lu, full_newton, linear_step);
+                         native_lu, full_newton, linear_step, bundle);
     PetscPopErrorHandler();
     leave_petsc(s);
     if (ierr) {

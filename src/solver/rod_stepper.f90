@@ -97,8 +97,8 @@ module rs_solver_rod_stepper
     interface
         integer(c_int) function rs_stepper_create(handle, n_state, n_unknown, row_ptr, cols, &
                 residual, jacobian, predictor, update, poststep, ctx, newton_atol, newton_rtol, &
-                max_newton, max_cutbacks, native_lu, full_newton, linear_step, owned, errmsg, &
-                errlen) bind(C)
+                max_newton, max_cutbacks, native_lu, full_newton, linear_step, bundle, owned, &
+                errmsg, errlen) bind(C)
             import :: c_int, c_double, c_char, c_ptr, c_funptr
             type(c_ptr), intent(out) :: handle
             integer(c_int), value :: n_state, n_unknown
@@ -107,6 +107,7 @@ module rs_solver_rod_stepper
             type(c_ptr), value :: ctx
             real(c_double), value :: newton_atol, newton_rtol
             integer(c_int), value :: max_newton, max_cutbacks, native_lu, full_newton, linear_step
+            integer(c_int), value :: bundle
             type(c_ptr), value :: owned
             character(kind=c_char), intent(out) :: errmsg(*)
             integer(c_int), value :: errlen
@@ -182,7 +183,7 @@ contains
     !> unknowns are numbered for a narrow band, so the LU keeps their order.
     subroutine rod_stepper_create(this, n_state, n_unknown, row_ptr, cols, residual, jacobian, &
             predictor, update, poststep, ctx, newton_atol, newton_rtol, max_newton, max_cutbacks, &
-            err, native_lu, full_newton, linear_step, banded, owned)
+            err, native_lu, full_newton, linear_step, banded, owned, bundle)
         class(rod_stepper_t), intent(inout) :: this
         integer, intent(in) :: n_state, n_unknown
         integer, intent(in) :: row_ptr(:), cols(:)
@@ -197,6 +198,9 @@ contains
         !> A system shared by all ranks (rs_stepper_create): this rank's 0-based ranges
         !> [state_lo, state_hi, unknown_lo, unknown_hi).
         integer, intent(in), optional :: owned(4)
+        !> A bundle (multipliers and contact coupling rods): MUMPS orders it with AMD.
+        logical, intent(in), optional :: bundle
+        logical :: coupled
         integer(c_int), target :: owned_c(4)
         type(c_ptr) :: owned_ptr
         character(kind=c_char) :: message(message_length)
@@ -230,6 +234,8 @@ contains
             return
         end if
         message = c_null_char
+        coupled = .false.
+        if (present(bundle)) coupled = bundle
         owned_ptr = c_null_ptr
         if (present(owned)) then
             owned_c = int(owned, c_int)
@@ -239,7 +245,8 @@ contains
             int(row_ptr, c_int), int(cols, c_int), residual, jacobian, predictor, update, &
             poststep, ctx, real(newton_atol, c_double), real(newton_rtol, c_double), &
             int(max_newton, c_int), int(max_cutbacks, c_int), lu_kind, &
-            merge(1_c_int, 0_c_int, full), merge(1_c_int, 0_c_int, linear), owned_ptr, &
+            merge(1_c_int, 0_c_int, full), merge(1_c_int, 0_c_int, linear), &
+            merge(1_c_int, 0_c_int, coupled), owned_ptr, &
             message, int(message_length, c_int))
         if (ierr /= 0) then
             this%handle = c_null_ptr
