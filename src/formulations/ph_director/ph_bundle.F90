@@ -7,7 +7,10 @@
 !> - contact (rs_contact_element): the energy-consistent penalty potential between Gauss points
 !>   of candidate element pairs, found by a cell grid (rs_contact_grid) rebuilt before every
 !>   step from X_n with a margin;
-!> and assembles everything into one residual and one CSR Jacobian.
+!> and assembles everything into one residual and one CSR Jacobian. The coupling terms enter
+!> the rods' momentum rows like their internal forces, times h (methods/ph_director_3d.md §5.2
+!> and §5.6: the row scaling of eq. 38), and the tie rows like the nodal constraint rows
+!> g(d_{n+1}) = 0 (§5.3 item 2, DESIGN.md §3).
 !>
 !> Layout. The rods are ordered by rank (`distribute`: METIS on the coupling graph) and, within
 !> a rank, by scene order. A rod's block of the unknowns is its own unknowns followed by the
@@ -140,6 +143,8 @@ module rs_ph_bundle
         real(rk), allocatable :: segment_ends(:, :, :), segment_radius(:)
         integer, allocatable :: segment_rod(:), segment_index(:)
         integer :: repatterns = 0
+        !> Work arrays of the book-keeping (kept between steps: no allocation in the time loop).
+        real(rk), allocatable :: work_y(:), work_force(:)
         !> The first step cut because an iterate moved further than the margin allows was
         !> logged.
         logical :: warned_motion = .false.
@@ -477,6 +482,7 @@ contains
             this%pattern_pairs = reshape([integer ::], [4, 0])
             this%active_pairs = this%pattern_pairs
             this%active_slot = [integer ::]
+            this%n_active = 0
         end if
         call build_pattern(this)
     end subroutine bundle_distribute
@@ -485,23 +491,27 @@ contains
     subroutine reference_candidates(this)
         type(ph_bundle_t), intent(inout) :: this
         real(rk), allocatable :: x(:)
+        integer, allocatable :: wider(:, :)
+        integer :: n
         allocate(x(this%n_state_total))
         call this%initial_state(x)
-        call find_pairs(this, x, 2.0_rk * this%margin, this%pattern_pairs)
-        call find_pairs(this, x, this%margin, this%active_pairs)
-        call match_active(this)
+        call find_pairs(this, x, 2.0_rk * this%margin, wider, n)
+        this%pattern_pairs = wider(:, 1:n)
+        call find_active_pairs(this, x)
     end subroutine reference_candidates
 
     !> The element pairs within the contact distance plus `margin` in the state x (broad phase
     !> of rs_contact_grid over all elements; near neighbours along a rod, pairs next to a joint
     !> and, without self contact, pairs of one rod are left out).
-    subroutine find_pairs(this, x, margin, pairs)
+    subroutine find_pairs(this, x, margin, pairs, n_pairs)
         type(ph_bundle_t), intent(inout) :: this
         real(rk), intent(in) :: x(:), margin
+        !> The pairs (4, n_pairs) in a buffer that only grows (no allocation once it is large
+        !> enough: the time loop calls this every step). Never a component of `this`.
         integer, allocatable, intent(inout) :: pairs(:, :)
-        integer, allocatable :: found(:, :)
+        integer, intent(out) :: n_pairs
         integer :: m, e, s, k, n, sa, sb, ma, mb
-        real(rk) :: nodes(3, 8), bulge(3), lo(3), hi(3)
+        real(rk) :: nodes(3, 8), bulge(3), lo(3), hi(3), span(3)
         do m = 1, size(this%members)
             associate (rod => this%members(m)%rod)
                 do e = 1, rod%n_elements
@@ -519,8 +529,9 @@ contains
                         lo = min(lo, nodes(:, 1) + bulge, nodes(:, n) + bulge)
                         hi = max(hi, nodes(:, 1) + bulge, nodes(:, n) + bulge)
                         if (n > 3) then
-                            lo = lo - (this%lebesgue - 1.0_rk) * (hi - lo)
-                            hi = hi + (this%lebesgue - 1.0_rk) * (hi - lo)
+                            span = hi - lo
+                            lo = lo - (this%lebesgue - 1.0_rk) * span
+                            hi = hi + (this%lebesgue - 1.0_rk) * span
                         end if
                     end if
                     this%segment_ends(:, 1, s) = lo
@@ -532,10 +543,14 @@ contains
         call this%grid%build(this%segment_ends, this%segment_rod, this%segment_index, &
             this%segment_radius, margin, this%skip)
         n = this%grid%n_pairs()
-        allocate(found(4, n))
+        if (.not. allocated(pairs)) allocate(pairs(4, 0))
+        if (size(pairs, 2) < n) then
+            k = 2 * size(pairs, 2)
+            deallocate(pairs)
+            allocate(pairs(4, max(n, k)))
+        end if
         k = 0
         do e = 1, n
-            s = 0
             associate (ab => this%grid%candidate(e))
                 sa = ab(1)
                 sb = ab(2)
@@ -546,11 +561,25 @@ contains
             if (ma /= mb .and. next_to_joint(this, ma, this%segment_index(sa), mb, &
                 this%segment_index(sb))) cycle
             k = k + 1
-            found(:, k) = [ma, this%segment_index(sa), mb, this%segment_index(sb)]
+            pairs(:, k) = [ma, this%segment_index(sa), mb, this%segment_index(sb)]
         end do
-        if (allocated(pairs)) deallocate(pairs)
-        pairs = found(:, 1:k)
+        n_pairs = k
     end subroutine find_pairs
+
+    !> The active pairs of a step from x (within the contact distance plus the margin) and
+    !> their slots in the pattern.
+    subroutine find_active_pairs(this, x)
+        type(ph_bundle_t), intent(inout) :: this
+        real(rk), intent(in) :: x(:)
+        integer, allocatable :: pairs(:, :)
+        integer :: n
+        ! The buffer moves out of `this` for the call (no aliasing) and back, without copies.
+        call move_alloc(this%active_pairs, pairs)
+        call find_pairs(this, x, this%margin, pairs, n)
+        call move_alloc(pairs, this%active_pairs)
+        this%n_active = n
+        call match_active(this)
+    end subroutine find_active_pairs
 
     !> Elements ea of member ma and eb of member mb lie within `skip` elements of the two ends
     !> of one joint: neighbours through the joint, never a contact pair.
@@ -592,9 +621,12 @@ contains
     subroutine match_active(this)
         type(ph_bundle_t), intent(inout) :: this
         integer :: k, p
-        this%n_active = size(this%active_pairs, 2)
-        if (allocated(this%active_slot)) deallocate(this%active_slot)
-        allocate(this%active_slot(this%n_active), source=0)
+        if (.not. allocated(this%active_slot)) allocate(this%active_slot(0))
+        if (size(this%active_slot) < this%n_active) then
+            deallocate(this%active_slot)
+            allocate(this%active_slot(size(this%active_pairs, 2)))
+        end if
+        this%active_slot(1:this%n_active) = 0
         p = 1
         do k = 1, this%n_active
             do while (p <= size(this%pattern_pairs, 2))
@@ -624,8 +656,8 @@ contains
     subroutine build_pattern(this)
         type(ph_bundle_t), intent(inout) :: this
         type(csr_builder_t) :: builder
-        integer :: m, i, p, uo, t, k, n_expected
-        integer, allocatable :: rows(:), cols(:)
+        integer :: m, i, p, uo, t, k, n_expected, n
+        integer :: rows(48), cols(48)
         n_expected = 0
         do m = 1, size(this%members)
             n_expected = n_expected + this%members(m)%rod%pattern%nnz()
@@ -642,17 +674,17 @@ contains
             end associate
         end do
         do t = 1, size(this%ties)
-            rows = tie_rows(this, this%ties(t))
-            cols = tie_cols(this, this%ties(t))
+            rows(1:24) = tie_rows(this, this%ties(t))
+            cols(1:24) = tie_cols(this, this%ties(t))
             associate (lam => [(this%ties(t)%unknown_offset + k, k = 1, this%ties(t)%tie%n)])
-                call builder%add_block(rows, cols)
-                call builder%add_block(rows, lam)
-                call builder%add_block(lam, cols)
+                call builder%add_block(rows(1:24), cols(1:24))
+                call builder%add_block(rows(1:24), lam)
+                call builder%add_block(lam, cols(1:24))
             end associate
         end do
         do k = 1, size(this%pattern_pairs, 2)
-            call pair_indices(this, this%pattern_pairs(:, k), rows, cols)
-            call builder%add_block(rows, cols)
+            call pair_indices(this, this%pattern_pairs(:, k), rows, cols, n)
+            call builder%add_block(rows(1:n), cols(1:n))
         end do
         call builder%build(this%pattern)
         do m = 1, size(this%members)
@@ -668,16 +700,13 @@ contains
             end associate
         end do
         if (allocated(this%pair_map)) deallocate(this%pair_map)
-        this%pair_block = 0
-        if (size(this%pattern_pairs, 2) > 0) then
-            call pair_indices(this, this%pattern_pairs(:, 1), rows, cols)
-            this%pair_block = size(rows)
-        end if
+        ! The largest block of a pair (rods of different degrees have smaller ones).
+        this%pair_block = 3 * 2 * (maxval(this%members%rod%degree) + 1)
         allocate(this%pair_map(this%pair_block, this%pair_block, size(this%pattern_pairs, 2)), source=0)
         do k = 1, size(this%pattern_pairs, 2)
-            call pair_indices(this, this%pattern_pairs(:, k), rows, cols)
-            do p = 1, size(cols)
-                do i = 1, size(rows)
+            call pair_indices(this, this%pattern_pairs(:, k), rows, cols, n)
+            do p = 1, n
+                do i = 1, n
                     this%pair_map(i, p, k) = this%pattern%position(rows(i), cols(p))
                 end do
             end do
@@ -772,14 +801,17 @@ contains
 
     !> Rows (momentum of the positions) and columns (positions) of a contact pair's nodes:
     !> element a's nodes, then element b's, three per node.
-    pure subroutine pair_indices(this, pair, rows, cols)
+    pure subroutine pair_indices(this, pair, rows, cols, n)
         type(ph_bundle_t), intent(in) :: this
         integer, intent(in) :: pair(4)
-        integer, allocatable, intent(out) :: rows(:), cols(:)
+        !> rows(1:n), cols(1:n), n = 3 (nodes of a + nodes of b); 48 holds cubic elements.
+        integer, intent(out) :: rows(48), cols(48), n
         integer :: na, nb, a, first_a, first_b
         na = this%members(pair(1))%rod%degree + 1
         nb = this%members(pair(3))%rod%degree + 1
-        allocate(rows(3 * (na + nb)), cols(3 * (na + nb)))
+        n = 3 * (na + nb)
+        rows = 0
+        cols = 0
         first_a = (pair(2) - 1) * this%members(pair(1))%rod%degree
         first_b = (pair(4) - 1) * this%members(pair(3))%rod%degree
         do a = 1, na
@@ -1087,7 +1119,7 @@ contains
         real(rk) :: tangent(48, 48), energy_n, energy_1, scale
         type(contact_params_t) :: params
         integer :: k, na, nb, i, j, p, slot, first
-        integer, allocatable :: rows(:), cols(:)
+        integer :: rows(48), cols(48), n
         logical :: ok
         logical :: everything
         everything = .false.
@@ -1122,7 +1154,7 @@ contains
                             r_a(:, 1:na), r_b(:, 1:nb), energy_n, energy_1)
                     end if
                 end associate
-                call pair_indices(this, pair, rows, cols)
+                call pair_indices(this, pair, rows, cols, n)
                 if (present(f)) then
                     do i = 1, na
                         first = 3 * (i - 1)
@@ -1162,16 +1194,15 @@ contains
         real(rk), intent(in) :: t_n, h, x_n(:)
         logical, intent(out) :: repattern
         integer, allocatable :: wider(:, :)
+        integer :: n
         repattern = .false.
         if (.not. this%contact) return
-        call find_pairs(this, x_n, this%margin, this%active_pairs)
-        call match_active(this)
-        if (all(this%active_slot > 0)) return
+        call find_active_pairs(this, x_n)
+        if (all(this%active_slot(1:this%n_active) > 0)) return
         ! A pair outside the pattern: the pattern becomes the pairs within twice the margin,
         ! so that it lasts while the bundle moves (DESIGN.md §3: analysis redone only then).
-        call find_pairs(this, x_n, 2.0_rk * this%margin, wider)
-        call find_pairs(this, x_n, this%margin, this%active_pairs)
-        this%pattern_pairs = wider
+        call find_pairs(this, x_n, 2.0_rk * this%margin, wider, n)
+        this%pattern_pairs = wider(:, 1:n)
         call build_pattern(this)
         this%repatterns = this%repatterns + 1
         repattern = .true.
@@ -1185,8 +1216,10 @@ contains
         integer, intent(in) :: newton_iterations
         real(rk), intent(in) :: residual_norm
         real(rk), allocatable :: y(:), force(:)
-        real(rk) :: work, dq(12)
-        integer :: m, k, rows(12)
+        integer :: m
+        ! Work arrays out of `this` for the calls below (no aliasing), back at the end.
+        call move_alloc(this%work_y, y)
+        call move_alloc(this%work_force, force)
         do m = 1, size(this%members)
             associate (member => this%members(m))
                 call member%rod%accept_step(t_n, h, &
@@ -1195,13 +1228,26 @@ contains
                     newton_iterations, residual_norm)
             end associate
         end do
-        if (size(this%ties) == 0 .and. .not. this%contact) return
-        if (this%static) return
-        ! The coupling forces of the step, h times their generalized forces in the momentum
-        ! rows, evaluated as on every rank at the accepted unknowns.
-        call unknowns_of(this, x_1, y)
-        allocate(force(this%n_unknown_total), source=0.0_rk)
-        call coupling_forces(this, t_n, h, x_n, y, force)
+        if ((size(this%ties) > 0 .or. this%contact) .and. .not. this%static) then
+            ! The coupling forces of the step (h times their generalized forces in the momentum
+            ! rows) at the accepted unknowns, all rows on every rank, and their work on each rod.
+            call unknowns_of(this, x_1, y)
+            call resize(force, this%n_unknown_total)
+            force = 0.0_rk
+            call coupling_forces(this, t_n, h, x_n, y, force)
+            call book_coupling_work(this, h, x_n, x_1, force)
+        end if
+        call move_alloc(y, this%work_y)
+        call move_alloc(force, this%work_force)
+    end subroutine bundle_accept_step
+
+    !> The work of the coupling forces on each rod in a step, booked as the rod's external work
+    !> (module header: each rod's energy balance closes by itself).
+    subroutine book_coupling_work(this, h, x_n, x_1, force)
+        type(ph_bundle_t), intent(inout) :: this
+        real(rk), intent(in) :: h, x_n(:), x_1(:), force(:)
+        real(rk) :: work, dq(12)
+        integer :: m, k, rows(12)
         do m = 1, size(this%members)
             work = 0.0_rk
             do k = 1, this%members(m)%rod%n_nodes
@@ -1213,16 +1259,27 @@ contains
             this%members(m)%rod%work_since_record = this%members(m)%rod%work_since_record + work
             this%members(m)%rod%balance_since_record = this%members(m)%rod%balance_since_record - work
         end do
-        call coupling_results(this, t_n + h, x_1, y)
-    end subroutine bundle_accept_step
+    end subroutine book_coupling_work
+
+    !> Allocate v with length n unless it has it.
+    pure subroutine resize(v, n)
+        real(rk), allocatable, intent(inout) :: v(:)
+        integer, intent(in) :: n
+        if (allocated(v)) then
+            if (size(v) == n) return
+            deallocate(v)
+        end if
+        allocate(v(n))
+    end subroutine resize
 
     !> The step unknowns that correspond to a state x (positions, directors, multipliers).
     subroutine unknowns_of(this, x, y)
         type(ph_bundle_t), intent(in) :: this
         real(rk), intent(in) :: x(:)
-        real(rk), allocatable, intent(out) :: y(:)
+        real(rk), allocatable, intent(inout) :: y(:)
         integer :: m, k, t
-        allocate(y(this%n_unknown_total), source=0.0_rk)
+        call resize(y, this%n_unknown_total)
+        y = 0.0_rk
         do m = 1, size(this%members)
             associate (member => this%members(m), rod => this%members(m)%rod)
                 do k = 1, rod%n_nodes
@@ -1332,8 +1389,10 @@ contains
         real(rk), allocatable :: y(:)
         integer :: m, r
         if (size(this%ties) > 0 .or. this%contact) then
+            call move_alloc(this%work_y, y)
             call unknowns_of(this, x, y)
             call coupling_results(this, t, x, y)
+            call move_alloc(y, this%work_y)
         end if
         do m = 1, size(this%members)
             associate (member => this%members(m))
