@@ -1051,6 +1051,7 @@ contains
                 if (present(f)) then
                     force = h * matmul(lam(1:n), gradient(1:n, :))
                     do i = 1, 24
+                        if (rows(i) <= 0) cycle
                         if (everything .or. owns_row(this, rows(i))) f(rows(i)) = f(rows(i)) + force(i)
                     end do
                     if (everything .or. owns_member(this, tie%member_a)) f(lam_index(1:n)) = &
@@ -1060,6 +1061,7 @@ contains
                     cols = tie_cols(this, tie)
                     hessian = theta * h * ph_director_tie_hessian(tie_force, lam(1:n))
                     do i = 1, 24
+                        if (rows(i) <= 0) cycle
                         if (.not. (everything .or. owns_row(this, rows(i)))) cycle
                         do j = 1, 24
                             if (cols(j) <= 0 .or. hessian(i, j) == 0.0_rk) cycle
@@ -1116,7 +1118,9 @@ contains
         !> Fill every row, not only this rank's (default false).
         logical, intent(in), optional :: all_rows
         real(rk) :: xa_n(3, 8), xa_1(3, 8), xb_n(3, 8), xb_1(3, 8), r_a(3, 8), r_b(3, 8)
-        real(rk) :: tangent(48, 48), energy_n, energy_1, scale
+        ! The tangent of the pair in a contiguous buffer, column-major with leading dimension
+        ! 3 (na + nb): passed whole to the explicit-shape dummy (sequence association, no copy).
+        real(rk) :: tangent(48 * 48), energy_n, energy_1, scale
         type(contact_params_t) :: params
         integer :: k, na, nb, i, j, p, slot, first
         integer :: rows(48), cols(48), n
@@ -1145,7 +1149,7 @@ contains
                             xa_1(:, 1:na), b%contact_shape, b%contact_weight * &
                             b%rod%element_length(pair(4)), xb_n(:, 1:nb), xb_1(:, 1:nb), &
                             r_a(:, 1:na), r_b(:, 1:nb), energy_n, energy_1, &
-                            tangent=tangent(1:3 * (na + nb), 1:3 * (na + nb)))
+                            tangent=tangent)
                     else
                         call contact_element_pair(params, a%contact_shape, &
                             a%contact_weight * a%rod%element_length(pair(2)), xa_n(:, 1:na), &
@@ -1159,6 +1163,7 @@ contains
                     do i = 1, na
                         first = 3 * (i - 1)
                         do j = 1, 3
+                            if (rows(first + j) <= 0) cycle
                             if (everything .or. owns_row(this, rows(first + j))) f(rows(first + j)) = &
                                 f(rows(first + j)) + h * r_a(j, i)
                         end do
@@ -1166,6 +1171,7 @@ contains
                     do i = 1, nb
                         first = 3 * (na + i - 1)
                         do j = 1, 3
+                            if (rows(first + j) <= 0) cycle
                             if (everything .or. owns_row(this, rows(first + j))) f(rows(first + j)) = &
                                 f(rows(first + j)) + h * r_b(j, i)
                         end do
@@ -1176,9 +1182,10 @@ contains
                     do j = 1, 3 * (na + nb)
                         if (cols(j) <= 0) cycle
                         do i = 1, 3 * (na + nb)
+                            if (rows(i) <= 0) cycle
                             if (.not. (everything .or. owns_row(this, rows(i)))) cycle
                             p = this%pair_map(i, j, slot)
-                            values(p) = values(p) + scale * h * tangent(i, j)
+                            values(p) = values(p) + scale * h * tangent(i + (j - 1) * n)
                         end do
                     end do
                 end if
