@@ -146,8 +146,11 @@ static PetscErrorCode agree(const RsStepper *s, int *status)
     PetscFunctionReturn(0);
 }
 
-static PetscErrorCode step_residual_distributed(RsStepper *s, PetscReal t_n, PetscReal h, Vec X_n,
-                                                Vec Y, Vec F, int *status)
+/* Distributed mode: call `callback` (the residual or the Jacobian one: the same signature) on
+   the whole X_n and Y, gathered on every rank, writing the whole-length `out`; the status is
+   agreed by all ranks. */
+static PetscErrorCode call_gathered(RsStepper *s, rs_cb_residual callback, PetscReal t_n,
+                                    PetscReal h, Vec X_n, Vec Y, PetscScalar *out, int *status)
 {
     const PetscScalar *x, *y;
     fenv_t             env;
@@ -158,11 +161,19 @@ static PetscErrorCode step_residual_distributed(RsStepper *s, PetscReal t_n, Pet
     PetscCall(VecGetArrayRead(s->x_all, &x));
     PetscCall(VecGetArrayRead(s->y_all, &y));
     enter_user(s, &env);
-    *status = s->residual(s->ctx, t_n, h, x, y, s->f_all);
+    *status = callback(s->ctx, t_n, h, x, y, out);
     leave_user(&env);
     PetscCall(VecRestoreArrayRead(s->y_all, &y));
     PetscCall(VecRestoreArrayRead(s->x_all, &x));
     PetscCall(agree(s, status));
+    PetscFunctionReturn(0);
+}
+
+static PetscErrorCode step_residual_distributed(RsStepper *s, PetscReal t_n, PetscReal h, Vec X_n,
+                                                Vec Y, Vec F, int *status)
+{
+    PetscFunctionBegin;
+    PetscCall(call_gathered(s, s->residual, t_n, h, X_n, Y, s->f_all, status));
     PetscCall(scatter_owned(s->f_all, s->unknown_lo, s->unknown_hi, F));
     PetscFunctionReturn(0);
 }
@@ -170,20 +181,8 @@ static PetscErrorCode step_residual_distributed(RsStepper *s, PetscReal t_n, Pet
 static PetscErrorCode step_jacobian_distributed(RsStepper *s, PetscReal t_n, PetscReal h, Vec X_n,
                                                 Vec Y, Mat J, int *status)
 {
-    const PetscScalar *x, *y;
-    fenv_t             env;
-
     PetscFunctionBegin;
-    PetscCall(gather(s->gather_state, X_n, s->x_all));
-    PetscCall(gather(s->gather_unknown, Y, s->y_all));
-    PetscCall(VecGetArrayRead(s->x_all, &x));
-    PetscCall(VecGetArrayRead(s->y_all, &y));
-    enter_user(s, &env);
-    *status = s->jacobian(s->ctx, t_n, h, x, y, s->values_all);
-    leave_user(&env);
-    PetscCall(VecRestoreArrayRead(s->y_all, &y));
-    PetscCall(VecRestoreArrayRead(s->x_all, &x));
-    PetscCall(agree(s, status));
+    PetscCall(call_gathered(s, s->jacobian, t_n, h, X_n, Y, s->values_all, status));
     /* The owned rows, each with the columns of the preallocated pattern. */
     for (PetscInt row = s->unknown_lo; row < s->unknown_hi; ++row) {
         const PetscInt first = s->row_ptr_all[row], n = s->row_ptr_all[row + 1] - first;
