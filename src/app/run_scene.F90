@@ -25,7 +25,7 @@ module rs_app_run_scene
     use rs_solver_petsc_env, only: petsc_version
     use rs_solver_rod_stepper, only: petsc_apply_options, petsc_options_text
     use rs_solver_rod_run, only: rod_runner_t, step_count
-    use rs_model_coupling, only: coupled_systems, system_costs
+    use rs_model_coupling, only: coupled_systems, system_costs, is_bundle
     use rs_parallel_deal, only: deal_by_cost
     implicit none
     private
@@ -574,15 +574,11 @@ contains
     subroutine mark_shared(scene)
         type(scene_t), intent(in) :: scene
         integer :: k
-        logical :: couples
         if (allocated(system_shared)) deallocate(system_shared)
         allocate(system_shared(size(system_first) - 1), source=.false.)
         if (world_size() == 1) return
         do k = 1, size(system_shared)
-            couples = system_first(k + 1) - system_first(k) > 1 .or. scene%contact%given
-            if (allocated(scene%plates)) couples = couples .or. size(scene%plates) > 0
-            system_shared(k) = couples .and. &
-                trim(scene%rods(system_members(system_first(k)))%formulation) == 'ph_director'
+            system_shared(k) = is_bundle(scene, system_members(system_first(k):system_first(k + 1) - 1))
             if (system_shared(k)) system_rank(k) = 0
         end do
     end subroutine mark_shared

@@ -29,7 +29,7 @@ module rs_contact_grid
     implicit none
     private
 
-    public :: candidate_pairs
+    public :: candidate_pairs, reserve_int_2
 
     !> Persistent broad-phase workspace and its last result: `build`, then `get_pairs` (or
     !> `n_pairs` and `candidate`).

@@ -14,7 +14,7 @@ module rs_formulations_plan
     use rs_ph_planar_plan, only: ph_planar_plan_lines
     use rs_se3_pg_plan, only: se3_pg_plan_lines
     use rs_se3_strand_plan, only: se3_strand_plan_lines
-    use rs_model_coupling, only: coupled_systems, system_costs
+    use rs_model_coupling, only: coupled_systems, system_costs, is_bundle
     use rs_parallel_deal, only: deal_by_cost
     implicit none
     private
@@ -75,7 +75,8 @@ contains
         system_rank = deal_by_cost(system_costs(scene, first, members), n_ranks)
         do i = 1, size(scene%rods)
             rank = system_rank(system_of(i))
-            if (n_ranks > 1 .and. bundle_system(system_of(i))) rank = -1
+            if (n_ranks > 1 .and. is_bundle(scene, members(first(system_of(i)):first(system_of(i) + 1) - 1))) &
+                rank = -1
             associate (rod => scene%rods(i))
                 select case (trim(rod%formulation_origin))
                 case ('default')
@@ -114,15 +115,6 @@ contains
             character(len=*), intent(in) :: line
             text = text // '!   ' // line // new_line('a')
         end subroutine add
-
-        !> System k is a ph_director bundle (the rule of run_scene's shared systems).
-        logical function bundle_system(k)
-            integer, intent(in) :: k
-            bundle_system = first(k + 1) - first(k) > 1 .or. scene%contact%given
-            if (allocated(scene%plates)) bundle_system = bundle_system .or. size(scene%plates) > 0
-            bundle_system = bundle_system .and. &
-                trim(scene%rods(members(first(k)))%formulation) == 'ph_director'
-        end function bundle_system
     end function scene_plan_text
 
     !> The sweep part of the plan ('' without &sweep): the number of members and how the sweeps

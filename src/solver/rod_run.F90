@@ -22,6 +22,7 @@ module rs_solver_rod_run
     use rs_model_scene, only: solver_input_t
     use rs_parallel_mpi_env, only: world_rank, world_size
     use rs_parallel_metis, only: partition_graph
+    use rs_model_coupling, only: is_bundle
     implicit none
     private
 
@@ -128,8 +129,7 @@ contains
         this%solver = scene%solver
         this%shared = .false.
         if (present(shared)) this%shared = shared .and. world_size() > 1
-        bundle = size(rods) > 1 .or. scene%contact%given
-        if (allocated(scene%plates)) bundle = bundle .or. size(scene%plates) > 0
+        bundle = is_bundle(scene, rods)
         this%bundle = bundle
         call create_formulation(scene%rods(rods(1))%formulation, built, err, bundle=bundle)
         RS_RETURN_IF_ERROR(err)

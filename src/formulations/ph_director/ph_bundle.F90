@@ -47,7 +47,7 @@ module rs_ph_bundle
     use rs_ph_director_tie, only: ph_director_tie_t, ph_director_joint_tie, ph_director_plate_tie, &
         ph_director_tie_value, ph_director_tie_gradient, ph_director_tie_hessian
     use rs_contact_potential, only: contact_params_t, contact_params_init
-    use rs_contact_grid, only: contact_grid_t
+    use rs_contact_grid, only: contact_grid_t, reserve_int_2
     use rs_contact_element, only: contact_element_pair, contact_points
     use rs_math_lagrange, only: lagrange_shape
     implicit none
@@ -543,12 +543,7 @@ contains
         call this%grid%build(this%segment_ends, this%segment_rod, this%segment_index, &
             this%segment_radius, margin, this%skip)
         n = this%grid%n_pairs()
-        if (.not. allocated(pairs)) allocate(pairs(4, 0))
-        if (size(pairs, 2) < n) then
-            k = 2 * size(pairs, 2)
-            deallocate(pairs)
-            allocate(pairs(4, max(n, k)))
-        end if
+        call reserve_int_2(pairs, 4, n)
         k = 0
         do e = 1, n
             associate (ab => this%grid%candidate(e))
