@@ -448,6 +448,7 @@ static PetscErrorCode stepper_setup(RsStepper *s, const int *row_ptr, const int 
     TSType    type;
 
     PetscFunctionBegin;
+    (void)bundle; /* bundles and single rods are ordered alike (AMD, below) */
     PetscCall(rs_rodmid_register());
 
     /* Scene values as the bottom layer of the options (DESIGN.md §3): newtonls with the bt line
@@ -461,14 +462,16 @@ static PetscErrorCode stepper_setup(RsStepper *s, const int *row_ptr, const int 
        multiplier rows delays thousands of pivots, which overruns a 50% work-space margin (a
        400% margin holds), and a relative pivot threshold of 1e-4 instead of 1e-2 halves the
        delayed pivots and the flops with the same Newton iterations; the root node is
-       factored without ScaLAPACK (ICNTL(13) = 1), faster on a loaded machine. */
+       factored without ScaLAPACK (ICNTL(13) = 1), faster on a loaded machine.
+       Single rods use AMD too: MUMPS's automatic choice (PORD) makes the factorization of a
+       long chain superlinear (3.3 and 3.8 us per unknown at n_e = 256 and 1024 against 2.4 and
+       2.6 with AMD; docs/performance.md, "ph_director: cost per step"). */
     if (s->distributed)
         snprintf(mumps, sizeof(mumps), "-mat_mumps_icntl_14 400 -mat_mumps_icntl_7 0 "
                                        "-mat_mumps_cntl_1 1e-4 -mat_mumps_icntl_13 1");
     else
-        snprintf(mumps, sizeof(mumps), "-mat_mumps_icntl_14 50 -mat_mumps_icntl_7 %d "
-                                       "-mat_mumps_cntl_1 0.01 -mat_mumps_icntl_13 0",
-                 bundle ? 0 : 7);
+        snprintf(mumps, sizeof(mumps), "-mat_mumps_icntl_14 50 -mat_mumps_icntl_7 0 "
+                                       "-mat_mumps_cntl_1 0.01 -mat_mumps_icntl_13 0");
     snprintf(defaults, sizeof(defaults),
              "-snes_type %s -snes_atol %.17g -snes_rtol %.17g "
              "-snes_stol 0 -snes_max_it %d -ksp_type preonly -pc_type lu %s "
