@@ -25,7 +25,7 @@
 !> The plane (rs_model_planarity) maps the scene's 3D input to planar coordinates and the
 !> results back: positions, directors rotated about the plane normal, 3D momenta.
 module rs_ph_planar
-    use rs_core_kinds, only: rk
+    use rs_core_kinds, only: rk, pi
     use rs_core_error, only: error_t, set_error
     use rs_core_strings, only: str
     use rs_model_scene, only: scene_t, rod_input_t, load_applies_to
@@ -105,6 +105,15 @@ module rs_ph_planar
         real(rk) :: smallest_step = huge(1.0_rk)
         real(rk) :: last_residual = 0.0_rk
         integer :: iterations_since_record = 0
+        !> The nodal angles (their q indices, each once) and whether `update` keeps them near
+        !> zero: theta is not wrapped by the scheme, and the round-off of the inertia rows grows
+        !> as eps |theta| / h^2, so a spinning rod's Newton residual could not reach newton_atol
+        !> after a few turns (docs/stability.md). A shift of every angle by the same 2 pi k changes
+        !> nothing physical; only systems with no angle fixed by a support are shifted.
+        integer, allocatable :: theta_dofs(:)
+        logical :: wrap_theta = .false.
+        !> The shift 2 pi k that the last `update` subtracted (added back in the loads' work).
+        real(rk) :: theta_shift = 0.0_rk
     contains
         procedure :: init => planar_init
         procedure :: n_state => planar_n_state
@@ -206,6 +215,7 @@ contains
         if (this%scheme == scheme_ph_em .and. .not. this%condensed) &
             this%n_y = this%n_free + 3 * this%n_elements
         call build_pattern(this)
+        call find_angles(this)
         allocate(this%q_1(this%n_q), this%f_ext(this%n_q), this%f_rod(this%n_q, size(this%rods)))
         allocate(this%work_since_record(size(this%rods)), source=0.0_rk)
         call set_initial_state(this, scene, rods)
@@ -367,6 +377,21 @@ contains
             end_node = merge(1, this%rods(slot)%n_elements + 1, trim(which) == 'start')
         end function end_node
     end subroutine number_dofs
+
+    !> The q indices of the nodal angles, each once (joined rods share some), and whether they
+    !> may be shifted by 2 pi k after a step: in dynamics, when no support fixes an angle.
+    subroutine find_angles(this)
+        type(ph_planar_t), intent(inout) :: this
+        logical :: is_angle(this%n_q)
+        integer :: r, i
+        is_angle = .false.
+        do r = 1, size(this%rods)
+            is_angle(this%rods(r)%dofs(3, :)) = .true.
+        end do
+        this%theta_dofs = pack([(i, i = 1, this%n_q)], is_angle)
+        this%wrap_theta = .not. this%quasistatic .and. all(this%unknown_of(this%theta_dofs) > 0)
+        this%theta_shift = 0.0_rk
+    end subroutine find_angles
 
     !> Supports (methods §6.2, §6.3): clamped fixes x, y, theta of the end node, pinned x, y.
     !> The remaining unknowns are numbered in q order.
@@ -545,7 +570,9 @@ contains
     end subroutine planar_predictor
 
     !> X_{n+1}: q from Y, v_{n+1} = 2 (q_{n+1} - q_n) / h - v_n (the midpoint rule, methods §4.3;
-    !> zero in a quasistatic run, which has no velocities), and the element history.
+    !> zero in a quasistatic run, which has no velocities), and the element history. Then, when
+    !> allowed (find_angles), every nodal angle is shifted by the same 2 pi k that brings the
+    !> first one into [-pi, pi]: velocities and history come from the unshifted step.
     subroutine planar_update(this, t_n, h, x_n, y, x_1)
         class(ph_planar_t), intent(inout) :: this
         real(rk), intent(in) :: t_n, h, x_n(:), y(:)
@@ -558,12 +585,19 @@ contains
             x_1(this%n_q + 1:2 * this%n_q) = 2.0_rk * (x_1(1:this%n_q) - x_n(1:this%n_q)) / h - &
                 x_n(this%n_q + 1:2 * this%n_q)
         end if
-        if (this%n_history == 0) return
-        first = 2 * this%n_q
-        do e = 1, this%n_elements
-            call this%element_strains(e, h, x_n, x_1(1:this%n_q), y, &
-                x_1(first + this%n_history * (e - 1) + 1:first + this%n_history * e))
-        end do
+        if (this%n_history > 0) then
+            first = 2 * this%n_q
+            do e = 1, this%n_elements
+                call this%element_strains(e, h, x_n, x_1(1:this%n_q), y, &
+                    x_1(first + this%n_history * (e - 1) + 1:first + this%n_history * e))
+            end do
+        end if
+        this%theta_shift = 0.0_rk
+        if (this%wrap_theta) then
+            this%theta_shift = 2.0_rk * pi * anint(x_1(this%theta_dofs(1)) / (2.0_rk * pi))
+            if (this%theta_shift /= 0.0_rk) &
+                x_1(this%theta_dofs) = x_1(this%theta_dofs) - this%theta_shift
+        end if
     end subroutine planar_update
 
     !> Element e's history at t_{n+1}: the mixed strains (from Y, or the condensed update of
@@ -774,7 +808,9 @@ contains
         call this%rod_energies(x_n, kinetic_n, strain_n)
         call this%rod_energies(x_1, kinetic_1, strain_1)
         do r = 1, size(this%rods)
-            work = dot_product(this%f_rod(:, r), x_1(1:this%n_q) - x_n(1:this%n_q))
+            ! The angles moved by x_1 - x_n plus the shift that update took away.
+            work = dot_product(this%f_rod(:, r), x_1(1:this%n_q) - x_n(1:this%n_q)) + &
+                this%theta_shift * sum(this%f_rod(this%theta_dofs, r))
             this%work_since_record(r) = this%work_since_record(r) + work
             this%balance_since_record = this%balance_since_record + (kinetic_1(r) + &
                 strain_1(r)) - (kinetic_n(r) + strain_n(r)) - work
