@@ -45,8 +45,9 @@ typedef int (*rs_cb_poststep)(void *ctx, double t_n, double h, const double *x_n
    When linear_step is non-zero the step problem is affine in Y (seed 004's semi-implicit
    scheme): the SNES is KSPONLY, i.e. one residual, one Jacobian and one linear solve per step,
    no Newton loop and no norms (-snes_type overrides).
-   bundle: the system is a bundle (rods coupled by multipliers and contact): MUMPS orders it
-   with AMD.
+   jacobian_reuse: 0 for Newton's method; a ratio in (0, 1) keeps the factored Jacobian while
+   each Newton iteration cuts the residual norm at least by it (-ts_rodmid_reuse_jacobian,
+   include/rs_rodmid.h; ignored for a linear step).
    owned (NULL for a system of one rank on PETSC_COMM_SELF): a system shared by all ranks on
    PETSC_COMM_WORLD (DESIGN.md §5), this rank owning the state entries [owned[0], owned[1])
    and the unknowns [owned[2], owned[3]) (0-based). row_ptr and cols are then the whole
@@ -59,7 +60,7 @@ int rs_stepper_create(void **handle, int n_state, int n_unknown, const int *row_
                       rs_cb_vec predictor, rs_cb_update update, rs_cb_poststep poststep,
                       void *ctx, double newton_atol, double newton_rtol, int max_newton,
                       int max_cutbacks, int native_lu, int full_newton, int linear_step,
-                      int bundle, const int *owned, char *errmsg, int errlen);
+                      double jacobian_reuse, const int *owned, char *errmsg, int errlen);
 
 /* Advance x from t_n to exactly t_n + dt: substeps of dt - (time done), each halved by the
    TS on Newton failure, so the step grows back after a cut. Outputs: accepted substeps,
@@ -76,6 +77,9 @@ int rs_stepper_advance(void *handle, double t_n, double dt, double *x, int *subs
 int rs_stepper_solver_settings(void *handle, double *atol, double *rtol, double *stol,
                                int *max_it, int *max_funcs, int *max_cutbacks, char *types,
                                int length);
+
+/* Jacobians computed (and factored) since the stepper was created. */
+int rs_stepper_jacobians(void *handle, int *count);
 
 /* TSView of the stepper's TS (with its SNES, KSP and PC) into the file `path` (NULL or "":
    standard output). */

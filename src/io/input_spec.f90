@@ -269,6 +269,12 @@ contains
                 'unknowns, but slower and with a higher round-off floor here ' // &
                 '(docs/performance.md); for ph_planar the element strains, per element ' // &
                 '(methods/ph_planar.md §3.5), leaving 3 unknowns per node.', example='.true.'), &
+            spec_v('jacobian_reuse', 'real', '-', '0', &
+                'Keep the factored Jacobian across Newton iterations and steps while each ' // &
+                'iteration cuts the residual norm at least by this ratio (0: a new Jacobian ' // &
+                'at every iteration, Newton''s method). Same solution and stopping test, ' // &
+                'fewer factorizations (docs/performance.md); ignored by linear steps.', &
+                lower=0.0_rk, upper=1.0_rk, upper_inclusive=.false., example='0.1'), &
             spec_v('petsc_options', 'string', '-', "''", &
                 'PETSc options, applied after the scene values and before the command line.', &
                 example="'-snes_monitor -snes_linesearch_type bt'")]

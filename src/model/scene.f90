@@ -75,6 +75,7 @@ module rs_model_scene
         integer :: max_newton = 25
         integer :: max_cutbacks = 6
         logical :: condense_stresses = .false.
+        real(rk) :: jacobian_reuse = 0.0_rk
         character(len=text_len) :: petsc_options = ''
     end type solver_input_t
 

@@ -58,6 +58,8 @@ module rs_solver_rod_run
         type(solver_input_t) :: solver
         !> Times the stepper was built again for a new Jacobian pattern (contact pairs).
         integer :: repatterns = 0
+        !> Jacobians computed by the steppers of this runner that were replaced (pattern changes).
+        integer :: jacobians_before = 0
         !> A bundle (rods coupled by joints, plates or contact): its summary splits the time.
         logical :: bundle = .false.
         !> Wall time in `prepare` (bundles: the contact broad phase and any new stepper).
@@ -179,6 +181,7 @@ contains
         integer, allocatable :: row_ptr(:), cols(:)
         integer :: owned(4)
         call this%formulation%jacobian_pattern(row_ptr, cols)
+        this%jacobians_before = this%jacobians_before + this%stepper%jacobians()
         this%context%n_state = this%formulation%n_state()
         this%context%n_unknown = this%formulation%n_unknown()
         this%context%n_values = size(cols)
@@ -191,7 +194,7 @@ contains
                 this%solver%max_newton, this%solver%max_cutbacks, err, &
                 native_lu=this%formulation%native_lu(), full_newton=this%formulation%full_newton(), &
                 linear_step=this%formulation%linear_step(), banded=this%formulation%banded_unknowns(), &
-                owned=owned, bundle=this%bundle)
+                owned=owned, jacobian_reuse=this%solver%jacobian_reuse)
         else
             call this%stepper%create(this%context%n_state, this%context%n_unknown, row_ptr, cols, &
                 c_funloc(residual_callback), c_funloc(jacobian_callback), &
@@ -200,7 +203,7 @@ contains
                 this%solver%max_newton, this%solver%max_cutbacks, err, &
                 native_lu=this%formulation%native_lu(), full_newton=this%formulation%full_newton(), &
                 linear_step=this%formulation%linear_step(), banded=this%formulation%banded_unknowns(), &
-                bundle=this%bundle)
+                jacobian_reuse=this%solver%jacobian_reuse)
         end if
     end subroutine build_stepper
 
@@ -381,7 +384,9 @@ contains
         !> No summary line (another rank of a shared system prints it).
         logical, intent(in), optional :: quiet
         real(rk) :: elapsed, assembly
+        integer :: jacobians
         assembly = this%assembly_seconds()
+        jacobians = this%jacobians_before + this%stepper%jacobians()
         call this%stepper%destroy()
         if (associated(this%context)) deallocate(this%context)
         if (associated(this%formulation)) deallocate(this%formulation)
@@ -394,7 +399,8 @@ contains
             str(this%total_iterations) // ' Newton iterations, ' // str(this%total_cutbacks) // &
             ' cut-backs; time loop ' // str_significant(elapsed, 4) // ' s, per step ' // &
             str_significant(elapsed / max(1, this%steps_done), 4) // ' s, per Newton ' // &
-            'iteration ' // str_significant(elapsed / max(1, this%total_iterations), 4) // ' s')
+            'iteration ' // str_significant(elapsed / max(1, this%total_iterations), 4) // ' s; ' // &
+            str(jacobians) // ' Jacobians factored')
         if (this%bundle) call log_info('  ' // this%name() // ': of that, assembly ' // &
             str_significant(assembly, 4) // ' s, contact search ' // &
             str_significant(this%prepare_seconds, 4) // ' s (' // str(this%repatterns) // &

@@ -436,7 +436,7 @@ static PetscErrorCode distributed_setup(RsStepper *s, const int *row_ptr, const 
 static PetscErrorCode stepper_setup(RsStepper *s, const int *row_ptr, const int *cols,
                                     double newton_atol, double newton_rtol, int max_newton,
                                     int max_cutbacks, int native_lu, int full_newton,
-                                    int linear_step, int bundle)
+                                    int linear_step, double jacobian_reuse)
 {
     char      defaults[768], mumps[160], message[1024];
     Vec       Y_template = NULL;
@@ -448,7 +448,6 @@ static PetscErrorCode stepper_setup(RsStepper *s, const int *row_ptr, const int 
     TSType    type;
 
     PetscFunctionBegin;
-    (void)bundle; /* bundles and single rods are ordered alike (AMD, below) */
     PetscCall(rs_rodmid_register());
 
     /* Scene values as the bottom layer of the options (DESIGN.md §3): newtonls with the bt line
@@ -475,9 +474,9 @@ static PetscErrorCode stepper_setup(RsStepper *s, const int *row_ptr, const int 
     snprintf(defaults, sizeof(defaults),
              "-snes_type %s -snes_atol %.17g -snes_rtol %.17g "
              "-snes_stol 0 -snes_max_it %d -ksp_type preonly -pc_type lu %s "
-             "-ts_rodmid_max_cutbacks %d",
+             "-ts_rodmid_max_cutbacks %d -ts_rodmid_reuse_jacobian %.17g",
              linear_step ? "ksponly" : "newtonls", newton_atol, newton_rtol, max_newton, mumps,
-             max_cutbacks);
+             max_cutbacks, linear_step ? 0.0 : jacobian_reuse);
     PetscCheck(rs_petsc_apply_options(defaults, NULL, message, (int)sizeof(message)) == 0,
                PETSC_COMM_SELF, PETSC_ERR_LIB, "%s", message);
 
@@ -572,7 +571,7 @@ int rs_stepper_create(void **handle, int n_state, int n_unknown, const int *row_
                       const int *cols, rs_cb_residual residual, rs_cb_jacobian jacobian,
                       rs_cb_vec predictor, rs_cb_update update, rs_cb_poststep poststep, void *ctx,
                       double newton_atol, double newton_rtol, int max_newton, int max_cutbacks,
-                      int native_lu, int full_newton, int linear_step, int bundle,
+                      int native_lu, int full_newton, int linear_step, double jacobian_reuse,
                       const int *owned, char *errmsg, int errlen)
 {
     RsErrorCapture capture = {"", 0};
@@ -614,7 +613,7 @@ int rs_stepper_create(void **handle, int n_state, int n_unknown, const int *row_
     enter_petsc(s);
     PetscPushErrorHandler(capture_error, &capture);
     ierr = stepper_setup(s, row_ptr, cols, newton_atol, newton_rtol, max_newton, max_cutbacks,
-                         native_lu, full_newton, linear_step, bundle);
+                         native_lu, full_newton, linear_step, jacobian_reuse);
     PetscPopErrorHandler();
     leave_petsc(s);
     if (ierr) {
@@ -680,11 +679,12 @@ static PetscErrorCode stepper_advance(RsStepper *s, double t_n, double dt, doubl
             r->t_failed    = t0;
             r->h_smallest  = h_taken;
             r->halvings    = (int)max_cutbacks;
+            r->cutbacks += (int)max_cutbacks;
             r->snes_reason = SNESConvergedReasons[snes_reason];
             break;
         }
         PetscCall(TSGetTimeStep(s->ts, &h_taken));
-        PetscCall(TSRodmidGetStepStats(s->ts, &its, &cut, &fnorm));
+        PetscCall(TSRodmidGetStepStats(s->ts, &its, &cut, &fnorm, NULL));
         r->cutbacks += (int)cut;
         r->newton_its += (int)its;
         r->fnorm = fnorm;
@@ -828,6 +828,23 @@ int rs_stepper_solver_settings(void *handle, double *atol, double *rtol, double 
                             types, length);
     PetscPopErrorHandler();
     leave_petsc((RsStepper *)handle);
+    return (int)ierr;
+}
+
+int rs_stepper_jacobians(void *handle, int *count)
+{
+    RsStepper     *s       = (RsStepper *)handle;
+    RsErrorCapture capture = {"", 0};
+    PetscInt       jacobians = 0;
+    PetscErrorCode ierr;
+
+    if (!s || !count) return RS_STEPPER_BAD_ARGUMENT;
+    enter_petsc(s);
+    PetscPushErrorHandler(capture_error, &capture);
+    ierr = TSRodmidGetStepStats(s->ts, NULL, NULL, NULL, &jacobians);
+    PetscPopErrorHandler();
+    leave_petsc(s);
+    *count = (int)jacobians;
     return (int)ierr;
 }
 

@@ -48,6 +48,8 @@ module rs_solver_rod_stepper
         procedure :: solver_settings => rod_stepper_solver_settings
         !> TSView (with SNES, KSP, PC) into a file, or standard output for an empty path.
         procedure :: view => rod_stepper_view
+        !> Jacobians computed (each one a numeric factorization) since create.
+        procedure :: jacobians => rod_stepper_jacobians
         !> True between create and destroy.
         procedure :: is_created => rod_stepper_is_created
         !> Free the PETSc objects; safe to call twice.
@@ -97,8 +99,8 @@ module rs_solver_rod_stepper
     interface
         integer(c_int) function rs_stepper_create(handle, n_state, n_unknown, row_ptr, cols, &
                 residual, jacobian, predictor, update, poststep, ctx, newton_atol, newton_rtol, &
-                max_newton, max_cutbacks, native_lu, full_newton, linear_step, bundle, owned, &
-                errmsg, errlen) bind(C)
+                max_newton, max_cutbacks, native_lu, full_newton, linear_step, jacobian_reuse, &
+                owned, errmsg, errlen) bind(C)
             import :: c_int, c_double, c_char, c_ptr, c_funptr
             type(c_ptr), intent(out) :: handle
             integer(c_int), value :: n_state, n_unknown
@@ -107,7 +109,7 @@ module rs_solver_rod_stepper
             type(c_ptr), value :: ctx
             real(c_double), value :: newton_atol, newton_rtol
             integer(c_int), value :: max_newton, max_cutbacks, native_lu, full_newton, linear_step
-            integer(c_int), value :: bundle
+            real(c_double), value :: jacobian_reuse
             type(c_ptr), value :: owned
             character(kind=c_char), intent(out) :: errmsg(*)
             integer(c_int), value :: errlen
@@ -132,6 +134,11 @@ module rs_solver_rod_stepper
             character(kind=c_char), intent(out) :: types(*)
             integer(c_int), value :: length
         end function rs_stepper_solver_settings
+        integer(c_int) function rs_stepper_jacobians(handle, count) bind(C)
+            import :: c_int, c_ptr
+            type(c_ptr), value :: handle
+            integer(c_int), intent(out) :: count
+        end function rs_stepper_jacobians
         integer(c_int) function rs_stepper_view(handle, path) bind(C)
             import :: c_int, c_char, c_ptr
             type(c_ptr), value :: handle
@@ -183,7 +190,7 @@ contains
     !> unknowns are numbered for a narrow band, so the LU keeps their order.
     subroutine rod_stepper_create(this, n_state, n_unknown, row_ptr, cols, residual, jacobian, &
             predictor, update, poststep, ctx, newton_atol, newton_rtol, max_newton, max_cutbacks, &
-            err, native_lu, full_newton, linear_step, banded, owned, bundle)
+            err, native_lu, full_newton, linear_step, banded, owned, jacobian_reuse)
         class(rod_stepper_t), intent(inout) :: this
         integer, intent(in) :: n_state, n_unknown
         integer, intent(in) :: row_ptr(:), cols(:)
@@ -198,9 +205,10 @@ contains
         !> A system shared by all ranks (rs_stepper_create): this rank's 0-based ranges
         !> [state_lo, state_hi, unknown_lo, unknown_hi).
         integer, intent(in), optional :: owned(4)
-        !> A bundle (multipliers and contact coupling rods): MUMPS orders it with AMD.
-        logical, intent(in), optional :: bundle
-        logical :: coupled
+        !> Keep the factored Jacobian while each Newton iteration cuts the residual norm at
+        !> least by this ratio (&solver jacobian_reuse; default 0: Newton's method).
+        real(rk), intent(in), optional :: jacobian_reuse
+        real(rk) :: reuse
         integer(c_int), target :: owned_c(4)
         type(c_ptr) :: owned_ptr
         character(kind=c_char) :: message(message_length)
@@ -234,8 +242,8 @@ contains
             return
         end if
         message = c_null_char
-        coupled = .false.
-        if (present(bundle)) coupled = bundle
+        reuse = 0.0_rk
+        if (present(jacobian_reuse)) reuse = jacobian_reuse
         owned_ptr = c_null_ptr
         if (present(owned)) then
             owned_c = int(owned, c_int)
@@ -246,7 +254,7 @@ contains
             poststep, ctx, real(newton_atol, c_double), real(newton_rtol, c_double), &
             int(max_newton, c_int), int(max_cutbacks, c_int), lu_kind, &
             merge(1_c_int, 0_c_int, full), merge(1_c_int, 0_c_int, linear), &
-            merge(1_c_int, 0_c_int, coupled), owned_ptr, &
+            real(reuse, c_double), owned_ptr, &
             message, int(message_length, c_int))
         if (ierr /= 0) then
             this%handle = c_null_ptr
@@ -350,6 +358,16 @@ contains
         ierr = rs_stepper_view(this%handle, to_c(path))
         RS_CHECK_PETSC(int(ierr), err, 'rod_stepper_view', 'TSView')
     end subroutine rod_stepper_view
+
+    integer function rod_stepper_jacobians(this)
+        class(rod_stepper_t), intent(in) :: this
+        integer(c_int) :: count
+        count = 0
+        if (c_associated(this%handle)) then
+            if (rs_stepper_jacobians(this%handle, count) /= 0) count = 0
+        end if
+        rod_stepper_jacobians = int(count)
+    end function rod_stepper_jacobians
 
     logical function rod_stepper_is_created(this)
         class(rod_stepper_t), intent(in) :: this

@@ -11,6 +11,7 @@
    SNESTSFormFunction/SNESTSFormJacobian, which call ts->ops->snesfunction/snesjacobian, the
    way PETSc's own implicit types are wired. */
 #include <petsc/private/tsimpl.h>
+#include <petsc/private/snesimpl.h> /* domainerror: a trial step may land in an invalid state */
 #include "rs_rodmid.h"
 
 typedef struct {
@@ -23,6 +24,12 @@ typedef struct {
     RsStepUpdate   update;
     void          *ctx;
     PetscInt       max_cutbacks;
+    /* Jacobian reuse (-ts_rodmid_reuse_jacobian): 0 is Newton's method, a new Jacobian at
+       every iteration; a ratio in (0, 1) keeps the factored Jacobian across iterations and
+       steps for as long as its full step cuts the residual norm at least by that ratio. */
+    PetscReal reuse_ratio;
+    PetscBool fresh;     /* the Jacobian was computed at the current Newton iterate */
+    PetscInt  jacobians; /* Jacobians computed (and factored) over the run */
     /* Work vectors, created in TSSetUp_Rodmid. */
     Vec Y;  /* Newton unknown */
     Vec F;  /* residual */
@@ -50,6 +57,8 @@ static PetscErrorCode SNESTSFormJacobian_Rodmid(SNES snes, Vec Y, Mat A, Mat B, 
 
     PetscFunctionBegin;
     (void)snes;
+    ++rm->jacobians;
+    rm->fresh = PETSC_TRUE;
     /* The step problem fills the matrix it owns; with -snes_mf_operator A is matrix-free and
        only needs an assembly to mark it current. */
     PetscCall(rm->jacobian(rm->t_n, rm->h, rm->X0, Y, B, rm->ctx));
@@ -57,6 +66,55 @@ static PetscErrorCode SNESTSFormJacobian_Rodmid(SNES snes, Vec Y, Mat A, Mat B, 
         PetscCall(MatAssemblyBegin(A, MAT_FINAL_ASSEMBLY));
         PetscCall(MatAssemblyEnd(A, MAT_FINAL_ASSEMBLY));
     }
+    PetscFunctionReturn(0);
+}
+
+/* The reuse rule, a pre-check of the line search (so the line search, -snes_monitor and the
+   convergence test are untouched). The SNES keeps its Jacobian (lag -1) and this decides, each
+   iteration, whether the direction Y of the kept one may be used: its full step must cut the
+   residual norm at least by the ratio. If not (or the trial state is invalid), the Jacobian
+   is computed at the current iterate X and Y becomes Newton's direction; the line search then
+   works on that as always. So a kept Jacobian is only ever used where it contracts fast
+   (modified Newton near a solution), each new one costs a numeric factorization, the bulk of
+   an iteration (docs/performance.md), and the solution is the same: the stopping test is the
+   residual's. A rejected trial costs one residual and one triangular solve. */
+static PetscErrorCode LineSearchPreCheck_RodmidReuse(SNESLineSearch linesearch, Vec X, Vec Y,
+                                                     PetscBool *changed, void *ctx)
+{
+    TS_Rodmid *rm = (TS_Rodmid *)((TS)ctx)->data;
+    SNES       snes;
+    KSP        ksp;
+    Mat        A, B;
+    Vec        F, W, G;
+    PetscReal  fnorm, gnorm;
+    PetscBool  invalid;
+
+    PetscFunctionBegin;
+    *changed = PETSC_FALSE;
+    if (rm->fresh) {
+        rm->fresh = PETSC_FALSE; /* Newton's direction; from the next iteration on it is kept */
+        PetscFunctionReturn(0);
+    }
+    PetscCall(SNESLineSearchGetSNES(linesearch, &snes));
+    PetscCall(SNESLineSearchGetVecs(linesearch, NULL, &F, NULL, &W, &G));
+    PetscCall(SNESLineSearchGetNorms(linesearch, NULL, &fnorm, NULL));
+    PetscCall(VecWAXPY(W, -1.0, Y, X));
+    PetscCall(SNESComputeFunction(snes, W, G));
+    PetscCall(MPIU_Allreduce(&snes->domainerror, &invalid, 1, MPIU_BOOL, MPI_LOR,
+                             PetscObjectComm((PetscObject)snes)));
+    snes->domainerror = PETSC_FALSE; /* only the trial was invalid, not the iterate */
+    if (!invalid) {
+        PetscCall(VecNorm(G, NORM_2, &gnorm));
+        if (gnorm <= rm->reuse_ratio * fnorm) PetscFunctionReturn(0); /* NaN fails the test */
+    }
+    PetscCall(SNESSetLagJacobian(snes, -2)); /* compute once, then keep (lag -1) */
+    PetscCall(SNESGetJacobian(snes, &A, &B, NULL, NULL));
+    PetscCall(SNESComputeJacobian(snes, X, A, B));
+    PetscCall(SNESGetKSP(snes, &ksp));
+    PetscCall(KSPSetOperators(ksp, A, B));
+    PetscCall(KSPSolve(ksp, F, Y));
+    rm->fresh = PETSC_FALSE;
+    *changed  = PETSC_TRUE;
     PetscFunctionReturn(0);
 }
 
@@ -81,6 +139,8 @@ static PetscErrorCode TSStep_Rodmid(TS ts)
         PetscCall(
             PetscInfo(ts, "t = %g: SNES failed (%s) with h = %g after %" PetscInt_FMT " halvings\n",
                       (double)rm->t_n, SNESConvergedReasons[reason], (double)rm->h, cut));
+        /* A new attempt starts from a new Jacobian (the kept one was made elsewhere). */
+        if (rm->reuse_ratio > 0.0) PetscCall(SNESSetLagJacobian(ts->snes, -2));
         if (cut >= rm->max_cutbacks) {
             /* vec_sol still holds X_n: the caller writes the last good state. */
             ts->reason = TS_DIVERGED_NONLINEAR_SOLVE;
@@ -125,6 +185,12 @@ static PetscErrorCode TSSetUp_Rodmid(TS ts)
     PetscCall(SNESGetJacobian(ts->snes, NULL, NULL, &jacobian, NULL));
     if (jacobian) PetscCall(SNESSetJacobian(ts->snes, rm->J, rm->J, NULL, NULL));
     else PetscCall(SNESSetJacobian(ts->snes, rm->J, rm->J, SNESTSFormJacobian, ts));
+    if (rm->reuse_ratio > 0.0) {
+        SNESLineSearch linesearch;
+        PetscCall(SNESSetLagJacobian(ts->snes, -2)); /* the first one is computed */
+        PetscCall(SNESGetLineSearch(ts->snes, &linesearch));
+        PetscCall(SNESLineSearchSetPreCheck(linesearch, LineSearchPreCheck_RodmidReuse, ts));
+    }
     PetscFunctionReturn(0);
 }
 
@@ -164,6 +230,14 @@ static PetscErrorCode TSSetFromOptions_Rodmid(TS ts, PetscOptionItems *PetscOpti
     PetscCall(PetscOptionsBoundedInt(
         "-ts_rodmid_max_cutbacks", "Halvings of one step before the TS fails",
         "TSRodmidSetMaxCutbacks", rm->max_cutbacks, &rm->max_cutbacks, NULL, 0));
+    PetscCall(PetscOptionsReal(
+        "-ts_rodmid_reuse_jacobian",
+        "Keep the factored Jacobian while each Newton iteration cuts the residual by this ratio "
+        "(0: a new Jacobian at every iteration)",
+        "", rm->reuse_ratio, &rm->reuse_ratio, NULL));
+    PetscCheck(rm->reuse_ratio >= 0.0 && rm->reuse_ratio < 1.0, PetscObjectComm((PetscObject)ts),
+               PETSC_ERR_ARG_OUTOFRANGE, "-ts_rodmid_reuse_jacobian %g: the ratio must be in [0, 1)",
+               (double)rm->reuse_ratio);
     PetscOptionsHeadEnd();
     PetscFunctionReturn(0);
 }
@@ -178,8 +252,9 @@ static PetscErrorCode TSView_Rodmid(TS ts, PetscViewer viewer)
     if (ascii) {
         PetscCall(PetscViewerASCIIPrintf(
             viewer,
-            "  rodmid: implicit midpoint on a user step problem, max cutbacks %" PetscInt_FMT "\n",
-            rm->max_cutbacks));
+            "  rodmid: implicit midpoint on a user step problem, max cutbacks %" PetscInt_FMT
+            ", Jacobian reuse ratio %g (%" PetscInt_FMT " Jacobians so far)\n",
+            rm->max_cutbacks, (double)rm->reuse_ratio, rm->jacobians));
     }
     PetscFunctionReturn(0);
 }
@@ -231,11 +306,12 @@ static PetscErrorCode TSRodmidGetMaxCutbacks_Rodmid(TS ts, PetscInt *n)
 }
 
 static PetscErrorCode TSRodmidGetStepStats_Rodmid(TS ts, PetscInt *newton_its, PetscInt *cutbacks,
-                                                  PetscReal *fnorm)
+                                                  PetscReal *fnorm, PetscInt *jacobians)
 {
     TS_Rodmid *rm = (TS_Rodmid *)ts->data;
 
     PetscFunctionBegin;
+    if (jacobians) *jacobians = rm->jacobians;
     if (newton_its) *newton_its = rm->last_its;
     if (cutbacks) *cutbacks = rm->last_cutbacks;
     if (fnorm) *fnorm = rm->last_fnorm;
@@ -319,11 +395,12 @@ PetscErrorCode TSRodmidGetMaxCutbacks(TS ts, PetscInt *n)
 }
 
 PetscErrorCode TSRodmidGetStepStats(TS ts, PetscInt *newton_its, PetscInt *cutbacks,
-                                    PetscReal *fnorm)
+                                    PetscReal *fnorm, PetscInt *jacobians)
 {
     PetscFunctionBegin;
     PetscValidHeaderSpecific(ts, TS_CLASSID, 1);
-    PetscUseMethod(ts, "TSRodmidGetStepStats_C", (TS, PetscInt *, PetscInt *, PetscReal *),
-                   (ts, newton_its, cutbacks, fnorm));
+    PetscUseMethod(ts, "TSRodmidGetStepStats_C",
+                   (TS, PetscInt *, PetscInt *, PetscReal *, PetscInt *),
+                   (ts, newton_its, cutbacks, fnorm, jacobians));
     PetscFunctionReturn(0);
 }

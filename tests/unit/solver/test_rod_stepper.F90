@@ -14,6 +14,10 @@
 !>   (exact counts follow from "try the rest of dt, halve on failure") and the answer equals
 !>   taking the same small steps directly; with max_cutbacks = 2 and an invalid region after
 !>   t = 0.05 the advance fails with the message and x is the last good state;
+!> - the pendulum with a kept Jacobian (&solver jacobian_reuse = 0.1): converged steps, the
+!>   constraint to atol, energy to the residuals, Newton's state to 200 x atol, fewer than half
+!>   as many factorizations as iterations (908 iterations, 198 Jacobians when written); the
+!>   cut-back case gives the same halvings as Newton's method;
 !> - options precedence: scene values < petsc_options < command line. The command line is
 !>   real: the program passes `-snes_max_funcs 3000` (and its own arguments) to PetscInitialize;
 !> - TSView's rodmid line, argument checks, a fatal callback status, and PETSc's native LU
@@ -66,7 +70,9 @@ contains
         call run_test('oscillator_order_2', test_oscillator_order)
         call run_test('reduced_unknowns_predictor_update', test_reduced_unknowns)
         call run_test('pendulum_saddle_point_mumps', test_pendulum)
+        call run_test('pendulum_jacobian_reuse', test_pendulum_reuse)
         call run_test('cutback_same_answer_as_small_steps', test_cutback_succeeds)
+        call run_test('cutback_with_jacobian_reuse', test_cutback_reuse)
         call run_test('cutback_exhausted_keeps_last_good_state', test_cutback_fails)
         call run_test('options_precedence', test_options_precedence)
         call run_test('view_names_rodmid', test_view)
@@ -98,12 +104,13 @@ contains
 
     !> Create the stepper of `problem` with the test defaults (atol 1e-12, rtol 0, 25
     !> iterations) and `max_cutbacks`.
-    subroutine create_stepper(stepper, problem, max_cutbacks, err, max_newton)
+    subroutine create_stepper(stepper, problem, max_cutbacks, err, max_newton, jacobian_reuse)
         type(rod_stepper_t), intent(inout) :: stepper
         type(problem_t), target, intent(inout) :: problem
         integer, intent(in) :: max_cutbacks
         type(error_t), allocatable, intent(out) :: err
         integer, intent(in), optional :: max_newton
+        real(rk), intent(in), optional :: jacobian_reuse
         integer, allocatable :: row_ptr(:), cols(:)
         type(c_funptr) :: residual, jacobian, predictor, update
         integer :: its
@@ -135,7 +142,7 @@ contains
         end select
         call stepper%create(problem%n_state, problem%n_unknown, row_ptr, cols, residual, &
             jacobian, predictor, update, c_funloc(record_poststep), c_loc(problem), atol, &
-            0.0_rk, its, max_cutbacks, err)
+            0.0_rk, its, max_cutbacks, err, jacobian_reuse=jacobian_reuse)
     end subroutine create_stepper
 
     !> Midpoint rule for q' = v, v' = -omega^2 q: F = (q1 - q0 - h vm, v1 - v0 + h omega^2 qm).
@@ -490,6 +497,73 @@ contains
         call stepper%destroy()
     end subroutine test_pendulum
 
+    !> The pendulum with the factored Jacobian kept while Newton contracts tenfold per iteration
+    !> (&solver jacobian_reuse = 0.1): every step converged to atol, so the constraint holds to
+    !> atol and energy to a multiple of the residuals; the state is Newton's method's to the
+    !> tolerance; the Jacobians computed are the numeric factorizations done, and fewer than
+    !> half the iterations.
+    subroutine test_pendulum_reuse()
+        type(problem_t), target :: problem, newton
+        type(rod_stepper_t) :: stepper, reference
+        type(error_t), allocatable :: err
+        real(rk) :: x(4), x_newton(4), e0, e1
+        integer :: numeric0, numeric1
+        logical :: ok
+        problem = new_problem(pendulum)
+        newton = new_problem(pendulum)
+        call create_stepper(stepper, problem, 6, err, jacobian_reuse=0.1_rk)
+        if (allocated(err)) then
+            CHECK_TRUE(.false., 'create: ' // err%message)
+            return
+        end if
+        call create_stepper(reference, newton, 6, err)
+        call petsc_event_count('MatLUFactorNum', numeric0, err)
+        x = [1.0_rk, 0.0_rk, 0.0_rk, 0.0_rk]
+        e0 = 0.5_rk * sum(x(3:4)**2) + gravity * x(2)
+        call run_steps(stepper, x, 0.01_rk, 200, ok)
+        CHECK_TRUE(ok, '200 steps')
+        call petsc_event_count('MatLUFactorNum', numeric1, err)
+        CHECK_TRUE(problem%max_fnorm < atol, 'every step converged to atol 1e-12')
+        CHECK_TRUE(problem%max_constraint <= atol, 'constraint |x|^2 = 1 to atol at every step')
+        e1 = 0.5_rk * sum(x(3:4)**2) + gravity * x(2)
+        CHECK_TRUE(abs(e1 - e0) <= 10.0_rk * problem%sum_fnorm + 1.0e-12_rk, 'energy to 10 x the sum of Newton residuals')
+        CHECK_EQUAL(stepper%jacobians(), numeric1 - numeric0, 'one numeric factorization per Jacobian')
+        CHECK_TRUE(2 * stepper%jacobians() < problem%newton_its, 'fewer Jacobians than half the iterations')
+        x_newton = [1.0_rk, 0.0_rk, 0.0_rk, 0.0_rk]
+        call run_steps(reference, x_newton, 0.01_rk, 200, ok)
+        CHECK_EQUAL(reference%jacobians(), newton%newton_its, "Newton's method: a Jacobian per iteration")
+        CHECK_CLOSE(x, x_newton, 1.0e-9_rk, 0.0_rk, "the state of Newton's method to 200 x the tolerance")
+        call stepper%destroy()
+        call reference%destroy()
+    end subroutine test_pendulum_reuse
+
+    !> The cut-back case with a kept Jacobian: a trial step into the invalid region is no
+    !> failure (the Jacobian is made anew at the iterate), so the substeps and halvings are
+    !> those of Newton's method.
+    subroutine test_cutback_reuse()
+        type(problem_t), target :: limited
+        type(rod_stepper_t) :: stepper
+        type(error_t), allocatable :: err
+        real(rk) :: x(2), fnorm
+        integer :: substeps, cutbacks, its
+        limited = new_problem(oscillator)
+        call create_stepper(stepper, limited, 6, err, jacobian_reuse=0.1_rk)
+        if (allocated(err)) then
+            CHECK_TRUE(.false., 'create: ' // err%message)
+            return
+        end if
+        x = [1.0_rk, 0.0_rk]
+        call stepper%advance(0.0_rk, 0.01_rk, x, substeps, cutbacks, its, fnorm, err)
+        CHECK_TRUE(.not. allocated(err), 'a first step keeps its Jacobian')
+        limited%h_limit = 0.03_rk
+        call stepper%advance(0.01_rk, 0.1_rk, x, substeps, cutbacks, its, fnorm, err)
+        CHECK_TRUE(.not. allocated(err), 'advance with cut-backs succeeds')
+        if (allocated(err)) return
+        CHECK_EQUAL(substeps, 4, 'substeps')
+        CHECK_EQUAL(cutbacks, 5, "halvings as with Newton's method")
+        call stepper%destroy()
+    end subroutine test_cutback_reuse
+
     !> dt = 0.1 with an invalid state for h > 0.03: substeps 0.025 (2 halvings), 0.01875 (2),
     !> 0.028125 (1), 0.028125 (0); the result equals taking those steps directly.
     subroutine test_cutback_succeeds()
@@ -574,7 +648,7 @@ contains
         CHECK_CONTAINS(err%message, 'smallest step 0.0140625', 'message: smallest step')
         CHECK_CONTAINS(err%message, 'last SNES reason DIVERGED_FUNCTION_DOMAIN', 'message: why')
         CHECK_EQUAL(substeps, 2, 'accepted substeps before the failure')
-        CHECK_EQUAL(cutbacks, 4, 'halvings of the accepted substeps')
+        CHECK_EQUAL(cutbacks, 6, 'halvings: 4 of the accepted substeps, 2 of the failing one')
 
         call create_stepper(reference, direct, 0, err)
         if (allocated(err)) then
