@@ -1,0 +1,263 @@
+"""Stability stress tests at full size (issue 11 item 3): runs the cases of
+stability_cases.py and writes their tables into docs/stability.md (with --write), between the
+markers of this script's GENERATED block.
+
+    stability_bench.py --rodsolve BIN --mpiexec MPIEXEC --source SRC --workdir DIR [--write]
+                       [--items 1,2,3,4,5,6] [--reuse]
+
+Items: 1 long runs (1e5 free steps of the 3D and planar flying spaghetti), 2 steps 10 and 100
+times the papers', 3 stiff limits (EA/EI up to 1e8 and the inextensible rod), 4 100 random
+perturbations per benchmark, 5 rotations through pi and long spinning, 6 Newton failures
+provoked on purpose. --reuse measures a result file already in DIR instead of running it again
+when it holds exactly the same scene (e.g. the 1e5-step run, started by hand earlier).
+The exit status is 1 if a check failed (the tables are written all the same: a missed target
+is a result to report).
+"""
+import argparse
+import datetime
+import os
+import platform
+import sys
+import time
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+sys.path.insert(0, HERE)
+import stability_cases as sc  # noqa: E402
+
+SCRIPT = "tests/bench/stability/stability_bench.py"
+LONG_STEPS = 100000
+HEAVY_TOP_T1 = 2.0121517637287174
+
+
+def e(x):
+    return f"{x:.1e}"
+
+
+def table(header, rows):
+    lines = ["| " + " | ".join(header) + " |", "|" + "---|" * len(header)]
+    lines += ["| " + " | ".join(str(c) for c in row) + " |" for row in rows]
+    return "\n".join(lines)
+
+
+def checks_line(results):
+    failed = [(r.name, c) for r in results for c in r.checks if not c[3]]
+    total = sum(len(r.checks) for r in results)
+    if not failed:
+        return f"All {total} checks hold."
+    return (f"{len(failed)} of {total} checks fail: " +
+            "; ".join(f"{name}: {c[0]} = {c[1]:.3g} (bound {c[2]:.1g})" for name, c in failed) + ".")
+
+
+def item_long(args):
+    # The 3D rod seen from its centre of mass for 1e5 steps; in the lab frame (where it flies
+    # 5 m/s away) only 1e4 steps: see docs/stability.md, the residual floor.
+    results = [sc.long_run(args, "ph_director", LONG_STEPS, comoving=True),
+               sc.long_run(args, "ph_director", LONG_STEPS // 10),
+               sc.long_run(args, "ph_planar", LONG_STEPS),
+               sc.long_run(args, "ph_planar", LONG_STEPS, comoving=True)]
+    rows = []
+    for r in results:
+        v = r.values
+        rows.append([r.name, f"{v['free_steps_done']} / {v['free_steps']}", f"{v['t_reached']:.6g}",
+                     e(v["energy_step_median"]), e(v["energy_step_max"]), e(v["energy_accumulated"]),
+                     e(v["walk_estimate"]), e(v["energy_per_residual_max"]),
+                     e(v["momentum_step_max"]), e(v["momentum_accumulated"]),
+                     e(v["angular_step_max"]), e(v["angular_accumulated"]),
+                     e(v["residual_median"]), e(v["residual_max"]),
+                     f"{v['iterations_first']:.2f} / {v['iterations_last']:.2f} / {v['iterations_max']}",
+                     f"{v['position_max']:.3g}"])
+    text = ("### 1. Long runs: 1e5 steps of free flight after the load phase\n\n"
+            "Every step recorded. Relative to H after the load (energy), |p| after the load "
+            "(linear momentum, planar comoving: absolute) and |l| (angular). 'walk' is sqrt(N) "
+            "times the median per-step change: what a random walk of the per-step errors gives "
+            "(a systematic drift would grow as N). 'dH/r' is max |H_(n+1) - H_n| / r_n, r_n the "
+            "achieved Newton residual of the step (bound 100). Iterations: mean over the first "
+            "1000 free steps / the last 1000 / max.\n\n" +
+            table(["run", "free steps done", "t reached", "dH/H per step (median)",
+                   "dH/H per step (max)", "accumulated dH/H", "walk", "dH/r max",
+                   "dp/p per step", "accumulated dp/p", "dl/l per step", "accumulated dl/l",
+                   "r_n median", "r_n max", "Newton its first / last / max", "max |phi| at end"],
+                  rows))
+    return results, text
+
+
+def item_large(args):
+    kirchhoff = sc.rs.read_example(args.source, "kirchhoff_cantilever.nml")
+    kirchhoff = sc.rs.set_variable(kirchhoff, "load", "t_off", "0.5")
+    strip = sc.rs.read_example(args.source, "strand_spinning_strip.nml")
+    top = sc.rs.read_example(args.source, "se3_heavy_top_soft.nml")
+    runs = [("ph_director spinning free rod (h0 = 0.1, seed 000 §6.1)",
+             sc.large_step(args, "ph_director", sc.spinning_free_rod(args, "ph_director"),
+                           "spaghetti", 0.1, [1, 10, 100], 200.0)),
+            ("ph_planar spinning free rod (h0 = 0.1, seed 001 §5.1)",
+             sc.large_step(args, "ph_planar", sc.spinning_free_rod(args, "ph_planar"),
+                           "spaghetti", 0.1, [1, 10, 100], 200.0)),
+            ("Kirchhoff cantilever, inextensible, pulse 0.5 s (h0 = 1e-3, seed 000 §6.2)",
+             sc.large_step(args, "kirchhoff", kirchhoff, "cantilever", 1e-3, [1, 10, 100], 2.0,
+                           atol=1e-12)),
+            ("se3_pg soft heavy top, 5 precessions (h0 = t1/64000, seed 002 §4.5)",
+             sc.large_step(args, "heavy_top_soft", top, "top", HEAVY_TOP_T1 / 64000, [1, 10, 100],
+                           5 * HEAVY_TOP_T1, invariants=False)),
+            ("se3_strand spinning strip 8 Hz (h0 = 2e-3, seed 004 §3.3)",
+             sc.large_step(args, "strand_strip", strip, "strip", 2e-3, [1, 10, 100], 8.0,
+                           invariants=False))]
+    rows = []
+    for label, r in runs:
+        for row in r.values["rows"]:
+            rows.append([label if row["factor"] == 1 else "", f"{row['factor']:g}", f"{row['h']:.3g}",
+                         "yes" if row["status"] == 0 else
+                         f"no (status {row['status']}, t = {row['t_reached']:.4g})",
+                         row["cutbacks"], f"{row['smallest_dt']:.3g}",
+                         f"{row['iterations_mean']:.2f} / {row['iterations_max']}",
+                         e(row["energy_drift"]), e(row.get("energy_error", float("nan"))),
+                         e(row.get("momentum_drift", float("nan"))),
+                         e(row.get("angular_drift", float("nan"))), e(row.get("energy_per_residual", float("nan")))])
+    text = ("### 2. Steps 10 and 100 times the papers'\n\n"
+            "Columns: step factor, h, completed, cut-backs, smallest sub-step, Newton iterations "
+            "per record (mean / max, sub-steps summed), max |H - H0| / H0, max |H_n - H_0 - W| / "
+            "max H (accumulated balance: for se3_pg the error of T + U + V_g), max |p - p0| / |p0|, "
+            "max |l - l0| / |l0|, max |balance_n| / r_n (bound 100; exact schemes only). The "
+            "free rods spin at 1.1 rad/s: at 100 h0 (h = 10) one step turns them 11 rad, so these "
+            "runs show stability and conservation, not accuracy.\n\n" +
+            table(["case", "factor", "h", "completed", "cut-backs", "smallest dt", "its mean / max",
+                   "max dH/H0", "max balance/H", "max dp/p", "max dl/l", "balance/r_n"], rows))
+    return [r for _, r in runs], text
+
+
+def item_stiff(args):
+    ratios = [1e2, 1e4, 1e6, 1e8]
+    cantilever = sc.stiff_cantilever(args, ratios, 0.3)
+    elastica = sc.stiff_elastica(args, ratios)
+    rows = [[f"{r['ratio']:.0e}" if r["ratio"] else "inextensible", f"{r['iterations_mean']:.3f}",
+             r["iterations_max"], r["cutbacks"], e(r["residual_max"]), e(r["balance_max"]),
+             e(r["tip_to_limit"])] for r in cantilever.values["rows"]]
+    rows_e = [[f"{r['ratio']:.0e}" if r["ratio"] else "inextensible", f"{r['iterations_mean']:.2f}",
+               r["iterations_max"], e(r["tip_to_limit"])] for r in elastica.values["rows"]]
+    text = ("### 3. Stiff limits: EA/EI up to 1e8 and the inextensible rod\n\n"
+            "Kirchhoff cantilever dynamics (seed 000 §6.2, h = 1e-3, 300 steps, tip pulse) with "
+            "EA = GA1 = GA2 = ratio x EI (L = 1 m, so EA/EI in 1/m^2), and the constrained scene "
+            "(constraint = 'inextensible') as the limit. Tip difference to the limit relative to "
+            "the limit's tip displacement.\n\n" +
+            table(["EA/EI", "Newton its per step (mean)", "max", "cut-backs", "max residual",
+                   "max |balance| / max H", "tip - limit"], rows) +
+            "\n\nQuasistatic elastica (seed 000 §6.3, 10 load steps and the endpoint solve), "
+            "EA = GA = ratio x EI; tip difference to the inextensible elastica relative to L.\n\n" +
+            table(["EA/EI", "Newton its per load step (mean)", "max", "tip - limit"], rows_e))
+    return [cantilever, elastica], text
+
+
+def item_random(args):
+    results = [sc.random_perturbations(args, label, 100) for label in sc.random_benchmarks(args)]
+    rows = [[label, r.values["members"], r.values["failed"], r.values["nan_members"],
+             e(r.values["balance_ratio"] * sc.ENERGY_PER_RESIDUAL) if r.values["balance_ratio"] else "-",
+             e(r.values["energy_drift"]) if r.values["energy_drift"] else "-",
+             f"{r.values['iterations_mean']:.2f}", r.values["variables"]]
+            for label, r in zip(sc.random_benchmarks(args), results)]
+    text = ("### 4. 100 random perturbations per benchmark\n\n"
+            "One sweep per benchmark (zipped `&sweep` groups, uniform values, seed 20261121), "
+            "short runs through the loaded phase: flying spaghetti 10 steps, planar 25, Kirchhoff "
+            "cantilever 60, soft heavy top 1590 (t = 0.05 s). Worst member: max |balance_n| / r_n "
+            "(bound 100) for the energy-consistent schemes; for se3_pg (not energy-consistent) "
+            f"the accumulated energy error of T + U + V_g (bound {sc.SE3_TOP_ENERGY_BOUND:g}).\n\n" +
+            table(["benchmark", "members", "failed", "with NaN", "worst balance / r_n",
+                   "worst energy error", "Newton its (mean)", "perturbed (centre +- half-width)"],
+                  rows))
+    return results, text
+
+
+def item_spin(args):
+    runs = [("se3_pg heavy top, stiff, 1 precession", sc.spinning(args, "se3_pg", HEAVY_TOP_T1)),
+            ("se3_strand strip, 8 Hz, 8 s", sc.spinning(args, "se3_strand", 8.0)),
+            ("ph_director spinning helix, 6 s", sc.spinning(args, "ph_director", 6.0)),
+            ("ph_planar free rod, 5 rad/s, 200 s", sc.spinning(args, "ph_planar", 200.0))]
+    rows = []
+    for label, r in runs:
+        v = r.values
+        rows.append([label, "yes" if v["status"] == 0 else f"no (t = {v['t_reached']:.4g})",
+                     f"{v['turns']:.1f}", v["passes_through_pi"], v["canonical_quaternion_flips"],
+                     e(v["orthonormality"]), f"{v['step_angle_max'] / v['step_angle_median']:.3f}",
+                     e(v["continued_quaternion_jump"]), f"{v['iterations_mean']:.2f} / {v['iterations_max']}",
+                     e(v["energy_drift"]), e(v.get("balance_ratio", float("nan")) * sc.ENERGY_PER_RESIDUAL)])
+    text = ("### 5. Rotations through pi and long spinning\n\n"
+            "The frame of the rod's last node over every record: turns (sum of the record-to-record "
+            "rotation angles), passes of its rotation from the initial frame through pi, sign flips "
+            "of the canonical quaternion (q0 >= 0: it flips at every pass through pi; a "
+            "sign-continued quaternion does not), max |D D^T - I|, max / median record-to-record "
+            "rotation angle (a jump where a parametrization switches would show), largest step of "
+            "the sign-continued quaternion, Newton iterations per step, accumulated energy balance "
+            "error / max H (se3_strand: driven and damped, its numerical dissipation), max "
+            "|balance_n| / r_n (exact schemes).\n\n" +
+            table(["case", "completed", "turns", "passes through pi", "q0 >= 0 flips",
+                   "max |DD^T - I|", "max/median step angle", "max |dq|", "its mean / max",
+                   "energy error", "balance/r_n"], rows))
+    return [r for _, r in runs], text
+
+
+def item_failures(args):
+    labels = {"max_newton_1": "max_newton = 1", "max_newton_2": "max_newton = 2 (t_end 0.3)",
+              "absurd_step": "h = 5 (50 h0: the whole load in one step)",
+              "nan_load": "end force 1e300 N (overflow: Inf/NaN residual)"}
+    results = [sc.provoked_failure(args, label) for label in labels]
+    rows = []
+    for (label, what), r in zip(labels.items(), results):
+        v = r.values
+        rows.append([what, v["status"], v["cutbacks"], v["file_status"], v["records"],
+                     f"{v['last_t']:g}", "yes" if v["finite"] else "no",
+                     (v["message"].split(": ", 1)[-1][:160] or "-").replace("|", "/"),
+                     v.get("last_progress", "")[:60]])
+    text = ("### 6. Newton failures provoked on purpose\n\n"
+            "Flying spaghetti, t_end = 1 (10 steps) unless stated; max_cutbacks = 6 (default). "
+            "Records: records in the file; last t: the last record's time; the message is the "
+            "rod's (truncated); the last column is the last progress line of the run.\n\n" +
+            table(["provoked by", "exit status", "cut-backs", "file status", "records", "last t",
+                   "all finite", "message", "last progress line"], rows))
+    return results, text
+
+
+ITEMS = {"1": item_long, "2": item_large, "3": item_stiff, "4": item_random, "5": item_spin,
+         "6": item_failures}
+
+
+def write_block(source, block):
+    path = os.path.join(source, "docs", "stability.md")
+    with open(path, encoding="utf-8") as f:
+        text = f.read()
+    begin = f"<!-- BEGIN GENERATED: {SCRIPT} -->"
+    end = f"<!-- END GENERATED: {SCRIPT} -->"
+    i, j = text.index(begin) + len(begin), text.index(end)
+    with open(path, "w", encoding="utf-8") as f:
+        f.write(text[:i] + "\n" + block + "\n" + text[j:])
+    print(f"wrote {path}")
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__,
+                                     formatter_class=argparse.RawDescriptionHelpFormatter)
+    for option in ("--rodsolve", "--mpiexec", "--source", "--workdir"):
+        parser.add_argument(option, required=True)
+    parser.add_argument("--write", action="store_true", help="rewrite the block of docs/stability.md")
+    parser.add_argument("--items", default="1,2,3,4,5,6")
+    parser.add_argument("--reuse", action="store_true")
+    args = parser.parse_args()
+    started = time.time()
+    results, sections = [], []
+    for item in args.items.split(","):
+        t0 = time.time()
+        item_results, text = ITEMS[item](args)
+        results += item_results
+        sections.append(text + f"\n\n{checks_line(item_results)} (item {item}: "
+                        f"{time.time() - t0:.0f} s)")
+    header = (f"Measured {datetime.date.today().isoformat()} on {platform.node()} "
+              f"({os.cpu_count()} cores, shared), one rank, by `{SCRIPT}` "
+              f"({time.time() - started:.0f} s; items {args.items}).")
+    block = header + "\n\n" + "\n\n".join(sections)
+    print(block)
+    if args.write:
+        write_block(args.source, block)
+    failed = sum(r.failed for r in results)
+    print(f"{failed} check(s) failed")
+    sys.exit(1 if failed else 0)
+
+
+if __name__ == "__main__":
+    main()
