@@ -3,9 +3,10 @@ full sizes run in tests/bench/stability/stability_bench.py and are reported in d
 The cases and their bounds are in tests/bench/stability/stability_cases.py (one code for both).
 
     stability.py long        1: the flying spaghetti, 3D (200 free steps) and planar (1000 free
-                             steps, 16 turns: the nodal angle must not stop Newton, see the
-                             ph_planar angle shift): energy per step within 100 times the
-                             achieved Newton residual, accumulated drift below 1e-9, momentum
+                             steps from its centre of mass, 16 turns: the nodal angle must not
+                             stop Newton, see the ph_planar angle shift): energy per step within
+                             100 times the achieved Newton residual, accumulated drift below
+                             1e-9, momentum
     stability.py large_step  2: a free spinning rod at 1, 10 and 100 times the papers' step
                              (ph_director, ph_planar): reaches t_end, with cut-backs if needed,
                              energy and momenta kept
@@ -32,7 +33,9 @@ import stability_cases as sc  # noqa: E402
 
 def long(args):
     yield sc.long_run(args, "ph_director", 200)
-    yield sc.long_run(args, "ph_planar", 1000)
+    # Seen from the centre of mass: in the lab frame the planar rod's residual floor reaches
+    # newton_atol near |x| = 300 m (docs/stability.md), too close to this run's 200 m.
+    yield sc.long_run(args, "ph_planar", 1000, comoving=True)
 
 
 def large_step(args):
