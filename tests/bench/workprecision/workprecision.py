@@ -53,13 +53,13 @@ from bench_common import SUMMARY, rs, measured_on, write_generated  # noqa: E402
 from ph_planar_bench import set_all_rods  # noqa: E402
 import elastica_reference  # noqa: E402
 
-#: A formulation on a benchmark: its label, the formulation, the element counts and time steps
-#: of its grid (None: the scene's), the `--quick` subsets, and extra (group, variable, value)
-#: edits of the scene (e.g. the Newton tolerance in the formulation's residual norm).
-Variant = collections.namedtuple("Variant", "label formulation elements steps quick edits")
+#: A formulation on a benchmark: the formulation, the element counts and time steps of its
+#: grid (None: the scene's), the `--quick` subsets, and extra (group, variable, value) edits of
+#: the scene (e.g. the Newton tolerance in the formulation's residual norm).
+Variant = collections.namedtuple("Variant", "formulation elements steps quick edits")
 
-#: A run: the variant, its element count and time step.
-Point = collections.namedtuple("Point", "variant n dt")
+#: A run: the formulation, its element count and time step.
+Point = collections.namedtuple("Point", "formulation n dt")
 
 
 class Benchmark:
@@ -72,8 +72,8 @@ class Benchmark:
         self.reference, self.check = reference, check
         self.quantity, self.what = quantity, what
 
-    def variant(self, label):
-        return next(v for v in self.variants if v.label == label)
+    def variant(self, formulation):
+        return next(v for v in self.variants if v.formulation == formulation)
 
 
 # Newton tolerances: ph_director's residual is scaled (methods/ph_director_3d.md §5.6), the
@@ -103,28 +103,28 @@ BENCHMARKS = [
         "spaghetti_3d", "3D flying spaghetti (seed 000 §6.1), t_end = 5 (end of the load)",
         "flying_spaghetti.nml", "spaghetti", 10.0, t_end=5.0,
         variants=[
-            Variant("ph_director", "ph_director", (3, 5, 10), SPAGHETTI_STEPS[:3],
+            Variant("ph_director", (3, 5, 10), SPAGHETTI_STEPS[:3],
                     ((5,), (0.1, 0.05)), ()),
-            Variant("se3_pg", "se3_pg", (10, 20, 40), SPAGHETTI_STEPS[:3],
+            Variant("se3_pg", (10, 20, 40), SPAGHETTI_STEPS[:3],
                     ((10, 20), (0.1, 0.05)), PG_SPAGHETTI)],
         reference=Point("ph_director", 20, 0.003125), check=Point("ph_director", 10, 0.00625)),
     Benchmark(
         "spaghetti_planar", "planar flying spaghetti (seed 001 §5.1), t_end = 5",
         "planar_flying_spaghetti.nml", "spaghetti", 10.0, t_end=5.0, edits=PLANAR_SPAGHETTI,
         variants=[
-            Variant("ph_planar", "ph_planar", (5, 10, 20, 40, 80), SPAGHETTI_STEPS,
+            Variant("ph_planar", (5, 10, 20, 40, 80), SPAGHETTI_STEPS,
                     ((10, 20), (0.1, 0.05)), ()),
-            Variant("cl_em_planar", "cl_em_planar", (5, 10, 20, 40, 80), SPAGHETTI_STEPS,
+            Variant("cl_em_planar", (5, 10, 20, 40, 80), SPAGHETTI_STEPS,
                     ((10, 20), (0.1, 0.05)), CL_EM),
-            Variant("ph_director", "ph_director", (10, 20, 40), SPAGHETTI_STEPS[:3],
+            Variant("ph_director", (10, 20, 40), SPAGHETTI_STEPS[:3],
                     ((10,), (0.1,)), IN_PLANE),
-            Variant("se3_pg", "se3_pg", (10, 20, 40, 80), SPAGHETTI_STEPS[:3],
+            Variant("se3_pg", (10, 20, 40, 80), SPAGHETTI_STEPS[:3],
                     ((10,), (0.1,)), IN_PLANE)],
         reference=Point("ph_planar", 640, 0.00078125), check=Point("ph_planar", 320, 0.0015625)),
     Benchmark(
         "kirchhoff_cantilever", "Kirchhoff cantilever (seed 000 §6.2, inextensible), "
         "t_end = 0.1", "kirchhoff_cantilever.nml", "cantilever", 1.0, t_end=0.1,
-        variants=[Variant("ph_director", "ph_director", (4, 8, 16), (2e-3, 1e-3, 5e-4, 2.5e-4),
+        variants=[Variant("ph_director", (4, 8, 16), (2e-3, 1e-3, 5e-4, 2.5e-4),
                           ((4, 8), (2e-3, 1e-3)), ())],
         reference=Point("ph_director", 32, 6.25e-5), check=Point("ph_director", 16, 1.25e-4)),
     Benchmark(
@@ -132,15 +132,15 @@ BENCHMARKS = [
         "elastica_extensible.nml", "cantilever", 2 * math.pi, quantity="tip",
         what="tip position at load factor 1",
         variants=[
-            Variant("ph_director", "ph_director", (2, 4, 8, 16, 32), (None,),
+            Variant("ph_director", (2, 4, 8, 16, 32), (None,),
                     ((4, 8), (None,)), ()),
-            Variant("ph_planar", "ph_planar", (8, 16, 32, 64, 128), (0.1, 0.05, 0.025),
+            Variant("ph_planar", (8, 16, 32, 64, 128), (0.1, 0.05, 0.025),
                     ((8, 16), (0.1,)), ()),
-            Variant("cl_em_planar", "cl_em_planar", (8, 16, 32, 64, 128), (0.1, 0.05, 0.025),
+            Variant("cl_em_planar", (8, 16, 32, 64, 128), (0.1, 0.05, 0.025),
                     ((8, 16), (0.1,)), CL_EM),
-            Variant("se3_pg", "se3_pg", (8, 16, 32, 64, 128, 256), (None,),
+            Variant("se3_pg", (8, 16, 32, 64, 128, 256), (None,),
                     ((8, 16), (None,)), ()),
-            Variant("se3_strand", "se3_strand", (8, 16, 32, 64), (None,), ((8, 16), (None,)),
+            Variant("se3_strand", (8, 16, 32, 64), (None,), ((8, 16), (None,)),
                     (("time", "quasistatic", ".false."), ("time", "relaxation", ".true."),
                      ("time", "t_end", "1000.0"), ("time", "dt", "1.0"),
                      ("rod", "external_damping", "0.1"), ("load", "time_function",
@@ -149,11 +149,11 @@ BENCHMARKS = [
         "bend45", "45-degree bend (seed 004 §3.2) at 600 N, statics",
         "se3_bend45.nml", "bend", 100 * math.pi / 4, what="tip position at load factor 1",
         variants=[
-            Variant("se3_pg", "se3_pg", (10, 20, 40, 80, 160, 320), (None,),
+            Variant("se3_pg", (10, 20, 40, 80, 160, 320), (None,),
                     ((10, 20), (None,)), ()),
-            Variant("ph_director", "ph_director", (2, 4, 8, 16, 32), (None,),
+            Variant("ph_director", (2, 4, 8, 16, 32), (None,),
                     ((4, 8), (None,)), (("solver", "newton_atol", "1e-9"),)),
-            Variant("se3_strand", "se3_strand", (10, 20, 40, 80, 160), (None,),
+            Variant("se3_strand", (10, 20, 40, 80, 160), (None,),
                     ((20, 40), (None,)),
                     (("time", "quasistatic", ".false."), ("time", "relaxation", ".true."),
                      ("time", "t_end", "1000.0"), ("time", "dt", "10.0"),
@@ -166,9 +166,9 @@ BENCHMARKS = [
         quantity="frequency", what="first frequency, fitted to the tip's motion",
         edits=(("output", "stride", "1"),),
         variants=[
-            Variant("se3_strand", "se3_strand", (8, 16, 32), per_period((50, 100, 200, 400, 800)),
+            Variant("se3_strand", (8, 16, 32), per_period((50, 100, 200, 400, 800)),
                     ((8, 16), per_period((50, 100))), ()),
-            Variant("ph_director", "ph_director", (2, 4, 8), per_period((25, 50, 100)),
+            Variant("ph_director", (2, 4, 8), per_period((25, 50, 100)),
                     ((2, 4), per_period((25,))), (("solver", "newton_atol", "1e-10"),))],
         reference=Point("ph_director", 16, VIBRATION_PERIOD / 800),
         check=Point("ph_director", 8, VIBRATION_PERIOD / 400)),
@@ -177,9 +177,9 @@ BENCHMARKS = [
         "planar_fourbar.nml", "coupler", 1.5, t_end=1.0, quantity="middle",
         what="position of P (the coupler's middle) at t = 1",
         variants=[
-            Variant("ph_planar", "ph_planar", (10, 20, 40), FOURBAR_STEPS,
+            Variant("ph_planar", (10, 20, 40), FOURBAR_STEPS,
                     ((10, 20), (0.02, 0.01)), (("solver", "newton_atol", "1e-8"),)),
-            Variant("cl_em_planar", "cl_em_planar", (10, 20, 40), FOURBAR_STEPS,
+            Variant("cl_em_planar", (10, 20, 40), FOURBAR_STEPS,
                     ((10, 20), (0.02, 0.01)), CL_EM + (("solver", "newton_atol", "1e-5"),))],
         reference=Point("ph_planar", 160, 0.0003125), check=Point("ph_planar", 80, 0.000625)),
 ]
@@ -198,7 +198,7 @@ def mesh(bench, text, n):
 
 def scene_text(args, bench, point):
     """The benchmark's scene as `point`'s formulation, element count and time step."""
-    variant = bench.variant(point.variant)
+    variant = bench.variant(point.formulation)
     text = rs.read_example(args.source, bench.scene)
     text = set_all_rods(text, "formulation", f"'{variant.formulation}'")
     if variant.formulation == "ph_director":
@@ -286,7 +286,7 @@ def error(bench, value, reference):
 
 def point_name(bench, point):
     dt = "qs" if point.dt is None else f"{point.dt:.6g}"
-    return f"{bench.key}_{point.variant}_{point.n}_{dt}"
+    return f"{bench.key}_{point.formulation}_{point.n}_{dt}"
 
 
 def reference(args, bench):
@@ -318,7 +318,7 @@ def reference(args, bench):
 
 def describe(point):
     steps = "" if point.dt is None else f", h = {point.dt:.6g}"
-    return f"{point.variant} with n_e = {point.n}{steps}"
+    return f"{point.formulation} with n_e = {point.n}{steps}"
 
 
 def grid(bench, quick):
@@ -326,7 +326,7 @@ def grid(bench, quick):
     points = []
     for variant in bench.variants:
         elements, steps = variant.quick if quick else (variant.elements, variant.steps)
-        points += [Point(variant.label, n, dt) for n in elements for dt in steps]
+        points += [Point(variant.formulation, n, dt) for n in elements for dt in steps]
     return points
 
 
@@ -359,6 +359,7 @@ def valid(result, check):
 
 
 def cell(result, check):
+    """'error · time' of a run, '†' if below 10 times the reference check."""
     if result is None:
         return "failed"
     mark = "" if valid(result, check) else " †"
@@ -374,21 +375,19 @@ def runs_table(bench, results, check):
                                      for dt in steps]
     lines = ["| " + " | ".join(head) + " |", "|---|---:|" + "---:|" * len(steps)]
     for variant in bench.variants:
-        for n in sorted({p.n for p in results if p.variant == variant.label}):
-            cells = [cell(results[Point(variant.label, n, dt)], check)
-                     if Point(variant.label, n, dt) in results else "" for dt in steps]
-            lines.append(f"| {variant.label} | {n} | " + " | ".join(cells) + " |")
+        for n in sorted({p.n for p in results if p.formulation == variant.formulation}):
+            cells = [cell(results[Point(variant.formulation, n, dt)], check)
+                     if Point(variant.formulation, n, dt) in results else "" for dt in steps]
+            lines.append(f"| {variant.formulation} | {n} | " + " | ".join(cells) + " |")
     return "\n".join(lines)
 
 
-def cheapest(bench, results, check, target):
-    """Per formulation, the fastest valid run with error <= target (or None)."""
-    best = {}
-    for point, result in results.items():
-        if valid(result, check) and result["error"] <= target:
-            if point.variant not in best or result["loop"] < results[best[point.variant]]["loop"]:
-                best[point.variant] = point
-    return best
+def cheapest(results, check, target):
+    """Per formulation, the fastest valid run with error <= target (formulations without one
+    are missing)."""
+    reached = [(r["loop"], p) for p, r in results.items()
+               if valid(r, check) and r["error"] <= target]
+    return {p.formulation: p for _, p in sorted(reached, key=lambda x: x[0], reverse=True)}
 
 
 def cheapest_table(bench, results, check):
@@ -397,18 +396,17 @@ def cheapest_table(bench, results, check):
     errors = [r["error"] for r in results.values() if valid(r, check)]
     if not errors:
         return "No run is above 10 times the reference check."
-    labels = [v.label for v in bench.variants]
-    lines = ["| error ≤ | " + " | ".join(labels) + " | cheapest |",
-             "|---:|" + "---:|" * len(labels) + "---|"]
-    for k in range(math.floor(-math.log10(max(errors))),
-                   math.floor(-math.log10(min(errors))) + 1):
+    formulations = [v.formulation for v in bench.variants]
+    lines = ["| error ≤ | " + " | ".join(formulations) + " | cheapest |",
+             "|---:|" + "---:|" * len(formulations) + "---|"]
+    finest = math.floor(-math.log10(min(errors)))
+    for k in range(min(math.ceil(-math.log10(max(errors))), finest), finest + 1):
         target = 10.0 ** -k
-        best = cheapest(bench, results, check, target)
-        cells = []
-        for label in labels:
-            p = best.get(label)
-            cells.append("-" if p is None else f"{results[p]['loop']:.3g} s ({describe_short(p)})")
-        ranked = sorted(best, key=lambda label: results[best[label]]["loop"])
+        best = cheapest(results, check, target)
+        cells = ["-" if f not in best else
+                 f"{results[best[f]]['loop']:.3g} s ({describe_short(best[f])})"
+                 for f in formulations]
+        ranked = sorted(best, key=lambda f: results[best[f]]["loop"])
         verdict = ranked[0]
         if len(ranked) > 1:
             ratio = results[best[ranked[1]]]["loop"] / results[best[ranked[0]]]["loop"]
@@ -436,11 +434,11 @@ def plot(bench, results, check, path):
     fig, ax = plt.subplots(figsize=(6.4, 4.6))
     for variant, marker in zip(bench.variants, "osD^v<>"):
         points = [(r["error"], r["loop"]) for p, r in results.items()
-                  if p.variant == variant.label and valid(r, check)]
+                  if p.formulation == variant.formulation and valid(r, check)]
         if not points:
             continue
         e, t = zip(*points)
-        dots = ax.loglog(e, t, marker, alpha=0.45, label=variant.label)
+        dots = ax.loglog(e, t, marker, alpha=0.45, label=variant.formulation)
         fe, ft = zip(*pareto(points))
         ax.loglog(fe, ft, "-", color=dots[0].get_color())
     ax.set_xlabel(f"relative error ({bench.what})")
@@ -453,14 +451,20 @@ def plot(bench, results, check, path):
     plt.close(fig)
 
 
+def element_counts(results, formulation):
+    counts = sorted({p.n for p in results if p.formulation == formulation})
+    return ", ".join(str(n) for n in counts)
+
+
 def section(bench, results, check, how):
-    grid_text = "; ".join(
-        f"{v.label}: n_e = {', '.join(str(n) for n in sorted({p.n for p in results if p.variant == v.label}))}"
-        for v in bench.variants)
-    return (f"**{bench.title}** (input/{bench.scene}). Error: {bench.what}, "
-            + ("relative" if bench.quantity == "frequency"
-               else f"distance to the reference over the length {bench.length:.4g}")
-            + f". Runs: {grid_text}. {how}\n\n"
+    """The benchmark's part of the GENERATED block: what was run, the reference, the plot and
+    the two tables."""
+    runs = "; ".join(f"{v.formulation}: n_e = {element_counts(results, v.formulation)}"
+                     for v in bench.variants)
+    measure_text = ("relative" if bench.quantity == "frequency"
+                    else f"distance to the reference over the length {bench.length:.4g}")
+    return (f"**{bench.title}** (input/{bench.scene}). Error: {bench.what}, {measure_text}. "
+            f"Runs: {runs}. {how}\n\n"
             f"![work against precision: {bench.title}](figures/workprecision_{bench.key}.png)\n\n"
             "Cheapest run of each formulation per error level (time loop, median):\n\n"
             + cheapest_table(bench, results, check) +
