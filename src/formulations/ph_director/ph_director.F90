@@ -943,14 +943,21 @@ contains
         end do
     end subroutine build_condensed_pattern
 
-    !> Newton starts from the last state (DESIGN.md §3: predictor x_{n+1} = x_n).
+    !> Newton starts from the last state with the positions and directors moved on by h v_n
+    !> (q_{n+1} = q_n + h v_n, v_{n+1} = v_n: first order in h, where x_{n+1} = x_n is zeroth).
     subroutine ph_director_predictor(this, t_n, h, x_n, y)
         class(ph_director_t), intent(inout) :: this
         real(rk), intent(in) :: t_n, h, x_n(:)
         real(rk), intent(out) :: y(:)
-        integer :: k
+        integer :: i, k
         if (.not. this%condensed) then
             y = x_n
+            do k = 1, this%n_nodes
+                do i = 1, 12
+                    if (this%node_dof(i, k) > 0 .and. this%node_dof(12 + i, k) > 0) &
+                        y(this%node_dof(i, k)) = x_n(this%node_dof(i, k)) + h * x_n(this%node_dof(12 + i, k))
+                end do
+            end do
             return
         end if
         do k = 1, this%n_nodes
