@@ -115,14 +115,15 @@ def item_large(args):
                          e(row.get("angular_drift", float("nan"))), e(row.get("energy_per_residual", float("nan"))),
                          "(" + ", ".join(f"{c:.3f}" for c in row["tip"]) + ")"])
     text = ("### 2. Steps 10 and 100 times the papers'\n\n"
-            "Columns: step factor, h, completed, cut-backs, smallest sub-step, Newton iterations "
-            "per record (mean / max, sub-steps summed), max |H - H0| / max H (free rods: conserved), max |H_n - H_0 - W| / max H (accumulated "
-            "balance: for se3_pg the error of T + U + V_g), max |p - p0| / max |p|, "
-            "max |l - l0| / max |l| (free rods), max |balance_n| / r_n (bound 100; exact schemes only), the last "
-            "node's position at t_end (to compare the step sizes: the strip spins about e_x, its "
-            "tip radius is sqrt(y^2 + z^2)). The "
-            "free rods spin at 1.1 rad/s: at 100 h0 (h = 10) one step turns them 11 rad, so these "
-            "runs show stability and conservation, not accuracy.\n\n" +
+            "Columns: step factor, h, completed, cut-backs, smallest sub-step, Newton "
+            "iterations per record (mean / max, sub-steps summed), max |H - H0| / max H (free "
+            "rods: conserved), max |H_n - H_0 - W| / max H (the accumulated balance; for se3_pg "
+            "the error of T + U + V_g), max |p - p0| in kg m/s (absolute: the planar rod spins "
+            "in place, p = 0), max |l - l0| / max |l| (free rods), max |balance_n| / r_n (bound "
+            "100; exact schemes only), the last node at t_end (to compare the step sizes; the "
+            "strip spins about e_x, its tip radius is sqrt(y^2 + z^2)). The free rods spin at "
+            "1 to 1.1 rad/s: at 100 h0 (h = 10) one step turns them 10 rad, so these runs show "
+            "stability and conservation, not accuracy.\n\n" +
             table(["case", "factor", "h", "completed", "cut-backs", "smallest dt", "its mean / max",
                    "max dH/max H", "max balance/H", "max abs(p - p0)", "max dl/max l", "balance/r_n",
                    "last node at t_end"], rows))
