@@ -140,9 +140,9 @@ contains
                 if (runs_here(i)) call runners(i)%advance(scene, n)
             end do
             call log_debug('rodsolve: step ' // str(n) // ' done')
-            ! &time relaxation: the run ends when every system has relaxed (or failed).
-            last = n == n_steps
-            if (scene%time%relaxation) last = last .or. .not. any_rank_true(any(still_running()))
+            ! The run ends when every system has failed, or with &time relaxation relaxed:
+            ! nothing is left to step (and the step count and progress say so).
+            last = n == n_steps .or. .not. any_rank_true(any(still_running()))
             if (mod(n, scene%output%stride) == 0 .or. last) then
                 n_times = n_times + 1
                 record_times(n_times) = min(real(n, rk) * scene%time%dt, scene%time%t_end)

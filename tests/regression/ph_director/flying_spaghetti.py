@@ -205,7 +205,7 @@ def unwritable_output(args, checks):
 
 def newton_failure(args, checks):
     """When Newton fails after all halvings, the run stops with status 1 and a message saying
-    where, and the file holds every step up to the last good state (DESIGN.md §3)."""
+    where, at once, and the file holds every step up to the last good state (DESIGN.md §3)."""
     text = rs.read_example(args.source, "flying_spaghetti.nml")
     text = rs.set_variable(text, "solver", "max_newton", "2")
     text = rs.set_variable(text, "solver", "max_cutbacks", "1")
@@ -222,6 +222,11 @@ def newton_failure(args, checks):
     checks.check("record times strictly increase", float(np.any(np.diff(t) <= 0)), 0.0)
     checks.check("the failure time in the message is the last record",
                  float(f"at t = {t[-1]:g} " not in message and f"at t = {t[-1]} " not in message), 0.0)
+    # Nothing is left to step once the only rod failed: the run ends at the failing step (the
+    # accepted ones plus it), it does not idle through the remaining steps.
+    steps = re.search(r"1 rod\(s\), (\d+) steps", message)
+    checks.check("|steps in the summary - (accepted steps + the failing one)|",
+                 abs(int(steps[1]) - t.size) if steps else np.inf, 0.0)
 
 
 def coarse_mesh_warning(args, checks):
