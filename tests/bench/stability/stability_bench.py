@@ -112,7 +112,8 @@ def item_large(args):
                          e(row["energy_drift"]) if "momentum_drift" in row else "-",
                          e(row.get("energy_error", float("nan"))),
                          e(row.get("momentum_drift", float("nan"))),
-                         e(row.get("angular_drift", float("nan"))), e(row.get("energy_per_residual", float("nan"))),
+                         e(row.get("angular_drift", float("nan"))),
+                         e(row.get("energy_per_residual", float("nan"))),
                          "(" + ", ".join(f"{c:.3f}" for c in row["tip"]) + ")"])
     text = ("### 2. Steps 10 and 100 times the papers'\n\n"
             "Columns: step factor, h, completed, cut-backs, smallest sub-step, Newton "
@@ -182,8 +183,9 @@ def item_spin(args):
         rows.append([label, "yes" if v["status"] == 0 else f"no (t = {v['t_reached']:.4g})",
                      f"{v['turns']:.1f}", v["passes_through_pi"], v["canonical_quaternion_flips"],
                      e(v["orthonormality"]), f"{v['step_angle_max'] / v['step_angle_median']:.3f}",
-                     e(v["continued_quaternion_jump"]), f"{v['iterations_mean']:.2f} / {v['iterations_max']}",
-                     e(v["energy_drift"]), e(v.get("balance_ratio", float("nan")) * sc.ENERGY_PER_RESIDUAL)])
+                     e(v["continued_quaternion_jump"]),
+                     f"{v['iterations_mean']:.2f} / {v['iterations_max']}", e(v["energy_drift"]),
+                     e(v.get("balance_ratio", float("nan")) * sc.ENERGY_PER_RESIDUAL)])
     text = ("### 5. Rotations through pi and long spinning\n\n"
             "The frame of the rod's last node over every record: turns (sum of the record-to-record "
             "rotation angles), passes of its rotation from the initial frame through pi, sign flips "

@@ -297,7 +297,8 @@ def count_cutbacks(log, rod):
 
 # ---- item 3: stiff limits --------------------------------------------------------------------
 
-EI_CANTILEVER = 0.9047786842338604   # E pi r^4 / 4, r = 2e-3, E = 7.2e10 (input/kirchhoff_cantilever.nml)
+# input/kirchhoff_cantilever.nml: E pi r^4 / 4 and G J with r = 2e-3, E = 7.2e10, nu = 0.35.
+EI_CANTILEVER = 0.9047786842338604
 GJ_CANTILEVER = 0.6702064327658225
 RHOA_CANTILEVER = 2850.0 * np.pi * 4e-6
 RHOI_CANTILEVER = 2850.0 * np.pi * 2e-3**4 / 4
@@ -354,8 +355,8 @@ def stiff_cantilever(args, ratios, t_end, name="stiff_cantilever"):
                   row["iterations_mean"] - base_its, 2.0)
     for row in rows:
         label = "limit" if row["ratio"] is None else f"EA/EI = {row['ratio']:.0e}"
-        res.check(f"{label}: |balance_n| / (100 r_n)", row["balance_per_residual"] / ENERGY_PER_RESIDUAL,
-                  1.0)
+        res.check(f"{label}: |balance_n| / (100 r_n)",
+                  row["balance_per_residual"] / ENERGY_PER_RESIDUAL, 1.0)
     return res
 
 
@@ -608,7 +609,8 @@ def spinning(args, label, t_end, name=None):
                                       if isinstance(v, np.ndarray) and v.dtype.kind == "f")))
     if "did not converge" in log:
         res.note(next(l for l in log.splitlines() if "did not converge" in l).strip())
-    res.check(f"{label}: the run reaches t_end (status {status})", float(t_end - t[-1] > 1e-6 * t_end), 0.0)
+    res.check(f"{label}: the run reaches t_end (status {status})",
+              float(t_end - t[-1] > 1e-6 * t_end), 0.0)
     res.check(f"{label}: no NaN or Inf", float(not res.values["finite"]), 0.0)
     res.check(f"{label}: max |D D^T - I| of the spinning node's frame", spin["orthonormality"], 1e-12)
     # Smooth turning: no record-to-record rotation more than twice the median one (a switch
@@ -630,7 +632,8 @@ def spinning(args, label, t_end, name=None):
 def provoked_failure(args, label, name=None):
     """Flying spaghetti (t_end = 1, 10 steps) with Newton made to fail: 'max_newton_1' and
     'max_newton_2' (too few iterations), 'absurd_step' (h = 5: the whole load phase in one
-    step, 50 times the paper's h, then two free steps), 'nan_load' (an end force of 1e300 N: the residual overflows to Inf/NaN). The
+    step, 50 times the paper's h, then two free steps), 'nan_load' (an end force of 1e300 N: the
+    residual overflows to Inf/NaN). The
     contract (DESIGN.md §3): the cut-backs recover, or the run ends with status 1, a message
     that says where and why, and a readable file whose records end at the last good state."""
     text = rs.read_example(args.source, "flying_spaghetti.nml")
@@ -672,13 +675,15 @@ def provoked_failure(args, label, name=None):
     res.check(f"{label}: record times strictly increase", float(not increasing), 0.0)
     if status == 0:
         res.note(f"recovered: completed to t = {last_t:g} with {res.values['cutbacks']} cut-backs")
-        res.check(f"{label}: a completed run is marked completed", float(file_status != "completed"), 0.0)
+        res.check(f"{label}: a completed run is marked completed",
+                  float(file_status != "completed"), 0.0)
     else:
         res.check(f"{label}: exit status 1 (not a crash: {status})", float(status != 1), 0.0)
         res.check(f"{label}: the message says Newton did not converge and when",
                   float("Newton did not converge at t = " not in message), 0.0)
         res.check(f"{label}: the message's time is the last record's",
-                  float(f"at t = {last_t:g} " not in message and f"at t = {last_t} " not in message), 0.0)
+                  float(f"at t = {last_t:g} " not in message
+                        and f"at t = {last_t} " not in message), 0.0)
         res.check(f"{label}: the file is marked failed", float(file_status != "failed"), 0.0)
         # Oddities the lead asked to report (not asserted: src/solver and the progress line).
         progress = [l for l in log.splitlines() if l.startswith("rodsolve: t = ")]
