@@ -78,8 +78,9 @@ int rs_stepper_solver_settings(void *handle, double *atol, double *rtol, double 
                                int *max_it, int *max_funcs, int *max_cutbacks, char *types,
                                int length);
 
-/* Jacobians computed (and factored) since the stepper was created. */
-int rs_stepper_jacobians(void *handle, int *count);
+/* Since the stepper was created: Jacobians computed (and factored), and accepted steps whose
+   Newton residual ended above newton_atol at the rounding floor (include/rs_rodmid.h). */
+int rs_stepper_run_stats(void *handle, int *jacobians, int *floor_steps);
 
 /* TSView of the stepper's TS (with its SNES, KSP and PC) into the file `path` (NULL or "":
    standard output). */

@@ -56,13 +56,16 @@ PETSC_EXTERN PetscErrorCode TSRodmidSetStepProblem(TS ts, Vec Y_template, Mat J,
 PETSC_EXTERN PetscErrorCode TSRodmidSetMaxCutbacks(TS ts, PetscInt n);
 /* The current limit of halvings of one step. */
 PETSC_EXTERN PetscErrorCode TSRodmidGetMaxCutbacks(TS ts, PetscInt *n);
-/* Statistics of the last accepted step: SNES iterations, halvings, final residual norm; and
-   the Jacobians computed over the run (each one a numeric factorization). Any pointer may be
-   NULL. After a failed step they still describe the last accepted one.
-   Option -ts_rodmid_reuse_jacobian <ratio in [0, 1)>: keep the factored Jacobian across
-   iterations and steps while each iteration cuts the residual norm at least by the ratio
-   (0, the default: a new Jacobian at every iteration). */
+/* Statistics of the last accepted step: SNES iterations, halvings, final residual norm. Any
+   pointer may be NULL. After a failed step they still describe the last accepted one. */
 PETSC_EXTERN PetscErrorCode TSRodmidGetStepStats(TS ts, PetscInt *newton_its, PetscInt *cutbacks,
-                                                 PetscReal *fnorm, PetscInt *jacobians);
+                                                 PetscReal *fnorm);
+/* Over the run: Jacobians computed (each one a numeric factorization), and accepted steps
+   whose Newton residual ended above the SNES atol but at the rounding floor ||J u||,
+   u_i = +-eps |Y_i| (Newton run to stagnation; the stopping test is rodmid's).
+   Option -ts_rodmid_reuse_jacobian <ratio in [0, 1)>: keep the factored Jacobian across
+   iterations and steps while its full step cuts the residual norm at least by the ratio
+   (0, the default: a new Jacobian at every iteration). */
+PETSC_EXTERN PetscErrorCode TSRodmidGetRunStats(TS ts, PetscInt *jacobians, PetscInt *floor_steps);
 
 #endif

@@ -58,8 +58,10 @@ module rs_solver_rod_run
         type(solver_input_t) :: solver
         !> Times the stepper was built again for a new Jacobian pattern (contact pairs).
         integer :: repatterns = 0
-        !> Jacobians computed by the steppers of this runner that were replaced (pattern changes).
+        !> Counted by the steppers of this runner that were replaced (pattern changes): Jacobians
+        !> computed, steps accepted at the rounding floor.
         integer :: jacobians_before = 0
+        integer :: floor_steps_before = 0
         !> A bundle (rods coupled by joints, plates or contact): its summary splits the time.
         logical :: bundle = .false.
         !> Wall time in `prepare` (bundles: the contact broad phase and any new stepper).
@@ -180,8 +182,11 @@ contains
         type(error_t), allocatable, intent(out) :: err
         integer, allocatable :: row_ptr(:), cols(:)
         integer :: owned(4)
+        integer :: jacobians, floor_steps
         call this%formulation%jacobian_pattern(row_ptr, cols)
-        this%jacobians_before = this%jacobians_before + this%stepper%jacobians()
+        call this%stepper%run_stats(jacobians, floor_steps)
+        this%jacobians_before = this%jacobians_before + jacobians
+        this%floor_steps_before = this%floor_steps_before + floor_steps
         this%context%n_state = this%formulation%n_state()
         this%context%n_unknown = this%formulation%n_unknown()
         this%context%n_values = size(cols)
@@ -384,9 +389,11 @@ contains
         !> No summary line (another rank of a shared system prints it).
         logical, intent(in), optional :: quiet
         real(rk) :: elapsed, assembly
-        integer :: jacobians
+        integer :: jacobians, floor_steps
         assembly = this%assembly_seconds()
-        jacobians = this%jacobians_before + this%stepper%jacobians()
+        call this%stepper%run_stats(jacobians, floor_steps)
+        jacobians = this%jacobians_before + jacobians
+        floor_steps = this%floor_steps_before + floor_steps
         call this%stepper%destroy()
         if (associated(this%context)) deallocate(this%context)
         if (associated(this%formulation)) deallocate(this%formulation)
@@ -401,6 +408,9 @@ contains
             str_significant(elapsed / max(1, this%steps_done), 4) // ' s, per Newton ' // &
             'iteration ' // str_significant(elapsed / max(1, this%total_iterations), 4) // ' s; ' // &
             str(jacobians) // ' Jacobians factored')
+        if (floor_steps > 0) call log_info('  ' // this%name() // ': ' // str(floor_steps) // &
+            ' steps ended above newton_atol at the rounding floor (Newton run to stagnation: ' // &
+            'the residual rounding the unknowns makes; far from the origin, docs/stability.md)')
         if (this%bundle) call log_info('  ' // this%name() // ': of that, assembly ' // &
             str_significant(assembly, 4) // ' s, contact search ' // &
             str_significant(this%prepare_seconds, 4) // ' s (' // str(this%repatterns) // &

@@ -510,7 +510,6 @@ static PetscErrorCode stepper_setup(RsStepper *s, const int *row_ptr, const int 
     /* Programmatic settings before TSSetFromOptions, so that options still override them. */
     PetscCall(TSGetSNES(s->ts, &snes));
     PetscCall(SNESSetErrorIfNotConverged(snes, PETSC_FALSE));
-    PetscCall(SNESSetConvergenceTest(snes, SNESConvergedDefault, NULL, NULL));
     /* Only debug builds of PETSc look at a Jacobian domain error by default. */
     PetscCall(SNESSetCheckJacobianDomainError(snes, PETSC_TRUE));
     /* The LU package (DESIGN.md §3): MUMPS for the saddle-point systems; PETSc's own LU with a
@@ -684,7 +683,7 @@ static PetscErrorCode stepper_advance(RsStepper *s, double t_n, double dt, doubl
             break;
         }
         PetscCall(TSGetTimeStep(s->ts, &h_taken));
-        PetscCall(TSRodmidGetStepStats(s->ts, &its, &cut, &fnorm, NULL));
+        PetscCall(TSRodmidGetStepStats(s->ts, &its, &cut, &fnorm));
         r->cutbacks += (int)cut;
         r->newton_its += (int)its;
         r->fnorm = fnorm;
@@ -831,20 +830,21 @@ int rs_stepper_solver_settings(void *handle, double *atol, double *rtol, double 
     return (int)ierr;
 }
 
-int rs_stepper_jacobians(void *handle, int *count)
+int rs_stepper_run_stats(void *handle, int *jacobians, int *floor_steps)
 {
     RsStepper     *s       = (RsStepper *)handle;
     RsErrorCapture capture = {"", 0};
-    PetscInt       jacobians = 0;
+    PetscInt       count[2] = {0, 0};
     PetscErrorCode ierr;
 
-    if (!s || !count) return RS_STEPPER_BAD_ARGUMENT;
+    if (!s || !jacobians || !floor_steps) return RS_STEPPER_BAD_ARGUMENT;
     enter_petsc(s);
     PetscPushErrorHandler(capture_error, &capture);
-    ierr = TSRodmidGetStepStats(s->ts, NULL, NULL, NULL, &jacobians);
+    ierr = TSRodmidGetRunStats(s->ts, &count[0], &count[1]);
     PetscPopErrorHandler();
     leave_petsc(s);
-    *count = (int)jacobians;
+    *jacobians   = (int)count[0];
+    *floor_steps = (int)count[1];
     return (int)ierr;
 }
 

@@ -48,8 +48,9 @@ module rs_solver_rod_stepper
         procedure :: solver_settings => rod_stepper_solver_settings
         !> TSView (with SNES, KSP, PC) into a file, or standard output for an empty path.
         procedure :: view => rod_stepper_view
-        !> Jacobians computed (each one a numeric factorization) since create.
-        procedure :: jacobians => rod_stepper_jacobians
+        !> Since create: Jacobians computed (each one a numeric factorization), and steps
+        !> accepted at the rounding floor above newton_atol (include/rs_rodmid.h).
+        procedure :: run_stats => rod_stepper_run_stats
         !> True between create and destroy.
         procedure :: is_created => rod_stepper_is_created
         !> Free the PETSc objects; safe to call twice.
@@ -134,11 +135,11 @@ module rs_solver_rod_stepper
             character(kind=c_char), intent(out) :: types(*)
             integer(c_int), value :: length
         end function rs_stepper_solver_settings
-        integer(c_int) function rs_stepper_jacobians(handle, count) bind(C)
+        integer(c_int) function rs_stepper_run_stats(handle, jacobians, floor_steps) bind(C)
             import :: c_int, c_ptr
             type(c_ptr), value :: handle
-            integer(c_int), intent(out) :: count
-        end function rs_stepper_jacobians
+            integer(c_int), intent(out) :: jacobians, floor_steps
+        end function rs_stepper_run_stats
         integer(c_int) function rs_stepper_view(handle, path) bind(C)
             import :: c_int, c_char, c_ptr
             type(c_ptr), value :: handle
@@ -359,15 +360,17 @@ contains
         RS_CHECK_PETSC(int(ierr), err, 'rod_stepper_view', 'TSView')
     end subroutine rod_stepper_view
 
-    integer function rod_stepper_jacobians(this)
+    subroutine rod_stepper_run_stats(this, jacobians, floor_steps)
         class(rod_stepper_t), intent(in) :: this
-        integer(c_int) :: count
-        count = 0
+        integer, intent(out) :: jacobians, floor_steps
+        integer(c_int) :: counts(2)
+        counts = 0
         if (c_associated(this%handle)) then
-            if (rs_stepper_jacobians(this%handle, count) /= 0) count = 0
+            if (rs_stepper_run_stats(this%handle, counts(1), counts(2)) /= 0) counts = 0
         end if
-        rod_stepper_jacobians = int(count)
-    end function rod_stepper_jacobians
+        jacobians = int(counts(1))
+        floor_steps = int(counts(2))
+    end subroutine rod_stepper_run_stats
 
     logical function rod_stepper_is_created(this)
         class(rod_stepper_t), intent(in) :: this

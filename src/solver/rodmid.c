@@ -30,6 +30,10 @@ typedef struct {
     PetscReal reuse_ratio;
     PetscBool fresh;     /* the Jacobian was computed at the current Newton iterate */
     PetscInt  jacobians; /* Jacobians computed (and factored) over the run */
+    /* Newton's stopping test with the rounding floor (SNESConverged_Rodmid). */
+    Vec      rounding, rounding_image; /* u with u_i = +-eps |Y_i|, and J u */
+    PetscInt floor_steps;              /* accepted steps that ended at the floor, over the run */
+    PetscBool at_floor;                /* the current solve ended at the floor */
     /* Work vectors, created in TSSetUp_Rodmid. */
     Vec Y;  /* Newton unknown */
     Vec F;  /* residual */
@@ -118,6 +122,69 @@ static PetscErrorCode LineSearchPreCheck_RodmidReuse(SNESLineSearch linesearch, 
     PetscFunctionReturn(0);
 }
 
+/* The residual that rounding the unknowns to working precision makes: ||J u|| with
+   u_i = +-eps |Y_i| (signs from a hash of the global index, so the same on any number of
+   ranks). No iterate of Newton can get below it, because no closer iterate is representable:
+   positions of a rod 30 km from the origin are only known to 7e-12 m, and the inertia rows
+   turn that into residuals above the scenes' newton_atol (docs/stability.md, "The residual
+   floor"). J is the last Jacobian computed, good enough for a size. */
+static PetscErrorCode RoundingFloor(TS_Rodmid *rm, SNES snes, PetscReal *floor)
+{
+    const PetscScalar *y;
+    PetscScalar       *u;
+    PetscInt           lo, n, i;
+    Vec                Y;
+    Mat                J;
+
+    PetscFunctionBegin;
+    PetscCall(SNESGetSolution(snes, &Y));
+    PetscCall(SNESGetJacobian(snes, &J, NULL, NULL, NULL));
+    if (!rm->rounding) {
+        PetscCall(VecDuplicate(Y, &rm->rounding));
+        PetscCall(VecDuplicate(Y, &rm->rounding_image));
+    }
+    PetscCall(VecGetOwnershipRange(Y, &lo, NULL));
+    PetscCall(VecGetLocalSize(Y, &n));
+    PetscCall(VecGetArrayRead(Y, &y));
+    PetscCall(VecGetArray(rm->rounding, &u));
+    for (i = 0; i < n; ++i) {
+        const unsigned long hash = ((unsigned long)(lo + i) * 2654435761UL) >> 13;
+        u[i] = (hash & 1UL ? 1.0 : -1.0) * PETSC_MACHINE_EPSILON * PetscAbsScalar(y[i]);
+    }
+    PetscCall(VecRestoreArray(rm->rounding, &u));
+    PetscCall(VecRestoreArrayRead(Y, &y));
+    PetscCall(MatMult(J, rm->rounding, rm->rounding_image));
+    PetscCall(VecNorm(rm->rounding_image, NORM_2, floor));
+    PetscFunctionReturn(0);
+}
+
+/* Newton's stopping test (DESIGN.md §3, §8): the residual norm at most newton_atol (PETSc's
+   test, with the relative ones off), or, when that is out of reach, at most the rounding floor
+   above: Newton run to stagnation, and the step counted. The floor is only looked at near the
+   tolerance (within a factor 1000) and after the first iteration (a Jacobian exists). */
+static PetscErrorCode SNESConverged_Rodmid(SNES snes, PetscInt it, PetscReal xnorm,
+                                           PetscReal snorm, PetscReal fnorm,
+                                           SNESConvergedReason *reason, void *ctx)
+{
+    TS_Rodmid *rm = (TS_Rodmid *)((TS)ctx)->data;
+    PetscReal  atol, floor;
+
+    PetscFunctionBegin;
+    if (it == 0) rm->at_floor = PETSC_FALSE;
+    PetscCall(SNESConvergedDefault(snes, it, xnorm, snorm, fnorm, reason, NULL));
+    if (*reason != SNES_CONVERGED_ITERATING || it == 0) PetscFunctionReturn(0);
+    PetscCall(SNESGetTolerances(snes, &atol, NULL, NULL, NULL, NULL));
+    if (!(fnorm <= 1e3 * atol)) PetscFunctionReturn(0);
+    PetscCall(RoundingFloor(rm, snes, &floor));
+    if (fnorm <= floor) {
+        *reason      = SNES_CONVERGED_SNORM_RELATIVE;
+        rm->at_floor = PETSC_TRUE;
+        PetscCall(PetscInfo(snes, "residual %g above atol %g but at the rounding floor %g\n",
+                            (double)fnorm, (double)atol, (double)floor));
+    }
+    PetscFunctionReturn(0);
+}
+
 /* One step with bounded halving (DESIGN.md §3: "On SNES failure the step is halved and retried
    (bounded)"). Every attempt starts again from X_n and the predictor. */
 static PetscErrorCode TSStep_Rodmid(TS ts)
@@ -151,6 +218,7 @@ static PetscErrorCode TSStep_Rodmid(TS ts)
     PetscCall(SNESGetIterationNumber(ts->snes, &rm->last_its));
     PetscCall(SNESGetFunctionNorm(ts->snes, &rm->last_fnorm));
     rm->last_cutbacks = cut;
+    if (rm->at_floor) ++rm->floor_steps;
     if (rm->update) PetscCall(rm->update(rm->t_n, rm->h, rm->X0, rm->Y, ts->vec_sol, rm->ctx));
     else PetscCall(VecCopy(rm->Y, ts->vec_sol));
     /* time_step stays the step taken; choosing the next one is the caller's business. */
@@ -185,6 +253,7 @@ static PetscErrorCode TSSetUp_Rodmid(TS ts)
     PetscCall(SNESGetJacobian(ts->snes, NULL, NULL, &jacobian, NULL));
     if (jacobian) PetscCall(SNESSetJacobian(ts->snes, rm->J, rm->J, NULL, NULL));
     else PetscCall(SNESSetJacobian(ts->snes, rm->J, rm->J, SNESTSFormJacobian, ts));
+    PetscCall(SNESSetConvergenceTest(ts->snes, SNESConverged_Rodmid, ts, NULL));
     if (rm->reuse_ratio > 0.0) {
         SNESLineSearch linesearch;
         PetscCall(SNESSetLagJacobian(ts->snes, -2)); /* the first one is computed */
@@ -202,6 +271,8 @@ static PetscErrorCode TSReset_Rodmid(TS ts)
     PetscCall(VecDestroy(&rm->Y));
     PetscCall(VecDestroy(&rm->F));
     PetscCall(VecDestroy(&rm->X0));
+    PetscCall(VecDestroy(&rm->rounding));
+    PetscCall(VecDestroy(&rm->rounding_image));
     PetscFunctionReturn(0);
 }
 
@@ -218,6 +289,7 @@ static PetscErrorCode TSDestroy_Rodmid(TS ts)
     PetscCall(PetscObjectComposeFunction((PetscObject)ts, "TSRodmidSetMaxCutbacks_C", NULL));
     PetscCall(PetscObjectComposeFunction((PetscObject)ts, "TSRodmidGetMaxCutbacks_C", NULL));
     PetscCall(PetscObjectComposeFunction((PetscObject)ts, "TSRodmidGetStepStats_C", NULL));
+    PetscCall(PetscObjectComposeFunction((PetscObject)ts, "TSRodmidGetRunStats_C", NULL));
     PetscFunctionReturn(0);
 }
 
@@ -306,15 +378,24 @@ static PetscErrorCode TSRodmidGetMaxCutbacks_Rodmid(TS ts, PetscInt *n)
 }
 
 static PetscErrorCode TSRodmidGetStepStats_Rodmid(TS ts, PetscInt *newton_its, PetscInt *cutbacks,
-                                                  PetscReal *fnorm, PetscInt *jacobians)
+                                                  PetscReal *fnorm)
+{
+    TS_Rodmid *rm = (TS_Rodmid *)ts->data;
+
+    PetscFunctionBegin;
+    if (newton_its) *newton_its = rm->last_its;
+    if (cutbacks) *cutbacks = rm->last_cutbacks;
+    if (fnorm) *fnorm = rm->last_fnorm;
+    PetscFunctionReturn(0);
+}
+
+static PetscErrorCode TSRodmidGetRunStats_Rodmid(TS ts, PetscInt *jacobians, PetscInt *floor_steps)
 {
     TS_Rodmid *rm = (TS_Rodmid *)ts->data;
 
     PetscFunctionBegin;
     if (jacobians) *jacobians = rm->jacobians;
-    if (newton_its) *newton_its = rm->last_its;
-    if (cutbacks) *cutbacks = rm->last_cutbacks;
-    if (fnorm) *fnorm = rm->last_fnorm;
+    if (floor_steps) *floor_steps = rm->floor_steps;
     PetscFunctionReturn(0);
 }
 
@@ -346,6 +427,8 @@ static PetscErrorCode TSCreate_Rodmid(TS ts)
                                          TSRodmidGetMaxCutbacks_Rodmid));
     PetscCall(PetscObjectComposeFunction((PetscObject)ts, "TSRodmidGetStepStats_C",
                                          TSRodmidGetStepStats_Rodmid));
+    PetscCall(PetscObjectComposeFunction((PetscObject)ts, "TSRodmidGetRunStats_C",
+                                         TSRodmidGetRunStats_Rodmid));
     PetscFunctionReturn(0);
 }
 
@@ -395,12 +478,20 @@ PetscErrorCode TSRodmidGetMaxCutbacks(TS ts, PetscInt *n)
 }
 
 PetscErrorCode TSRodmidGetStepStats(TS ts, PetscInt *newton_its, PetscInt *cutbacks,
-                                    PetscReal *fnorm, PetscInt *jacobians)
+                                    PetscReal *fnorm)
 {
     PetscFunctionBegin;
     PetscValidHeaderSpecific(ts, TS_CLASSID, 1);
-    PetscUseMethod(ts, "TSRodmidGetStepStats_C",
-                   (TS, PetscInt *, PetscInt *, PetscReal *, PetscInt *),
-                   (ts, newton_its, cutbacks, fnorm, jacobians));
+    PetscUseMethod(ts, "TSRodmidGetStepStats_C", (TS, PetscInt *, PetscInt *, PetscReal *),
+                   (ts, newton_its, cutbacks, fnorm));
+    PetscFunctionReturn(0);
+}
+
+PetscErrorCode TSRodmidGetRunStats(TS ts, PetscInt *jacobians, PetscInt *floor_steps)
+{
+    PetscFunctionBegin;
+    PetscValidHeaderSpecific(ts, TS_CLASSID, 1);
+    PetscUseMethod(ts, "TSRodmidGetRunStats_C", (TS, PetscInt *, PetscInt *),
+                   (ts, jacobians, floor_steps));
     PetscFunctionReturn(0);
 }
