@@ -5,7 +5,8 @@ markers of this script's GENERATED block.
     stability_bench.py --rodsolve BIN --mpiexec MPIEXEC --source SRC --workdir DIR [--write]
                        [--items 1,2,3,4,5,6] [--reuse]
 
-Items: 1 long runs (1e5 free steps of the 3D and planar flying spaghetti), 2 steps 10 and 100
+Items: 1 long runs (1e5 free steps of the 3D flying spaghetti seen from its centre of mass,
+1e4 in the lab frame; 1e5 of the planar one in both frames), 2 steps 10 and 100
 times the papers', 3 stiff limits (EA/EI up to 1e8 and the inextensible rod), 4 100 random
 perturbations per benchmark, 5 rotations through pi and long spinning, 6 Newton failures
 provoked on purpose. --reuse measures a result file already in DIR instead of running it again
