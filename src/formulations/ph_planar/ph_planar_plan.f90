@@ -91,7 +91,7 @@ contains
             case ('ph_planar')
                 call add('scheme: PH-EM, the implicit midpoint rule on the port-Hamiltonian ' // &
                     'system (methods/ph_planar.md §4.3): nodal (x, y, theta), theta shifted by 2 pi k ' // &
-                    'after a step when no support fixes it, ' // &
+                    'after a dynamic step when no support fixes one, ' // &
                     'and element strains (Gamma1, Gamma2, kappa); exact energy and angular momentum ' // &
                     'balance')
                 if (scene%solver%condense_stresses) then
