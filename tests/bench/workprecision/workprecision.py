@@ -94,6 +94,10 @@ VIBRATION_PERIOD = 200 * 5.925872307404123e-4
 VIBRATION_PERIODS = 3
 
 
+# Runs whose time loop is below CHEAP seconds run CHEAP_ROUNDS times as often.
+CHEAP, CHEAP_ROUNDS = 0.1, 3
+
+
 def per_period(counts):
     return tuple(VIBRATION_PERIOD / c for c in counts)
 
@@ -331,14 +335,17 @@ def grid(bench, quick):
 
 
 def measure(args, bench):
-    """All runs of a benchmark, `args.repeat` rounds of every run once. Returns a dict point ->
-    {error, loop (median), steps, iterations, cutbacks}; failed runs are None."""
+    """All runs of a benchmark in rounds of every run once: `args.repeat` rounds, and
+    `CHEAP_ROUNDS` times as many for runs whose time loop is below `CHEAP` s, whose timing is
+    the noisiest. Returns a dict point -> {error, loop (median), steps, iterations, cutbacks};
+    failed runs are None."""
     value, check, how = reference(args, bench)
     points = grid(bench, args.quick)
     results = {}
-    for round_ in range(args.repeat):
+    for round_ in range(CHEAP_ROUNDS * args.repeat):
         for point in points:
-            if round_ and results[point] is None:
+            if round_ and (results[point] is None or round_ >= args.repeat
+                           and results[point]["loops"][0] >= CHEAP):
                 continue
             run = run_once(args, scene_text(args, bench, point), point_name(bench, point))
             if round_ == 0:
@@ -346,7 +353,7 @@ def measure(args, bench):
                     bench, read_quantity(bench, run["output"]), value))
             elif run is not None:
                 results[point]["loops"].append(run["loop"])
-        print(f"  {bench.key}: round {round_ + 1}/{args.repeat} done", flush=True)
+        print(f"  {bench.key}: round {round_ + 1}/{CHEAP_ROUNDS * args.repeat} done", flush=True)
     for result in results.values():
         if result is not None:
             result["loop"] = statistics.median(result["loops"])
@@ -400,7 +407,7 @@ def cheapest_table(bench, results, check):
     lines = ["| error ≤ | " + " | ".join(formulations) + " | cheapest |",
              "|---:|" + "---:|" * len(formulations) + "---|"]
     finest = math.floor(-math.log10(min(errors)))
-    for k in range(min(math.ceil(-math.log10(max(errors))), finest), finest + 1):
+    for k in range(max(1, min(math.ceil(-math.log10(max(errors))), finest)), finest + 1):
         target = 10.0 ** -k
         best = cheapest(results, check, target)
         cells = ["-" if f not in best else
@@ -500,7 +507,8 @@ def main():
         sections.append(section(bench, results, check, how))
     minutes = (time.perf_counter() - started) / 60
     block = (f"{measured_on()}; 1 rank; time loop = rodsolve's own timing (output excluded), "
-             f"median of {args.repeat} runs, the runs of a benchmark alternating. Load average "
+             f"median of {args.repeat} runs ({CHEAP_ROUNDS * args.repeat} for runs under "
+             f"{CHEAP} s), the runs of a benchmark alternating. Load average "
              f"(1 min) {min(loads):.1f} to {max(loads):.1f} on this shared machine; the whole "
              f"benchmark took {minutes:.0f} minutes.\n\n" + "\n".join(sections))
     print(block)
