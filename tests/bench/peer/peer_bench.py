@@ -69,8 +69,10 @@ RUNS = {
                     "ref": (16, 6400), "pyelastica": [10, 20, 40, 80, 160]},
         "free": {"rodsolve": [(2, 100), (4, 100), (4, 200), (8, 200), (8, 400), (12, 400),
                               (16, 800)],
-                 "ref": (24, 3200), "pyelastica": [5, 10, 20, 40, 80, 160]},
+                 "ref": (24, 3200), "pyelastica": [5, 10, 20, 40, 80, 160, 320]},
         "stability": [10, 20, 40, 80, 160, 320],
+        # the case of the issue's target: one more PyElastica level (~1 min a run)
+        "cantilever_steel": {"pyelastica": [10, 20, 40, 80, 160, 320]},
     },
     "quick": {
         "clamped": {"rodsolve": [(2, 100), (4, 200)], "ref": (4, 800),
@@ -118,10 +120,12 @@ def pyelastica_dt_estimate(p, n):
     return 2.0 / math.sqrt(omega2)
 
 
-def scene_text(p, n, steps, samples=N_SAMPLES):
+def scene_text(p, n, steps, samples=N_SAMPLES, jacobian_reuse=0.0):
     """The rodsolve scene of problem p with n quadratic elements and `steps` steps."""
     bc = ("&bc\n    rod = 'beam', end = 'start', kind = 'clamped'\n/\n"
           if p["bc"] == "clamped" else "")
+    if jacobian_reuse:
+        bc += f"&solver\n    jacobian_reuse = {jacobian_reuse!r}\n/\n"
     return f"""! Peer benchmark (tests/bench/peer/peer_bench.py): {p['name']}, the same problem as
 ! PyElastica's (peer_pyelastica.py): tip force pulse, PyElastica's shear factor 27/28.
 &run
@@ -162,7 +166,8 @@ def scene_text(p, n, steps, samples=N_SAMPLES):
 def run_rodsolve(args, p, n, steps, repeat, samples=N_SAMPLES):
     """Median time loop of `repeat` runs, Newton iterations, tips at the sample times."""
     name = f"{p['name']}_n{n}_s{steps}"
-    text = bench_common.rs.set_variable(scene_text(p, n, steps, samples), "output", "path",
+    text = bench_common.rs.set_variable(scene_text(p, n, steps, samples, args.jacobian_reuse),
+                                        "output", "path",
                                         f"'{os.path.join(args.workdir, name)}.h5'")
     scene = os.path.join(args.workdir, name + ".nml")
     with open(scene, "w", encoding="utf-8") as f:
@@ -472,7 +477,8 @@ def describe_problem(p, amp):
 
 def performance_block(args, env, cases, warm, seconds):
     lines = [
-        f"{measured_on()}; rodsolve {env['rodsolve']} on one rank; load average "
+        f"{measured_on()}; rodsolve {env['rodsolve']} on one rank, &solver jacobian_reuse = "
+        f"{args.jacobian_reuse:g}{' (default)' if not args.jacobian_reuse else ''}; load average "
         f"{env['load_before'][0]:.2f} before, {env['load_after'][0]:.2f} after (other agents "
         f"share the 2 cores). PyElastica {env['venv']['versions']['pyelastica']} (numba "
         f"{env['venv']['versions']['numba']}, llvmlite {env['venv']['versions']['llvmlite']}, "
@@ -618,6 +624,8 @@ def main():
     parser.add_argument("--cases", nargs="+", choices=list(CASES), default=list(CASES))
     parser.add_argument("--safety", type=float, default=0.8,
                         help="PyElastica's step as a fraction of the estimated stable step")
+    parser.add_argument("--jacobian-reuse", type=float, default=0.0,
+                        help="rodsolve's &solver jacobian_reuse (default 0: rodsolve's default)")
     parser.add_argument("--stability-steps", type=int, default=None)
     parser.add_argument("--stability-rtol", type=float, default=None)
     parser.add_argument("--write", action="store_true",
@@ -645,7 +653,7 @@ def main():
     cases = []
     for name in args.cases:
         p = problem(name)
-        case_runs = runs[p["bc"]]
+        case_runs = dict(runs[p["bc"]], **runs.get(name, {}))
         log(f"{name}: t_pulse {p['t_pulse']} s, t_end {p['t_end']} s, T1 {p['period']:.4g} s")
         ref, amp, check = reference(args, p, case_runs)
         rows = []
