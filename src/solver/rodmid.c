@@ -32,8 +32,9 @@ typedef struct {
     PetscInt  jacobians; /* Jacobians computed (and factored) over the run */
     /* Newton's stopping test with the rounding floor (SNESConverged_Rodmid). */
     Vec      rounding, rounding_image; /* u with u_i = +-eps |Y_i|, and J u */
-    PetscInt floor_steps;              /* accepted steps that ended at the floor, over the run */
+    PetscInt  floor_steps;             /* accepted steps that ended at the floor, over the run */
     PetscBool at_floor;                /* the current solve ended at the floor */
+    PetscReal fnorm_prev;              /* the residual norm of the previous iteration */
     /* Work vectors, created in TSSetUp_Rodmid. */
     Vec Y;  /* Newton unknown */
     Vec F;  /* residual */
@@ -158,29 +159,45 @@ static PetscErrorCode RoundingFloor(TS_Rodmid *rm, SNES snes, PetscReal *floor)
     PetscFunctionReturn(0);
 }
 
+/* Newton stagnating at the rounding floor: the residual norm is at most ||J u|| (and within
+   a factor 1000 of atol, where the floor is worth a look). */
+static PetscErrorCode AtRoundingFloor(TS_Rodmid *rm, SNES snes, PetscReal fnorm, PetscBool *at)
+{
+    PetscReal atol, floor;
+
+    PetscFunctionBegin;
+    *at = PETSC_FALSE;
+    PetscCall(SNESGetTolerances(snes, &atol, NULL, NULL, NULL, NULL));
+    if (!(fnorm <= 1e3 * atol)) PetscFunctionReturn(0);
+    PetscCall(RoundingFloor(rm, snes, &floor));
+    *at = (PetscBool)(fnorm <= floor);
+    if (*at) PetscCall(PetscInfo(snes, "residual %g above atol %g but at the rounding floor %g\n",
+                                 (double)fnorm, (double)atol, (double)floor));
+    PetscFunctionReturn(0);
+}
+
 /* Newton's stopping test (DESIGN.md §3, §8): the residual norm at most newton_atol (PETSc's
-   test, with the relative ones off), or, when that is out of reach, at most the rounding floor
-   above: Newton run to stagnation, and the step counted. The floor is only looked at near the
-   tolerance (within a factor 1000) and after the first iteration (a Jacobian exists). */
+   test, with the relative ones off), or Newton run to stagnation where that is out of reach:
+   an iteration that did not halve the residual, which is at the rounding floor. Such a step
+   is counted. (A line search that fails there is handled in TSStep_Rodmid.) */
 static PetscErrorCode SNESConverged_Rodmid(SNES snes, PetscInt it, PetscReal xnorm,
                                            PetscReal snorm, PetscReal fnorm,
                                            SNESConvergedReason *reason, void *ctx)
 {
     TS_Rodmid *rm = (TS_Rodmid *)((TS)ctx)->data;
-    PetscReal  atol, floor;
+    PetscReal  previous = rm->fnorm_prev;
+    PetscBool  at;
 
     PetscFunctionBegin;
+    rm->fnorm_prev = fnorm;
     if (it == 0) rm->at_floor = PETSC_FALSE;
     PetscCall(SNESConvergedDefault(snes, it, xnorm, snorm, fnorm, reason, NULL));
-    if (*reason != SNES_CONVERGED_ITERATING || it == 0) PetscFunctionReturn(0);
-    PetscCall(SNESGetTolerances(snes, &atol, NULL, NULL, NULL, NULL));
-    if (!(fnorm <= 1e3 * atol)) PetscFunctionReturn(0);
-    PetscCall(RoundingFloor(rm, snes, &floor));
-    if (fnorm <= floor) {
+    if (*reason != SNES_CONVERGED_ITERATING || it == 0 || fnorm <= 0.5 * previous)
+        PetscFunctionReturn(0);
+    PetscCall(AtRoundingFloor(rm, snes, fnorm, &at));
+    if (at) {
         *reason      = SNES_CONVERGED_SNORM_RELATIVE;
         rm->at_floor = PETSC_TRUE;
-        PetscCall(PetscInfo(snes, "residual %g above atol %g but at the rounding floor %g\n",
-                            (double)fnorm, (double)atol, (double)floor));
     }
     PetscFunctionReturn(0);
 }
@@ -203,6 +220,14 @@ static PetscErrorCode TSStep_Rodmid(TS ts)
         PetscCall(SNESSolve(ts->snes, NULL, rm->Y));
         PetscCall(SNESGetConvergedReason(ts->snes, &reason));
         if (reason > 0) break;
+        if (reason == SNES_DIVERGED_LINE_SEARCH) {
+            /* No descent left: if the iterate (a failed line search keeps it) is at the
+               rounding floor, that is Newton run to stagnation, not a failure. */
+            PetscReal fnorm;
+            PetscCall(SNESGetFunctionNorm(ts->snes, &fnorm));
+            PetscCall(AtRoundingFloor(rm, ts->snes, fnorm, &rm->at_floor));
+            if (rm->at_floor) break;
+        }
         PetscCall(
             PetscInfo(ts, "t = %g: SNES failed (%s) with h = %g after %" PetscInt_FMT " halvings\n",
                       (double)rm->t_n, SNESConvergedReasons[reason], (double)rm->h, cut));
