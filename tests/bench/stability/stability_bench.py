@@ -69,7 +69,8 @@ def item_long(args):
                      f"{v['position_max']:.3g}"])
     text = ("### 1. Long runs: 1e5 steps of free flight after the load phase\n\n"
             "Every step recorded. Relative to H after the load (energy), |p| after the load "
-            "(linear momentum, planar comoving: absolute) and |l| (angular). 'walk' is sqrt(N) "
+            "(linear momentum; the comoving runs, p = 0: absolute, kg m/s) and |l| (angular). "
+            "'comoving': the rod seen from its centre of mass (an initial velocity -p/m). 'walk' is sqrt(N) "
             "times the median per-step change: what a random walk of the per-step errors gives "
             "(a systematic drift would grow as N). 'dH/r' is max |H_(n+1) - H_n| / r_n, r_n the "
             "achieved Newton residual of the step (bound 100). Iterations: mean over the first "
@@ -77,7 +78,7 @@ def item_long(args):
             table(["run", "free steps done", "t reached", "dH/H per step (median)",
                    "dH/H per step (max)", "accumulated dH/H", "walk", "dH/r max",
                    "dp/p per step", "accumulated dp/p", "dl/l per step", "accumulated dl/l",
-                   "r_n median", "r_n max", "Newton its first / last / max", "max |phi| at end"],
+                   "r_n median", "r_n max", "Newton its first / last / max", "max abs(phi) at end"],
                   rows))
     return results, text
 
@@ -147,7 +148,7 @@ def item_stiff(args):
             "(constraint = 'inextensible') as the limit. Tip difference to the limit relative to "
             "the limit's tip displacement.\n\n" +
             table(["EA/EI", "Newton its per step (mean)", "max", "cut-backs", "max residual",
-                   "max |balance| / max H", "tip - limit"], rows) +
+                   "max abs(balance) / max H", "tip - limit"], rows) +
             "\n\nQuasistatic elastica (seed 000 §6.3, 10 load steps and the endpoint solve), "
             "EA = GA = ratio x EI; tip difference to the inextensible elastica relative to L.\n\n" +
             table(["EA/EI", "Newton its per load step (mean)", "max", "tip - limit"], rows_e))
@@ -258,7 +259,9 @@ def main():
                         f"{time.time() - t0:.0f} s)")
     header = (f"Measured {datetime.date.today().isoformat()} on {platform.node()} "
               f"({os.cpu_count()} cores, shared), one rank, by `{SCRIPT}` "
-              f"({time.time() - started:.0f} s; items {args.items}).")
+              f"({time.time() - started:.0f} s; items {args.items}"
+              + ("; with --reuse: the runs already in the work directory were measured, so the "
+                 "times are those of the analysis" if args.reuse else "") + ").")
     block = header + "\n\n" + "\n\n".join(sections)
     print(block)
     if args.write:
