@@ -464,18 +464,17 @@ static PetscErrorCode stepper_setup(RsStepper *s, const int *row_ptr, const int 
        factored without ScaLAPACK (ICNTL(13) = 1), faster on a loaded machine.
        Single rods use AMD too: MUMPS's automatic choice (PORD) makes the factorization of a
        long chain superlinear (3.3 and 3.8 us per unknown at n_e = 256 and 1024 against 2.4 and
-       2.6 with AMD), and no column permutation (ICNTL(6) = 0): the maximum transversal
-       (MC64) made the analysis quadratic in the length of the chain (ph_director: 0.76 s at
-       n_e = 1024, 19.5 s at 4096, against 0.09 and 0.38 s without it), while the numeric
-       factorization is no slower without it (threshold pivoting delays the zero diagonals of
-       the multiplier rows; docs/performance.md, "ph_director: cost per step"). */
+       2.6 with AMD). The column permutation stays MUMPS's choice (the maximum transversal,
+       MC64): its analysis grows faster than the chain (ph_director: 0.76 s at n_e = 1024,
+       19.5 s at 4096, once per run), and without it (ICNTL(6) = 0: 0.09 and 0.38 s) the stiff
+       tube of seed 004 on 16 elements fails its first step (DIVERGED_LINEAR_SOLVE); see
+       docs/performance.md, "ph_director: cost per step". */
     if (s->distributed)
         snprintf(mumps, sizeof(mumps), "-mat_mumps_icntl_14 400 -mat_mumps_icntl_7 0 "
                                        "-mat_mumps_cntl_1 1e-4 -mat_mumps_icntl_13 1");
     else
         snprintf(mumps, sizeof(mumps), "-mat_mumps_icntl_14 50 -mat_mumps_icntl_7 0 "
-                                       "-mat_mumps_icntl_6 0 -mat_mumps_cntl_1 0.01 "
-                                       "-mat_mumps_icntl_13 0");
+                                       "-mat_mumps_cntl_1 0.01 -mat_mumps_icntl_13 0");
     snprintf(defaults, sizeof(defaults),
              "-snes_type %s -snes_atol %.17g -snes_rtol %.17g "
              "-snes_stol 0 -snes_max_it %d -ksp_type preonly -pc_type lu %s "
