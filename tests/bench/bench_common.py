@@ -61,9 +61,10 @@ def measured_on():
             f"cores, {platform.processor() or platform.machine()}, BLAS {blas_name()} (1 thread)")
 
 
-def write_generated(source, script, block):
-    """Replace the GENERATED block of docs/performance.md that belongs to `script`."""
-    path = os.path.join(source, "docs", "performance.md")
+def write_generated(source, script, block, document="performance.md"):
+    """Replace the GENERATED block that belongs to `script` (a path under tests/bench/) in
+    docs/`document` (docs/performance.md unless told)."""
+    path = os.path.join(source, "docs", document)
     with open(path, encoding="utf-8") as f:
         text = f.read()
     begin = f"<!-- BEGIN GENERATED: tests/bench/{script} -->"

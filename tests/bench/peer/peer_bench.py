@@ -454,20 +454,6 @@ def big_step(args, p, ref):
 
 # ---------------------------------------------------------------------------- documents
 
-def write_block(path, script, block):
-    """Replace the GENERATED block of `script` in the Markdown file `path` (docs/stability.md;
-    bench_common.write_generated knows only docs/performance.md)."""
-    marker = f"GENERATED: tests/bench/{script} -->"
-    with open(path, encoding="utf-8") as f:
-        head, begin, rest = f.read().partition("<!-- BEGIN " + marker)
-    _, end, tail = rest.partition("<!-- END " + marker)
-    if not (begin and end):
-        raise SystemExit(f"{path}: no GENERATED block of tests/bench/{script}")
-    with open(path, "w", encoding="utf-8") as f:
-        f.write(f"{head}{begin}\n{block}{end}{tail}")
-    print(f"wrote {path}")
-
-
 def describe_problem(p, amp):
     bc = "clamped at s = 0" if p["bc"] == "clamped" else "free (no boundary condition)"
     return (f"| {p['name']} | {p['material']}: E = {p['E']:g}, nu = {p['nu']}, "
@@ -687,7 +673,7 @@ def main():
     print(stab)
     if args.write:
         write_generated(args.source, SCRIPT, perf)
-        write_block(os.path.join(args.source, "docs", "stability.md"), SCRIPT, stab)
+        write_generated(args.source, SCRIPT, stab, document="stability.md")
     log(f"bench_peer done in {seconds / 60:.1f} min")
 
 

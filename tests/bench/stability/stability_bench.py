@@ -24,8 +24,10 @@ import time
 HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, HERE)
 import stability_cases as sc  # noqa: E402
+sys.path.insert(0, os.path.dirname(HERE))
+from bench_common import write_generated  # noqa: E402
 
-SCRIPT = "tests/bench/stability/stability_bench.py"
+SCRIPT = "stability/stability_bench.py"
 LONG_STEPS = 100000
 HEAVY_TOP_T1 = 2.0121517637287174
 
@@ -228,18 +230,6 @@ ITEMS = {"1": item_long, "2": item_large, "3": item_stiff, "4": item_random, "5"
          "6": item_failures}
 
 
-def write_block(source, block):
-    path = os.path.join(source, "docs", "stability.md")
-    with open(path, encoding="utf-8") as f:
-        text = f.read()
-    begin = f"<!-- BEGIN GENERATED: {SCRIPT} -->"
-    end = f"<!-- END GENERATED: {SCRIPT} -->"
-    i, j = text.index(begin) + len(begin), text.index(end)
-    with open(path, "w", encoding="utf-8") as f:
-        f.write(text[:i] + "\n" + block + "\n" + text[j:])
-    print(f"wrote {path}")
-
-
 def main():
     parser = argparse.ArgumentParser(description=__doc__,
                                      formatter_class=argparse.RawDescriptionHelpFormatter)
@@ -258,14 +248,14 @@ def main():
         sections.append(text + f"\n\n{checks_line(item_results)} (item {item}: "
                         f"{time.time() - t0:.0f} s)")
     header = (f"Measured {datetime.date.today().isoformat()} on {platform.node()} "
-              f"({os.cpu_count()} cores, shared), one rank, by `{SCRIPT}` "
+              f"({os.cpu_count()} cores, shared), one rank, by `tests/bench/{SCRIPT}` "
               f"({time.time() - started:.0f} s; items {args.items}"
               + ("; with --reuse: the runs already in the work directory were measured, so the "
                  "times are those of the analysis" if args.reuse else "") + ").")
     block = header + "\n\n" + "\n\n".join(sections)
     print(block)
     if args.write:
-        write_block(args.source, block)
+        write_generated(args.source, SCRIPT, block + "\n", document="stability.md")
     failed = sum(r.failed for r in results)
     print(f"{failed} check(s) failed")
     sys.exit(1 if failed else 0)
