@@ -140,10 +140,6 @@ static PetscErrorCode RoundingFloor(TS_Rodmid *rm, SNES snes, PetscReal *floor)
     PetscFunctionBegin;
     PetscCall(SNESGetSolution(snes, &Y));
     PetscCall(SNESGetJacobian(snes, &J, NULL, NULL, NULL));
-    if (!rm->rounding) {
-        PetscCall(VecDuplicate(Y, &rm->rounding));
-        PetscCall(VecDuplicate(Y, &rm->rounding_image));
-    }
     PetscCall(VecGetOwnershipRange(Y, &lo, NULL));
     PetscCall(VecGetLocalSize(Y, &n));
     PetscCall(VecGetArrayRead(Y, &y));
@@ -264,6 +260,8 @@ static PetscErrorCode TSSetUp_Rodmid(TS ts)
     if (!rm->Y) PetscCall(VecDuplicate(rm->Y_template ? rm->Y_template : ts->vec_sol, &rm->Y));
     if (!rm->F) PetscCall(VecDuplicate(rm->Y, &rm->F));
     if (!rm->X0) PetscCall(VecDuplicate(ts->vec_sol, &rm->X0));
+    if (!rm->rounding) PetscCall(VecDuplicate(rm->Y, &rm->rounding));
+    if (!rm->rounding_image) PetscCall(VecDuplicate(rm->Y, &rm->rounding_image));
     PetscCall(VecGetSize(ts->vec_sol, &n_x));
     PetscCall(VecGetSize(rm->Y, &n_y));
     PetscCheck(n_x == n_y || (rm->predictor && rm->update), PetscObjectComm((PetscObject)ts),
