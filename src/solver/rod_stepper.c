@@ -20,6 +20,7 @@
 #include <string.h>
 #include "rs_rodmid.h"
 #include "rs_rod_stepper.h"
+#include "rs_rodchain.h"
 
 typedef struct {
     TS             ts;
@@ -449,6 +450,7 @@ static PetscErrorCode stepper_setup(RsStepper *s, const int *row_ptr, const int 
 
     PetscFunctionBegin;
     PetscCall(rs_rodmid_register());
+    PetscCall(rs_rodchain_register());
 
     /* Scene values as the bottom layer of the options (DESIGN.md §3): newtonls with the bt line
        search, the absolute Newton test of the method documents with PETSc's relative tests
@@ -516,14 +518,19 @@ static PetscErrorCode stepper_setup(RsStepper *s, const int *row_ptr, const int 
     PetscCall(SNESSetErrorIfNotConverged(snes, PETSC_FALSE));
     /* Only debug builds of PETSc look at a Jacobian domain error by default. */
     PetscCall(SNESSetCheckJacobianDomainError(snes, PETSC_TRUE));
-    /* The LU package (DESIGN.md §3): MUMPS for the saddle-point systems; PETSc's own LU with a
-       nested-dissection ordering where the formulation says its Jacobian needs no pivoting (a
-       multiplier-free system with a non-zero diagonal), which is about ten times faster for
-       small rods (docs/performance.md). -pc_factor_mat_solver_type overrides either. */
+    /* The LU package (DESIGN.md §3): for one rod the chain LU (rodchain, include/rs_rodchain.h:
+       the rod's block-tridiagonal structure on dense LAPACK kernels, with partial pivoting
+       for the saddle-point rows, MUMPS behind it where a panel is singular on its own); PETSc's
+       own LU where the formulation says its Jacobian needs no pivoting (small nodal blocks:
+       ph_planar and se3_strand, where it is faster than the chain's dense kernels,
+       docs/performance.md); MUMPS for a system shared by the ranks.
+       -pc_factor_mat_solver_type overrides any of them. */
     PetscCall(SNESGetKSP(snes, &ksp));
     PetscCall(KSPGetPC(ksp, &pc));
     PetscCall(PCSetType(pc, PCLU));
-    PetscCall(PCFactorSetMatSolverType(pc, native_lu ? MATSOLVERPETSC : MATSOLVERMUMPS));
+    PetscCall(PCFactorSetMatSolverType(pc, s->distributed ? MATSOLVERMUMPS
+                                           : native_lu    ? MATSOLVERPETSC
+                                                          : MATSOLVERRODCHAIN));
     /* native_lu = 2: the formulation numbered its unknowns for a narrow band (se3_strand's
        block-tridiagonal interleaving), which the natural ordering keeps: no fill at all, and
        0.6 to 0.9 of the time of nested dissection (docs/performance.md). */

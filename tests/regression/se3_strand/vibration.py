@@ -84,12 +84,19 @@ def main():
         decays = vibrate(args, 4, "paper_law_1e3", [("rod", "internal_damping", "1e3")])
         e_grows = grows["series/energy/total"]
         e_decays = decays["series/energy/total"]
-        print(f"info: paper's internal law, L = 4 m: at 1e4 largest H / H_0 = "
-              f"{np.max(e_grows) / e_grows[0]:.3e} by t = {grows['time'][-1]:.4g} s (rodsolve "
-              f"exit status {grows.status}: the blow-up ends the run); at 1e3 H_end / H_0 = "
+        # The blow-up ends in overflow: the last records of the failed run may hold Inf or NaN
+        # (how far it gets depends on when round-off seeds the unstable mode, i.e. on the LU
+        # package), so the growth is read off the finite records.
+        finite = e_grows[np.isfinite(e_grows)]
+        print(f"info: paper's internal law, L = 4 m: at 1e4 largest finite H / H_0 = "
+              f"{np.max(finite) / e_grows[0]:.3e} by t = {grows['time'][-1]:.4g} s (rodsolve "
+              f"exit status {grows.status}: the blow-up ends the run; "
+              f"{e_grows.size - finite.size} records not finite); at 1e3 H_end / H_0 = "
               f"{e_decays[-1] / e_decays[0]:.3e}")
         checks.check("1e3 H_0 - largest H at internal_damping 1e4 (< 0: the energy grew)",
-                     1e3 * e_grows[0] - float(np.max(e_grows)), 0.0)
+                     1e3 * e_grows[0] - float(np.max(finite)), 0.0)
+        checks.check("the run at internal_damping 1e4 failed (0: it did, 1: it completed)",
+                     float(grows.status == 0), 0.0)
         checks.check("largest H_{n+1} - H_n over H_0 at internal_damping 1e3",
                      float(np.max(np.diff(e_decays))) / e_decays[0], 1e-13)
     checks.finish()
