@@ -39,8 +39,8 @@ static PetscErrorCode FactorWithFallback(Mat F, Mat A, const MatFactorInfo *info
     if (!rc->warned) {
         /* Said once per rod: such a rod runs at MUMPS's speed, and the user should know why. */
         PetscCall(PetscPrintf(PETSC_COMM_SELF,
-                              "rodchain: %s; MUMPS factors this rod's Jacobians (the chain is "
-                              "tried again after 1, 2, 4, ... of them)\n",
+                              "rodchain: %s; MUMPS factors such Jacobians of this rod (the chain "
+                              "is tried again after 1, 2, 4, ... of them; said once)\n",
                               why));
         rc->warned = PETSC_TRUE;
     }
@@ -109,8 +109,12 @@ static PetscErrorCode MatSolve_RodChain(Mat F, Vec b, Vec x)
     PetscCall(FactorWithFallback(F, rc->A, &rc->info, "a solve with the chain LU was not "
                                                       "backward stable (a panel nearly singular "
                                                       "on its own)"));
-    PetscCheck(!F->factorerrortype, PETSC_COMM_SELF, PETSC_ERR_MAT_LU_ZRPVT,
-               "rodchain: the Jacobian is singular (MUMPS could not factor it either)");
+    if (F->factorerrortype) {
+        /* Singular for MUMPS too: no solution, as PETSc marks a failed factorization (the
+           Newton step is then invalid and the time step is cut). */
+        PetscCall(VecSetInf(x));
+        PetscFunctionReturn(0);
+    }
     PetscCall(MatSolve(rc->fallback, b, x));
     PetscFunctionReturn(0);
 }
@@ -196,11 +200,10 @@ static PetscErrorCode MatLUFactorNumeric_RodChain(Mat F, Mat A, const MatFactorI
         rc->since_failure = 0;
     } else {
         char why[160];
-        if (panel) rc->since_failure = 0;
         if (panel) {
             PetscCall(PetscSNPrintf(why, sizeof(why),
-                                    "panel %d of the rod's Jacobian is singular on its own from "
-                                    "either end of the chain", panel));
+                                    "panel %d of a Jacobian of this rod is singular on its own "
+                                    "from either end of the chain", panel));
         } else if (rc->not_a_chain) {
             PetscCall(PetscSNPrintf(why, sizeof(why),
                                     "the Jacobian is not a chain (its panels would hold more than "

@@ -1,0 +1,856 @@
+/* Unit tests of the chain LU (include/rs_chain_lu.h, src/solver/chain_lu.c) against LAPACK's
+   dense LU with partial pivoting (dgesv), on random matrices with the pattern of a rod's
+   Jacobian: nodes and element interiors numbered along the rod, each element coupling its
+   interior to its two end nodes and the two nodes to each other with dense random blocks.
+
+   Checked: the solution in the matrix's order and from the other end of the chain agrees with
+   dgesv's to a bound from the condition number, with a small normwise backward error, for
+   1, 2, 5 and 40 elements and several seeds; saddle-point rows (node multipliers with a
+   structural or an explicit zero diagonal) need the pivoting inside panels; couplings present
+   in one direction only; the symbolic phase finds the chain (many panels, none larger than
+   one element with its nodes, the flops of one panel per element); a first element whose
+   constraint rows are dependent on its own is refused from the start of the chain and
+   factored from its end; singular and NaN matrices are refused, never "solved"; malformed
+   patterns are rejected.
+
+   Bookkeeping as in tests/support/assert.F90: a test passes when none of its checks failed,
+   failures go to standard error as file:line: test: message, and the last line is
+   "N passed, M failed" (exit status 1 if any failed). Achieved values go to standard output. */
+#include "rs_chain_lu.h"
+
+#include <fenv.h>
+#include <float.h>
+#include <math.h>
+#include <stdarg.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+/* LAPACK (the reference the chain LU is measured against). */
+extern void dgesv_(const int *n, const int *nrhs, double *a, const int *lda, int *ipiv,
+                   double *b, const int *ldb, int *info);
+extern void dgecon_(const char *norm, const int *n, const double *a, const int *lda,
+                    const double *anorm, double *rcond, double *work, int *iwork, int *info);
+
+/* ---- Bookkeeping (tests/support/assert.F90) ---------------------------------------------- */
+
+static int         n_passed, n_failed, failures_in_current;
+static const char *current_test = "";
+
+static void run_test(const char *name, void (*test)(void))
+{
+    current_test        = name;
+    failures_in_current = 0;
+    test();
+    if (failures_in_current == 0) {
+        ++n_passed;
+        printf("[  PASSED  ] %s\n", name);
+    } else {
+        ++n_failed;
+        printf("[  FAILED  ] %s (%d failed assertions)\n", name, failures_in_current);
+    }
+    fflush(stdout);
+}
+
+static void check_at(int ok, const char *file, int line, const char *format, ...)
+{
+    va_list args;
+
+    if (ok) return;
+    ++failures_in_current;
+    fflush(stdout);
+    fprintf(stderr, "%s:%d: %s: expected true: ", file, line, current_test);
+    va_start(args, format);
+    vfprintf(stderr, format, args);
+    va_end(args);
+    fputc('\n', stderr);
+}
+
+/* Fails unless cond holds; the message is a printf format. */
+#define CHECK(cond, ...) check_at((cond) != 0, __FILE__, __LINE__, __VA_ARGS__)
+
+/* Prints what a check achieved and fails unless achieved <= bound (NaN fails). */
+#define CHECK_BELOW(achieved, bound, what) \
+    check_below_at((achieved), (bound), (what), __FILE__, __LINE__)
+
+static void check_below_at(double achieved, double bound, const char *what, const char *file,
+                           int line)
+{
+    printf("    %-58s %10.3e (bound %9.2e)\n", what, achieved, bound);
+    check_at(achieved <= bound, file, line, "%s: %.3e <= %.2e", what, achieved, bound);
+}
+
+/* ---- Random numbers: a fixed-seed LCG (Knuth's MMIX constants), so every run is the same -- */
+
+static uint64_t lcg_state;
+
+static void lcg_seed(uint64_t seed)
+{
+    lcg_state = seed * 6364136223846793005ULL + 1442695040888963407ULL;
+}
+
+/* Uniform in [-1, 1), from the 53 high bits. */
+static double lcg_uniform(void)
+{
+    lcg_state = lcg_state * 6364136223846793005ULL + 1442695040888963407ULL;
+    return (double)(lcg_state >> 11) * 0x1.0p-52 - 1.0;
+}
+
+/* Uniform integer in [lo, hi]. */
+static int lcg_int(int lo, int hi)
+{
+    lcg_state = lcg_state * 6364136223846793005ULL + 1442695040888963407ULL;
+    return lo + (int)((lcg_state >> 33) % (uint64_t)(hi - lo + 1));
+}
+
+/* ---- Rod-like matrices ------------------------------------------------------------------- */
+
+enum { BOTH_WAYS, NO_UPPER, NO_LOWER, LOWER_EVEN_ROWS, LOWER_FIRST_ROWS };
+
+/* The shape of a rod's Jacobian. Unknowns along the rod: node 0, interior 0, node 1, ...,
+   interior E-1, node E. Node multipliers are rows and columns coupled only to the other
+   unknowns of their node, with a zero diagonal (explicit for the first, structural for the
+   others), like the constraint rows of a joint. Constraint rows of element 0 (at the end of
+   its interior) couple to its interior and to node 1 only, and their interior parts are equal
+   up to `constraint_gap`, so that they are dependent unless node 1 is in the same panel: the
+   first panel is singular (gap 0) or nearly so from the start of the chain and regular from
+   its end. Element E-1 can have the mirror image (rows at the start of its interior, coupled
+   to node E-1). `coupling` drops the blocks from a node or interior to the next node
+   (NO_UPPER) or those back (NO_LOWER), so that the coupling of panels is one-sided, or keeps
+   the blocks back only on the node's rows of even local index (LOWER_EVEN_ROWS) or on its
+   first half (LOWER_FIRST_ROWS), so that fewer rows than columns of a panel couple to the
+   one before (the chain LU then forms the coupling from the rows' side). `mass`
+   plays the part of M / h^2 in a dynamic rod's Jacobian: with none, the random blocks make
+   panels that are much worse conditioned than the whole matrix. */
+typedef struct {
+    int    n_elements, node_size, interior_size;
+    int    node_multipliers, multiplier_offset;
+    int    first_constraints, last_constraints;
+    double constraint_gap;
+    int    coupling;
+    double mass; /* added to the diagonal of every unknown but multipliers and constraints */
+} rod_shape_t;
+
+/* A matrix: dense column-major values and the pattern (1: stored entry, possibly 0.0). */
+typedef struct {
+    int            n;
+    double        *a;
+    unsigned char *stored;
+} rod_matrix_t;
+
+/* A CSR copy of a rod_matrix_t (0-based, sorted columns). */
+typedef struct {
+    int     n, nnz;
+    int    *row_ptr, *cols;
+    double *values;
+} csr_t;
+
+static int node_start(const rod_shape_t *s, int e)
+{
+    return e * (s->node_size + s->interior_size);
+}
+
+static int rod_size(const rod_shape_t *s)
+{
+    return node_start(s, s->n_elements) + s->node_size;
+}
+
+/* Segment of an unknown: 2e for node e, 2e + 1 for interior e. */
+static int segment_of(const rod_shape_t *s, int i)
+{
+    const int stride = s->node_size + s->interior_size;
+    return 2 * (i / stride) + (i % stride >= s->node_size);
+}
+
+static int is_node_multiplier(const rod_shape_t *s, int i)
+{
+    const int local = i % (s->node_size + s->interior_size);
+    return local >= s->multiplier_offset && local < s->multiplier_offset + s->node_multipliers;
+}
+
+static void set_entry(const rod_shape_t *s, rod_matrix_t *m, int i, int j, double value)
+{
+    const int si = segment_of(s, i), sj = segment_of(s, j);
+    /* The blocks between a node or an interior and the next node (even segment, later). */
+    if (s->coupling == NO_UPPER && sj % 2 == 0 && sj > si) return;
+    if (s->coupling == NO_LOWER && si % 2 == 0 && si > sj) return;
+    if (s->coupling == LOWER_EVEN_ROWS && si % 2 == 0 && si > sj &&
+        (i - node_start(s, si / 2)) % 2)
+        return;
+    if (s->coupling == LOWER_FIRST_ROWS && si % 2 == 0 && si > sj &&
+        i - node_start(s, si / 2) >= s->node_size / 2)
+        return;
+    m->a[i + (size_t)j * m->n]      = value;
+    m->stored[i + (size_t)j * m->n] = 1;
+}
+
+/* Dense random blocks rows x columns (index lists). */
+static void set_block(const rod_shape_t *s, rod_matrix_t *m, const int *rows, int n_rows,
+                      const int *cols, int n_cols)
+{
+    for (int j = 0; j < n_cols; ++j)
+        for (int i = 0; i < n_rows; ++i) set_entry(s, m, rows[i], cols[j], lcg_uniform());
+}
+
+/* The node's unknowns other than its multipliers. */
+static int node_primal(const rod_shape_t *s, int e, int *list)
+{
+    int count = 0;
+    for (int i = node_start(s, e); i < node_start(s, e) + s->node_size; ++i)
+        if (!is_node_multiplier(s, i)) list[count++] = i;
+    return count;
+}
+
+static void rod_matrix_free(rod_matrix_t *m)
+{
+    free(m->a);
+    free(m->stored);
+    m->a      = NULL;
+    m->stored = NULL;
+}
+
+static void rod_matrix_make(const rod_shape_t *s, uint64_t seed, rod_matrix_t *m)
+{
+    const int n = rod_size(s);
+    int      *p0 = malloc((size_t)n * sizeof(int)), *p1 = malloc((size_t)n * sizeof(int));
+    int      *mult = malloc((size_t)n * sizeof(int)), *inner = malloc((size_t)n * sizeof(int));
+    int      *lambda = malloc((size_t)n * sizeof(int));
+    double   *shared = malloc((size_t)n * sizeof(double));
+
+    lcg_seed(seed);
+    m->n      = n;
+    m->a      = calloc((size_t)n * n, sizeof(double));
+    m->stored = calloc((size_t)n * n, 1);
+    for (int e = 0; e <= s->n_elements; ++e) {
+        const int np = node_primal(s, e, p0), nm = s->node_multipliers;
+        for (int k = 0; k < nm; ++k) mult[k] = node_start(s, e) + s->multiplier_offset + k;
+        set_block(s, m, p0, np, p0, np);
+        set_block(s, m, mult, nm, p0, np);
+        set_block(s, m, p0, np, mult, nm);
+        if (nm > 0) set_entry(s, m, mult[0], mult[0], 0.0);
+    }
+    for (int e = 0; e < s->n_elements; ++e) {
+        const int np0 = node_primal(s, e, p0), np1 = node_primal(s, e + 1, p1);
+        const int first = node_start(s, e) + s->node_size;
+        int       nl = 0, ni = 0, *far = p1, n_far = np1;
+        /* Constraint rows of element 0 sit at the end of its interior and reach node 1; those
+           of element E-1 at its start and reach node E-1 (the mirror image). */
+        if (e == 0 && s->first_constraints > 0) {
+            nl = s->first_constraints;
+            for (int k = 0; k < nl; ++k) lambda[k] = first + s->interior_size - nl + k;
+            for (int k = 0; k < s->interior_size - nl; ++k) inner[ni++] = first + k;
+        } else if (e == s->n_elements - 1 && s->last_constraints > 0) {
+            nl = s->last_constraints;
+            for (int k = 0; k < nl; ++k) lambda[k] = first + k;
+            for (int k = nl; k < s->interior_size; ++k) inner[ni++] = first + k;
+            far   = p0;
+            n_far = np0;
+        } else {
+            for (int k = 0; k < s->interior_size; ++k) inner[ni++] = first + k;
+        }
+        set_block(s, m, inner, ni, inner, ni);
+        set_block(s, m, inner, ni, p0, np0);
+        set_block(s, m, p0, np0, inner, ni);
+        set_block(s, m, inner, ni, p1, np1);
+        set_block(s, m, p1, np1, inner, ni);
+        set_block(s, m, p0, np0, p1, np1);
+        set_block(s, m, p1, np1, p0, np0);
+        if (nl > 0) {
+            for (int j = 0; j < ni; ++j) shared[j] = lcg_uniform();
+            for (int k = 0; k < nl; ++k)
+                for (int j = 0; j < ni; ++j)
+                    set_entry(s, m, lambda[k], inner[j],
+                              shared[j] + s->constraint_gap * lcg_uniform());
+            set_block(s, m, lambda, nl, far, n_far);
+            set_block(s, m, inner, ni, lambda, nl);
+            set_block(s, m, far, n_far, lambda, nl);
+        }
+    }
+    for (int i = 0; i < n; ++i)
+        if (m->stored[i + (size_t)i * n] && m->a[i + (size_t)i * n] != 0.0)
+            m->a[i + (size_t)i * n] += s->mass;
+    free(p0);
+    free(p1);
+    free(mult);
+    free(inner);
+    free(lambda);
+    free(shared);
+}
+
+static void csr_free(csr_t *c)
+{
+    free(c->row_ptr);
+    free(c->cols);
+    free(c->values);
+    c->row_ptr = c->cols = NULL;
+    c->values            = NULL;
+}
+
+static void csr_from(const rod_matrix_t *m, csr_t *c)
+{
+    const int n = m->n;
+    int       nnz = 0;
+
+    for (size_t k = 0; k < (size_t)n * n; ++k) nnz += m->stored[k];
+    c->n       = n;
+    c->nnz     = nnz;
+    c->row_ptr = malloc(((size_t)n + 1) * sizeof(int));
+    c->cols    = malloc((size_t)nnz * sizeof(int));
+    c->values  = malloc((size_t)nnz * sizeof(double));
+    c->row_ptr[0] = 0;
+    for (int i = 0, e = 0; i < n; ++i) {
+        for (int j = 0; j < n; ++j) {
+            if (m->stored[i + (size_t)j * n]) {
+                c->cols[e]     = j;
+                c->values[e++] = m->a[i + (size_t)j * n];
+            }
+        }
+        c->row_ptr[i + 1] = e;
+    }
+}
+
+/* ---- Measures ---------------------------------------------------------------------------- */
+
+static double norm_inf_vector(int n, const double *x)
+{
+    double largest = 0.0;
+    for (int i = 0; i < n; ++i)
+        if (!(fabs(x[i]) <= largest)) largest = fabs(x[i]);
+    return largest;
+}
+
+static double norm_inf_matrix(const rod_matrix_t *m)
+{
+    double largest = 0.0;
+    for (int i = 0; i < m->n; ++i) {
+        double row = 0.0;
+        for (int j = 0; j < m->n; ++j) row += fabs(m->a[i + (size_t)j * m->n]);
+        if (row > largest) largest = row;
+    }
+    return largest;
+}
+
+/* ||b - A x|| / (||A|| ||x|| + ||b||) in the infinity norm: the normwise backward error. */
+static double backward_error(const rod_matrix_t *m, const double *x, const double *b)
+{
+    const int n = m->n;
+    double   *r = malloc((size_t)n * sizeof(double)), error;
+
+    for (int i = 0; i < n; ++i) r[i] = b[i];
+    for (int j = 0; j < n; ++j)
+        for (int i = 0; i < n; ++i) r[i] -= m->a[i + (size_t)j * n] * x[j];
+    error = norm_inf_vector(n, r) /
+            (norm_inf_matrix(m) * norm_inf_vector(n, x) + norm_inf_vector(n, b));
+    free(r);
+    return error;
+}
+
+/* ||x - y|| / ||y||. */
+static double relative_difference(int n, const double *x, const double *y)
+{
+    double difference = 0.0;
+    for (int i = 0; i < n; ++i)
+        if (!(fabs(x[i] - y[i]) <= difference)) difference = fabs(x[i] - y[i]);
+    return difference / norm_inf_vector(n, y);
+}
+
+/* x = A^{-1} b by dgesv and the infinity-norm condition number estimate of dgecon. */
+static void dense_solve(const rod_matrix_t *m, const double *b, double *x, double *condition)
+{
+    const int n = m->n, one = 1;
+    double   *lu = malloc((size_t)n * n * sizeof(double));
+    double   *work = malloc(4 * (size_t)n * sizeof(double));
+    int      *ipiv = malloc((size_t)n * sizeof(int)), *iwork = malloc((size_t)n * sizeof(int));
+    int       info = 0;
+    double    anorm = norm_inf_matrix(m), rcond = 0.0;
+
+    memcpy(lu, m->a, (size_t)n * n * sizeof(double));
+    memcpy(x, b, (size_t)n * sizeof(double));
+    dgesv_(&n, &one, lu, &n, ipiv, x, &n, &info);
+    if (info == 0) dgecon_("I", &n, lu, &n, &anorm, &rcond, work, iwork, &info);
+    *condition = info == 0 && rcond > 0.0 ? 1.0 / rcond : HUGE_VAL;
+    free(lu);
+    free(work);
+    free(ipiv);
+    free(iwork);
+}
+
+/* b = A x for a random x. */
+static void random_right_hand_side(const rod_matrix_t *m, double *b)
+{
+    const int n = m->n;
+    for (int i = 0; i < n; ++i) b[i] = 0.0;
+    for (int j = 0; j < n; ++j) {
+        const double xj = lcg_uniform();
+        for (int i = 0; i < n; ++i) b[i] += m->a[i + (size_t)j * n] * xj;
+    }
+}
+
+static int *reversed_order(int n)
+{
+    int *perm = malloc((size_t)n * sizeof(int));
+    for (int p = 0; p < n; ++p) perm[p] = n - 1 - p;
+    return perm;
+}
+
+/* ---- Bounds ------------------------------------------------------------------------------ */
+
+/* Normwise backward error of a chain LU solve where the panels are about as well conditioned
+   as the matrix (mass on the diagonal): partial pivoting inside panels of at most ~100
+   unknowns then keeps the growth small; achieved 0.3 to 3 eps (dgesv: 0.3 to 1.3 eps), so
+   16 eps is 5 to 50 times what is achieved, while a wrong coupling or pivot gives O(1). */
+static const double backward_bound = 16.0 * DBL_EPSILON;
+
+/* With the raw random blocks (no mass), a panel's own condition reaches 1e5, as large as the
+   matrix's: the Schur complements grow and the chain LU's backward error reaches ~1000 eps
+   (0.7 to 900 eps achieved over these seeds, dgesv: 0.4 to 1.3 eps). This is the weakness the
+   rodchain package guards against with its check of the first solve (-mat_rodchain_check_tol
+   1e-10); 2e-12 is 10 times the worst case here. */
+static const double raw_backward_bound = 2e-12;
+
+/* The difference from dgesv's solution relative to it, over kappa (eta + eta_dgesv): to first
+   order each solution is within kappa eta (1 + ||b|| / (||A|| ||x||)) <= 2 kappa eta of the
+   exact one (eta its normwise backward error, kappa the infinity-norm condition number, of
+   which dgecon's is an estimate). So 2 is the bound; achieved 0.003 to 0.2 (0.0005 to 0.1
+   without mass, where the chain's eta overstates its error; exactly 0 where the chain is a
+   single panel, i.e. dgetrf itself), 10 to 600 times below. */
+static const double forward_bound = 2.0;
+
+/* Solve a rod matrix by the chain LU (the matrix's order and the reversed order) and by dgesv
+   and compare. */
+static void check_against_dense(const rod_shape_t *s, uint64_t seed, double bound,
+                                const char *label)
+{
+    rod_matrix_t m;
+    csr_t        c;
+    rs_chain_lu *lu[2] = {NULL, NULL};
+    int         *perm;
+    double      *b, *x, *x_ref, condition, eta_ref;
+    char         what[128];
+
+    rod_matrix_make(s, seed, &m);
+    csr_from(&m, &c);
+    perm  = reversed_order(m.n);
+    b     = malloc((size_t)m.n * sizeof(double));
+    x     = malloc((size_t)m.n * sizeof(double));
+    x_ref = malloc((size_t)m.n * sizeof(double));
+    random_right_hand_side(&m, b);
+    dense_solve(&m, b, x_ref, &condition);
+    eta_ref = backward_error(&m, x_ref, b);
+    printf("  %s: n = %d, nnz = %d, condition estimate %.3g, dgesv's backward error %.3g\n",
+           label, m.n, c.nnz, condition, eta_ref);
+    CHECK(condition < 1e10, "%s: the test matrix is regular (condition %.3g)", label, condition);
+    CHECK(rs_chain_lu_symbolic(c.n, c.row_ptr, c.cols, &lu[0]) == 0, "%s: symbolic", label);
+    CHECK(rs_chain_lu_symbolic_permuted(c.n, c.row_ptr, c.cols, perm, &lu[1]) == 0,
+          "%s: symbolic reversed", label);
+    for (int d = 0; d < 2; ++d) {
+        const char *direction = d == 0 ? "forward" : "reversed";
+        double      eta;
+        int         status;
+        if (!lu[d]) continue;
+        status = rs_chain_lu_numeric(lu[d], c.values, 1e-13);
+        CHECK(status == 0, "%s %s: numeric returned %d", label, direction, status);
+        if (status != 0) continue;
+        rs_chain_lu_solve(lu[d], b, x);
+        eta = backward_error(&m, x, b);
+        snprintf(what, sizeof(what), "%s, %s: backward error", label, direction);
+        CHECK_BELOW(eta, bound, what);
+        snprintf(what, sizeof(what), "%s, %s: |x - x_dgesv| / (kappa (eta + eta_dgesv) |x|)",
+                 label, direction);
+        CHECK_BELOW(relative_difference(m.n, x, x_ref) / (condition * (eta + eta_ref)),
+                    forward_bound, what);
+    }
+    rs_chain_lu_free(lu[0]);
+    rs_chain_lu_free(lu[1]);
+    free(perm);
+    free(b);
+    free(x);
+    free(x_ref);
+    csr_free(&c);
+    rod_matrix_free(&m);
+}
+
+/* Sizes of a rod with `elements` elements drawn from the seed: nodes of 6 to 30 unknowns and
+   interiors of 4 to 42 (smaller for the long chain, to keep the dense reference fast); a
+   mass of the order of the spectral radius of the random blocks of a row. */
+static rod_shape_t random_shape(int elements, uint64_t seed, int multipliers)
+{
+    rod_shape_t s;
+    memset(&s, 0, sizeof(s));
+    lcg_seed(seed + 1000);
+    s.n_elements    = elements;
+    s.node_size     = elements > 10 ? lcg_int(6, 12) : lcg_int(6, 30);
+    s.interior_size = elements > 10 ? lcg_int(4, 18) : lcg_int(4, 42);
+    if (multipliers) {
+        s.node_multipliers  = lcg_int(1, 3);
+        s.multiplier_offset = lcg_int(0, s.node_size - s.node_multipliers);
+    }
+    s.coupling = BOTH_WAYS;
+    s.mass     = sqrt(2.0 * s.node_size + s.interior_size);
+    return s;
+}
+
+/* ---- Tests ------------------------------------------------------------------------------- */
+
+static const int element_counts[] = {1, 2, 5, 40};
+
+static void test_rods_match_dense_lu(void)
+{
+    char label[96];
+    for (size_t k = 0; k < sizeof(element_counts) / sizeof(element_counts[0]); ++k)
+        for (uint64_t seed = 1; seed <= 3; ++seed) {
+            const rod_shape_t s = random_shape(element_counts[k], seed, 0);
+            snprintf(label, sizeof(label), "E=%d seed=%d (node %d, interior %d)",
+                     s.n_elements, (int)seed, s.node_size, s.interior_size);
+            check_against_dense(&s, seed, backward_bound, label);
+        }
+}
+
+/* Node multipliers have a zero diagonal (structural, or an explicit 0.0 for the first), so
+   dgetrf must pivot inside the panel; placed at random inside their node, so that the
+   coupled rows and columns of a panel are not one contiguous range. */
+static void test_saddle_rows_match_dense_lu(void)
+{
+    char label[96];
+    for (size_t k = 0; k < sizeof(element_counts) / sizeof(element_counts[0]); ++k)
+        for (uint64_t seed = 11; seed <= 13; ++seed) {
+            const rod_shape_t s = random_shape(element_counts[k], seed, 1);
+            snprintf(label, sizeof(label), "E=%d seed=%d (%d multipliers at %d of %d)",
+                     s.n_elements, (int)seed, s.node_multipliers, s.multiplier_offset,
+                     s.node_size);
+            check_against_dense(&s, seed, backward_bound, label);
+        }
+}
+
+/* The raw random blocks, no mass: panels much worse conditioned than the matrix. */
+static void test_raw_random_blocks_match_dense_lu(void)
+{
+    char label[96];
+    for (size_t k = 0; k < sizeof(element_counts) / sizeof(element_counts[0]); ++k)
+        for (uint64_t seed = 11; seed <= 13; ++seed) {
+            rod_shape_t s = random_shape(element_counts[k], seed, 1);
+            s.mass        = 0.0;
+            snprintf(label, sizeof(label), "E=%d seed=%d no mass", s.n_elements, (int)seed);
+            check_against_dense(&s, seed, raw_backward_bound, label);
+        }
+}
+
+/* Couplings to the next panel one way only (the Schur complement of a panel is empty and the
+   solve must still carry the other coupling), or back from fewer rows than the columns
+   forward (in one range or scattered). */
+static void test_one_sided_coupling_matches_dense_lu(void)
+{
+    char label[96];
+    static const char *names[] = {"", "lower only", "upper only", "lower on even rows",
+                                  "lower on the first rows"};
+    for (int coupling = NO_UPPER; coupling <= LOWER_FIRST_ROWS; ++coupling) {
+        rod_shape_t s = random_shape(5, 21, 1);
+        s.coupling    = coupling;
+        snprintf(label, sizeof(label), "E=5 %s", names[coupling]);
+        check_against_dense(&s, 21, backward_bound, label);
+    }
+}
+
+/* The panels of a long chain: one element each, the flops of that partition at most. */
+static void test_panels_follow_the_chain(void)
+{
+    rod_shape_t  s = random_shape(40, 3, 1);
+    rod_matrix_t m;
+    csr_t        c;
+    rs_chain_lu *lu = NULL;
+
+    rod_matrix_make(&s, 3, &m);
+    csr_from(&m, &c);
+    CHECK(rs_chain_lu_symbolic(c.n, c.row_ptr, c.cols, &lu) == 0, "symbolic");
+    if (lu) {
+        rs_chain_lu_info info;
+        const int        element = s.node_size + s.interior_size;
+        const int        primal  = s.node_size - s.node_multipliers;
+        /* One panel per element (node and interior) plus the last node: each couples to the
+           next through that node's non-multiplier unknowns. The panels minimize the flops
+           over cuts at nodes, so they cost at most this partition. */
+        const double one_panel = 2.0 / 3.0 * element * element * element +
+                                 2.0 * element * element * primal +
+                                 2.0 * primal * element * primal;
+        const double per_element =
+            s.n_elements * one_panel + 2.0 / 3.0 * s.node_size * s.node_size * s.node_size;
+        const double dense = 2.0 / 3.0 * (double)c.n * c.n * c.n;
+
+        rs_chain_lu_get_info(lu, &info);
+        printf("  n = %d (node %d, interior %d): %d panels, largest %d, coupling at most %d, "
+               "%.4g flops (one panel per element: %.4g, dense: %.4g), %.0f doubles\n",
+               c.n, s.node_size, s.interior_size, info.n_panels, info.largest_panel,
+               info.widest_coupling, info.flops, per_element, dense, info.doubles);
+        CHECK(info.n_panels >= s.n_elements, "%d panels for %d elements", info.n_panels,
+              s.n_elements);
+        CHECK(info.largest_panel <= element + s.node_size,
+              "largest panel %d at most an element with both nodes (%d)", info.largest_panel,
+              element + s.node_size);
+        CHECK(info.widest_coupling <= primal, "coupling %d at most a node's primal unknowns %d",
+              info.widest_coupling, primal);
+        CHECK_BELOW(info.flops / per_element, 1.0 + 1e-12,
+                    "flops / flops of one panel per element");
+        /* About (n / E)^3 E of n^3, times ~3 for the couplings: 2e-3 for 40 elements. */
+        CHECK_BELOW(info.flops / dense, 1e-2, "flops / dense LU flops");
+        CHECK(info.doubles < 0.05 * (double)c.n * c.n, "%.0f doubles stored, dense %.0f",
+              info.doubles, (double)c.n * c.n);
+    }
+    rs_chain_lu_free(lu);
+    csr_free(&c);
+    rod_matrix_free(&m);
+}
+
+/* A second numeric factorization with other values of the same pattern, and a solve in place
+   (x = b, allowed by the header). */
+static void test_refactor_and_solve_in_place(void)
+{
+    rod_shape_t  s = random_shape(5, 31, 1);
+    rod_matrix_t m[2];
+    csr_t        c[2];
+    rs_chain_lu *lu = NULL;
+    double      *b, *x, *x_ref, condition;
+    char         what[96];
+
+    for (int k = 0; k < 2; ++k) {
+        rod_matrix_make(&s, 31 + (uint64_t)k, &m[k]);
+        csr_from(&m[k], &c[k]);
+    }
+    b     = malloc((size_t)m[0].n * sizeof(double));
+    x     = malloc((size_t)m[0].n * sizeof(double));
+    x_ref = malloc((size_t)m[0].n * sizeof(double));
+    CHECK(rs_chain_lu_symbolic(c[0].n, c[0].row_ptr, c[0].cols, &lu) == 0, "symbolic");
+    for (int k = 0; lu && k < 2; ++k) {
+        CHECK(rs_chain_lu_numeric(lu, c[k].values, 1e-13) == 0, "numeric %d", k + 1);
+        for (int rhs = 0; rhs < 2; ++rhs) {
+            random_right_hand_side(&m[k], b);
+            dense_solve(&m[k], b, x_ref, &condition);
+            memcpy(x, b, (size_t)m[k].n * sizeof(double));
+            rs_chain_lu_solve(lu, x, x);
+            snprintf(what, sizeof(what), "values %d, right-hand side %d: backward error", k + 1,
+                     rhs + 1);
+            CHECK_BELOW(backward_error(&m[k], x, b), backward_bound, what);
+            snprintf(what, sizeof(what), "values %d, right-hand side %d: |x - x_dgesv| / "
+                     "(kappa (eta + eta_dgesv) |x|)", k + 1, rhs + 1);
+            CHECK_BELOW(relative_difference(m[k].n, x, x_ref) /
+                            (condition * (backward_error(&m[k], x, b) +
+                                          backward_error(&m[k], x_ref, b))),
+                        forward_bound, what);
+        }
+    }
+    rs_chain_lu_free(lu);
+    free(b);
+    free(x);
+    free(x_ref);
+    for (int k = 0; k < 2; ++k) {
+        csr_free(&c[k]);
+        rod_matrix_free(&m[k]);
+    }
+}
+
+/* A regular matrix raises no floating-point exception in numeric and solve (they run inside
+   PETSc with traps off, but an Inf or NaN on the way would be a defect). */
+static void test_no_floating_point_exceptions(void)
+{
+    rod_shape_t  s = random_shape(5, 41, 1);
+    rod_matrix_t m;
+    csr_t        c;
+    rs_chain_lu *lu = NULL;
+    double      *b, *x;
+    int          raised;
+
+    rod_matrix_make(&s, 41, &m);
+    csr_from(&m, &c);
+    b = malloc((size_t)m.n * sizeof(double));
+    x = malloc((size_t)m.n * sizeof(double));
+    random_right_hand_side(&m, b);
+    CHECK(rs_chain_lu_symbolic(c.n, c.row_ptr, c.cols, &lu) == 0, "symbolic");
+    if (lu) {
+        feclearexcept(FE_ALL_EXCEPT);
+        CHECK(rs_chain_lu_numeric(lu, c.values, 1e-13) == 0, "numeric");
+        rs_chain_lu_solve(lu, b, x);
+        raised = fetestexcept(FE_INVALID | FE_DIVBYZERO | FE_OVERFLOW);
+        printf("    invalid %d, division by zero %d, overflow %d\n", !!(raised & FE_INVALID),
+               !!(raised & FE_DIVBYZERO), !!(raised & FE_OVERFLOW));
+        CHECK(raised == 0, "no invalid, division-by-zero or overflow exception");
+    }
+    rs_chain_lu_free(lu);
+    free(b);
+    free(x);
+    csr_free(&c);
+    rod_matrix_free(&m);
+}
+
+/* A first element whose two constraint rows agree on its interior and differ only on node 1:
+   the panel of node 0 and interior 0 is singular, the matrix is not. From the start of the
+   chain numeric refuses panel 1; from its end (node 1 eliminated with interior 0) it factors,
+   and the solution is dgesv's. */
+static void test_first_panel_singular_from_start_only(void)
+{
+    rod_shape_t  s = random_shape(5, 51, 1);
+    rod_matrix_t m;
+    csr_t        c;
+    rs_chain_lu *forward = NULL, *backward = NULL;
+    int         *perm;
+    double      *b, *x, *x_ref, condition;
+    int          status;
+
+    s.first_constraints = 2;
+    rod_matrix_make(&s, 51, &m);
+    csr_from(&m, &c);
+    perm  = reversed_order(m.n);
+    b     = malloc((size_t)m.n * sizeof(double));
+    x     = malloc((size_t)m.n * sizeof(double));
+    x_ref = malloc((size_t)m.n * sizeof(double));
+    random_right_hand_side(&m, b);
+    dense_solve(&m, b, x_ref, &condition);
+    printf("    n = %d, condition estimate %.3g\n", m.n, condition);
+    CHECK(condition < 1e10, "the matrix is regular (condition %.3g)", condition);
+    CHECK(rs_chain_lu_symbolic(c.n, c.row_ptr, c.cols, &forward) == 0, "symbolic");
+    CHECK(rs_chain_lu_symbolic_permuted(c.n, c.row_ptr, c.cols, perm, &backward) == 0,
+          "symbolic reversed");
+    if (forward && backward) {
+        status = rs_chain_lu_numeric(forward, c.values, 1e-13);
+        printf("    numeric from the start: %d\n", status);
+        CHECK(status == 1, "numeric from the start refuses panel 1, returned %d", status);
+        status = rs_chain_lu_numeric(backward, c.values, 1e-13);
+        printf("    numeric from the end: %d\n", status);
+        CHECK(status == 0, "numeric from the end succeeds, returned %d", status);
+        if (status == 0) {
+            rs_chain_lu_solve(backward, b, x);
+            CHECK_BELOW(backward_error(&m, x, b), backward_bound, "backward error");
+            CHECK_BELOW(relative_difference(m.n, x, x_ref) /
+                            (condition *
+                             (backward_error(&m, x, b) + backward_error(&m, x_ref, b))),
+                        forward_bound, "|x - x_dgesv| / (kappa (eta + eta_dgesv) |x|)");
+        }
+    }
+    rs_chain_lu_free(forward);
+    rs_chain_lu_free(backward);
+    free(perm);
+    free(b);
+    free(x);
+    free(x_ref);
+    csr_free(&c);
+    rod_matrix_free(&m);
+}
+
+/* Factor a singular variant of a rod matrix, from both ends; numeric must refuse it with a
+   panel number in 1..n_panels. */
+static void check_refused(const rod_shape_t *s, rod_matrix_t *m, const char *label)
+{
+    csr_t        c;
+    rs_chain_lu *lu[2] = {NULL, NULL};
+    int         *perm = reversed_order(m->n);
+
+    csr_from(m, &c);
+    CHECK(rs_chain_lu_symbolic(c.n, c.row_ptr, c.cols, &lu[0]) == 0, "%s: symbolic", label);
+    CHECK(rs_chain_lu_symbolic_permuted(c.n, c.row_ptr, c.cols, perm, &lu[1]) == 0,
+          "%s: symbolic reversed", label);
+    for (int d = 0; d < 2; ++d) {
+        rs_chain_lu_info info;
+        int              status;
+        if (!lu[d]) continue;
+        rs_chain_lu_get_info(lu[d], &info);
+        status = rs_chain_lu_numeric(lu[d], c.values, 1e-13);
+        printf("    %s, %s: numeric returned %d of %d panels\n", label,
+               d == 0 ? "forward" : "reversed", status, info.n_panels);
+        CHECK(status >= 1 && status <= info.n_panels, "%s %s: refused with a panel number, got %d",
+              label, d == 0 ? "forward" : "reversed", status);
+    }
+    (void)s;
+    rs_chain_lu_free(lu[0]);
+    rs_chain_lu_free(lu[1]);
+    free(perm);
+    csr_free(&c);
+}
+
+/* Singular matrices: a zero row (its pattern kept), a row three times another in the same
+   interior (round-off leaves a pivot of about eps, which the pivot test must catch), the
+   first element's constraint rows equal on its interior and on node 1 (dependent in the
+   whole matrix), and a NaN. */
+static void test_singular_matrices_are_refused(void)
+{
+    rod_shape_t  s = random_shape(5, 61, 1);
+    rod_matrix_t m;
+    const int    n = rod_size(&s), row = node_start(&s, 2) + s.node_size + 1;
+
+    rod_matrix_make(&s, 61, &m);
+    for (int j = 0; j < n; ++j) m.a[row + (size_t)j * n] = 0.0;
+    check_refused(&s, &m, "zero row");
+    rod_matrix_free(&m);
+
+    rod_matrix_make(&s, 61, &m);
+    for (int j = 0; j < n; ++j) m.a[row + 1 + (size_t)j * n] = 3.0 * m.a[row + (size_t)j * n];
+    check_refused(&s, &m, "row 3 times another");
+    rod_matrix_free(&m);
+
+    s.first_constraints = 2;
+    rod_matrix_make(&s, 61, &m);
+    {
+        const int first = node_start(&s, 0) + s.node_size + s.interior_size - 2;
+        for (int j = 0; j < n; ++j) m.a[first + 1 + (size_t)j * n] = m.a[first + (size_t)j * n];
+    }
+    check_refused(&s, &m, "equal constraint rows");
+    rod_matrix_free(&m);
+    s.first_constraints = 0;
+
+    rod_matrix_make(&s, 61, &m);
+    m.a[row + (size_t)row * n] = NAN;
+    check_refused(&s, &m, "a NaN on the diagonal");
+    rod_matrix_free(&m);
+}
+
+/* Patterns symbolic must reject with status 1 and *lu NULL. */
+static void test_bad_patterns_are_rejected(void)
+{
+    /* A 3 x 3 tridiagonal pattern and broken copies of it. */
+    const int    row_ptr[] = {0, 2, 5, 7}, cols[] = {0, 1, 0, 1, 2, 1, 2};
+    const int    shifted[] = {1, 2, 5, 7}, decreasing[] = {0, 2, 1, 7};
+    const int    too_large[] = {0, 1, 0, 1, 3, 1, 2}, negative[] = {0, 1, -1, 1, 2, 1, 2};
+    const int    duplicate_perm[] = {2, 1, 2}, outside_perm[] = {2, 1, 3};
+    rs_chain_lu *lu;
+    struct {
+        const char *what;
+        int         n;
+        const int  *row_ptr, *cols, *perm;
+    } cases[] = {
+        {"row_ptr[0] = 1", 3, shifted, cols, NULL},
+        {"row_ptr decreasing", 3, decreasing, cols, NULL},
+        {"a column = n", 3, row_ptr, too_large, NULL},
+        {"a column = -1", 3, row_ptr, negative, NULL},
+        {"n = 0", 0, row_ptr, cols, NULL},
+        {"perm with a repeated entry", 3, row_ptr, cols, duplicate_perm},
+        {"perm with an entry = n", 3, row_ptr, cols, outside_perm},
+    };
+
+    for (size_t k = 0; k < sizeof(cases) / sizeof(cases[0]); ++k) {
+        int status;
+        lu     = (rs_chain_lu *)&lu; /* not NULL: symbolic must clear it */
+        status = rs_chain_lu_symbolic_permuted(cases[k].n, cases[k].row_ptr, cases[k].cols,
+                                               cases[k].perm, &lu);
+        printf("    %-28s status %d\n", cases[k].what, status);
+        CHECK(status == 1, "%s: status %d, expected 1", cases[k].what, status);
+        CHECK(lu == NULL, "%s: *lu is NULL", cases[k].what);
+    }
+    /* The unbroken pattern is accepted (so the cases above fail for their defect). */
+    CHECK(rs_chain_lu_symbolic(3, row_ptr, cols, &lu) == 0, "the tridiagonal pattern");
+    rs_chain_lu_free(lu);
+    rs_chain_lu_free(NULL);
+}
+
+int main(void)
+{
+    run_test("rods_match_dense_lu", test_rods_match_dense_lu);
+    run_test("saddle_rows_match_dense_lu", test_saddle_rows_match_dense_lu);
+    run_test("raw_random_blocks_match_dense_lu", test_raw_random_blocks_match_dense_lu);
+    run_test("one_sided_coupling_matches_dense_lu", test_one_sided_coupling_matches_dense_lu);
+    run_test("panels_follow_the_chain", test_panels_follow_the_chain);
+    run_test("refactor_and_solve_in_place", test_refactor_and_solve_in_place);
+    run_test("no_floating_point_exceptions", test_no_floating_point_exceptions);
+    run_test("first_panel_singular_from_start_only", test_first_panel_singular_from_start_only);
+    run_test("singular_matrices_are_refused", test_singular_matrices_are_refused);
+    run_test("bad_patterns_are_rejected", test_bad_patterns_are_rejected);
+    printf("%d passed, %d failed\n", n_passed, n_failed);
+    return n_failed > 0 ? 1 : 0;
+}
