@@ -22,6 +22,11 @@
    strain over the element is fixed by its end nodes), so the first panel is singular from
    either end; factoring such chains needs pivots delayed across panels.
 
+   Before the chain, rows with two entries (a_ie x_e + a_ip x_p = b_i) whose unknown x_e
+   appears nowhere without x_p are substituted out (no entry is added): ph_director's kinematic
+   rows, which take its velocities out of the panels (src/solver/chain_lu.c, "Substitution
+   rows").
+
    Plain C on raw arrays (0-based CSR with sorted columns, doubles, column-major dense blocks);
    no PETSc, no allocation after symbolic. */
 #ifndef RS_CHAIN_LU_H
@@ -38,6 +43,7 @@ typedef struct {
     int    widest_coupling; /* the largest |R_k| or |C_k| */
     double flops;           /* of one numeric factorization */
     double doubles;         /* stored values (the dense blocks) */
+    int    substituted;     /* unknowns substituted before the chain (two-entry rows) */
 } rs_chain_lu_info;
 
 /* The panels of the n-by-n pattern (row_ptr: n + 1 entries, cols: row_ptr[n]) in its own

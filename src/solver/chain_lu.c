@@ -27,7 +27,10 @@ extern void dgemv_(const char *trans, const int *m, const int *n, const double *
                    const double *a, const int *lda, const double *x, const int *incx,
                    const double *beta, double *y, const int *incy);
 
-struct rs_chain_lu {
+typedef struct chain_core chain_core;
+
+/* The chain LU of the kept unknowns (after the pre-elimination, see below). */
+struct chain_core {
     int     n, nnz, n_panels;
     int    *start;     /* n_panels + 1 panel boundaries (chain positions) */
     int    *perm;      /* chain position -> unknown (NULL: the identity) */
@@ -54,7 +57,7 @@ struct rs_chain_lu {
 };
 
 /* Everything place_entries makes from the panels. */
-static void free_plan(rs_chain_lu *lu)
+static void free_plan(chain_core *lu)
 {
     free(lu->n_cols);
     free(lu->n_rows);
@@ -80,7 +83,7 @@ static void free_plan(rs_chain_lu *lu)
     lu->ipiv = NULL;
 }
 
-void rs_chain_lu_free(rs_chain_lu *lu)
+static void core_free(chain_core *lu)
 {
     if (!lu) return;
     free_plan(lu);
@@ -108,7 +111,7 @@ static double panel_flops(double s, double f)
    node between two elements' interiors, for a rod. Panels are at most `widest` long, three
    bandwidths: a longer one never pays (its flops grow as the cube). Returns 3 if no such
    partition exists (the pattern is not a chain in this order). */
-static int find_panels(rs_chain_lu *lu, const int *min_nb, const int *max_nb)
+static int find_panels(chain_core *lu, const int *min_nb, const int *max_nb)
 {
     const int n = lu->n;
     int      *front = NULL, *diff = NULL, *reach = NULL, *cut = NULL, *from = NULL;
@@ -196,7 +199,7 @@ done:
 
 /* C_k and R_k from the (unsymmetrized) pattern, the offsets of the blocks, and the place of
    every entry. Returns 1 if an entry couples panels further apart than neighbours. */
-static int place_entries(rs_chain_lu *lu)
+static int place_entries(chain_core *lu)
 {
     const int  n = lu->n, m = lu->n_panels;
     const int *row_ptr = lu->row_ptr, *cols = lu->cols, *inverse = lu->inverse;
@@ -321,10 +324,10 @@ done:
     return status;
 }
 
-int rs_chain_lu_symbolic_permuted(int n, const int *row_ptr, const int *cols, const int *perm,
-                                  rs_chain_lu **result)
+static int core_symbolic(int n, const int *row_ptr, const int *cols, const int *perm,
+                                  chain_core **result)
 {
-    rs_chain_lu *lu;
+    chain_core *lu;
     int         *min_nb = NULL, *max_nb = NULL, *inverse = NULL, status = 0;
 
     *result = NULL;
@@ -387,17 +390,13 @@ done:
     free(min_nb);
     free(max_nb);
     free(inverse);
-    if (status) rs_chain_lu_free(lu);
+    if (status) core_free(lu);
     else *result = lu;
     return status;
 }
 
-int rs_chain_lu_symbolic(int n, const int *row_ptr, const int *cols, rs_chain_lu **lu)
-{
-    return rs_chain_lu_symbolic_permuted(n, row_ptr, cols, NULL, lu);
-}
 
-void rs_chain_lu_get_info(const rs_chain_lu *lu, rs_chain_lu_info *info)
+static void core_get_info(const chain_core *lu, rs_chain_lu_info *info)
 {
     info->n_panels        = lu->n_panels;
     info->largest_panel   = lu->largest_panel;
@@ -406,7 +405,7 @@ void rs_chain_lu_get_info(const rs_chain_lu *lu, rs_chain_lu_info *info)
     info->doubles         = (double)lu->n_values;
 }
 
-int rs_chain_lu_numeric(rs_chain_lu *lu, const double *values, double pivot_tol)
+static int core_numeric(chain_core *lu, const double *values, double pivot_tol)
 {
     static const double one = 1.0, minus_one = -1.0, zero = 0.0;
     const int           m   = lu->n_panels;
@@ -455,7 +454,7 @@ int rs_chain_lu_numeric(rs_chain_lu *lu, const double *values, double pivot_tol)
     return 0;
 }
 
-void rs_chain_lu_solve(rs_chain_lu *lu, const double *b_in, double *x)
+static void core_solve(chain_core *lu, const double *b_in, double *x)
 {
     static const double one = 1.0, minus_one = -1.0;
     static const int    inc = 1;
@@ -508,4 +507,292 @@ void rs_chain_lu_solve(rs_chain_lu *lu, const double *b_in, double *x)
                     &b, &info);
     }
     for (int p = 0; p < n; ++p) x[lu->perm ? lu->perm[p] : p] = z[p];
+}
+
+/* ---- Substitution rows, eliminated before the chain ----------------------------------------
+   A row i with two entries, in columns e and p, says a_ie x_e + a_ip x_p = b_i: the unknown
+   x_e = (b_i - a_ip x_p) / a_ie is substituted into every other row before the chain is
+   factored, A'_rp = A_rp - A_re a_ip / a_ie and b'_r = b_r - A_re b_i / a_ie, and row i and
+   column e leave the system. It is taken only where every other row with column e has column p
+   too (nothing is added to the pattern), e being the diagonal unknown i if that holds for it,
+   else the other one. ph_director's kinematic rows R_K = q_{n+1} - q_n - h/2 (v_{n+1} + v_n)
+   (methods/ph_director_3d.md §5.6) are such rows, eliminating v_{n+1} (the momentum rows hold
+   v only through the mass): the 24 velocities of a panel's two nodes leave its 72 unknowns,
+   a third of the flops of its LU. This is a pivot order of the same LU, not the condensed
+   step of §5.5: the Newton residual is still the whole one. */
+
+struct rs_chain_lu {
+    int         n, n_kept, n_elim, n_updates;
+    int        *kept_row, *kept_col; /* row and column at each kept position */
+    int        *elim_row, *elim_col; /* the substitution rows i and their unknowns e */
+    int        *elim_partner;        /* kept position of the partner column p */
+    int        *elim_pivot, *elim_off; /* positions of a_ie and a_ip in the values */
+    int        *entry_src;   /* position in the values of each entry of the kept matrix */
+    int        *update_src;  /* position of A_re */
+    int        *update_dst;  /* entry (r, p) of the kept matrix */
+    int        *update_elim; /* which substitution (index into elim_*) */
+    int        *update_row;  /* kept position of r */
+    double     *inverse_pivot, *ratio, *coefficient; /* 1 / a_ie, a_ip / a_ie, A_re / a_ie */
+    double     *kept_values, *b_kept, *x_kept, *x_elim;
+    chain_core *core;
+};
+
+void rs_chain_lu_free(rs_chain_lu *lu)
+{
+    if (!lu) return;
+    core_free(lu->core);
+    free(lu->kept_row);
+    free(lu->kept_col);
+    free(lu->elim_row);
+    free(lu->elim_col);
+    free(lu->elim_partner);
+    free(lu->elim_pivot);
+    free(lu->elim_off);
+    free(lu->entry_src);
+    free(lu->update_src);
+    free(lu->update_dst);
+    free(lu->update_elim);
+    free(lu->update_row);
+    free(lu->inverse_pivot);
+    free(lu->ratio);
+    free(lu->coefficient);
+    free(lu->kept_values);
+    free(lu->b_kept);
+    free(lu->x_kept);
+    free(lu->x_elim);
+    free(lu);
+}
+
+/* Position of column c in row r of a pattern with sorted columns, or -1. */
+static int find_entry(const int *row_ptr, const int *cols, int r, int c)
+{
+    int lo = row_ptr[r], hi = row_ptr[r + 1] - 1;
+    while (lo <= hi) {
+        const int mid = (lo + hi) / 2;
+        if (cols[mid] == c) return mid;
+        if (cols[mid] < c) lo = mid + 1;
+        else hi = mid - 1;
+    }
+    return -1;
+}
+
+/* Whether substituting unknown e through a row that also holds column p adds no entry: every
+   row with column e other than `row` has column p. Uses the transposed pattern (t_ptr, t_rows). */
+static int substitution_adds_nothing(const int *row_ptr, const int *cols, const int *t_ptr,
+                                     const int *t_rows, int row, int e, int p)
+{
+    for (int t = t_ptr[e]; t < t_ptr[e + 1]; ++t)
+        if (t_rows[t] != row && find_entry(row_ptr, cols, t_rows[t], p) < 0) return 0;
+    return 1;
+}
+
+int rs_chain_lu_symbolic_permuted(int n, const int *row_ptr, const int *cols, const int *perm,
+                                  rs_chain_lu **result)
+{
+    rs_chain_lu *lu;
+    int         *unknown_of = NULL, *partner = NULL, *row_pos = NULL, *col_pos = NULL;
+    int         *where = NULL, *kept_ptr = NULL, *kept_cols = NULL, *kept_perm = NULL;
+    int         *t_ptr = NULL, *t_rows = NULL, *elim_of_col = NULL;
+    int          status = 0, nnz_kept = 0, u = 0, k = 0, m = 0;
+    const int    nnz = row_ptr ? row_ptr[n > 0 ? n : 0] : 0;
+
+    *result = NULL;
+    if (n < 1 || !row_ptr || !cols || row_ptr[0] != 0) return 1;
+    for (int i = 0; i < n; ++i) {
+        if (row_ptr[i + 1] < row_ptr[i]) return 1;
+        for (int e = row_ptr[i]; e < row_ptr[i + 1]; ++e)
+            if (cols[e] < 0 || cols[e] >= n || (e > row_ptr[i] && cols[e] <= cols[e - 1]))
+                return 1;
+    }
+    lu = calloc(1, sizeof(*lu));
+    if (!lu) return 2;
+    lu->n       = n;
+    unknown_of  = malloc((size_t)n * sizeof(int)); /* row i -> the unknown e it substitutes */
+    partner     = malloc((size_t)n * sizeof(int));
+    elim_of_col = malloc((size_t)n * sizeof(int));
+    row_pos     = malloc((size_t)n * sizeof(int));
+    col_pos     = malloc((size_t)n * sizeof(int));
+    where       = malloc((size_t)n * sizeof(int));
+    t_ptr       = calloc((size_t)n + 1, sizeof(int));
+    t_rows      = malloc(((size_t)nnz + 1) * sizeof(int));
+    if (!unknown_of || !partner || !elim_of_col || !row_pos || !col_pos || !where || !t_ptr ||
+        !t_rows) {
+        status = 2;
+        goto done;
+    }
+    if (perm) {
+        /* A permutation: every unknown once. */
+        for (int c = 0; c < n; ++c) where[c] = 0;
+        for (int p = 0; p < n; ++p) {
+            if (perm[p] < 0 || perm[p] >= n || where[perm[p]]++) {
+                status = 1;
+                goto done;
+            }
+        }
+    }
+    /* The transposed pattern: the rows of each column. */
+    for (int e = 0; e < nnz; ++e) ++t_ptr[cols[e] + 1];
+    for (int c = 0; c < n; ++c) t_ptr[c + 1] += t_ptr[c];
+    for (int r = 0; r < n; ++r)
+        for (int e = row_ptr[r]; e < row_ptr[r + 1]; ++e) t_rows[t_ptr[cols[e]]++] = r;
+    for (int c = n; c > 0; --c) t_ptr[c] = t_ptr[c - 1];
+    t_ptr[0] = 0;
+    /* Choose the substitutions: each unknown substituted once, partners kept. */
+    for (int c = 0; c < n; ++c) elim_of_col[c] = -1;
+    for (int i = 0; i < n; ++i) {
+        unknown_of[i] = partner[i] = -1;
+        if (row_ptr[i + 1] - row_ptr[i] != 2) continue;
+        for (int side = 0; side < 2; ++side) {
+            /* The diagonal unknown first, then the other one. */
+            const int a = cols[row_ptr[i]], b = cols[row_ptr[i] + 1];
+            const int e = (side == 0) == (a == i) ? a : b, p = e == a ? b : a;
+            if (elim_of_col[e] >= 0 || elim_of_col[p] >= 0 ||
+                !substitution_adds_nothing(row_ptr, cols, t_ptr, t_rows, i, e, p))
+                continue;
+            unknown_of[i]  = e;
+            partner[i]     = p;
+            elim_of_col[e] = i;
+            break;
+        }
+    }
+    /* A partner column that another row eliminated after all: undo that row's choice. */
+    for (int i = 0; i < n; ++i)
+        if (unknown_of[i] >= 0 && elim_of_col[partner[i]] >= 0) {
+            elim_of_col[unknown_of[i]] = -1;
+            unknown_of[i] = partner[i] = -1;
+        }
+    for (int i = 0; i < n; ++i) {
+        row_pos[i] = unknown_of[i] >= 0 ? -1 : lu->n_kept++;
+        if (unknown_of[i] >= 0) ++lu->n_elim;
+    }
+    for (int c = 0, kept = 0; c < n; ++c) col_pos[c] = elim_of_col[c] >= 0 ? -1 : kept++;
+    for (int r = 0; r < n; ++r) {
+        if (row_pos[r] < 0) continue;
+        for (int e = row_ptr[r]; e < row_ptr[r + 1]; ++e) {
+            if (col_pos[cols[e]] < 0) ++lu->n_updates;
+            else ++nnz_kept;
+        }
+    }
+#define ALLOCATE(pointer, count) ((pointer) = malloc(((size_t)(count) + 1) * sizeof(*(pointer))))
+    if (!ALLOCATE(lu->kept_row, lu->n_kept) || !ALLOCATE(lu->kept_col, lu->n_kept) ||
+        !ALLOCATE(lu->elim_row, lu->n_elim) || !ALLOCATE(lu->elim_col, lu->n_elim) ||
+        !ALLOCATE(lu->elim_partner, lu->n_elim) || !ALLOCATE(lu->elim_pivot, lu->n_elim) ||
+        !ALLOCATE(lu->elim_off, lu->n_elim) || !ALLOCATE(lu->inverse_pivot, lu->n_elim) ||
+        !ALLOCATE(lu->ratio, lu->n_elim) || !ALLOCATE(lu->x_elim, lu->n_elim) ||
+        !ALLOCATE(lu->entry_src, nnz_kept) || !ALLOCATE(lu->kept_values, nnz_kept) ||
+        !ALLOCATE(lu->update_src, lu->n_updates) || !ALLOCATE(lu->update_dst, lu->n_updates) ||
+        !ALLOCATE(lu->update_elim, lu->n_updates) || !ALLOCATE(lu->update_row, lu->n_updates) ||
+        !ALLOCATE(lu->coefficient, lu->n_updates) || !ALLOCATE(lu->b_kept, lu->n_kept) ||
+        !ALLOCATE(lu->x_kept, lu->n_kept) || !ALLOCATE(kept_ptr, lu->n_kept) ||
+        !ALLOCATE(kept_cols, nnz_kept)) {
+        status = 2;
+        goto done;
+    }
+#undef ALLOCATE
+    for (int i = 0; i < n; ++i) {
+        if (row_pos[i] >= 0) lu->kept_row[row_pos[i]] = i;
+        if (col_pos[i] >= 0) lu->kept_col[col_pos[i]] = i;
+        if (unknown_of[i] < 0) continue;
+        lu->elim_row[m]     = i;
+        lu->elim_col[m]     = unknown_of[i];
+        lu->elim_partner[m] = col_pos[partner[i]];
+        lu->elim_pivot[m]   = find_entry(row_ptr, cols, i, unknown_of[i]);
+        lu->elim_off[m]     = find_entry(row_ptr, cols, i, partner[i]);
+        elim_of_col[unknown_of[i]] = m++; /* from now on: the index of its substitution */
+    }
+    /* The kept matrix (kept rows by kept columns, both in their order) and where the
+       substitutions land in it. */
+    for (int c = 0; c < n; ++c) where[c] = -1;
+    kept_ptr[0] = 0;
+    for (int q = 0; q < lu->n_kept; ++q) {
+        const int r = lu->kept_row[q];
+        for (int e = row_ptr[r]; e < row_ptr[r + 1]; ++e) {
+            if (col_pos[cols[e]] < 0) continue;
+            where[cols[e]]     = k;
+            kept_cols[k]       = col_pos[cols[e]];
+            lu->entry_src[k++] = e;
+        }
+        for (int e = row_ptr[r]; e < row_ptr[r + 1]; ++e) {
+            if (col_pos[cols[e]] >= 0) continue;
+            lu->update_src[u]  = e;
+            lu->update_elim[u] = elim_of_col[cols[e]];
+            lu->update_dst[u]  = where[partner[lu->elim_row[elim_of_col[cols[e]]]]];
+            lu->update_row[u++] = q;
+        }
+        for (int e = row_ptr[r]; e < row_ptr[r + 1]; ++e) where[cols[e]] = -1;
+        kept_ptr[q + 1] = k;
+    }
+    if (perm) {
+        /* The chain order of the kept positions: that of their rows in perm. */
+        if (!(kept_perm = malloc(((size_t)lu->n_kept + 1) * sizeof(int)))) {
+            status = 2;
+            goto done;
+        }
+        for (int p = 0, q = 0; p < n; ++p)
+            if (row_pos[perm[p]] >= 0) kept_perm[q++] = row_pos[perm[p]];
+    }
+    status = core_symbolic(lu->n_kept, kept_ptr, kept_cols, kept_perm, &lu->core);
+done:
+    free(unknown_of);
+    free(partner);
+    free(elim_of_col);
+    free(row_pos);
+    free(col_pos);
+    free(where);
+    free(t_ptr);
+    free(t_rows);
+    free(kept_ptr);
+    free(kept_cols);
+    free(kept_perm);
+    if (status) rs_chain_lu_free(lu);
+    else *result = lu;
+    return status;
+}
+
+int rs_chain_lu_symbolic(int n, const int *row_ptr, const int *cols, rs_chain_lu **lu)
+{
+    return rs_chain_lu_symbolic_permuted(n, row_ptr, cols, NULL, lu);
+}
+
+void rs_chain_lu_get_info(const rs_chain_lu *lu, rs_chain_lu_info *info)
+{
+    core_get_info(lu->core, info);
+    info->substituted = lu->n_elim;
+}
+
+int rs_chain_lu_numeric(rs_chain_lu *lu, const double *values, double pivot_tol)
+{
+    /* x_e = (b_i - a_ip x_p) / a_ie amplifies x_p by |a_ip / a_ie| (2/h for R_K's v): a
+       substitution with a far larger ratio (a zero pivot, the endpoint equilibrium's R_K
+       without q) is refused like a singular panel. */
+    static const double largest_ratio = 1e8;
+
+    for (int m = 0; m < lu->n_elim; ++m) {
+        const double d = values[lu->elim_pivot[m]], o = values[lu->elim_off[m]];
+        if (!(fabs(d) > 0.0) || !(fabs(o) <= largest_ratio * fabs(d))) return 1;
+        lu->inverse_pivot[m] = 1.0 / d;
+        lu->ratio[m]         = o / d;
+    }
+    for (int k = 0; k < lu->core->nnz; ++k) lu->kept_values[k] = values[lu->entry_src[k]];
+    for (int u = 0; u < lu->n_updates; ++u) {
+        const int m        = lu->update_elim[u];
+        lu->coefficient[u] = values[lu->update_src[u]] * lu->inverse_pivot[m];
+        lu->kept_values[lu->update_dst[u]] -= lu->coefficient[u] * values[lu->elim_off[m]];
+    }
+    return core_numeric(lu->core, lu->kept_values, pivot_tol);
+}
+
+void rs_chain_lu_solve(rs_chain_lu *lu, const double *b, double *x)
+{
+    for (int q = 0; q < lu->n_kept; ++q) lu->b_kept[q] = b[lu->kept_row[q]];
+    for (int u = 0; u < lu->n_updates; ++u)
+        lu->b_kept[lu->update_row[u]] -=
+            lu->coefficient[u] * b[lu->elim_row[lu->update_elim[u]]];
+    core_solve(lu->core, lu->b_kept, lu->x_kept);
+    /* Everything is read from b before x is written (x may be b). */
+    for (int m = 0; m < lu->n_elim; ++m)
+        lu->x_elim[m] = lu->inverse_pivot[m] * b[lu->elim_row[m]] -
+                        lu->ratio[m] * lu->x_kept[lu->elim_partner[m]];
+    for (int q = 0; q < lu->n_kept; ++q) x[lu->kept_col[q]] = lu->x_kept[q];
+    for (int m = 0; m < lu->n_elim; ++m) x[lu->elim_col[m]] = lu->x_elim[m];
 }
