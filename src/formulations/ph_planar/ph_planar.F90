@@ -1024,7 +1024,7 @@ contains
     !> PETSc's own LU is safe without pivoting when every diagonal entry is non-zero: the mass
     !> (2/h^2) M on the nodal block of a dynamic run, the stiffness of the condensed element
     !> tangent. An uncondensed quasistatic Jacobian has zero (x, y) diagonals (the nodal forces
-    !> of PH-EM depend on the positions only through the strains): MUMPS pivots there.
+    !> of PH-EM depend on the positions only through the strains): the chain LU pivots there.
     pure logical function planar_native_lu(this)
         class(ph_planar_t), intent(in) :: this
         planar_native_lu = .not. this%quasistatic .or. this%condensed .or. &
