@@ -44,6 +44,7 @@ typedef struct {
     double flops;           /* of one numeric factorization */
     double doubles;         /* stored values (the dense blocks) */
     int    substituted;     /* unknowns substituted before the chain (two-entry rows) */
+    int    replans;         /* plans given up after a singular panel (rs_chain_lu_replan) */
 } rs_chain_lu_info;
 
 /* The panels of the n-by-n pattern (row_ptr: n + 1 entries, cols: row_ptr[n]) in its own
@@ -62,6 +63,12 @@ void rs_chain_lu_get_info(const rs_chain_lu *lu, rs_chain_lu_info *info);
    of the pattern). Returns 0, or k >= 1 when panel k - 1 has a zero or tiny pivot (the
    factorization is then unusable). */
 int rs_chain_lu_numeric(rs_chain_lu *lu, const double *values, double pivot_tol);
+
+/* Plan the panels again, without any cut of the plans tried so far, choosing among all
+   positions: for a pattern whose first plan had a panel singular on its own. Returns 0; 1 if
+   there is a single panel and 3 if no plan is left (the current plan stays); 2 out of memory
+   (lu is then unusable). */
+int rs_chain_lu_replan(rs_chain_lu *lu);
 
 /* x = A^{-1} b with the last successful numeric factorization; x and b may be the same. */
 void rs_chain_lu_solve(rs_chain_lu *lu, const double *b, double *x);

@@ -15,6 +15,10 @@
    Options (prefix of the matrix):
      -mat_rodchain_pivot_tol <1e-13>  a pivot below this times the largest entry of its column
                                       in the panel counts as zero
+     -mat_rodchain_check_tol <1e-10>  largest normwise backward error of the first solve of a
+                                      factorization before MUMPS factors that Jacobian instead
+     -mat_rodchain_replans <2>        plans of the panels tried (without the cuts that failed)
+                                      after a plan with a singular panel, per direction
      -mat_rodchain_view               print the panels at the first factorization */
 #ifndef RS_RODCHAIN_H
 #define RS_RODCHAIN_H

@@ -54,6 +54,9 @@ struct chain_core {
     int     largest_panel, widest_coupling;
     int    *row_ptr, *cols; /* the pattern (place_entries) */
     int    *inverse;        /* unknown -> chain position (NULL: the identity) */
+    int    *min_nb, *max_nb; /* neighbours of each chain position (find_panels) */
+    char   *forbidden;      /* cuts of plans that failed (core_replan) */
+    int     replans;
 };
 
 /* Everything place_entries makes from the panels. */
@@ -92,6 +95,9 @@ static void core_free(chain_core *lu)
     free(lu->inverse);
     free(lu->row_ptr);
     free(lu->cols);
+    free(lu->min_nb);
+    free(lu->max_nb);
+    free(lu->forbidden);
     free(lu);
 }
 
@@ -102,6 +108,10 @@ static double panel_flops(double s, double f)
     return 2.0 / 3.0 * s * s * s + 2.0 * s * s * f + 2.0 * s * f * f;
 }
 
+/* What a panel costs beyond its flops (the calls to LAPACK and BLAS and their set-up, about
+   2 us on this machine's OpenBLAS), in flops, so that tiny panels are merged. */
+static const double panel_overhead = 2e4;
+
 /* Panels from the symmetrized pattern in chain order (minimum and maximum neighbour of every
    position, itself included). Cutting at a and b makes [a, b) a panel; the matrix is block
    tridiagonal if and only if every panel reaches past everything before it couples to,
@@ -111,9 +121,10 @@ static double panel_flops(double s, double f)
    node between two elements' interiors, for a rod. Panels are at most `widest` long, three
    bandwidths: a longer one never pays (its flops grow as the cube). Returns 3 if no such
    partition exists (the pattern is not a chain in this order). */
-static int find_panels(chain_core *lu, const int *min_nb, const int *max_nb)
+static int find_panels(chain_core *lu)
 {
-    const int n = lu->n;
+    const int  n = lu->n;
+    const int *min_nb = lu->min_nb, *max_nb = lu->max_nb;
     int      *front = NULL, *diff = NULL, *reach = NULL, *cut = NULL, *from = NULL;
     double   *best = NULL;
     int       n_cuts = 0, bandwidth = 0, widest, status = 0, m = 0;
@@ -142,9 +153,26 @@ static int find_panels(chain_core *lu, const int *min_nb, const int *max_nb)
     reach[0] = -1;
     for (int p = 0; p < n; ++p) reach[p + 1] = max_nb[p] > reach[p] ? max_nb[p] : reach[p];
     widest   = 3 * (bandwidth + 1) > 64 ? 3 * (bandwidth + 1) : 64;
+    /* Candidate cuts: the local minima of the front; after a failed plan every position but
+       the cuts that failed (core_replan). */
     cut[n_cuts++] = 0;
-    for (int p = 1; p < n; ++p)
-        if (front[p] <= front[p - 1] && front[p] <= front[p + 1]) cut[n_cuts++] = p;
+    if (lu->replans > 0) {
+        for (int p = 1; p < n; ++p)
+            if (!lu->forbidden[p]) cut[n_cuts++] = p;
+    } else {
+        /* A node between two elements is crossed by that node's unknowns only: the narrowest
+           minima. A minimum crossed by far more (inside the last element, where the front
+           runs down to the end) cuts an element apart, which a quasistatic rod's free end
+           cannot take (its part of the element alone is singular). */
+        int narrowest = n;
+        for (int p = 1; p < n; ++p)
+            if (front[p] < front[p - 1] && front[p] <= front[p + 1] && front[p] < narrowest)
+                narrowest = front[p];
+        for (int p = 1; p < n; ++p)
+            if (front[p] < front[p - 1] && front[p] <= front[p + 1] &&
+                front[p] <= 2 * narrowest + 4)
+                cut[n_cuts++] = p;
+    }
     cut[n_cuts++] = n;
     best[0] = 0.0;
     for (int j = 1; j < n_cuts; ++j) {
@@ -154,7 +182,8 @@ static int find_panels(chain_core *lu, const int *min_nb, const int *max_nb)
         for (int i = j - 1; i >= 0 && b - cut[i] <= widest; --i) {
             const int a = cut[i];
             if (best[i] < HUGE_VAL && reach[a] < b) {
-                const double cost = best[i] + panel_flops(b - a, b < n ? front[b] : 0);
+                const double cost =
+                    best[i] + panel_overhead + panel_flops(b - a, b < n ? front[b] : 0);
                 if (cost < best[j]) {
                     best[j] = cost;
                     from[j] = i;
@@ -373,13 +402,17 @@ static int core_symbolic(int n, const int *row_ptr, const int *cols, const int *
             if (pi > max_nb[pj]) max_nb[pj] = pi;
         }
     }
-    lu->row_ptr = malloc(((size_t)n + 1) * sizeof(int));
-    lu->cols    = malloc(((size_t)lu->nnz + 1) * sizeof(int));
-    if (!lu->row_ptr || !lu->cols) {
+    lu->row_ptr   = malloc(((size_t)n + 1) * sizeof(int));
+    lu->cols      = malloc(((size_t)lu->nnz + 1) * sizeof(int));
+    lu->forbidden = calloc((size_t)n + 1, 1);
+    if (!lu->row_ptr || !lu->cols || !lu->forbidden) {
         status = 2;
         goto done;
     }
-    status = find_panels(lu, min_nb, max_nb);
+    lu->min_nb = min_nb;
+    lu->max_nb = max_nb;
+    min_nb = max_nb = NULL;
+    status = find_panels(lu);
     if (status) goto done;
     memcpy(lu->row_ptr, row_ptr, ((size_t)n + 1) * sizeof(int));
     memcpy(lu->cols, cols, (size_t)lu->nnz * sizeof(int));
@@ -396,6 +429,37 @@ done:
 }
 
 
+/* Plan the panels again without any cut of the current plan (a panel of it was singular on
+   its own: a constrained rod, whose element constraint rows need both end nodes, is regular
+   only with the cuts after the nodes instead of before them), among all positions. */
+static int core_replan(chain_core *lu)
+{
+    int *start = lu->start, n_panels = lu->n_panels, status;
+
+    if (n_panels < 2) return 1;
+    /* A cut within the coupling of a failed one leaves the same unknowns out of the leading
+       block, give or take a few: forbid those too. */
+    for (int k = 1; k < n_panels; ++k) {
+        const int width = lu->n_cols[k - 1] > lu->n_rows[k - 1] ? lu->n_cols[k - 1]
+                                                                : lu->n_rows[k - 1];
+        for (int p = start[k] - width; p <= start[k] + width; ++p)
+            if (p > 0 && p < lu->n) lu->forbidden[p] = 1;
+    }
+    ++lu->replans;
+    lu->start = NULL;
+    status    = find_panels(lu);
+    if (status) {
+        /* No other plan: the current one stays usable. */
+        free(lu->start);
+        lu->start    = start;
+        lu->n_panels = n_panels;
+        return status == 2 ? 2 : 3;
+    }
+    free(start);
+    free_plan(lu);
+    return place_entries(lu);
+}
+
 static void core_get_info(const chain_core *lu, rs_chain_lu_info *info)
 {
     info->n_panels        = lu->n_panels;
@@ -403,6 +467,7 @@ static void core_get_info(const chain_core *lu, rs_chain_lu_info *info)
     info->widest_coupling = lu->widest_coupling;
     info->flops           = lu->flops;
     info->doubles         = (double)lu->n_values;
+    info->replans         = lu->replans;
 }
 
 static int core_numeric(chain_core *lu, const double *values, double pivot_tol)
@@ -752,6 +817,11 @@ done:
 int rs_chain_lu_symbolic(int n, const int *row_ptr, const int *cols, rs_chain_lu **lu)
 {
     return rs_chain_lu_symbolic_permuted(n, row_ptr, cols, NULL, lu);
+}
+
+int rs_chain_lu_replan(rs_chain_lu *lu)
+{
+    return core_replan(lu->core);
 }
 
 void rs_chain_lu_get_info(const rs_chain_lu *lu, rs_chain_lu_info *info)

@@ -19,6 +19,7 @@ typedef struct {
     Mat          A;        /* the matrix of the last factorization (referenced) */
     Mat          fallback; /* MUMPS, where neither direction could be factored */
     PetscReal    pivot_tol, check_tol, norm_A;
+    PetscInt     replans; /* plans tried per chain after the first one */
     PetscBool    view, viewed, warned;
     PetscBool    checked;  /* the first solve after the factorization was checked */
     Vec          residual; /* work vector of that check */
@@ -154,6 +155,30 @@ static PetscErrorCode ViewPanels(const rs_chain_lu *lu, const char *which)
     PetscFunctionReturn(0);
 }
 
+/* Factor with `lu`; where a panel is singular on its own, plan the panels again without the
+   cuts that failed (rs_chain_lu_replan: a constrained ph_director rod needs its cuts after the
+   nodes), at most -mat_rodchain_replans times per chain over the run. *panel: 0, or the panel
+   (1-based) that failed last. */
+static PetscErrorCode FactorChain(Mat_RodChain *rc, rs_chain_lu *lu, const PetscScalar *values,
+                                  int *panel)
+{
+    rs_chain_lu_info info;
+    int              status;
+
+    PetscFunctionBegin;
+    for (;;) {
+        *panel = rs_chain_lu_numeric(lu, values, (double)rc->pivot_tol);
+        rs_chain_lu_get_info(lu, &info);
+        if (!*panel || info.replans >= rc->replans) break;
+        status = rs_chain_lu_replan(lu);
+        PetscCheck(status != 2, PETSC_COMM_SELF, PETSC_ERR_MEM, "rodchain: out of memory");
+        if (status) break;
+        PetscCall(PetscInfo(rc->A, "rodchain: panel %d singular on its own, panels planned "
+                                   "again\n", *panel));
+    }
+    PetscFunctionReturn(0);
+}
+
 /* Is the chain tried for this factorization? Always while it works; after it failed, at the
    1st, 2nd, 4th, 8th, ... factorization since (a failure may be one bad Newton iterate). */
 static PetscBool TryChain(const Mat_RodChain *rc)
@@ -182,16 +207,17 @@ static PetscErrorCode MatLUFactorNumeric_RodChain(Mat F, Mat A, const MatFactorI
     PetscCall(MatNorm(A, NORM_INFINITY, &rc->norm_A));
     if (TryChain(rc)) {
         PetscCall(MatSeqAIJGetArrayRead(A, &values));
-        panel = rs_chain_lu_numeric(rc->preferred, values, (double)rc->pivot_tol);
+        PetscCall(FactorChain(rc, rc->preferred, values, &panel));
         if (!panel) {
             rc->active = rc->preferred;
         } else {
             /* From the other end: a quasistatic rod whose first element floats is singular
                from the start of the chain and regular from its clamped end. */
+            int other_panel;
             if (!rc->backward) PetscCall(BuildBackward(rc, A));
             other = rc->preferred == rc->forward ? rc->backward : rc->forward;
-            if (!rs_chain_lu_numeric(other, values, (double)rc->pivot_tol))
-                rc->active = rc->preferred = other;
+            PetscCall(FactorChain(rc, other, values, &other_panel));
+            if (!other_panel) rc->active = rc->preferred = other;
         }
         PetscCall(MatSeqAIJRestoreArrayRead(A, &values));
     }
@@ -345,6 +371,7 @@ static PetscErrorCode MatGetFactor_seqaij_rodchain(Mat A, MatFactorType ftype, M
     PetscCall(PetscNew(&rc));
     rc->pivot_tol = 1e-13;
     rc->check_tol = 1e-10;
+    rc->replans   = 2;
     B->data       = rc;
 
     B->ops->lufactorsymbolic = MatLUFactorSymbolic_RodChain;
@@ -370,6 +397,9 @@ static PetscErrorCode MatGetFactor_seqaij_rodchain(Mat A, MatFactorType ftype, M
                                "Largest normwise backward error of the first solve with a "
                                "factorization before MUMPS factors it instead",
                                "", rc->check_tol, &rc->check_tol, NULL));
+    PetscCall(PetscOptionsBoundedInt("-mat_rodchain_replans",
+                                     "Plans of the panels tried after one with a singular panel",
+                                     "", rc->replans, &rc->replans, NULL, 0));
     PetscCall(PetscOptionsBool("-mat_rodchain_view", "Print the panels at the first factorization",
                                "", rc->view, &rc->view, NULL));
     PetscOptionsEnd();

@@ -871,6 +871,33 @@ static PetscErrorCode test_singular_matrix_fails_the_pc(void)
    then regular ones of the same pattern. The chain fails at the first and is retried (and
    fails) after the 1st and the 2nd MUMPS factorization since; after the 3rd it is not tried,
    MUMPS factors the regular Jacobian; after the 4th the chain serves again. */
+/* The matrices of chain_retried_after_1_2_4_fallbacks, singular on their first panel from
+   either end with the first plan, are factored by the chain after a re-plan of its panels
+   (rs_chain_lu_replan, the default -mat_rodchain_replans 2): right solution, no MUMPS. */
+static PetscErrorCode test_replan_rescues_constrained_rod(void)
+{
+    rod_shape_t  bad = plain_rod(4);
+    rod_matrix_t m;
+    Mat          A;
+    KSP          ksp;
+    PetscInt     chain, fallback;
+
+    PetscFunctionBeginUser;
+    bad.first_constraints = bad.last_constraints = 2;
+    rod_matrix_make(&bad, 10, &m);
+    PetscCall(mat_create(&m, &A));
+    PetscCall(lu_ksp(A, MATSOLVERRODCHAIN, "r_", &ksp));
+    PetscCall(solve_and_check(ksp, &m, "after a re-plan"));
+    PetscCall(stats_of(ksp, &chain, &fallback));
+    printf("    %d by the chain, %d by MUMPS\n", (int)chain, (int)fallback);
+    CHECK(chain == 1 && fallback == 0, "the re-planned chain serves: %d, %d", (int)chain,
+          (int)fallback);
+    PetscCall(KSPDestroy(&ksp));
+    PetscCall(MatDestroy(&A));
+    rod_matrix_free(&m);
+    PetscFunctionReturn(0);
+}
+
 static PetscErrorCode test_chain_retried_after_1_2_4_fallbacks(void)
 {
     rod_shape_t  bad = plain_rod(4), good = plain_rod(4);
@@ -890,8 +917,12 @@ static PetscErrorCode test_chain_retried_after_1_2_4_fallbacks(void)
         char label[64];
         rod_matrix_make(k < 3 ? &bad : &good, 10 + (uint64_t)k, &m);
         if (k == 0) {
+            /* The back-off alone: no re-plans (these matrices are regular with another plan
+               of the panels, see replan_rescues_constrained_rod). */
+            PetscCall(PetscOptionsSetValue(NULL, "-mat_rodchain_replans", "0"));
             PetscCall(mat_create(&m, &A));
             PetscCall(lu_ksp(A, MATSOLVERRODCHAIN, "g_", &ksp));
+            PetscCall(PetscOptionsClearValue(NULL, "-mat_rodchain_replans"));
         } else {
             PetscCall(mat_fill(&m, A));
         }
@@ -960,6 +991,7 @@ int main(int argc, char **argv)
     run_test("nearly_singular_panel_caught_by_the_check",
              test_nearly_singular_panel_caught_by_the_check);
     run_test("singular_matrix_fails_the_pc", test_singular_matrix_fails_the_pc);
+    run_test("replan_rescues_constrained_rod", test_replan_rescues_constrained_rod);
     run_test("chain_retried_after_1_2_4_fallbacks", test_chain_retried_after_1_2_4_fallbacks);
     run_test("reuse", test_reuse);
     PetscVFPrintf = petsc_vfprintf;
