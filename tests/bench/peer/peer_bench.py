@@ -7,9 +7,13 @@ of pulse at one end. The error of every run of either code is measured against o
 rodsolve reference per problem, whose own error is estimated by successive refinement in time
 and in space; an error level is only used if the reference's estimate is below a tenth of it.
 Wall times are the time loops only (rodsolve's summary line; PyElastica's stepping loop, its
-numba JIT warm-up excluded and reported), medians of --repeat runs. From the work-precision
-points of both codes the wall time at equal error 1e-2, 1e-3, 1e-4 is interpolated (log-log,
-on each code's cheapest-for-its-error points). PyElastica's stable step is found by bisection.
+numba JIT warm-up excluded and reported), medians of --repeat runs. rodsolve's points are run
+with each LU package of --packages (default rodchain, the structured chain LU, and mumps, the
+general sparse LU it replaced), alternating between the packages in every repeat so that both
+see the same load; the reference and its ladders use the first package, and the finest
+reference is rerun with the others to check that they agree. From the work-precision points of
+both codes the wall time at equal error 1e-2, 1e-3, 1e-4 is interpolated (log-log, on each
+code's cheapest-for-its-error points). PyElastica's stable step is found by bisection.
 
 PyElastica runs in a virtual environment that this script creates in the work directory (or
 --venv; an existing one with pyelastica and h5py is reused) with `pip install pyelastica h5py`
@@ -17,7 +21,8 @@ from PyPI, through peer_pyelastica.py. With --write the tables go into the GENER
 docs/performance.md and docs/stability.md and the figures into docs/figures/peer_<case>.png.
 
     /usr/bin/python3 tests/bench/peer/peer_bench.py --rodsolve build/rodsolve \\
-        --mpiexec mpirun --source . --workdir build/peer-work [--quick] [--repeat 3] [--write]
+        --mpiexec mpirun --source . --workdir build/peer-work [--quick] [--repeat 3] \\
+        [--packages rodchain,mumps] [--write]
 """
 import argparse
 import datetime
@@ -25,6 +30,7 @@ import glob
 import json
 import math
 import os
+import re
 import statistics
 import subprocess
 import sys
@@ -81,11 +87,21 @@ RUNS = {
         "stability": [10, 40],
     },
 }
+# the issue's targets: PyElastica's wall time over rodsolve's at equal error (`err`)
+TARGETS = [("free_flying", 1e-2, 20.0), ("free_flying", 1e-3, 20.0), ("free_flying", 1e-4, 20.0),
+           ("cantilever_steel", 1e-2, 1000.0)]
+# rodchain's messages: the panels at set-up (-mat_rodchain_view), proof that it factors the
+# Jacobians, and its one warning when MUMPS takes over (src/solver/rodchain.c)
+RODCHAIN_VIEW = re.compile(r"^rodchain \((.*?)\): (.*)$", re.M)
+RODCHAIN_FALLBACK = re.compile(r"^rodchain: (.*?); MUMPS factors such Jacobians", re.M)
 OPENMPI_ENV = {  # scripts/mpi_env.sh
     "OMPI_ALLOW_RUN_AS_ROOT": "1", "OMPI_ALLOW_RUN_AS_ROOT_CONFIRM": "1",
     "OMPI_MCA_rmaps_base_oversubscribe": "1", "OPENBLAS_NUM_THREADS": "1",
     "OMP_NUM_THREADS": "1", "NUMBA_NUM_THREADS": "1",
 }
+
+
+LOADS = []   # 1-min load averages sampled at every rodsolve run
 
 
 def log(text):
@@ -120,12 +136,19 @@ def pyelastica_dt_estimate(p, n):
     return 2.0 / math.sqrt(omega2)
 
 
-def scene_text(p, n, steps, samples=N_SAMPLES, jacobian_reuse=0.0):
-    """The rodsolve scene of problem p with n quadratic elements and `steps` steps."""
+def scene_text(p, n, steps, samples=N_SAMPLES, jacobian_reuse=0.0, package=None):
+    """The rodsolve scene of problem p with n quadratic elements and `steps` steps; `package`
+    is the LU package of the Newton steps (rodsolve's default if None)."""
     bc = ("&bc\n    rod = 'beam', end = 'start', kind = 'clamped'\n/\n"
           if p["bc"] == "clamped" else "")
-    if jacobian_reuse:
-        bc += f"&solver\n    jacobian_reuse = {jacobian_reuse!r}\n/\n"
+    solver = [f"jacobian_reuse = {jacobian_reuse!r}"] if jacobian_reuse else []
+    if package:
+        options = f"-pc_factor_mat_solver_type {package}"
+        if package == "rodchain":
+            options += " -mat_rodchain_view"
+        solver.append(f"petsc_options = '{options}'")
+    if solver:
+        bc += "&solver\n    " + "\n    ".join(solver) + "\n/\n"
     return f"""! Peer benchmark (tests/bench/peer/peer_bench.py): {p['name']}, the same problem as
 ! PyElastica's (peer_pyelastica.py): tip force pulse, PyElastica's shear factor 27/28.
 &run
@@ -163,38 +186,70 @@ def scene_text(p, n, steps, samples=N_SAMPLES, jacobian_reuse=0.0):
 
 # ---------------------------------------------------------------------------- rodsolve
 
-def run_rodsolve(args, p, n, steps, repeat, samples=N_SAMPLES):
-    """Median time loop of `repeat` runs, Newton iterations, tips at the sample times."""
-    name = f"{p['name']}_n{n}_s{steps}"
-    text = bench_common.rs.set_variable(scene_text(p, n, steps, samples, args.jacobian_reuse),
-                                        "output", "path",
-                                        f"'{os.path.join(args.workdir, name)}.h5'")
-    scene = os.path.join(args.workdir, name + ".nml")
-    with open(scene, "w", encoding="utf-8") as f:
-        f.write(text)
-    walls = []
+def run_rodsolve(args, p, n, steps, repeat, samples=N_SAMPLES, packages=None):
+    """For each LU package of `packages` (default --packages): median time loop of `repeat`
+    runs, Newton iterations, tips at the sample times, rodchain's fallback warnings. The
+    repeats alternate between the packages, so that a change of the machine's load falls on
+    all of them alike."""
+    packages = packages or args.packages
+    scenes = {}
+    for package in packages:
+        name = f"{p['name']}_n{n}_s{steps}_{package}"
+        text = bench_common.rs.set_variable(
+            scene_text(p, n, steps, samples, args.jacobian_reuse, package), "output", "path",
+            f"'{os.path.join(args.workdir, name)}.h5'")
+        scenes[package] = os.path.join(args.workdir, name + ".nml")
+        with open(scenes[package], "w", encoding="utf-8") as f:
+            f.write(text)
+    walls = {package: [] for package in packages}
+    out = {}
     for _ in range(repeat):
-        for attempt in range(40):   # the lead may be rebuilding build/: wait for the binary
-            if os.path.exists(args.rodsolve):
-                result = subprocess.run([args.mpiexec, "--oversubscribe", "-np", "1",
-                                         args.rodsolve, scene], capture_output=True, text=True)
-                if result.returncode == 0 or os.path.exists(args.rodsolve):
-                    break
-            log(f"{args.rodsolve} missing, waiting (attempt {attempt + 1})")
-            time.sleep(30)
-        if result.returncode != 0:
-            sys.stderr.write(result.stdout + result.stderr)
-            raise SystemExit(f"{name}: rodsolve failed")
-        summary = SUMMARY.search(result.stdout)
-        walls.append(float(summary[4]))
-    with h5py.File(os.path.join(args.workdir, name + ".h5"), "r") as f:
-        times = f["/rods/beam/time"][()]
-        tips = f["/rods/beam/position"][:, -1, :]
-    if len(times) != samples + 1 or abs(times[-1] - p["t_end"]) > 1e-9 * p["t_end"]:
-        raise SystemExit(f"{name}: unexpected output times {times[:3]} ... {times[-1]}")
-    return {"code": "rodsolve", "n": n, "steps": steps, "dt": p["t_end"] / steps,
-            "wall": statistics.median(walls), "walls": walls, "iterations": int(summary[2]),
-            "cutbacks": int(summary[3]), "tip": tips}
+        for package in packages:
+            stdout = run_scene(args, scenes[package])
+            summary = SUMMARY.search(stdout)
+            walls[package].append(float(summary[4]))
+            view = RODCHAIN_VIEW.search(stdout)
+            if (package == "rodchain") != bool(view):
+                raise SystemExit(f"{scenes[package]}: LU package {package} asked for, but "
+                                 f"rodchain's set-up line is {'missing' if not view else 'there'}")
+            row = out.setdefault(package, {
+                "code": "rodsolve", "package": package, "n": n, "steps": steps,
+                "dt": p["t_end"] / steps, "iterations": int(summary[2]),
+                "cutbacks": int(summary[3]), "fallbacks": set(),
+                "panels": view[2] if view else None})
+            if int(summary[2]) != row["iterations"]:
+                log(f"  {scenes[package]}: {summary[2]} Newton iterations, "
+                    f"{row['iterations']} in the first run")
+            row["fallbacks"].update(RODCHAIN_FALLBACK.findall(stdout))
+    for package, row in out.items():
+        with h5py.File(scenes[package][:-4] + ".h5", "r") as f:
+            times = f["/rods/beam/time"][()]
+            row["tip"] = f["/rods/beam/position"][:, -1, :]
+        if len(times) != samples + 1 or abs(times[-1] - p["t_end"]) > 1e-9 * p["t_end"]:
+            raise SystemExit(f"{scenes[package]}: unexpected output times {times[:3]} ... "
+                             f"{times[-1]}")
+        row["walls"] = walls[package]
+        row["wall"] = statistics.median(walls[package])
+        for why in row["fallbacks"]:
+            log(f"  {scenes[package]}: rodchain fell back to MUMPS: {why}")
+    return out
+
+
+def run_scene(args, scene):
+    """One run of rodsolve on `scene` (one rank); its standard output."""
+    for attempt in range(40):   # the lead may be rebuilding build/: wait for the binary
+        if os.path.exists(args.rodsolve):
+            result = subprocess.run([args.mpiexec, "--oversubscribe", "-np", "1",
+                                     args.rodsolve, scene], capture_output=True, text=True)
+            if result.returncode == 0 or os.path.exists(args.rodsolve):
+                break
+        log(f"{args.rodsolve} missing, waiting (attempt {attempt + 1})")
+        time.sleep(30)
+    LOADS.append(os.getloadavg()[0])
+    if result.returncode != 0:
+        sys.stderr.write(result.stdout + result.stderr)
+        raise SystemExit(f"{scene}: rodsolve failed")
+    return result.stdout
 
 
 def tip_distance(a, b):
@@ -203,10 +258,14 @@ def tip_distance(a, b):
 
 def reference(args, p, runs):
     """The reference run (n, steps) and its error estimate: Richardson on the time ladder
-    steps/4, steps/2, steps at n and on the space ladder n/2, n, 2n at steps/4."""
+    steps/4, steps/2, steps at n and on the space ladder n/2, n, 2n at steps/4, all with the
+    first LU package; the finest run again with each other package, and their distance."""
     n, steps = runs["ref"]
-    ladder_t = [run_rodsolve(args, p, n, s, 1) for s in (steps // 4, steps // 2, steps)]
-    ladder_x = [run_rodsolve(args, p, k, steps // 4, 1) for k in (n // 2, 2 * n)]
+    first = args.packages[:1]
+    ladder_t = [run_rodsolve(args, p, n, s, 1, packages=first)[first[0]]
+                for s in (steps // 4, steps // 2, steps)]
+    ladder_x = [run_rodsolve(args, p, k, steps // 4, 1, packages=first)[first[0]]
+                for k in (n // 2, 2 * n)]
     ladder_x.insert(1, ladder_t[0])
     ref = ladder_t[-1]
     amp = float(np.max(np.linalg.norm(ref["tip"] - ref["tip"][0], axis=1)))
@@ -223,6 +282,14 @@ def reference(args, p, runs):
     check = {"time": estimate(ladder_t), "space": estimate(ladder_x)}
     check["estimate"] = check["time"]["estimate"] + check["space"]["estimate"]
     check["wall"] = ref["wall"]
+    check["packages"] = {}
+    for package in args.packages[1:]:
+        other = run_rodsolve(args, p, n, steps, 1, packages=[package])[package]
+        check["packages"][package] = {"distance": tip_distance(other["tip"], ref["tip"]) / amp,
+                                      "wall": other["wall"], "iterations": other["iterations"]}
+        log(f"{p['name']}: reference with {package}: {other['wall']:.3g} s "
+            f"({first[0]}: {ref['wall']:.3g} s), distance to {first[0]}'s "
+            f"{check['packages'][package]['distance']:.1e} of the excursion")
     log(f"{p['name']}: reference n = {n}, {steps} steps, tip excursion {amp:.4g} m; "
         f"time ladder differences {check['time']['coarse']:.2e}, {check['time']['fine']:.2e}, "
         f"space ladder {check['space']['coarse']:.2e}, {check['space']['fine']:.2e}; "
@@ -381,43 +448,83 @@ def ratio_cell(ws, wp):
     return "both below their cheapest run"
 
 
-def ratio_rows(case, key, levels, ref_est, safety):
+def speedup_cell(new, old):
+    """Wall time of package `old` over that of `new` at the same error level."""
+    if new[0] == "interp" and old[0] == "interp":
+        return f"**{old[1] / new[1]:.3g}**"
+    if new[0] == "below" and old[0] == "below":
+        return f"{old[1] / new[1]:.3g} (cheapest runs)"
+    if new[0] == "below" and old[0] == "interp":
+        return f"> {old[1] / new[1]:.3g}"
+    if new[0] == "interp" and old[0] == "below":
+        return f"< {old[1] / new[1]:.3g}"
+    return "not reached"
+
+
+def ratio_header(packages):
+    old = [f"{pk} / {packages[0]}" for pk in packages[1:]]
+    cols = (["case", "level"] + [f"rodsolve {pk} [s]" for pk in packages] + ["PyElastica [s]"]
+            + [f"PyElastica / {pk}" for pk in packages] + old)
+    return ["| " + " | ".join(cols) + " |", "|" + "---|" * len(cols)]
+
+
+def ratio_rows(case, key, levels, ref_est, safety, packages):
     rows = []
     for level in levels:
         if 10.0 * ref_est > level:
             rows.append(f"| {case['p']['name']} | {level:g} | reference not fine enough "
-                        f"(estimate {ref_est:.1e} > level/10) | | |")
+                        f"(estimate {ref_est:.1e} > level/10) |" + " |" * (3 * len(packages)))
             continue
-        ws = wall_at(case["rodsolve"], key, level)
+        ws = {pk: wall_at(case["rodsolve"][pk], key, level) for pk in packages}
         wp = wall_at(case["pyelastica"], key, level, pyelastica_model(case["p"], safety))
-        rows.append(f"| {case['p']['name']} | {level:g} | {fmt_wall(ws, level)} | {fmt_wall(wp, level)} | "
-                    f"{ratio_cell(ws, wp)} |")
+        cells = ([case["p"]["name"], f"{level:g}"] + [fmt_wall(ws[pk], level) for pk in packages]
+                 + [fmt_wall(wp, level)] + [ratio_cell(ws[pk], wp) for pk in packages]
+                 + [speedup_cell(ws[packages[0]], ws[pk]) for pk in packages[1:]])
+        rows.append("| " + " | ".join(cells) + " |")
     return rows
 
 
-def figure(case, path):
+def target_cell(case, level, required, package, safety):
+    """The ratio PyElastica / rodsolve (`err`) at `level` and whether it shows the target."""
+    ws = wall_at(case["rodsolve"][package], "err", level)
+    wp = wall_at(case["pyelastica"], "err", level, pyelastica_model(case["p"], safety))
+    if 10.0 * case["check"]["estimate"] > level:
+        return "reference not fine enough"
+    cell = ratio_cell(ws, wp)
+    if ws[0] == "interp" and wp[0] == "interp":
+        return cell + (" (met)" if wp[1] / ws[1] >= required else " (**not met**)")
+    bound = (wp[2] / ws[1] if wp[0] == "unreached" and ws[0] != "unreached" else
+             wp[1] / ws[1] if ws[0] == "below" and wp[0] == "interp" else None)
+    if bound is None:
+        return cell
+    return cell + (" (met by the measured bound)" if bound >= required else
+                   " (not shown by the measured bound)")
+
+
+def figure(case, path, packages):
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
     fig, ax = plt.subplots(figsize=(6.4, 4.6))
-    for code, style in (("rodsolve", "o-"), ("pyelastica", "s-")):
-        rows = case[code]
+    curves = [(case["rodsolve"][pk], "o-", f"C{2 * i}",
+               f"rodsolve, LU {pk} (quadratic elements, steps)", i == 0)
+              for i, pk in enumerate(packages)]
+    curves.append((case["pyelastica"], "s-", "C1", "PyElastica 1.0.0 (elements)", True))
+    for rows, style, color, label, annotate in curves:
         ax.loglog([r["err"] for r in rows], [r["wall"] for r in rows], style[0], alpha=0.35,
-                  color="C0" if code == "rodsolve" else "C1")
+                  color=color)
         pts = front(rows, "err")
-        ax.loglog([r["err"] for r in pts], [r["wall"] for r in pts], style,
-                  color="C0" if code == "rodsolve" else "C1",
-                  label="rodsolve (quadratic elements, steps)" if code == "rodsolve"
-                  else "PyElastica 1.0.0 (elements)")
-        for r in rows:
-            label = f"{r['n']},{r['steps']}" if code == "rodsolve" else f"{r['n']}"
-            ax.annotate(label, (r["err"], r["wall"]), fontsize=7, xytext=(3, 3),
+        ax.loglog([r["err"] for r in pts], [r["wall"] for r in pts], style, color=color,
+                  label=label)
+        for r in rows if annotate else []:
+            text = f"{r['n']},{r['steps']}" if r["code"] == "rodsolve" else f"{r['n']}"
+            ax.annotate(text, (r["err"], r["wall"]), fontsize=7, xytext=(3, 3),
                         textcoords="offset points")
     for level in LEVELS:
         ax.axvline(level, color="grey", ls=":", lw=0.8)
     ax.axvspan(1e-7, 10.0 * case["check"]["estimate"], color="grey", alpha=0.12,
                label="below 10x the reference's error estimate")
-    errs = [r["err"] for c in ("rodsolve", "pyelastica") for r in case[c]]
+    errs = [r["err"] for rows, *_ in curves for r in rows]
     ax.set_xlim(min(min(errs), 5e-5) / 2, max(errs) * 2)
     ax.set_xlabel("max over the run of |tip - tip_ref| / tip excursion")
     ax.set_ylabel("wall time of the time loop [s] (median)")
@@ -431,10 +538,10 @@ def figure(case, path):
 
 # ---------------------------------------------------------------------------- stability
 
-def stability(args, python, ns):
-    """PyElastica's stable step against n for the three rods, by bisection."""
+def stability(args, python, ns, names):
+    """PyElastica's stable step against n for the rods `names`, by bisection."""
     out = {}
-    for name in CASES:
+    for name in names:
         p = problem(name)
         job = {"mode": "stability", "problem": p, "steps": args.stability_steps,
                "rtol": args.stability_rtol,
@@ -446,7 +553,8 @@ def stability(args, python, ns):
 
 def big_step(args, p, ref):
     """rodsolve with 8 elements and 10 steps over the whole run: finite, and how far off."""
-    r = run_rodsolve(args, p, 8, 10, 1, samples=10)
+    r = run_rodsolve(args, p, 8, 10, 1, samples=10, packages=args.packages[:1])
+    r = r[args.packages[0]]
     err = float(np.linalg.norm(r["tip"][-1] - ref["tip"][-1]))
     return {"dt": r["dt"], "iterations": r["iterations"], "cutbacks": r["cutbacks"],
             "finite": bool(np.all(np.isfinite(r["tip"]))), "err_end": err}
@@ -461,12 +569,51 @@ def describe_problem(p, amp):
             f"| {p['t_pulse']:g} | {p['t_end']:g} | {p['period']:.4g} | {amp:.4g} |")
 
 
+def package_check(args, cases):
+    """How far the LU packages' runs lie apart: references, every point's tip, its err, its
+    Newton iterations; rodchain's fallbacks to MUMPS."""
+    first, others = args.packages[0], args.packages[1:]
+    out = {"ref": [], "tip": 0.0, "err": 0.0, "points": 0, "iterations": [], "fallbacks": []}
+    for c in cases:
+        for package, ch in c["check"]["packages"].items():
+            out["ref"].append(f"{c['p']['name']} {ch['distance']:.1e} ({package} "
+                              f"{ch['wall']:.3g} s, {first} {c['check']['wall']:.3g} s)")
+        for i, r0 in enumerate(c["rodsolve"][first]):
+            out["points"] += 1
+            for package in others:
+                r = c["rodsolve"][package][i]
+                out["tip"] = max(out["tip"], tip_distance(r["tip"], r0["tip"]) / c["amp"])
+                out["err"] = max(out["err"], abs(r["err"] - r0["err"]), abs(r["err_x"] -
+                                                                          r0["err_x"]))
+                if r["iterations"] != r0["iterations"] or r["cutbacks"] != r0["cutbacks"]:
+                    out["iterations"].append(
+                        f"{c['p']['name']} n = {r['n']}, {r['steps']} steps: {first} "
+                        f"{r0['iterations']} ({r0['cutbacks']} cut-backs), {package} "
+                        f"{r['iterations']} ({r['cutbacks']})")
+        for package in args.packages:
+            for r in c["rodsolve"][package]:
+                out["fallbacks"] += [f"{c['p']['name']} n = {r['n']}, {r['steps']} steps: "
+                                     f"{why}" for why in sorted(r["fallbacks"])]
+    return out
+
+
 def performance_block(args, env, cases, warm, seconds):
+    first, others = args.packages[0], args.packages[1:]
+    agree = package_check(args, cases)
+    not_run = [name for name in CASES if name not in [c["p"]["name"] for c in cases]]
     lines = [
         f"{measured_on()}; rodsolve {env['rodsolve']} on one rank, &solver jacobian_reuse = "
-        f"{args.jacobian_reuse:g}{' (default)' if not args.jacobian_reuse else ''}; load average "
-        f"{env['load_before'][0]:.2f} before, {env['load_after'][0]:.2f} after (other agents "
-        f"share the 2 cores). PyElastica {env['venv']['versions']['pyelastica']} (numba "
+        f"{args.jacobian_reuse:g}{' (default)' if not args.jacobian_reuse else ''}; LU "
+        f"package of the Newton steps {' and '.join(args.packages)} "
+        f"(`-pc_factor_mat_solver_type` in the scene's `&solver petsc_options`; "
+        f"rodchain is the default of a single ph_director rod, mumps the path it replaced), "
+        f"each point run with every package in turn, {args.repeat} time(s). Load average "
+        f"{env['load_before'][0]:.2f} before, {env['load_after'][0]:.2f} after, "
+        f"{min(LOADS):.2f} to {max(LOADS):.2f} at the rodsolve runs (other agents share the "
+        f"{os.cpu_count()} cores: compare the ratios, measured in the same run, rather than "
+        f"absolute times). Cases run: {', '.join(c['p']['name'] for c in cases)}"
+        + (f" (not run this time: {', '.join(not_run)})" if not_run else "")
+        + f". PyElastica {env['venv']['versions']['pyelastica']} (numba "
         f"{env['venv']['versions']['numba']}, llvmlite {env['venv']['versions']['llvmlite']}, "
         f"numpy {env['venv']['versions']['numpy']}, Python "
         f"{env['venv']['versions']['python']}), installed from PyPI into a virtual environment"
@@ -515,6 +662,19 @@ def performance_block(args, env, cases, warm, seconds):
             f"{ch['space']['coarse']:.2e}, {ch['space']['fine']:.2e}, "
             f"{ch['space']['order']:.2f} | {ch['estimate']:.1e} | "
             f"{', '.join(allowed) or 'none'} |")
+    if others:
+        lines += ["", f"**LU packages**: the finest reference rerun with "
+                  f"{' and '.join(others)}, its distance to {first}'s relative to the "
+                  f"excursion: {'; '.join(agree['ref'])}. Over the "
+                  f"{agree['points']} work-precision points the tips of the packages differ by "
+                  f"at most {agree['tip']:.1e} of the excursion and err, err_x by at most "
+                  f"{agree['err']:.1e}: the errors below are those of either package. Newton "
+                  "iterations and cut-backs " + ("are the same in every point" if not
+                                                 agree["iterations"] else "differ: " +
+                                                 "; ".join(agree["iterations"])) + "."]
+    lines += ["", "rodchain's fallbacks to MUMPS (its warning in rodsolve's output): "
+              + ("; ".join(sorted(set(agree["fallbacks"]))) if agree["fallbacks"] else
+                 "none") + "."] if "rodchain" in args.packages else []
     lines += ["", "PyElastica's own limit (Richardson on its three finest runs with their "
               "observed order q) against the rodsolve reference, relative to the excursion: "
               + "; ".join(
@@ -526,20 +686,35 @@ def performance_block(args, env, cases, warm, seconds):
                        ("err_x", "err_x (relative to the tip position)")):
         lines += ["", f"**Wall time at equal error, {title}**: interpolated log-log between "
                   "neighbouring points of each code's front (its runs that no cheaper run "
-                  "beats); ratio = PyElastica / rodsolve. 'Extrapolated' is not a measurement: "
-                  "PyElastica's error continued as n^-q (q from its two finest runs), its step "
-                  "at 0.8 of the stable estimate for that n, its cost per step linear in n.", "",
-                  "| case | level | rodsolve [s] | PyElastica [s] | ratio |",
-                  "|---|---|---|---|---|"]
+                  "beats); ratio = PyElastica / rodsolve with each LU package"
+                  + (f", and {' and '.join(others)} / {first}: how much faster the chain LU "
+                     "makes rodsolve" if others else "") + ". 'Extrapolated' is not a "
+                  "measurement: PyElastica's error continued as n^-q (q from its two finest "
+                  "runs), its step at 0.8 of the stable estimate for that n, its cost per step "
+                  "linear in n.", ""] + ratio_header(args.packages)
         for c in cases:
-            lines += ratio_rows(c, key, LEVELS, c["check"]["estimate"], args.safety)
+            lines += ratio_rows(c, key, LEVELS, c["check"]["estimate"], args.safety,
+                                args.packages)
+    targets = [t for t in TARGETS if t[0] in [c["p"]["name"] for c in cases]]
+    if targets:
+        lines += ["", "**The issue's targets** (PyElastica / rodsolve at equal `err`, from the "
+                  "first table):", "",
+                  "| case | level | required | " + " | ".join(
+                      f"with {pk}" for pk in args.packages) + " |",
+                  "|---|---|---|" + "---|" * len(args.packages)]
+        for name, level, required in targets:
+            c = [c for c in cases if c["p"]["name"] == name][0]
+            lines.append(f"| {name} | {level:g} | >= {required:g} | " + " | ".join(
+                target_cell(c, level, required, pk, args.safety) for pk in args.packages)
+                + " |")
     lines += ["", "**Work-precision points** (PyElastica at 0.8 of the estimated stable step; "
-              "rodsolve: Newton iterations of the run):", "",
+              "rodsolve: Newton iterations of the run, with each LU package):", "",
               "| case | code | elements | steps | dt [s] | err | err_x | wall [s] | "
               "Newton it. |", "|---|---|---|---|---|---|---|---|---|"]
     for c in cases:
-        for r in c["rodsolve"] + c["pyelastica"]:
-            lines.append(f"| {c['p']['name']} | {r['code']} | {r['n']}"
+        for r in [r for pk in args.packages for r in c["rodsolve"][pk]] + c["pyelastica"]:
+            code = f"rodsolve, {r['package']}" if r["code"] == "rodsolve" else r["code"]
+            lines.append(f"| {c['p']['name']} | {code} | {r['n']}"
                          f"{' (quadratic)' if r['code'] == 'rodsolve' else ''} | {r['steps']} | "
                          f"{r['dt']:.3g} | {r['err']:.2e} | {r['err_x']:.2e} | {r['wall']:.3g} | "
                          f"{r.get('iterations', '-')} |")
@@ -576,7 +751,7 @@ def stability_block(args, env, cases, limits):
         "",
         "rodsolve (ph_director, implicit midpoint rule) has no stability limit; its step is "
         "chosen for accuracy. Steps of the side by side and one run with 10 steps over the whole "
-        "problem (8 quadratic elements):",
+        f"problem (8 quadratic elements, LU package {args.packages[0]}):",
         "",
         "| rod | rodsolve dt in the sweep [s] | / PyElastica's limit (n = 10) | 10 steps: dt [s] "
         "| Newton it., cut-backs | finite | tip error at t_end [m] |",
@@ -584,7 +759,7 @@ def stability_block(args, env, cases, limits):
     ]
     for c in cases:
         p = c["p"]
-        dts = [r["dt"] for r in c["rodsolve"]]
+        dts = [r["dt"] for r in c["rodsolve"][args.packages[0]]]
         lim10 = [lim["stable"] for lim in limits.get(p["name"], []) if lim["n"] == 10]
         ratio = (f"{min(dts) / lim10[0]:.0f} to {max(dts) / lim10[0]:.0f}" if lim10 else "-")
         b = c["big_step"]
@@ -599,6 +774,9 @@ def stability_block(args, env, cases, limits):
 def main():
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--rodsolve", default="build/rodsolve")
+    parser.add_argument("--rodsolve-note", default="",
+                        help="said after rodsolve's version in the block (e.g. which sources a "
+                        "copied binary was built from)")
     parser.add_argument("--mpiexec", default="mpirun")
     parser.add_argument("--source", default=".")
     parser.add_argument("--workdir", default="build/peer-work")
@@ -612,6 +790,10 @@ def main():
                         help="PyElastica's step as a fraction of the estimated stable step")
     parser.add_argument("--jacobian-reuse", type=float, default=0.0,
                         help="rodsolve's &solver jacobian_reuse (default 0: rodsolve's default)")
+    parser.add_argument("--packages", type=lambda text: text.split(","),
+                        default=["rodchain", "mumps"],
+                        help="rodsolve's LU packages, comma-separated (default rodchain,mumps); "
+                        "the first one runs the reference")
     parser.add_argument("--stability-steps", type=int, default=None)
     parser.add_argument("--stability-rtol", type=float, default=None)
     parser.add_argument("--write", action="store_true",
@@ -630,7 +812,8 @@ def main():
     runs = RUNS["quick" if args.quick else "full"]
     version = subprocess.run([args.rodsolve, "--version"], capture_output=True, text=True)
     env = {"load_before": os.getloadavg(), "sweep_warmups": {},
-           "rodsolve": version.stdout.split("\n")[0].replace("rodsolve ", "")}
+           "rodsolve": version.stdout.split("\n")[0].replace("rodsolve ", "")
+           + (f" ({args.rodsolve_note})" if args.rodsolve_note else "")}
     python, env["venv"] = venv_python(args)
     args.venv_created = env["venv"]["created"]
     log(f"PyElastica environment {env['venv']}")
@@ -642,33 +825,44 @@ def main():
         case_runs = dict(runs[p["bc"]], **runs.get(name, {}))
         log(f"{name}: t_pulse {p['t_pulse']} s, t_end {p['t_end']} s, T1 {p['period']:.4g} s")
         ref, amp, check = reference(args, p, case_runs)
-        rows = []
+        rows = {package: [] for package in args.packages}
         for n, steps in case_runs["rodsolve"]:
-            rows.append(run_rodsolve(args, p, n, steps, args.repeat))
-            log(f"  rodsolve n = {n}, {steps} steps: {rows[-1]['wall']:.3g} s")
+            point = run_rodsolve(args, p, n, steps, args.repeat)
+            for package in args.packages:
+                rows[package].append(point[package])
+            log(f"  rodsolve n = {n}, {steps} steps: " + ", ".join(
+                f"{package} {point[package]['wall']:.3g} s ({point[package]['iterations']} it.)"
+                for package in args.packages))
         pe_rows, env["sweep_warmups"][name] = pyelastica_sweep(args, python, p,
                                                                case_runs["pyelastica"])
         ref_x = float(np.max(np.linalg.norm(ref["tip"], axis=1)))
-        for r in rows + pe_rows:
+        for r in [r for package in args.packages for r in rows[package]] + pe_rows:
             d = tip_distance(r["tip"], ref["tip"])
             r["err"], r["err_x"] = d / amp, d / ref_x
-            log(f"  {r['code']:<10} n = {r['n']:>4} steps = {r['steps']:>7} err = {r['err']:.2e} "
-                f"err_x = {r['err_x']:.2e} wall = {r['wall']:.3g} s")
+            log(f"  {r['code']:<10} {r.get('package', ''):<8} n = {r['n']:>4} "
+                f"steps = {r['steps']:>7} err = {r['err']:.2e} err_x = {r['err_x']:.2e} "
+                f"wall = {r['wall']:.3g} s")
         check["pyelastica"] = pyelastica_limit(pe_rows, ref, amp)
         case = {"p": p, "runs": case_runs, "amp": amp, "check": check, "rodsolve": rows,
                 "pyelastica": pe_rows, "big_step": big_step(args, p, ref)}
-        for line in ratio_rows(case, "err", LEVELS, check["estimate"], args.safety):
+        agree = package_check(args, [case])
+        log(f"{name}: packages: largest tip difference {agree['tip']:.1e}, err difference "
+            f"{agree['err']:.1e} over {agree['points']} points; references {agree['ref']}; "
+            f"iterations differing: {agree['iterations'] or 'none'}; rodchain fallbacks: "
+            f"{agree['fallbacks'] or 'none'}")
+        for line in ratio_header(args.packages) + ratio_rows(
+                case, "err", LEVELS, check["estimate"], args.safety, args.packages):
             log(line)
         cases.append(case)
 
-    limits = stability(args, python, runs["stability"])
+    limits = stability(args, python, runs["stability"], args.cases)
     env["load_after"] = os.getloadavg()
     seconds = time.perf_counter() - start
     perf = performance_block(args, env, cases, warm, seconds)
     stab = stability_block(args, env, cases, limits)
     figdir = os.path.join(args.source, "docs", "figures") if args.write else args.workdir
     for c in cases:
-        figure(c, os.path.join(figdir, f"peer_{c['p']['name']}.png"))
+        figure(c, os.path.join(figdir, f"peer_{c['p']['name']}.png"), args.packages)
     print(perf)
     print(stab)
     if args.write:
