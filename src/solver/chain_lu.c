@@ -108,9 +108,11 @@ static double panel_flops(double s, double f)
     return 2.0 / 3.0 * s * s * s + 2.0 * s * s * f + 2.0 * s * f * f;
 }
 
-/* What a panel costs beyond its flops (the calls to LAPACK and BLAS and their set-up, about
-   2 us on this machine's OpenBLAS), in flops, so that tiny panels are merged. */
-static const double panel_overhead = 2e4;
+/* What a panel costs beyond its flops (the calls to LAPACK and BLAS), in flops, so that tiny
+   panels are merged: measured best of 0, 5e3 and 2e4 on se3_pg's cantilever (nodes of 6
+   unknowns: 2.9, 3.0 and 3.2 us per element and Newton iteration at 1024 elements), neutral on
+   ph_director's panels of 48. */
+static const double panel_overhead = 5e3;
 
 /* Panels from the symmetrized pattern in chain order (minimum and maximum neighbour of every
    position, itself included). Cutting at a and b makes [a, b) a panel; the matrix is block

@@ -1096,9 +1096,8 @@ static void test_kinematic_rows_are_substituted(void)
                       label, direction, info[d].substituted, kinematic);
                 CHECK(whole[d].substituted == 0, "%s %s: %d substituted with three entries",
                       label, direction, whole[d].substituted);
-                CHECK(info[d].largest_panel < whole[d].largest_panel,
-                      "%s %s: largest panel %d smaller than without substitution (%d)", label,
-                      direction, info[d].largest_panel, whole[d].largest_panel);
+                /* Fewer flops, not necessarily a smaller largest panel: the plan weighs
+                   flops against a fixed cost per panel and may merge panels differently. */
                 CHECK(info[d].flops < whole[d].flops,
                       "%s %s: %.4g flops fewer than without substitution (%.4g)", label,
                       direction, info[d].flops, whole[d].flops);
