@@ -10,7 +10,7 @@ cd "$(dirname "$0")/.."
 
 packages=(gfortran gcc make cmake pkg-config
           petsc-dev libmumps-dev libmetis-dev libhdf5-openmpi-dev openmpi-bin libopenmpi-dev
-          libopenblas0-serial python3 python3-h5py python3-numpy python3-matplotlib
+          libopenblas0-serial liblapack-dev python3 python3-h5py python3-numpy python3-matplotlib
           python3-meshio)
 
 missing=()
