@@ -17,10 +17,22 @@ says which rank ran which member), slowest rank over the mean. It checks that th
 2-rank files hold bitwise identical /members/<id>/rods/<rod>/position for every member, that
 /summary/id is 1 .. M in order and that every member completed; exit status 1 if not.
 
+Then, per LU package (the chain LU `rodchain`, the default for a single rod, and `mumps`,
+the path before it, chosen by `-pc_factor_mat_solver_type`), a sweep of many small rods: the
+same cantilever with --small-members members (1000) over EI1, 4 elements, --small-steps (100)
+steps, once as in the catalog (statics, &time quasistatic) and once as dynamics (quasistatic =
+.false., the same load ramp), each member writing its first and last record only (output
+stride = steps). It reports member-steps per second per core (members x steps / (wall time x
+ranks)) from the process, sweep and summed member wall times, medians of --small-repeat runs
+with the packages taking turns, the ratio of the packages, the members' Newton iterations
+summed (/summary/newton_iterations), how many members printed rodchain's message that MUMPS
+factors their Jacobians, and the largest difference of the tip positions between the packages.
+
 With --write the tables replace the GENERATED block of docs/performance.md.
 
     /usr/bin/python3 tests/bench/sweep_bench.py --rodsolve build/rodsolve \\
-        --mpiexec mpirun --source . --workdir build/bench_sweep [--repeat 5] [--write]
+        --mpiexec mpirun --source . --workdir build/bench_sweep [--repeat 5] \\
+        [--small-members 1000] [--small-repeat 3] [--only ranks|packages] [--write]
 """
 import os
 import re
@@ -42,6 +54,9 @@ DEALT = re.compile(r"rodsolve: sweep of (\d+) members on (\d+) rank\(s\), dealt 
 FINISHED = re.compile(r"rodsolve: sweep of (\d+) members: (\d+) completed, (\d+) failed, "
                       r"(\d+) not run")
 MEMBER_DONE = re.compile(r"rodsolve: sweep member \d+ of \d+ done")
+FALLBACK = re.compile(r"^rodchain: .*MUMPS factors such Jacobians", re.M)
+PACKAGES = ("rodchain", "mumps")
+MODES = {"statics": ".true.", "dynamics": ".false."}
 ENVIRONMENT = {"OMPI_ALLOW_RUN_AS_ROOT": "1", "OMPI_ALLOW_RUN_AS_ROOT_CONFIRM": "1",
                "OPENBLAS_NUM_THREADS": "1", "OMP_NUM_THREADS": "1"}
 
@@ -83,7 +98,10 @@ def run_sweep(args, text, ranks, name):
                "id": summary["id"][()], "member_status": summary["status"][()],
                "wall": summary["wall_time"][()],
                "rank": summary["rank"][()] if "rank" in summary else None,
-               "estimate": float(dealt[3]), "path": output}
+               "estimate": float(dealt[3]), "path": output, "log": log,
+               "newton": (summary["newton_iterations"][()]
+                          if "newton_iterations" in summary else None),
+               "tip": summary["tip_position"][()] if "tip_position" in summary else None}
     run["member_sum"] = float(run["wall"].sum())
     if run["rank"] is not None:
         loads = np.array([run["wall"][run["rank"] == r].sum() for r in range(ranks)])
@@ -136,14 +154,9 @@ def median(runs, key):
     return statistics.median(r[key] for r in runs)
 
 
-def main():
-    parser = rs.common_arguments(__doc__)
-    parser.add_argument("--repeat", type=int, default=5, help="runs per rank count (median)")
-    parser.add_argument("--write", action="store_true", help="update docs/performance.md")
-    args = parser.parse_args()
-    os.makedirs(args.workdir, exist_ok=True)
+def rank_section(args):
+    """The 64-member sweep on 1 and 2 ranks: the block's text and the failed checks."""
     text = rs.read_example(args.source, SCENE)
-
     load_before = os.getloadavg()[0]
     runs = {n: [] for n in RANKS}
     startup = {n: [] for n in RANKS}
@@ -227,6 +240,125 @@ def main():
         f"Rank independence: /members/<id>/rods/<rod>/position bitwise identical on 1 and 2 "
         f"ranks for {identical} of {members} members; every dataset under /members/<id>/rods "
         f"and /series ({n_datasets} datasets) for {all_identical} of {members}.\n")
+    return block, failures
+
+
+def small_scene(args, mode, package):
+    """The catalog's cantilever sweep with --small-members members over EI1 and --small-steps
+    steps to t_end = 1, statics or dynamics, its first and last records, LU `package`."""
+    text = rs.read_example(args.source, SCENE)
+    text = rs.set_variable(text, "time", "dt", repr(1.0 / args.small_steps))
+    text = rs.set_variable(text, "time", "quasistatic", MODES[mode])
+    text = rs.set_variable(text, "output", "stride", str(args.small_steps))
+    text = rs.set_variable(text, "solver", "petsc_options",
+                           f"'-pc_factor_mat_solver_type {package}'")
+    return rs.set_variable(text, "sweep", "logspace", f"1.0, 100.0, {args.small_members}")
+
+
+def package_section(args):
+    """Many small rods per LU package, taking turns: the block's text and the failed checks."""
+    load_before = os.getloadavg()[0]
+    ranks = args.small_ranks
+    runs = {(m, p): [] for m in MODES for p in PACKAGES}
+    for k in range(args.small_repeat):
+        for mode in MODES:
+            for package in PACKAGES:
+                scene, name = small_scene(args, mode, package), f"small_{mode}_{package}_{k}"
+                try:
+                    r = run_sweep(args, scene, ranks, name)
+                except SystemExit as failure:
+                    # Once more: on a shared machine the executable may have been relinked
+                    # under the run.
+                    print(f"{failure}; running it again", flush=True)
+                    time.sleep(10)
+                    r = run_sweep(args, scene, ranks, name)
+                r["fallbacks"] = len(FALLBACK.findall(r["log"]))
+                r["log"] = None
+                runs[(mode, package)].append(r)
+                print(f"run {k + 1}, {mode}, {package}: process {r['process']:.2f} s, sweep "
+                      f"{r['sweep']:.2f} s, members summed {r['member_sum']:.2f} s, Newton "
+                      f"iterations {int(r['newton'].sum()) if r['newton'] is not None else '?'}, "
+                      f"members with a rodchain fallback {r['fallbacks']}", flush=True)
+
+    failures = []
+    for (mode, package), group in runs.items():
+        for r in group:
+            unfinished = int(np.count_nonzero(r["member_status"] != 0))
+            if unfinished or r["status"] != "completed" or r["members"] != args.small_members:
+                failures.append(f"{r['path']}: status {r['status']!r}, {r['members']} members, "
+                                f"{unfinished} not completed")
+    member_steps = args.small_members * args.small_steps
+    keys = ("process", "sweep", "member_sum")
+    rate = {case: {key: member_steps / (median(group, key) * ranks) for key in keys}
+            for case, group in runs.items()}
+    lines = ["| scene | LU package | process wall time (s) | sweep wall time (s) | members' wall "
+             "time summed (s) | member-steps per second per core (process) | (sweep) | "
+             "(members) | Newton iterations, all members | members with rodchain's MUMPS "
+             "message |", "|---|---|---:|---:|---:|---:|---:|---:|---:|---:|"]
+    for (mode, package), group in runs.items():
+        first = group[0]
+        newton = int(first["newton"].sum()) if first["newton"] is not None else "-"
+        lines.append(f"| {mode} | {package} | {median(group, 'process'):.2f} | "
+                     f"{median(group, 'sweep'):.2f} | {median(group, 'member_sum'):.2f} | "
+                     + " | ".join(f"{rate[(mode, package)][key]:.0f}" for key in keys)
+                     + f" | {newton} | {max(r['fallbacks'] for r in group)} |")
+    table = "\n".join(lines)
+    new, old = PACKAGES
+    lines = [f"| scene | {new} / {old}, member-steps per second (process) | (sweep) | (members) "
+             f"| largest tip-position difference, {new} against {old} (m) |",
+             "|---|---:|---:|---:|---:|"]
+    for mode in MODES:
+        a, b = runs[(mode, new)][0], runs[(mode, old)][0]
+        tip = (f"{float(np.nanmax(np.abs(a['tip'] - b['tip']))):.2g}"
+               if a["tip"] is not None and b["tip"] is not None else "-")
+        lines.append(f"| {mode} | " + " | ".join(
+            f"{rate[(mode, new)][key] / rate[(mode, old)][key]:.2f}" for key in keys)
+            + f" | {tip} |")
+    ratios = "\n".join(lines)
+    block = (
+        f"Many small rods, per LU package: input/{SCENE} with {args.small_members} members "
+        f"(EI1 logspace 1 to 100), 4 elements of degree 2, {args.small_steps} steps to t = 1 "
+        "(dt = 1 / steps), statics as in the catalog (&time quasistatic) and dynamics "
+        "(quasistatic = .false., the same load ramp), each member writing its first and last "
+        f"record only (output stride {args.small_steps}); `mpirun --oversubscribe -np {ranks}`, "
+        "one BLAS thread; LU package by `-pc_factor_mat_solver_type`: `rodchain` (the chain LU, "
+        "the default for a single rod) and `mumps` (rodsolve's MUMPS defaults, the path before "
+        f"it). Medians of {args.small_repeat} runs, the scenes and packages taking turns within "
+        f"each repetition; load average {load_before:.2f} before these runs, "
+        f"{os.getloadavg()[0]:.2f} after. Member-steps per second per core: members x steps / "
+        f"(wall time x {ranks} rank(s)), for the process, the sweep's own and the members' "
+        "summed wall times; the message column counts the members whose rod printed rodchain's "
+        "\"MUMPS factors such Jacobians\" (its fallback, said once per rod).\n\n"
+        + table + "\n\n" + ratios + "\n")
+    return block, failures
+
+
+def main():
+    parser = rs.common_arguments(__doc__)
+    parser.add_argument("--repeat", type=int, default=5, help="runs per rank count (median)")
+    parser.add_argument("--small-members", type=int, default=1000,
+                        help="members of the many-small-rods sweep")
+    parser.add_argument("--small-steps", type=int, default=100,
+                        help="steps of each small member")
+    parser.add_argument("--small-repeat", type=int, default=3,
+                        help="runs per scene and LU package of the small rods (median)")
+    parser.add_argument("--small-ranks", type=int, default=1,
+                        help="ranks of the small-rod sweeps")
+    parser.add_argument("--only", choices=("ranks", "packages"),
+                        help="run one part only (not with --write)")
+    parser.add_argument("--write", action="store_true", help="update docs/performance.md")
+    args = parser.parse_args()
+    if args.write and args.only:
+        parser.error("--write replaces the whole block: run both parts")
+    os.makedirs(args.workdir, exist_ok=True)
+
+    blocks, failures = [], []
+    for name, section in (("ranks", rank_section), ("packages", package_section)):
+        if args.only in (None, name):
+            block, failed = section(args)
+            blocks.append(block)
+            failures += failed
+    block = "\n".join(blocks)
     print(block)
     if args.write:
         write_generated(args.source, "sweep_bench.py", block)
