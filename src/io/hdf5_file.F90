@@ -23,7 +23,8 @@
 !>   Other datasets are contiguous.
 module rs_io_hdf5_file
     use, intrinsic :: iso_c_binding, only: c_char, c_int, c_null_char, c_ptr, c_null_ptr, c_loc
-    use hdf5, only: hid_t, hsize_t, h5open_f, h5eset_auto_f, h5fcreate_f, h5fclose_f, h5ocopy_f, &
+    use rs_io_hdf5_info, only: hdf5_open_library
+    use hdf5, only: hid_t, hsize_t, h5eset_auto_f, h5fcreate_f, h5fclose_f, h5ocopy_f, &
         h5gcreate_f, h5gclose_f, h5lexists_f, h5oopen_f, h5oclose_f, h5screate_f, &
         h5screate_simple_f, h5sclose_f, h5tcopy_f, h5tset_cset_f, h5tclose_f, h5aexists_f, &
         h5adelete_f, h5acreate_f, h5awrite_f, h5aclose_f, h5pcreate_f, h5pset_chunk_f, &
@@ -187,7 +188,7 @@ contains
             return
         end if
 
-        call h5open_f(status)
+        call hdf5_open_library(status)
         if (this%failed(status, 'H5open', '/', routine, __LINE__, err)) return
         call h5eset_auto_f(0, status)
         if (this%failed(status, 'H5Eset_auto', '/', routine, __LINE__, err)) return
@@ -560,7 +561,7 @@ contains
         this%path = path
         this%parallel = optional_true(parallel)
         ! First: the Fortran API's constants (H5F_ACC_RDWR_F, ...) are set by H5open.
-        call h5open_f(status)
+        call hdf5_open_library(status)
         if (this%failed(status, 'H5open', '/', routine, __LINE__, err)) return
         mode = H5F_ACC_RDWR_F
         if (present(writable)) then
