@@ -40,9 +40,11 @@ static PetscErrorCode FactorWithFallback(Mat F, Mat A, const MatFactorInfo *info
     if (!rc->warned) {
         /* Said once per rod: such a rod runs at MUMPS's speed, and the user should know why. */
         PetscCall(PetscPrintf(PETSC_COMM_SELF,
-                              "rodchain: %s; MUMPS factors such Jacobians of this rod (the chain "
-                              "is tried again after 1, 2, 4, ... of them; said once)\n",
-                              why));
+                              "rodchain: %s; MUMPS factors such Jacobians of this rod (%s; said "
+                              "once)\n",
+                              why, rc->not_a_chain ? "all of them"
+                                                   : "the chain is tried again after 1, 2, 4, "
+                                                     "... of them"));
         rc->warned = PETSC_TRUE;
     }
     if (!rc->fallback) {

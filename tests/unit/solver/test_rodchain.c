@@ -31,13 +31,10 @@
 #include <string.h>
 
 #include "rs_chain_lu.h"
+#include "dense_reference.h"
 #include "rs_rodchain.h"
 
 /* LAPACK (the dense reference). */
-extern void dgesv_(const int *n, const int *nrhs, double *a, const int *lda, int *ipiv,
-                   double *b, const int *ldb, int *info);
-extern void dgecon_(const char *norm, const int *n, const double *a, const int *lda,
-                    const double *anorm, double *rcond, double *work, int *iwork, int *info);
 
 /* ---- Bookkeeping (tests/support/assert.F90) ---------------------------------------------- */
 
@@ -110,19 +107,8 @@ static PetscErrorCode counting_vfprintf(FILE *file, const char format[], va_list
 
 /* ---- Random numbers: a fixed-seed LCG (Knuth's MMIX constants), so every run is the same -- */
 
-static uint64_t lcg_state;
 
-static void lcg_seed(uint64_t seed)
-{
-    lcg_state = seed * 6364136223846793005ULL + 1442695040888963407ULL;
-}
 
-/* Uniform in [-1, 1), from the 53 high bits. */
-static double lcg_uniform(void)
-{
-    lcg_state = lcg_state * 6364136223846793005ULL + 1442695040888963407ULL;
-    return (double)(lcg_state >> 11) * 0x1.0p-52 - 1.0;
-}
 
 /* ---- Rod-like matrices (as in test_chain_lu.c) ------------------------------------------- */
 
@@ -140,12 +126,6 @@ typedef struct {
     double constraint_gap, mass;
 } rod_shape_t;
 
-/* Dense column-major values and the pattern (1: stored entry, possibly 0.0). */
-typedef struct {
-    int            n;
-    double        *a;
-    unsigned char *stored;
-} rod_matrix_t;
 
 static int node_start(const rod_shape_t *s, int e)
 {
@@ -168,13 +148,6 @@ static int node_primal(const rod_shape_t *s, int e, int *list)
     return s->node_size - 1;
 }
 
-static void rod_matrix_free(rod_matrix_t *m)
-{
-    free(m->a);
-    free(m->stored);
-    m->a      = NULL;
-    m->stored = NULL;
-}
 
 static void rod_matrix_make(const rod_shape_t *s, uint64_t seed, rod_matrix_t *m)
 {
@@ -327,60 +300,9 @@ static void csr_free(csr_t *c)
 
 /* ---- Measures ---------------------------------------------------------------------------- */
 
-static double norm_inf_vector(int n, const double *x)
-{
-    double largest = 0.0;
-    for (int i = 0; i < n; ++i)
-        if (!(fabs(x[i]) <= largest)) largest = fabs(x[i]);
-    return largest;
-}
 
-static double norm_inf_matrix(const rod_matrix_t *m)
-{
-    double largest = 0.0;
-    for (int i = 0; i < m->n; ++i) {
-        double row = 0.0;
-        for (int j = 0; j < m->n; ++j) row += fabs(m->a[i + (size_t)j * m->n]);
-        if (row > largest) largest = row;
-    }
-    return largest;
-}
 
-/* ||b - A x|| / (||A|| ||x|| + ||b||) in the infinity norm: the normwise backward error. */
-static double backward_error(const rod_matrix_t *m, const double *x, const double *b)
-{
-    const int n = m->n;
-    double   *r = malloc((size_t)n * sizeof(double)), error;
 
-    for (int i = 0; i < n; ++i) r[i] = b[i];
-    for (int j = 0; j < n; ++j)
-        for (int i = 0; i < n; ++i) r[i] -= m->a[i + (size_t)j * n] * x[j];
-    error = norm_inf_vector(n, r) /
-            (norm_inf_matrix(m) * norm_inf_vector(n, x) + norm_inf_vector(n, b));
-    free(r);
-    return error;
-}
-
-/* x = A^{-1} b by dgesv and the infinity-norm condition number estimate of dgecon. */
-static void dense_solve(const rod_matrix_t *m, const double *b, double *x, double *condition)
-{
-    const int n = m->n, one = 1;
-    double   *lu = malloc((size_t)n * n * sizeof(double));
-    double   *work = malloc(4 * (size_t)n * sizeof(double));
-    int      *ipiv = malloc((size_t)n * sizeof(int)), *iwork = malloc((size_t)n * sizeof(int));
-    int       info = 0;
-    double    anorm = norm_inf_matrix(m), rcond = 0.0;
-
-    memcpy(lu, m->a, (size_t)n * n * sizeof(double));
-    memcpy(x, b, (size_t)n * sizeof(double));
-    dgesv_(&n, &one, lu, &n, ipiv, x, &n, &info);
-    if (info == 0) dgecon_("I", &n, lu, &n, &anorm, &rcond, work, iwork, &info);
-    *condition = info == 0 && rcond > 0.0 ? 1.0 / rcond : HUGE_VAL;
-    free(lu);
-    free(work);
-    free(ipiv);
-    free(iwork);
-}
 
 /* ---- Bounds ------------------------------------------------------------------------------ */
 
