@@ -53,6 +53,12 @@ module rs_io_hdf5_file
 
     integer(c_int), parameter :: access_exists = 0, access_write = 2
 
+    !> A dataset kept open between calls (see hdf5_file_t%open_sets).
+    type :: open_dataset_t
+        character(len=:), allocatable :: path
+        integer(hid_t) :: id = -1
+    end type open_dataset_t
+
     !> One HDF5 file open for writing. Object paths are absolute ("/rods/arm/position") or
     !> relative to the root group; "/" is the root group.
     type :: hdf5_file_t
@@ -62,6 +68,13 @@ module rs_io_hdf5_file
         character(len=:), allocatable :: path
         !> Opened on MPI_COMM_WORLD with the MPI-IO driver (`open(..., parallel=.true.)`).
         logical :: parallel = .false.
+        !> The datasets that set_records, write_records, dataset_dims and read have opened,
+        !> kept open until `delete` or `close`: H5Dopen walks the group's B-tree and copies
+        !> property lists, and a writer flushing tens of datasets per record paid four opens
+        !> and closes per dataset (most of a small sweep member's output time). Every rank of
+        !> a parallel file makes the same calls, so every rank holds the same open datasets.
+        type(open_dataset_t), allocatable :: open_sets(:)
+        integer :: n_open = 0
     contains
         !> Create (or truncate) a file, creating missing parent directories.
         procedure :: create => file_create
@@ -119,7 +132,7 @@ module rs_io_hdf5_file
         procedure, private :: write_real_1, write_real_2, write_real_3, write_real_4, &
             write_integer_1
         procedure, private :: write_numeric_dataset, write_attribute_buffer, failed, &
-            prepare_dataset, check_open
+            prepare_dataset, check_open, open_dataset, close_datasets
     end type hdf5_file_t
 
     interface
@@ -202,13 +215,16 @@ contains
     end subroutine file_create
 
     !> Close the file. Every object this module opens is closed before its procedure returns,
-    !> so closing flushes everything written.
+    !> except the datasets kept open (open_sets), which are closed first, so closing flushes
+    !> everything written.
     subroutine file_close(this, err)
         class(hdf5_file_t), intent(inout) :: this
         type(error_t), allocatable, intent(out) :: err
-        integer :: status
+        integer :: status, close_status
         if (.not. this%is_open()) return
+        call this%close_datasets(close_status)
         call h5fclose_f(this%id, status)
+        if (status == 0) status = close_status
         this%id = -1
         this%parallel = .false.
         if (this%failed(status, 'H5Fclose', '/', 'hdf5_file%close', __LINE__, err)) return
@@ -622,6 +638,9 @@ contains
         integer :: status
         call this%check_open(path, 'hdf5_file%delete', err)
         if (allocated(err)) return
+        ! The link may be a kept dataset or a group above some: all of them are closed.
+        call this%close_datasets(status)
+        if (this%failed(status, 'H5Dclose', path, 'hdf5_file%delete', __LINE__, err)) return
         call h5ldelete_f(this%id, path, status)
         if (this%failed(status, 'H5Ldelete', path, 'hdf5_file%delete', __LINE__, err)) return
     end subroutine file_delete
@@ -655,10 +674,9 @@ contains
         integer :: status, rank, close_status
         call this%check_open(path, routine, err)
         if (allocated(err)) return
-        dataset = -1
         space = -1
         body: block
-            call h5dopen_f(this%id, path, dataset, status)
+            call this%open_dataset(path, dataset, status)
             if (this%failed(status, 'H5Dopen', path, routine, __LINE__, err)) exit body
             call h5dget_space_f(dataset, space, status)
             if (this%failed(status, 'H5Dget_space', path, routine, __LINE__, err)) exit body
@@ -674,9 +692,9 @@ contains
             ! HDF5's Fortran API returns the dimensions in Fortran order already.
             dims = int(h5_dims(1:rank))
         end block body
-        call close_all(dataset, space, -1_hid_t, close_status)
+        call close_all(-1_hid_t, space, -1_hid_t, close_status)
         if (allocated(err)) return
-        if (this%failed(close_status, 'H5Dclose/H5Sclose', path, routine, __LINE__, err)) return
+        if (this%failed(close_status, 'H5Sclose', path, routine, __LINE__, err)) return
     end subroutine file_dataset_dims
 
     subroutine file_create_series(this, path, record_dims, integer_values, unit, description, err)
@@ -705,17 +723,15 @@ contains
         character(len=*), parameter :: routine = 'hdf5_file%set_records'
         integer, allocatable :: dims(:)
         integer(hid_t) :: dataset
-        integer :: status, close_status
+        integer :: status
         call this%dataset_dims(path, dims, err)
         if (allocated(err)) return
         ! Called even for the same extent: collective in a parallel file.
         dims(size(dims)) = n_records
-        call h5dopen_f(this%id, path, dataset, status)
+        call this%open_dataset(path, dataset, status)
         if (this%failed(status, 'H5Dopen', path, routine, __LINE__, err)) return
         call h5dset_extent_f(dataset, int(dims, hsize_t), status)
-        call h5dclose_f(dataset, close_status)
         if (this%failed(status, 'H5Dset_extent', path, routine, __LINE__, err)) return
-        if (this%failed(close_status, 'H5Dclose', path, routine, __LINE__, err)) return
     end subroutine file_set_records
 
     subroutine write_records_real(this, path, first, values, err)
@@ -792,12 +808,11 @@ contains
         character(len=*), parameter :: routine = 'hdf5_file%write_records'
         integer(hid_t) :: dataset, file_space, memory_space, transfer
         integer :: status, close_status
-        dataset = -1
         file_space = -1
         memory_space = -1
         transfer = H5P_DEFAULT_F
         body: block
-            call h5dopen_f(this%id, path, dataset, status)
+            call this%open_dataset(path, dataset, status)
             if (this%failed(status, 'H5Dopen', path, routine, __LINE__, err)) exit body
             call h5dget_space_f(dataset, file_space, status)
             if (this%failed(status, 'H5Dget_space', path, routine, __LINE__, err)) exit body
@@ -823,11 +838,11 @@ contains
                 file_space_id=file_space, xfer_prp=transfer)
             if (this%failed(status, 'H5Dwrite', path, routine, __LINE__, err)) exit body
         end block body
-        call close_all(dataset, file_space, -1_hid_t, close_status)
+        call close_all(-1_hid_t, file_space, -1_hid_t, close_status)
         if (memory_space >= 0) call h5sclose_f(memory_space, status)
         if (transfer /= H5P_DEFAULT_F) call h5pclose_f(transfer, status)
         if (allocated(err)) return
-        if (this%failed(close_status, 'H5Dclose/H5Sclose', path, routine, __LINE__, err)) return
+        if (this%failed(close_status, 'H5Sclose', path, routine, __LINE__, err)) return
     end subroutine write_selection
 
     !> Raw-data transfer properties: collective MPI-IO in a parallel file (every rank writes
@@ -877,16 +892,57 @@ contains
         type(c_ptr), intent(in) :: data
         type(error_t), allocatable, intent(out) :: err
         integer(hid_t) :: dataset
-        integer :: status, close_status
+        integer :: status
         type(c_ptr) :: buffer
         buffer = data
-        call h5dopen_f(this%id, path, dataset, status)
+        call this%open_dataset(path, dataset, status)
         if (this%failed(status, 'H5Dopen', path, 'hdf5_file%read', __LINE__, err)) return
         call h5dread_f(dataset, memory_type, buffer, status)
-        call h5dclose_f(dataset, close_status)
         if (this%failed(status, 'H5Dread', path, 'hdf5_file%read', __LINE__, err)) return
-        if (this%failed(close_status, 'H5Dclose', path, 'hdf5_file%read', __LINE__, err)) return
     end subroutine read_buffer
+
+    !> The dataset `path`, opened on its first use and kept open until `delete` or `close`
+    !> (status as H5Dopen's).
+    subroutine open_dataset(this, path, dataset, status)
+        class(hdf5_file_t), intent(inout) :: this
+        character(len=*), intent(in) :: path
+        integer(hid_t), intent(out) :: dataset
+        integer, intent(out) :: status
+        type(open_dataset_t), allocatable :: grown(:)
+        integer :: i
+        status = 0
+        do i = this%n_open, 1, -1
+            if (this%open_sets(i)%path == path) then
+                dataset = this%open_sets(i)%id
+                return
+            end if
+        end do
+        call h5dopen_f(this%id, path, dataset, status)
+        if (status /= 0) return
+        if (.not. allocated(this%open_sets)) allocate(this%open_sets(16))
+        if (this%n_open == size(this%open_sets)) then
+            allocate(grown(2 * size(this%open_sets)))
+            grown(1:this%n_open) = this%open_sets(1:this%n_open)
+            call move_alloc(grown, this%open_sets)
+        end if
+        this%n_open = this%n_open + 1
+        this%open_sets(this%n_open)%path = path
+        this%open_sets(this%n_open)%id = dataset
+    end subroutine open_dataset
+
+    !> Close every kept dataset (status: the first failure, 0 if none).
+    subroutine close_datasets(this, status)
+        class(hdf5_file_t), intent(inout) :: this
+        integer, intent(out) :: status
+        integer :: i, one
+        status = 0
+        do i = 1, this%n_open
+            call h5dclose_f(this%open_sets(i)%id, one)
+            if (status == 0) status = one
+            this%open_sets(i)%id = -1
+        end do
+        this%n_open = 0
+    end subroutine close_datasets
 
 
     !> Before creating dataset `path`: the file is open, the groups above exist and the name is

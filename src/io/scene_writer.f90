@@ -59,47 +59,43 @@ contains
         namelist /contact_nml/ contact
         integer :: i
 
+        ! Each group's text ends at its '/' line (tidy_group reads no further), so the lines
+        ! are blanked once, not per group: 400 lines of 4096 characters per group was most of
+        ! the time of a small sweep member's resolved scene.
         allocate(lines(max_lines))
+        lines = ''
         text = '! resolved scene of ' // scene%source_file // ' (defaults and derived values included)' // &
             new_line('a')
         run = scene%run
-        lines = ''
         write(lines, nml=run_nml, delim='apostrophe')
         text = text // tidy_group('run', lines)
         time = scene%time
-        lines = ''
         write(lines, nml=time_nml, delim='apostrophe')
         text = text // tidy_group('time', lines)
         solver = scene%solver
-        lines = ''
         write(lines, nml=solver_nml, delim='apostrophe')
         text = text // tidy_group('solver', lines)
         output = scene%output
-        lines = ''
         write(lines, nml=output_nml, delim='apostrophe')
         text = text // tidy_group('output', lines)
         do i = 1, size(scene%rods)
             rod = scene%rods(i)
-            lines = ''
             write(lines, nml=rod_nml, delim='apostrophe')
             text = text // section_values_as_comments(tidy_group('rod', lines), rod%section)
         end do
         do i = 1, size(scene%bcs)
             bc = scene%bcs(i)
-            lines = ''
             write(lines, nml=bc_nml, delim='apostrophe')
             text = text // tidy_group('bc', lines)
         end do
         do i = 1, size(scene%loads)
             load = scene%loads(i)
-            lines = ''
             write(lines, nml=load_nml, delim='apostrophe')
             text = text // tidy_group('load', lines)
         end do
         if (allocated(scene%actuators)) then
             do i = 1, size(scene%actuators)
                 actuator = scene%actuators(i)
-                lines = ''
                 write(lines, nml=actuator_nml, delim='apostrophe')
                 text = text // tidy_group('actuator', lines)
             end do
@@ -107,7 +103,6 @@ contains
         if (allocated(scene%joints)) then
             do i = 1, size(scene%joints)
                 joint = scene%joints(i)
-                lines = ''
                 write(lines, nml=joint_nml, delim='apostrophe')
                 text = text // tidy_group('joint', lines)
             end do
@@ -115,14 +110,12 @@ contains
         if (allocated(scene%plates)) then
             do i = 1, size(scene%plates)
                 plate = scene%plates(i)
-                lines = ''
                 write(lines, nml=plate_nml, delim='apostrophe')
                 text = text // tidy_group('plate', lines)
             end do
         end if
         if (scene%contact%given) then
             contact = scene%contact
-            lines = ''
             write(lines, nml=contact_nml, delim='apostrophe')
             text = text // tidy_group('contact', lines)
         end if
@@ -201,7 +194,8 @@ contains
         do i = 1, size(lines)
             line = trim(adjustl(lines(i)))
             if (len(line) == 0) cycle
-            if (line(1:1) == '&' .or. line(1:1) == '/') cycle
+            if (line(1:1) == '/') exit
+            if (line(1:1) == '&') cycle
             pct = index(line, '%')
             eq = index(line, '=')
             if (pct > 0 .and. eq > pct .and. verify(line(1:pct - 1), &

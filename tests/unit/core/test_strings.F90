@@ -35,11 +35,21 @@ contains
     end subroutine test_to_lower_ascii_only
 
     subroutine test_str_int()
+        character(len=24) :: expected
+        integer :: k, value
         CHECK_EQUAL(str(0), '0', 'zero')
         CHECK_EQUAL(str(42), '42', 'positive')
         CHECK_EQUAL(str(-7), '-7', 'negative')
         CHECK_EQUAL(str(huge(1)), '2147483647', 'largest 32-bit integer')
         CHECK_EQUAL(str(-huge(1) - 1), '-2147483648', 'smallest 32-bit integer')
+        ! Digit by digit, it must agree with the I0 edit descriptor at every number of digits.
+        do k = 0, 9
+            value = 10**k - 1
+            write(expected, '(i0)') value
+            CHECK_EQUAL(str(value), trim(expected), 'a run of nines')
+            write(expected, '(i0)') -(value + 1)
+            CHECK_EQUAL(str(-(value + 1)), trim(expected), 'a negative power of ten')
+        end do
     end subroutine test_str_int
 
     ! The forms named in the documentation of str_real: positional in [1e-3, 1e7), scientific

@@ -26,6 +26,7 @@ module rs_test_io_result_file
     character(len=*), parameter :: result_path = out_dir // '/nested/two_rods.h5'
     character(len=*), parameter :: layer_path = out_dir // '/layer.h5'
     character(len=*), parameter :: selection_path = out_dir // '/selection.h5'
+    character(len=*), parameter :: kept_path = out_dir // '/kept.h5'
 
     ! The closed form; check_result_file.py has the same definitions.
     integer, parameter :: n_stored = 8
@@ -41,6 +42,7 @@ contains
         call run_test('bad_names', test_bad_names)
         call run_test('short_history', test_short_history)
         call run_test('hdf5_layer', test_hdf5_layer)
+        call run_test('hdf5_kept_datasets', test_hdf5_kept_datasets)
         call run_test('bundle_series_selection', test_bundle_series_selection)
     end subroutine run_all_tests
 
@@ -330,6 +332,45 @@ contains
         call file%write_attribute('/', 'late', 1, err)
         CHECK_TRUE(allocated(err), 'writing to a closed file is an error')
     end subroutine test_hdf5_layer
+
+    !> Datasets stay open between calls (hdf5_file_t%open_sets): a series grown and written
+    !> record by record reads back whole, a deleted series re-created under the same name with
+    !> another record shape is the new one (not the kept handle of the old), and everything is
+    !> in the file after close.
+    subroutine test_hdf5_kept_datasets()
+        type(hdf5_file_t) :: file
+        type(error_t), allocatable :: err
+        real(rk), allocatable :: values(:)
+        integer, allocatable :: dims(:)
+        integer :: k
+        call file%create(kept_path, err)
+        if (.not. allocated(err)) call file%create_series('/s/x', [2], .false., 'm', 'x', err)
+        do k = 1, 3
+            if (.not. allocated(err)) call file%set_records('/s/x', k, err)
+            if (.not. allocated(err)) call file%write_records('/s/x', k, [real(k, rk), -real(k, rk)], err)
+        end do
+        if (.not. allocated(err)) call file%read('/s/x', values, err)
+        CHECK_TRUE(.not. allocated(err), 'grown, written and read')
+        if (allocated(err)) return
+        CHECK_TRUE(all(values == [1.0_rk, -1.0_rk, 2.0_rk, -2.0_rk, 3.0_rk, -3.0_rk]), 'records in order')
+        call file%delete('/s/x', err)
+        if (.not. allocated(err)) call file%create_series('/s/x', [3], .false., 'm', 'x', err)
+        if (.not. allocated(err)) call file%set_records('/s/x', 1, err)
+        if (.not. allocated(err)) call file%write_records('/s/x', 1, [4.0_rk, 5.0_rk, 6.0_rk], err)
+        if (.not. allocated(err)) call file%dataset_dims('/s/x', dims, err)
+        CHECK_TRUE(.not. allocated(err), 're-created after delete')
+        if (allocated(err)) return
+        CHECK_TRUE(all(dims == [3, 1]), 'the re-created shape, not the deleted one')
+        call file%close(err)
+        CHECK_TRUE(.not. allocated(err), 'close with kept datasets')
+        call file%open(kept_path, err, writable=.false.)
+        if (.not. allocated(err)) call file%read('/s/x', values, err)
+        CHECK_TRUE(.not. allocated(err), 'reopened and read')
+        if (allocated(err)) return
+        CHECK_TRUE(all(values == [4.0_rk, 5.0_rk, 6.0_rk]), 'the values after close')
+        call file%close(err)
+        CHECK_TRUE(.not. allocated(err), 'closed again')
+    end subroutine test_hdf5_kept_datasets
 
     !> The bundle series of a rod that has them (arm) follow `&output fields`: 'contact'
     !> selects series/contact/{energy,force,penetration}, 'ties' series/ties/force, 'all' both;
