@@ -27,12 +27,16 @@ ranks)) from the process, sweep and summed member wall times, medians of --small
 with the packages taking turns, the ratio of the packages, the members' Newton iterations
 summed (/summary/newton_iterations), how many members printed rodchain's message that MUMPS
 factors their Jacobians, and the largest difference of the tip positions between the packages.
+With --baseline-rodsolve, the same small rods also run with that executable (an older build,
+e.g. of the commit before issue 20's work, with its own default LU) in the same run, taking
+turns with the others: issue 20's sweep target is a ratio to that path.
 
 With --write the tables replace the GENERATED block of docs/performance.md.
 
     /usr/bin/python3 tests/bench/sweep_bench.py --rodsolve build/rodsolve \\
         --mpiexec mpirun --source . --workdir build/bench_sweep [--repeat 5] \\
-        [--small-members 1000] [--small-repeat 3] [--only ranks|packages] [--write]
+        [--small-members 1000] [--small-repeat 3] [--only ranks|packages] [--write] \\
+        [--baseline-rodsolve OLD/rodsolve --baseline-label "the build of commit b5f9e2f"]
 """
 import os
 import re
@@ -56,21 +60,25 @@ FINISHED = re.compile(r"rodsolve: sweep of (\d+) members: (\d+) completed, (\d+)
 MEMBER_DONE = re.compile(r"rodsolve: sweep member \d+ of \d+ done")
 FALLBACK = re.compile(r"^rodchain: .*MUMPS factors such Jacobians", re.M)
 PACKAGES = ("rodchain", "mumps")
+# The path of issue 20's filing: another executable (--baseline-rodsolve) with its defaults.
+BASELINE = "baseline"
 MODES = {"statics": ".true.", "dynamics": ".false."}
 ENVIRONMENT = {"OMPI_ALLOW_RUN_AS_ROOT": "1", "OMPI_ALLOW_RUN_AS_ROOT_CONFIRM": "1",
                "OPENBLAS_NUM_THREADS": "1", "OMP_NUM_THREADS": "1"}
 
 
-def run_sweep(args, text, ranks, name):
-    """Run the sweep on `ranks` ranks into `name`.h5; the process wall time, the log's
-    estimate, and the file's wall time and per-member columns."""
+def run_sweep(args, text, ranks, name, rodsolve=None):
+    """Run the sweep on `ranks` ranks into `name`.h5 with the executable `rodsolve` (default
+    --rodsolve); the process wall time, the log's estimate, and the file's wall time and
+    per-member columns."""
     output = os.path.join(args.workdir, name + ".h5")
     if os.path.exists(output):
         os.remove(output)
     scene = os.path.join(args.workdir, name + ".nml")
     with open(scene, "w", encoding="utf-8") as f:
         f.write(rs.set_variable(text, "output", "path", f"'{output}'"))
-    command = [args.mpiexec, "--oversubscribe", "-np", str(ranks), args.rodsolve, scene]
+    command = [args.mpiexec, "--oversubscribe", "-np", str(ranks), rodsolve or args.rodsolve,
+               scene]
     # Each line with the time it arrived: the last member's line to the final line of the log
     # is the merge on rank 0 (on 1 rank; on more, also the wait for the other ranks).
     stamped = []
@@ -245,13 +253,15 @@ def rank_section(args):
 
 def small_scene(args, mode, package):
     """The catalog's cantilever sweep with --small-members members over EI1 and --small-steps
-    steps to t_end = 1, statics or dynamics, its first and last records, LU `package`."""
+    steps to t_end = 1, statics or dynamics, its first and last records, LU `package` (the
+    baseline: the executable's own default, no option)."""
     text = rs.read_example(args.source, SCENE)
     text = rs.set_variable(text, "time", "dt", repr(1.0 / args.small_steps))
     text = rs.set_variable(text, "time", "quasistatic", MODES[mode])
     text = rs.set_variable(text, "output", "stride", str(args.small_steps))
-    text = rs.set_variable(text, "solver", "petsc_options",
-                           f"'-pc_factor_mat_solver_type {package}'")
+    if package != BASELINE:
+        text = rs.set_variable(text, "solver", "petsc_options",
+                               f"'-pc_factor_mat_solver_type {package}'")
     return rs.set_variable(text, "sweep", "logspace", f"1.0, 100.0, {args.small_members}")
 
 
@@ -259,19 +269,21 @@ def package_section(args):
     """Many small rods per LU package, taking turns: the block's text and the failed checks."""
     load_before = os.getloadavg()[0]
     ranks = args.small_ranks
-    runs = {(m, p): [] for m in MODES for p in PACKAGES}
+    packages = PACKAGES + ((BASELINE,) if args.baseline_rodsolve else ())
+    runs = {(m, p): [] for m in MODES for p in packages}
     for k in range(args.small_repeat):
         for mode in MODES:
-            for package in PACKAGES:
+            for package in packages:
                 scene, name = small_scene(args, mode, package), f"small_{mode}_{package}_{k}"
+                binary = args.baseline_rodsolve if package == BASELINE else args.rodsolve
                 try:
-                    r = run_sweep(args, scene, ranks, name)
+                    r = run_sweep(args, scene, ranks, name, binary)
                 except SystemExit as failure:
                     # Once more: on a shared machine the executable may have been relinked
                     # under the run.
                     print(f"{failure}; running it again", flush=True)
                     time.sleep(10)
-                    r = run_sweep(args, scene, ranks, name)
+                    r = run_sweep(args, scene, ranks, name, binary)
                 r["fallbacks"] = len(FALLBACK.findall(r["log"]))
                 r["log"] = None
                 runs[(mode, package)].append(r)
@@ -303,18 +315,23 @@ def package_section(args):
                      + " | ".join(f"{rate[(mode, package)][key]:.0f}" for key in keys)
                      + f" | {newton} | {max(r['fallbacks'] for r in group)} |")
     table = "\n".join(lines)
-    new, old = PACKAGES
-    lines = [f"| scene | {new} / {old}, member-steps per second (process) | (sweep) | (members) "
-             f"| largest tip-position difference, {new} against {old} (m) |",
-             "|---|---:|---:|---:|---:|"]
+    new = PACKAGES[0]
+    lines = ["| scene | against | member-steps per second, ratio (process) | (sweep) | (members) "
+             f"| largest tip-position difference, {new} against it (m) |",
+             "|---|---|---:|---:|---:|---:|"]
     for mode in MODES:
-        a, b = runs[(mode, new)][0], runs[(mode, old)][0]
-        tip = (f"{float(np.nanmax(np.abs(a['tip'] - b['tip']))):.2g}"
-               if a["tip"] is not None and b["tip"] is not None else "-")
-        lines.append(f"| {mode} | " + " | ".join(
-            f"{rate[(mode, new)][key] / rate[(mode, old)][key]:.2f}" for key in keys)
-            + f" | {tip} |")
+        for old in packages[1:]:
+            a, b = runs[(mode, new)][0], runs[(mode, old)][0]
+            tip = (f"{float(np.nanmax(np.abs(a['tip'] - b['tip']))):.2g}"
+                   if a["tip"] is not None and b["tip"] is not None else "-")
+            lines.append(f"| {mode} | {new} / {old} | " + " | ".join(
+                f"{rate[(mode, new)][key] / rate[(mode, old)][key]:.2f}" for key in keys)
+                + f" | {tip} |")
     ratios = "\n".join(lines)
+    baseline = ""
+    if args.baseline_rodsolve:
+        baseline = (f"`{BASELINE}` is another executable, {args.baseline_label}, with its own "
+                    "default LU (no `-pc_factor_mat_solver_type`), in the same run. ")
     block = (
         f"Many small rods, per LU package: input/{SCENE} with {args.small_members} members "
         f"(EI1 logspace 1 to 100), 4 elements of degree 2, {args.small_steps} steps to t = 1 "
@@ -323,7 +340,7 @@ def package_section(args):
         f"record only (output stride {args.small_steps}); `mpirun --oversubscribe -np {ranks}`, "
         "one BLAS thread; LU package by `-pc_factor_mat_solver_type`: `rodchain` (the chain LU, "
         "the default for a single rod) and `mumps` (rodsolve's MUMPS defaults, the path before "
-        f"it). Medians of {args.small_repeat} runs, the scenes and packages taking turns within "
+        f"it). {baseline}Medians of {args.small_repeat} runs, the scenes and packages taking turns within "
         f"each repetition; load average {load_before:.2f} before these runs, "
         f"{os.getloadavg()[0]:.2f} after. Member-steps per second per core: members x steps / "
         f"(wall time x {ranks} rank(s)), for the process, the sweep's own and the members' "
@@ -344,6 +361,10 @@ def main():
                         help="runs per scene and LU package of the small rods (median)")
     parser.add_argument("--small-ranks", type=int, default=1,
                         help="ranks of the small-rod sweeps")
+    parser.add_argument("--baseline-rodsolve",
+                        help="also run the small rods with this executable (an older build)")
+    parser.add_argument("--baseline-label", default="an older build",
+                        help="what the baseline executable is, for the text")
     parser.add_argument("--only", choices=("ranks", "packages"),
                         help="run one part only (not with --write)")
     parser.add_argument("--write", action="store_true", help="update docs/performance.md")
