@@ -132,7 +132,7 @@ module rs_io_hdf5_file
         procedure, private :: write_real_1, write_real_2, write_real_3, write_real_4, &
             write_integer_1
         procedure, private :: write_numeric_dataset, write_attribute_buffer, failed, &
-            prepare_dataset, check_open, open_dataset, close_datasets
+            prepare_dataset, check_open, open_dataset, keep_dataset, close_datasets
     end type hdf5_file_t
 
     interface
@@ -495,15 +495,52 @@ contains
                 call h5dwrite_f(dataset, memory_type, data, status)
                 if (this%failed(status, 'H5Dwrite', path, routine, __LINE__, err)) exit body
             end if
+            ! On the new dataset's own handle: no lookup by path, no attribute to replace.
+            call new_string_attribute(dataset, 'unit', unit, status)
+            if (this%failed(status, 'H5Acreate/H5Awrite', path // '@unit', routine, __LINE__, &
+                err)) exit body
+            call new_string_attribute(dataset, 'description', description, status)
+            if (this%failed(status, 'H5Acreate/H5Awrite', path // '@description', routine, &
+                __LINE__, err)) exit body
+            ! A series is written record by record: kept open for set_records and write_records.
+            if (series) then
+                call this%keep_dataset(path, dataset)
+                dataset = -1
+            end if
         end block body
         call close_all(dataset, space, -1_hid_t, close_status, properties)
         if (allocated(err)) return
         if (this%failed(close_status, 'H5Dclose/H5Sclose/H5Pclose', path, routine, __LINE__, &
                 err)) return
-        call this%write_attribute(path, 'unit', unit, err)
-        if (allocated(err)) return
-        call this%write_attribute(path, 'description', description, err)
     end subroutine write_numeric_dataset
+
+    !> A new variable-length UTF-8 string attribute `name` = `value` of the open object
+    !> `object` (which has no attribute of that name); status 0 on success.
+    subroutine new_string_attribute(object, name, value, status)
+        integer(hid_t), intent(in) :: object
+        character(len=*), intent(in) :: name, value
+        integer, intent(out) :: status
+        character(kind=c_char), allocatable, target :: text(:)
+        type(c_ptr), target :: pointer
+        integer(hid_t) :: string_type, space, attribute
+        integer :: close_status
+        space = -1
+        attribute = -1
+        call new_string_type(string_type, status)
+        if (status == 0) call h5screate_f(H5S_SCALAR_F, space, status)
+        if (status == 0) call h5acreate_f(object, name, string_type, space, attribute, status)
+        if (status == 0) then
+            allocate(text, source=c_string(value))
+            pointer = c_loc(text)
+            call h5awrite_f(attribute, string_type, c_loc(pointer), status)
+        end if
+        if (attribute >= 0) then
+            call h5aclose_f(attribute, close_status)
+            if (status == 0) status = close_status
+        end if
+        call close_all(-1_hid_t, space, string_type, close_status)
+        if (status == 0) status = close_status
+    end subroutine new_string_attribute
 
     !> Create or replace attribute `name` of `object` with dataspace `dims` (scalar when empty)
     !> and write `data` of `memory_type`.
@@ -908,7 +945,6 @@ contains
         character(len=*), intent(in) :: path
         integer(hid_t), intent(out) :: dataset
         integer, intent(out) :: status
-        type(open_dataset_t), allocatable :: grown(:)
         integer :: i
         status = 0
         do i = this%n_open, 1, -1
@@ -919,6 +955,15 @@ contains
         end do
         call h5dopen_f(this%id, path, dataset, status)
         if (status /= 0) return
+        call this%keep_dataset(path, dataset)
+    end subroutine open_dataset
+
+    !> Keep the open dataset `dataset` of `path` for later calls (closed at delete or close).
+    subroutine keep_dataset(this, path, dataset)
+        class(hdf5_file_t), intent(inout) :: this
+        character(len=*), intent(in) :: path
+        integer(hid_t), intent(in) :: dataset
+        type(open_dataset_t), allocatable :: grown(:)
         if (.not. allocated(this%open_sets)) allocate(this%open_sets(16))
         if (this%n_open == size(this%open_sets)) then
             allocate(grown(2 * size(this%open_sets)))
@@ -928,7 +973,7 @@ contains
         this%n_open = this%n_open + 1
         this%open_sets(this%n_open)%path = path
         this%open_sets(this%n_open)%id = dataset
-    end subroutine open_dataset
+    end subroutine keep_dataset
 
     !> Close every kept dataset (status: the first failure, 0 if none).
     subroutine close_datasets(this, status)
