@@ -10,7 +10,8 @@ program rodsolve
     use rs_core_strings, only: str
     use rs_core_version, only: rodsolve_version, rodsolve_git_commit
     use rs_model_scene, only: scene_t
-    use rs_parallel_mpi_env, only: world_rank, world_size, mpi_library_version, barrier
+    use rs_parallel_mpi_env, only: world_rank, world_size, mpi_library_version, barrier, &
+        any_rank_true, broadcast_text
     use rs_parallel_abort, only: stop_all, set_cleanup
     use rs_parallel_metis, only: metis_version
     use rs_io_cli, only: cli_t, parse_command_line, usage_text
@@ -23,12 +24,16 @@ program rodsolve
     use rs_app_run_scene, only: run_scene
     use rs_app_run_sweep, only: run_sweep, merge_sweep
     use rs_io_sweep, only: sweep_member_count
+    use rs_io_output_guard, only: output_lock_t, check_output_target
+    use rs_core_logger, only: log_warning
     implicit none
 
     type(cli_t) :: cli
     type(error_t), allocatable :: err
     type(error_list_t) :: input_errors
     type(scene_t) :: scene
+    !> The output path's lock, held by rank 0 while a run or a merge writes it.
+    type(output_lock_t) :: output_lock
 
     cli = command_line()
     call petsc_initialize(cli%program, cli%petsc_args, err)
@@ -55,24 +60,49 @@ program rodsolve
             call print_root(resolved_scene_text(scene) // scene_plan_text(scene, world_size()))
             call log_info('rodsolve: ' // cli%scene_file // ' is valid (' // str(size(scene%rods)) // &
                 ' rod(s)); nothing was run (--check-input)')
-        else if (cli%action == 'merge') then
-            ! A killed sweep: its finished members into its result file (rank 0; DESIGN.md §7).
-            if (sweep_member_count(scene) == 0) call stop_all(exit_input_error, 'rodsolve: ' // &
-                cli%scene_file // ' has no &sweep group: there is nothing to merge')
-            if (world_rank() == 0) call merge_sweep(scene, full_command_line(), err)
-            call barrier()
-            if (allocated(err)) call stop_all(exit_run_error, 'rodsolve: ' // err%describe())
-        else if (sweep_member_count(scene) > 0) then
-            call run_sweep(scene, full_command_line(), err)
-            if (allocated(err)) call stop_all(exit_run_error, 'rodsolve: ' // err%describe())
         else
-            call run_scene(scene, full_command_line(), err)
+            call guard_output(cli%action, cli%scene_file, scene)
+            if (cli%action == 'merge') then
+                ! A killed sweep: its finished members into its result file (rank 0; DESIGN.md §7).
+                if (sweep_member_count(scene) == 0) call stop_all(exit_input_error, 'rodsolve: ' // &
+                    cli%scene_file // ' has no &sweep group: there is nothing to merge')
+                if (world_rank() == 0) call merge_sweep(scene, full_command_line(), err)
+                call barrier()
+            else if (sweep_member_count(scene) > 0) then
+                call run_sweep(scene, full_command_line(), err)
+            else
+                call run_scene(scene, full_command_line(), err)
+            end if
+            call output_lock%release()
             if (allocated(err)) call stop_all(exit_run_error, 'rodsolve: ' // err%describe())
         end if
     end select
     call stop_all(0)
 
 contains
+
+    !> Before anything is written: rank 0 takes the output path's lock and checks what is
+    !> there (rs_io_output_guard); if either fails, every rank stops with rank 0's message and
+    !> the path is left as it was.
+    subroutine guard_output(action, scene_file, scene)
+        character(len=*), intent(in) :: action, scene_file
+        type(scene_t), intent(in) :: scene
+        type(error_t), allocatable :: refused
+        character(len=:), allocatable :: path, warning, message
+        path = trim(scene%output%path)
+        message = ''
+        if (world_rank() == 0) then
+            call output_lock%acquire(path, 'a rodsolve ' // trim(action) // ' of ' // scene_file, &
+                refused, warning)
+            if (len(warning) > 0) call log_warning('rodsolve: ' // warning)
+            if (.not. allocated(refused)) call check_output_target(path, scene_file, refused)
+            if (allocated(refused)) message = 'rodsolve: ' // refused%describe()
+        end if
+        if (.not. any_rank_true(len(message) > 0)) return
+        call output_lock%release()
+        call broadcast_text(message, 0)
+        call stop_all(exit_run_error, message)
+    end subroutine guard_output
 
     !> The command line, parsed (rodsolve's flags, the scene, PETSc's options).
     function command_line() result(parsed)

@@ -86,6 +86,9 @@ contains
             str_significant(balance(costs, owner), 4) // '); rank 0 runs ' // str(mine) // &
             '; members write to ' // member_directory(path) // '/')
 
+        ! A new sweep replaces the previous one of this path from its start, so that a killed
+        ! sweep never leaves the old result beside its own members (issue 21 item 5).
+        if (true_rank() == 0) call forget_previous_sweep(path, world_size())
         ! This rank's ledger: one line per finished member, flushed, so a killed sweep keeps them.
         call open_ledger(path, true_rank(), ledger, local_err)
         done = 0
@@ -225,6 +228,24 @@ contains
             RS_SET_ERROR(err, 'run_sweep', message)
         end if
     end subroutine open_ledger
+
+    !> Remove the result file of a previous sweep of `path` (rodsolve's own: the output guard
+    !> checked it) and the ledgers of ranks from `n_ranks` on, which this sweep does not write
+    !> and a merge would otherwise read as this sweep's.
+    subroutine forget_previous_sweep(path, n_ranks)
+        character(len=*), intent(in) :: path
+        integer, intent(in) :: n_ranks
+        integer :: rank
+        logical :: exists
+        call delete_file(path)
+        rank = n_ranks
+        do
+            inquire(file=ledger_file(path, rank), exist=exists)
+            if (.not. exists) exit
+            call delete_file(ledger_file(path, rank))
+            rank = rank + 1
+        end do
+    end subroutine forget_previous_sweep
 
     !> What the ledgers of ranks 0, 1, ... (until one is missing) say of members 1 .. n.
     subroutine read_ledgers(path, n, records)

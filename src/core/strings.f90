@@ -2,11 +2,13 @@
 !> suggestions for misspelled input names (DESIGN.md §6).
 module rs_core_strings
     use, intrinsic :: iso_fortran_env, only: int64
+    use, intrinsic :: iso_c_binding, only: c_char, c_null_char
     use rs_core_kinds, only: rk
     implicit none
     private
 
     public :: str_significant, to_lower, str, edit_distance, closest_name, vector_text, did_you_mean
+    public :: to_c_string, from_c_string
 
     !> Shortest readable text of a number.
     interface str
@@ -179,5 +181,34 @@ contains
             text = text // str(v(i))
         end do
     end function vector_text
+
+    !> `text` as a NUL-terminated C string.
+    pure function to_c_string(text) result(chars)
+        character(len=*), intent(in) :: text
+        character(kind=c_char) :: chars(len(text) + 1)
+        integer :: i
+        do i = 1, len(text)
+            chars(i) = text(i:i)
+        end do
+        chars(len(text) + 1) = c_null_char
+    end function to_c_string
+
+    !> The characters of a C string up to its NUL (or the whole buffer).
+    pure function from_c_string(chars) result(text)
+        character(kind=c_char), intent(in) :: chars(:)
+        character(len=:), allocatable :: text
+        integer :: i, n
+        n = size(chars)
+        do i = 1, size(chars)
+            if (chars(i) == c_null_char) then
+                n = i - 1
+                exit
+            end if
+        end do
+        allocate(character(len=n) :: text)
+        do i = 1, n
+            text(i:i) = chars(i)
+        end do
+    end function from_c_string
 
 end module rs_core_strings

@@ -40,7 +40,8 @@ module rs_io_hdf5_file
     use mpi, only: MPI_COMM_WORLD, MPI_INFO_NULL
     use rs_core_kinds, only: rk
     use rs_core_error, only: error_t, set_error
-    use rs_core_strings, only: str
+    use rs_core_strings, only: str, to_c_string
+    use rs_core_files, only: make_directories
     implicit none
     private
 
@@ -136,13 +137,6 @@ module rs_io_hdf5_file
     end type hdf5_file_t
 
     interface
-        function c_mkdir(path, mode) bind(C, name='mkdir') result(status)
-            import :: c_char, c_int
-            character(kind=c_char), intent(in) :: path(*)
-            integer(c_int), value :: mode
-            integer(c_int) :: status
-        end function c_mkdir
-
         function c_access(path, mode) bind(C, name='access') result(status)
             import :: c_char, c_int
             character(kind=c_char), intent(in) :: path(*)
@@ -190,12 +184,12 @@ contains
         end if
         call make_directories(directory)
         ! "dir/." resolves only when dir is a directory (a regular file gives ENOTDIR).
-        if (c_access(c_string(directory // '/.'), access_exists) /= 0) then
+        if (c_access(to_c_string(directory // '/.'), access_exists) /= 0) then
             call set_error(err, 'cannot create the directory "' // directory // &
                 '" for the output file "' // path // '"', routine, __FILE__, __LINE__)
             return
         end if
-        if (c_access(c_string(directory), access_write) /= 0) then
+        if (c_access(to_c_string(directory), access_write) /= 0) then
             call set_error(err, 'cannot create "' // path // '": the directory "' // directory // &
                 '" is not writable', routine, __FILE__, __LINE__)
             return
@@ -276,7 +270,7 @@ contains
         call new_string_type(string_type, status)
         if (this%failed(status, 'H5Tcopy/H5Tset_cset', object // '@' // name, routine, &
                 __LINE__, err)) return
-        allocate(text, source=c_string(value))
+        allocate(text, source=to_c_string(value))
         pointer = c_loc(text)
         call this%write_attribute_buffer(object, name, string_type, string_type, &
             [integer(hsize_t) ::], c_loc(pointer), err)
@@ -346,7 +340,7 @@ contains
             if (this%failed(status, 'H5Screate', path, routine, __LINE__, err)) exit body
             call h5dcreate_f(this%id, path, string_type, space, dataset, status)
             if (this%failed(status, 'H5Dcreate', path, routine, __LINE__, err)) exit body
-            allocate(buffer, source=c_string(text))
+            allocate(buffer, source=to_c_string(text))
             pointer = c_loc(buffer)
             call h5dwrite_f(dataset, string_type, c_loc(pointer), status)
             if (this%failed(status, 'H5Dwrite', path, routine, __LINE__, err)) exit body
@@ -530,7 +524,7 @@ contains
         if (status == 0) call h5screate_f(H5S_SCALAR_F, space, status)
         if (status == 0) call h5acreate_f(object, name, string_type, space, attribute, status)
         if (status == 0) then
-            allocate(text, source=c_string(value))
+            allocate(text, source=to_c_string(value))
             pointer = c_loc(text)
             call h5awrite_f(attribute, string_type, c_loc(pointer), status)
         end if
@@ -1080,29 +1074,6 @@ contains
             end if
         end if
     end subroutine close_all
-
-    !> `mkdir -p directory`: failures are ignored here and detected by the caller's check.
-    subroutine make_directories(directory)
-        character(len=*), intent(in) :: directory
-        integer :: i, status
-        do i = 2, len(directory) + 1
-            if (i <= len(directory)) then
-                if (directory(i:i) /= '/') cycle
-            end if
-            status = c_mkdir(c_string(directory(1:i - 1)), int(o'777', c_int))
-        end do
-    end subroutine make_directories
-
-    !> `text` as a NUL-terminated C character array.
-    pure function c_string(text) result(chars)
-        character(len=*), intent(in) :: text
-        character(kind=c_char) :: chars(len(text) + 1)
-        integer :: i
-        do i = 1, len(text)
-            chars(i) = text(i:i)
-        end do
-        chars(len(text) + 1) = c_null_char
-    end function c_string
 
     pure logical function optional_true(flag)
         logical, intent(in), optional :: flag

@@ -20,7 +20,7 @@ module rs_solver_rod_stepper
         c_null_ptr, c_null_char, c_loc, c_associated
     use rs_core_kinds, only: rk
     use rs_core_error, only: error_t, set_error, set_petsc_error
-    use rs_core_strings, only: str
+    use rs_core_strings, only: str, to_c_string, from_c_string
     implicit none
     private
 
@@ -259,7 +259,7 @@ contains
             message, int(message_length, c_int))
         if (ierr /= 0) then
             this%handle = c_null_ptr
-            RS_SET_ERROR(err, 'rod_stepper_create', from_c(message))
+            RS_SET_ERROR(err, 'rod_stepper_create', from_c_string(message))
             return
         end if
         this%n_state = n_state
@@ -305,7 +305,7 @@ contains
         fnorm = real(fnorm_c, rk)
         if (ierr /= 0) then
             if (present(diverged)) diverged = ierr == stepper_diverged
-            RS_SET_ERROR(err, 'rod_stepper_advance', from_c(message))
+            RS_SET_ERROR(err, 'rod_stepper_advance', from_c_string(message))
         end if
     end subroutine rod_stepper_advance
 
@@ -343,7 +343,7 @@ contains
         max_it = int(max_it_c)
         max_funcs = int(max_funcs_c)
         max_cutbacks = int(max_cutbacks_c)
-        types = from_c(buffer)
+        types = from_c_string(buffer)
     end subroutine rod_stepper_solver_settings
 
     !> TSView of the stepper (the rodmid line, then SNES, KSP, PC) into `path`; '' for stdout.
@@ -356,7 +356,7 @@ contains
             RS_SET_ERROR(err, 'rod_stepper_view', 'the stepper was not created')
             return
         end if
-        ierr = rs_stepper_view(this%handle, to_c(path))
+        ierr = rs_stepper_view(this%handle, to_c_string(path))
         RS_CHECK_PETSC(int(ierr), err, 'rod_stepper_view', 'TSView')
     end subroutine rod_stepper_view
 
@@ -399,17 +399,17 @@ contains
         scene_p = c_null_ptr
         user_p = c_null_ptr
         if (present(scene_options)) then
-            scene_c = to_c(scene_options)
+            scene_c = to_c_string(scene_options)
             scene_p = c_loc(scene_c)
         end if
         if (present(user_options)) then
-            user_c = to_c(user_options)
+            user_c = to_c_string(user_options)
             user_p = c_loc(user_c)
         end if
         message = c_null_char
         ierr = rs_petsc_apply_options(scene_p, user_p, message, int(message_length, c_int))
         if (ierr /= 0) then
-            RS_SET_ERROR(err, 'petsc_apply_options', from_c(message))
+            RS_SET_ERROR(err, 'petsc_apply_options', from_c_string(message))
         end if
     end subroutine petsc_apply_options
 
@@ -429,7 +429,7 @@ contains
         if (n < 0) then
             text = ''
         else
-            text = from_c(buffer)
+            text = from_c_string(buffer)
         end if
     end function petsc_options_text
 
@@ -448,7 +448,7 @@ contains
         integer, intent(out) :: count
         type(error_t), allocatable, intent(out) :: err
         integer(c_int) :: ierr, count_c
-        ierr = rs_petsc_event_count(to_c(name), count_c)
+        ierr = rs_petsc_event_count(to_c_string(name), count_c)
         count = int(count_c)
         if (ierr == 1) then
             RS_SET_ERROR(err, 'petsc_event_count', 'PETSc event logging is off (petsc_log_begin, -log_view)')
@@ -457,35 +457,5 @@ contains
                 str(int(ierr)), 'petsc_event_count', __FILE__, __LINE__)
         end if
     end subroutine petsc_event_count
-
-    !> `text` as a NUL-terminated C string.
-    pure function to_c(text) result(buffer)
-        character(len=*), intent(in) :: text
-        character(kind=c_char), allocatable :: buffer(:)
-        integer :: i
-        allocate(buffer(len(text) + 1))
-        do i = 1, len(text)
-            buffer(i) = text(i:i)
-        end do
-        buffer(len(text) + 1) = c_null_char
-    end function to_c
-
-    !> The characters of a C string up to its NUL (or the whole buffer).
-    pure function from_c(buffer) result(text)
-        character(kind=c_char), intent(in) :: buffer(:)
-        character(len=:), allocatable :: text
-        integer :: i, n
-        n = size(buffer)
-        do i = 1, size(buffer)
-            if (buffer(i) == c_null_char) then
-                n = i - 1
-                exit
-            end if
-        end do
-        allocate(character(len=n) :: text)
-        do i = 1, n
-            text(i:i) = buffer(i)
-        end do
-    end function from_c
 
 end module rs_solver_rod_stepper

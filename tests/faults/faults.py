@@ -1,0 +1,237 @@
+#!/usr/bin/env python3
+"""Faults a cluster user meets (issue 21; docs/user/output.md "An existing file"): each case
+failed on the code before the fix.
+
+    faults.py two_runs        a second run of the same output path, started while the first
+                              runs, stops at once with a message naming the other run and
+                              touches nothing; the first completes with every record
+                              (item 1); the lock file is gone afterwards
+    faults.py merge_running   `rodsolve --merge` of a sweep that is still running is refused and
+                              deletes nothing; the sweep completes with every member (item 2)
+    faults.py overwrite       the output path is the scene itself, a text file, an HDF5 file
+                              rodsolve did not write, or a directory: each is refused and left
+                              byte for byte as it was; a result of rodsolve is replaced (item 4;
+                              item 20's "disk full?" for a directory)
+    faults.py killed_sweep    a sweep killed after a few members leaves no result file of the
+                              previous sweep of its path, marked completed, beside its members
+                              (item 5)
+"""
+import os
+import signal
+import subprocess
+import sys
+import time
+
+import h5py
+
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "regression"))
+import run_scene as rs  # noqa: E402
+
+# Long enough that the second process starts (about 0.5 s) well inside the first one's run.
+LONG_STEPS = 200000
+
+
+def write_scene(args, name, text, output):
+    os.makedirs(args.workdir, exist_ok=True)
+    scene = os.path.join(args.workdir, name + ".nml")
+    with open(scene, "w", encoding="utf-8") as f:
+        f.write(rs.set_variable(text, "output", "path", f"'{output}'"))
+    return scene
+
+
+def long_strand(args):
+    """Seed 004's vibrating tube over LONG_STEPS steps (a few seconds), first and last record."""
+    text = rs.read_example(args.source, "strand_vibration.nml")
+    dt = 5.925872307404123e-4
+    text = rs.set_variable(text, "time", "t_end", repr(LONG_STEPS * dt))
+    text = rs.set_variable(text, "output", "stride", str(LONG_STEPS))
+    return rs.set_variable(text, "output", "flush_every", str(LONG_STEPS))
+
+
+def wait_for(path, process, seconds=60.0):
+    """Wait until `path` exists (or the process ended); whether it does."""
+    deadline = time.monotonic() + seconds
+    while time.monotonic() < deadline and process.poll() is None:
+        if os.path.exists(path):
+            return True
+        time.sleep(0.01)
+    return os.path.exists(path)
+
+
+def run(args, scene, *extra):
+    result = subprocess.run([args.mpiexec, "--oversubscribe", "-np", "1", args.rodsolve, *extra,
+                             scene], capture_output=True, text=True)
+    print(result.stdout[-600:] + result.stderr[-600:])
+    return result.returncode, result.stdout + result.stderr
+
+
+def two_runs(args, checks):
+    output = os.path.join(args.workdir, "shared.h5")
+    for stale in (output, output + ".lock"):
+        if os.path.exists(stale):
+            os.remove(stale)
+    first = write_scene(args, "first", long_strand(args), output)
+    second = write_scene(args, "second", long_strand(args), output)
+    # One rank without mpiexec, so that this process is rodsolve itself.
+    process = subprocess.Popen([args.rodsolve, first], stdout=subprocess.PIPE,
+                               stderr=subprocess.STDOUT, text=True)
+    locked = wait_for(output + ".lock", process)
+    checks.check("the first run holds the lock file", 0 if locked else 1, 0)
+    status, log = run(args, second)
+    running = process.poll() is None
+    checks.check("the first run was still running when the second stopped", 0 if running else 1, 0)
+    checks.check("exit status of the second run - 1", abs(status - 1), 0)
+    checks.check("the second run names the other run",
+                 0 if "being written by another run" in log and "first.nml" in log else 1, 0)
+    first_log, _ = process.communicate()
+    checks.check("exit status of the first run", process.returncode, 0)
+    if process.returncode != 0:
+        print(first_log[-1000:])
+    with h5py.File(output, "r") as f:
+        status_attr = f.attrs.get("status", "")
+        records = f["rods/tube/time"].shape[0]
+        command = f.attrs["command_line"]
+    checks.check("the file's status is 'completed'", 0 if status_attr == "completed" else 1, 0)
+    checks.check("records of the first run - 2 (first and last)", abs(records - 2), 0)
+    checks.check("the file is the first run's", 0 if "first.nml" in command else 1, 0)
+    checks.check("the lock file is removed at the end", 1 if os.path.exists(output + ".lock") else 0,
+                 0)
+
+
+def long_sweep(args, members):
+    text = rs.read_example(args.source, "sweep_cantilever.nml")
+    text = rs.set_variable(text, "time", "dt", "0.0025")
+    text = rs.set_variable(text, "time", "quasistatic", ".false.")
+    text = rs.set_variable(text, "output", "stride", "400")
+    return rs.set_variable(text, "sweep", "logspace", f"1.0, 100.0, {members}")
+
+
+def ledger_lines(ledger):
+    if not os.path.exists(ledger):
+        return 0
+    with open(ledger, encoding="utf-8") as f:
+        return sum(1 for line in f if line.strip())
+
+
+def merge_running(args, checks):
+    output = os.path.join(args.workdir, "running.h5")
+    if os.path.exists(output):
+        os.remove(output)
+    scene = write_scene(args, "running", long_sweep(args, 64), output)
+    ledger = output + ".members/ledger_rank0.txt"
+    process = subprocess.Popen([args.rodsolve, scene], stdout=subprocess.PIPE,
+                               stderr=subprocess.STDOUT, text=True)
+    deadline = time.monotonic() + 60.0
+    while process.poll() is None and ledger_lines(ledger) < 1 and time.monotonic() < deadline:
+        time.sleep(0.01)
+    members_before = sorted(os.listdir(output + ".members"))
+    status, log = run(args, scene, "--merge")
+    running = process.poll() is None
+    checks.check("the sweep was still running when --merge stopped", 0 if running else 1, 0)
+    checks.check("exit status of --merge - 1", abs(status - 1), 0)
+    checks.check("--merge says the output is being written",
+                 0 if "being written by another run" in log else 1, 0)
+    members_after = (os.listdir(output + ".members") if os.path.isdir(output + ".members")
+                     else [])
+    left = set(members_before) - set(members_after) if running else set()
+    checks.check("member files --merge deleted", len(left), 0)
+    sweep_log, _ = process.communicate()
+    checks.check("exit status of the sweep", process.returncode, 0)
+    if process.returncode != 0:
+        print(sweep_log[-1000:])
+    with h5py.File(output, "r") as f:
+        codes = f["summary/status"][()]
+        root = f.attrs["status"]
+    checks.check("members not completed", int((codes != 0).sum()), 0)
+    checks.check("members in the summary - 64", abs(len(codes) - 64), 0)
+    checks.check("the sweep's status is 'completed'", 0 if root == "completed" else 1, 0)
+
+
+def overwrite(args, checks):
+    text = rs.read_example(args.source, "planar_flying_spaghetti.nml")
+    text = rs.set_variable(text, "time", "t_end", "0.5")
+    os.makedirs(args.workdir, exist_ok=True)
+
+    def refused(name, target, expected, scene=None):
+        """Run a scene whose output is `target` (the scene `scene` if given, else one written
+        here): refused with `expected` in the message, `target` unchanged."""
+        if scene is None:
+            scene = write_scene(args, name, text, target)
+        before = open(target, "rb").read() if os.path.isfile(target) else None
+        status, log = run(args, scene)
+        checks.check(f"{name}: exit status - 1", abs(status - 1), 0)
+        checks.check(f"{name}: the message says '{expected}'", 0 if expected in log else 1, 0)
+        after = open(target, "rb").read() if os.path.isfile(target) else None
+        checks.check(f"{name}: the file is unchanged", 0 if after == before else 1, 0)
+
+    itself = os.path.join(args.workdir, "itself.nml")
+    with open(itself, "w", encoding="utf-8") as f:
+        f.write(rs.set_variable(text, "output", "path", f"'{itself}'"))
+    refused("scene_itself", itself, "is the scene file itself", scene=itself)
+    notes = os.path.join(args.workdir, "notes.txt")
+    with open(notes, "w", encoding="utf-8") as f:
+        f.write("results I care about\n")
+    refused("text_file", notes, "is not an HDF5 file")
+    foreign = os.path.join(args.workdir, "foreign.h5")
+    with h5py.File(foreign, "w") as f:
+        f["data"] = [1.0, 2.0, 3.0]
+    refused("foreign_hdf5", foreign, "rodsolve did not write")
+    directory = os.path.join(args.workdir, "a_directory")
+    os.makedirs(directory, exist_ok=True)
+    refused("directory", directory, "is a directory")
+    # A result of rodsolve is replaced by the new run (the documented default).
+    result = os.path.join(args.workdir, "result.h5")
+    scene = write_scene(args, "replaced_1", text, result)
+    first, _ = run(args, scene)
+    scene = write_scene(args, "replaced_2", rs.set_variable(text, "time", "t_end", "0.3"), result)
+    second, _ = run(args, scene)
+    checks.check("a rodsolve result: both runs succeed", abs(first) + abs(second), 0)
+    with h5py.File(result, "r") as f:
+        command = f.attrs["command_line"]
+        records = f["rods/spaghetti/time"].shape[0]
+    checks.check("a rodsolve result: replaced by the second run",
+                 0 if "replaced_2.nml" in command else 1, 0)
+    checks.check("a rodsolve result: records of the second run - 4", abs(records - 4), 0)
+
+
+def killed_sweep(args, checks):
+    output = os.path.join(args.workdir, "again.h5")
+    if os.path.exists(output):
+        os.remove(output)
+    short = rs.set_variable(rs.read_example(args.source, "sweep_cantilever.nml"), "sweep",
+                            "logspace", "1.0, 100.0, 4")
+    scene = write_scene(args, "again", short, output)
+    status, _ = run(args, scene)
+    with h5py.File(output, "r") as f:
+        before = f.attrs["status"]
+    checks.check("the first sweep completed", abs(status) + (0 if before == "completed" else 1), 0)
+    scene = write_scene(args, "again", long_sweep(args, 64), output)
+    ledger = output + ".members/ledger_rank0.txt"
+    process = subprocess.Popen([args.rodsolve, scene], stdout=subprocess.DEVNULL,
+                               stderr=subprocess.DEVNULL)
+    while process.poll() is None and ledger_lines(ledger) < 2:
+        time.sleep(0.005)
+    process.send_signal(signal.SIGKILL)
+    process.wait()
+    checks.check("the second sweep was killed (SIGKILL)",
+                 0 if process.returncode == -signal.SIGKILL else 1, 0)
+    stale = False
+    if os.path.exists(output):
+        with h5py.File(output, "r") as f:
+            stale = f.attrs.get("status", "") == "completed"
+    checks.check("a result file marked completed beside the killed sweep's members",
+                 1 if stale else 0, 0)
+
+
+def main():
+    parser = rs.common_arguments(__doc__)
+    parser.add_argument("case", choices=["two_runs", "merge_running", "overwrite", "killed_sweep"])
+    args = parser.parse_args()
+    checks = rs.Checks()
+    {"two_runs": two_runs, "merge_running": merge_running, "overwrite": overwrite,
+     "killed_sweep": killed_sweep}[args.case](args, checks)
+    checks.finish()
+
+
+if __name__ == "__main__":
+    main()
