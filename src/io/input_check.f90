@@ -184,8 +184,28 @@ contains
             end if
             call resolve_maxwell(rod, here, errors)
             call resolve_stiffness(rod, here, errors)
+            if (.not. scene%time%quasistatic) call check_inertia(rod, here, errors)
         end associate
     end subroutine resolve_rod
+
+    !> A dynamic run needs mass and rotary inertia: with rhoA or rhoI = 0 the step's equations
+    !> have no acceleration for that motion, and the scheme alternates between 0 and twice the
+    !> static answer instead of converging to a motion (issue 21 item 13). Statics is
+    !> &time quasistatic or relaxation.
+    subroutine check_inertia(rod, here, errors)
+        type(rod_input_t), intent(in) :: rod
+        character(len=*), intent(in) :: here
+        type(error_list_t), intent(inout) :: errors
+        character(len=:), allocatable :: zero
+        zero = ''
+        if (rod%rhoA == 0.0_rk) zero = zero // ' rhoA'
+        if (rod%rhoI1 == 0.0_rk) zero = zero // ' rhoI1'
+        if (rod%rhoI2 == 0.0_rk) zero = zero // ' rhoI2'
+        if (len(zero) == 0) return
+        if (trim(rod%section) /= 'none') zero = zero // ' (density = 0)'
+        call errors%add(here // 'inertia: zero' // zero // ' in a dynamic run, which needs ' // &
+            'mass and rotary inertia; give them, or run statics (&time quasistatic = .true.)')
+    end subroutine check_inertia
 
     !> The reference centreline of `rod` (rs_model_rod_geometry): start and direction default
     !> to the origin and e_x (a polyline derives both from its points and checks given ones), a
@@ -379,7 +399,13 @@ contains
             if (len(missing) > 0) call errors%add(here // 'section: with section = ''none'' the ' // &
                 'stiffnesses and inertias must be given; missing:' // missing // &
                 ' (or give section, its dimensions, E and density)')
-            if (rod%torsion_constant == '') rod%torsion_constant = 'polar'
+            ! Both derive stiffnesses from a section: without one they would be ignored.
+            if (rod%shear_factor /= unset_real) call errors%add(here // 'shear_factor: ' // &
+                str(rod%shear_factor) // ' given with section = ''none'', where GA1 and GA2 are ' // &
+                'given directly; remove it (it scales GA = k G A of a section)')
+            if (rod%torsion_constant /= '') call errors%add(here // 'torsion_constant: ''' // &
+                trim(rod%torsion_constant) // ''' given with section = ''none'', where GJ is ' // &
+                'given directly; remove it (it chooses the J of a section)')
             return
         end if
         if (any(direct /= unset_real)) then
@@ -420,6 +446,7 @@ contains
             end if
             rod%G = rod%E / (2.0_rk * (1.0_rk + rod%nu))
         end if
+        if (rod%shear_factor == unset_real) rod%shear_factor = 1.0_rk
         torsion = s%polar
         if (trim(rod%torsion_constant) == 'saint_venant') torsion = s%saint_venant
         rod%EA = rod%E * s%area
@@ -444,7 +471,17 @@ contains
     subroutine check_unique_names(scene, errors)
         type(scene_t), intent(in) :: scene
         type(error_list_t), intent(inout) :: errors
-        integer :: i, j
+        character(len=*), parameter :: name_chars = &
+            'abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789_-'
+        integer :: i, j, bad
+        ! A rod's name is a group of the result file (/rods/<name>) and of its XDMF sidecar:
+        ! '/' would nest groups and '.' is a path of its own there (issue 21 item 19).
+        do i = 1, size(scene%rods)
+            bad = verify(trim(scene%rods(i)%name), name_chars)
+            if (bad > 0) call errors%add(at(scene, scene%rods(i)%input_line) // '&rod name: ''' // &
+                trim(scene%rods(i)%name) // ''' has the character ''' // &
+                scene%rods(i)%name(bad:bad) // '''; a name has letters, digits, _ and - only')
+        end do
         do i = 2, size(scene%rods)
             do j = 1, i - 1
                 if (scene%rods(i)%name == scene%rods(j)%name) call errors%add(at(scene, &

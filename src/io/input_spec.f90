@@ -198,8 +198,6 @@ contains
             spec_v('formulation_default', 'string', '-', "'ph_director'", &
                 'Formulation of rods that do not name one (DESIGN.md §1).', allowed=formulations, &
                 example="'auto'"), &
-            spec_v('seed', 'integer', '-', '1', 'Seed of random perturbations, where a scene asks for them.', &
-                lower=0.0_rk, example='42'), &
             spec_v('log_level', 'string', '-', "'info'", 'Most detailed messages printed.', &
                 allowed='error|warning|info|debug', example="'debug'"), &
             spec_v('units', 'string', '-', "'si'", &
@@ -423,10 +421,12 @@ contains
                 lower=0.0_rk, example='10.0'), &
             spec_v('rhoI2', 'real', 'kg m', '(section)', 'Rotational inertia per length about d2.', &
                 lower=0.0_rk, example='10.0'), &
-            spec_v('shear_factor', 'real', '-', '1', 'Shear correction factor k in GA = k G A.', &
+            spec_v('shear_factor', 'real', '-', '1 (section)', &
+                'Shear correction factor k in GA = k G A of a section (not with section = ''none'').', &
                 lower=0.0_rk, lower_inclusive=.false., example='0.8333333333333334'), &
             spec_v('torsion_constant', 'string', '-', "'polar' (circle, tube)", &
-                'Torsion constant of a section: polar moment or Saint-Venant; required for a rectangle.', &
+                'Torsion constant of a section: polar moment or Saint-Venant; required for a ' // &
+                'rectangle (not with section = ''none'').', &
                 allowed='polar|saint_venant', example="'saint_venant'"), &
             spec_v('prestressed', 'logical', '-', '.false.', &
                 'False: the initial geometry is stress-free (DESIGN.md §1): the reference strains ' // &

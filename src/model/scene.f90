@@ -44,7 +44,6 @@ module rs_model_scene
     type, public :: run_input_t
         character(len=text_len) :: title = ''
         character(len=name_len) :: formulation_default = 'ph_director'
-        integer :: seed = 1
         character(len=name_len) :: log_level = 'info'
         !> System of units the scene's numbers are in (rs_model_units); the solver is
         !> unit-agnostic, only the unit names shown change.
@@ -145,7 +144,7 @@ module rs_model_scene
         real(rk) :: rhoA = unset_real
         real(rk) :: rhoI1 = unset_real
         real(rk) :: rhoI2 = unset_real
-        real(rk) :: shear_factor = 1.0_rk
+        real(rk) :: shear_factor = unset_real
         character(len=name_len) :: torsion_constant = ''
         logical :: prestressed = .false.
         character(len=name_len) :: constraint = 'none'
