@@ -37,7 +37,9 @@ module rs_se3_strand
     use rs_math_se3, only: log_se3, pose_relative
     use rs_assembly_csr_pattern, only: csr_builder_t, csr_pattern_t
     use rs_formulations_formulation, only: rod_formulation_t, state_valid, state_invalid
-    use rs_se3_strand_kernels, only: strand_ad, cross_matrix, strand_march
+    use rs_se3_strand_kernels, only: cross_matrix, strand_march, strand_ad_transpose_block, &
+        strand_ad_block, strand_ad_times, strand_cross, strand_row_residual, strand_row_to_csr, &
+        strand_row_has_nan
     implicit none
     private
 
@@ -86,6 +88,12 @@ module rs_se3_strand
         !> Column blocks of each block row (0-based, -1 = none) and the CSR position of entry
         !> (i, j) of block c of row b.
         integer, allocatable :: row_blocks(:, :), block_map(:, :, :, :)
+        !> True if the CSR values are the block rows in order, each row of a block row its blocks
+        !> side by side (block_map(i, j, c, b) counts up in the order b, i, c, j) and the blocks
+        !> present in a row are its first n_row_blocks(b): the Jacobian is then copied block row
+        !> by block row without block_map.
+        logical :: csr_in_block_order = .false.
+        integer, allocatable :: n_row_blocks(:)
         ! The linear system of the current step, A Y = b, cached for the residual, the Jacobian
         ! and the accepted step (valid for (t_n, h, x_n) = key_*).
         real(rk), allocatable :: blocks(:, :, :, :), rhs(:, :)
@@ -127,7 +135,7 @@ module rs_se3_strand
         procedure :: banded_unknowns => strand_banded_unknowns
         procedure :: kinetic_energy => strand_kinetic_energy
         procedure, private :: assemble, ensure_assembled, march_poses, drive_twist, end_loads
-        procedure, private :: distributed_loads, energies, p_at, s_at
+        procedure, private :: distributed_loads, energies
     end type se3_strand_t
 
 contains
@@ -341,7 +349,7 @@ contains
     subroutine build_pattern(this)
         type(se3_strand_t), intent(inout) :: this
         type(csr_builder_t) :: builder
-        integer :: b, c, i, j, rows(6), cols(6), nb
+        integer :: b, c, i, j, rows(6), cols(6), nb, at
         nb = this%n_blocks
         allocate(this%row_blocks(3, 0:nb - 1), source=-1)
         this%row_blocks(1:2, 0) = [0, 2]
@@ -372,6 +380,25 @@ contains
                 end do
             end do
         end do
+        ! Checked, not assumed: the order depends on the pattern's sorting of each row.
+        allocate(this%n_row_blocks(0:nb - 1))
+        this%csr_in_block_order = .true.
+        at = 0
+        do b = 0, nb - 1
+            this%n_row_blocks(b) = count(this%row_blocks(:, b) >= 0)
+            if (any(this%row_blocks(1:this%n_row_blocks(b), b) < 0)) &
+                this%csr_in_block_order = .false.
+            do i = 1, 6
+                do c = 1, 3
+                    if (this%row_blocks(c, b) < 0) cycle
+                    do j = 1, 6
+                        at = at + 1
+                        if (this%block_map(i, j, c, b) /= at) this%csr_in_block_order = .false.
+                    end do
+                end do
+            end do
+        end do
+        if (at /= this%pattern%nnz()) this%csr_in_block_order = .false.
     end subroutine build_pattern
 
     ! ---- Indices ------------------------------------------------------------------------------
@@ -392,16 +419,14 @@ contains
         pose_index = 6 * this%n_blocks
     end function pose_index
 
-    pure function p_at(this, x, k) result(p)
-        class(se3_strand_t), intent(in) :: this
+    pure function p_at(x, k) result(p)
         real(rk), intent(in) :: x(:)
         integer, intent(in) :: k
         real(rk) :: p(6)
         p = x(p_index(k) + 1:p_index(k) + 6)
     end function p_at
 
-    pure function s_at(this, x, k) result(s)
-        class(se3_strand_t), intent(in) :: this
+    pure function s_at(x, k) result(s)
         real(rk), intent(in) :: x(:)
         integer, intent(in) :: k
         real(rk) :: s(6)
@@ -480,17 +505,12 @@ contains
         real(rk), intent(in) :: t_n, h, x_n(:), y(:)
         real(rk), intent(out) :: f(:)
         integer, intent(out) :: status
-        integer :: b, c, col
+        integer :: b
         call this%ensure_assembled(t_n, h, x_n, status)
         if (status /= state_valid) return
         do b = 0, this%n_blocks - 1
-            f(6 * b + 1:6 * b + 6) = -this%rhs(:, b)
-            do c = 1, 3
-                col = this%row_blocks(c, b)
-                if (col < 0) cycle
-                f(6 * b + 1:6 * b + 6) = f(6 * b + 1:6 * b + 6) + &
-                    matmul(this%blocks(:, :, c, b), y(6 * col + 1:6 * col + 6))
-            end do
+            call strand_row_residual(this%blocks(:, :, :, b), this%row_blocks(:, b), &
+                this%rhs(:, b), y, f(6 * b + 1:6 * b + 6))
         end do
         if (any(f /= f)) status = state_invalid
     end subroutine strand_step_residual
@@ -500,9 +520,18 @@ contains
         real(rk), intent(in) :: t_n, h, x_n(:), y(:)
         real(rk), intent(out) :: values(:)
         integer, intent(out) :: status
-        integer :: b, c, i, j
+        integer :: b, c, i, j, at
         call this%ensure_assembled(t_n, h, x_n, status)
         if (status /= state_valid) return
+        if (this%csr_in_block_order) then
+            at = 0
+            do b = 0, this%n_blocks - 1
+                call strand_row_to_csr(this%blocks(:, :, :, b), this%n_row_blocks(b), &
+                    values(at + 1:at + 36 * this%n_row_blocks(b)))
+                at = at + 36 * this%n_row_blocks(b)
+            end do
+            return
+        end if
         do b = 0, this%n_blocks - 1
             do c = 1, 3
                 if (this%row_blocks(c, b) < 0) cycle
@@ -538,65 +567,67 @@ contains
         class(se3_strand_t), intent(inout) :: this
         real(rk), intent(in) :: t_n, h, x_n(:)
         integer, intent(out) :: status
-        real(rk) :: eye(6, 6), p(6), v(6), v_next(6), s_prev(6), s_here(6), u_prev(6), u_here(6)
-        real(rk) :: c_prev(6, 6), c_here(6, 6), ad_v(6, 6), ad_u(6, 6), theta, p0(6)
-        real(rk) :: vel(3), omega(3), a0(3, 3), g(3, 3)
+        real(rk) :: eye_h(6, 6), p(6), v(6), v_next(6), s_prev(6), s_here(6), u_prev(6)
+        real(rk) :: u_here(6), c_prev(6, 6), c_here(6, 6), theta, p0(6), diag_p(6), diag_s(6)
+        real(rk) :: diag_c(6), quarter_stiff(6), vel(3), omega(3), a0(3, 3), g(3, 3)
         integer :: k, n, b, i
         status = state_valid
         n = this%n_seg
         theta = this%tau_kv / h
-        eye = 0.0_rk
+        ! Every entry of every block in the pattern is written below: no zero fill.
+        eye_h = 0.0_rk
         do i = 1, 6
-            eye(i, i) = 1.0_rk
+            eye_h(i, i) = 1.0_rk / h
         end do
-        this%blocks = 0.0_rk
-        this%rhs = 0.0_rk
+        diag_p = 1.0_rk / h + this%eta_external * this%mass_inv
+        diag_s = 1.0_rk / h
+        quarter_stiff = 0.25_rk * this%stiff
         ! The placement at t_n only if a dead load needs its directors.
         if (this%needs_pose) call this%march_poses(x_n)
         call this%distributed_loads(t_n + h)
         call this%end_loads(t_n + h)
 
         ! Eq. (14): the ghost Sigma_{-1,0} copies Sigma_{0,1}.
-        this%blocks(:, :, 1, 0) = eye / h
-        this%blocks(:, :, 2, 0) = -eye / h
+        this%blocks(:, :, 1, 0) = eye_h
+        this%blocks(:, :, 2, 0) = -eye_h
+        this%rhs(:, 0) = 0.0_rk
         ! Eq. (13): P_0 = M V_0(t_{n+1}), V_0 the prescribed twist in the body frame at t_{n+1}.
         call this%drive_twist(t_n + h, vel, omega)
         a0 = reshape(x_n(pose_index(this) + 4:pose_index(this) + 12), [3, 3])
         a0 = matmul(exp_so3(h * omega), a0)
         p0(1:3) = -matmul(transpose(a0), omega)
         p0(4:6) = matmul(transpose(a0), vel)
-        this%blocks(:, :, 1, 1) = eye / h
+        this%blocks(:, :, 1, 1) = eye_h
         this%rhs(:, 1) = this%mass * p0 / h
 
-        ! Eq. (11) at the nodes k = 1..N: blocks (Sigma_{k-1}, P_k, Sigma_k).
+        ! Eq. (11) at the nodes k = 1..N (§3.5): blocks (Sigma_{k-1}, P_k, Sigma_k).
         do k = 1, n
             b = 2 * k + 1
-            p = this%p_at(x_n, k)
+            p = p_at(x_n, k)
             v = this%mass_inv * p
-            s_prev = this%s_at(x_n, k - 1)
-            s_here = this%s_at(x_n, k)
+            s_prev = s_at(x_n, k - 1)
+            s_here = s_at(x_n, k)
             u_prev = this%stiff_inv * s_prev + this%u_bar(:, k - 1)
             u_here = this%stiff_inv * s_here + this%u_bar(:, k)
-            c_prev = eye / this%dual(k) + 0.5_rk * transpose(strand_ad(u_prev))
-            c_here = -eye / this%dual(k) + 0.5_rk * transpose(strand_ad(u_here))
+            diag_c = 1.0_rk / this%dual(k)
+            call strand_ad_transpose_block(u_prev, 0.5_rk, diag_c, c_prev)
+            call strand_ad_transpose_block(u_here, 0.5_rk, -diag_c, c_here)
             ! P_k: dP/dt - ad_V^T P + D_ex M^-1 P.
-            this%blocks(:, :, 2, b) = eye / h - transpose(strand_ad(v))
-            do i = 1, 6
-                this%blocks(i, i, 2, b) = this%blocks(i, i, 2, b) + this%eta_external * this%mass_inv(i)
-            end do
+            call strand_ad_transpose_block(v, -1.0_rk, diag_p, this%blocks(:, :, 2, b))
             this%rhs(:, b) = p / h
             ! Stresses, with the Kelvin-Voigt viscous part theta (Sigma - Sigma_n); at k = N the
             ! ghost's viscous stress mirrors Sigma_{N-1}'s, so the end's total stress is the
             ! prescribed one.
-            this%blocks(:, :, 1, b) = (1.0_rk + theta) * c_prev
-            this%rhs(:, b) = this%rhs(:, b) + theta * matmul(c_prev, s_prev)
             if (k < n) then
+                this%blocks(:, :, 1, b) = (1.0_rk + theta) * c_prev
                 this%blocks(:, :, 3, b) = (1.0_rk + theta) * c_here
-                this%rhs(:, b) = this%rhs(:, b) + theta * matmul(c_here, s_here)
+                if (theta /= 0.0_rk) this%rhs(:, b) = this%rhs(:, b) + &
+                    theta * matmul(c_prev, s_prev) + theta * matmul(c_here, s_here)
             else
+                this%blocks(:, :, 1, b) = (1.0_rk + theta) * c_prev - theta * c_here
                 this%blocks(:, :, 3, b) = c_here
-                this%blocks(:, :, 1, b) = this%blocks(:, :, 1, b) - theta * c_here
-                this%rhs(:, b) = this%rhs(:, b) - theta * matmul(c_here, s_prev)
+                if (theta /= 0.0_rk) this%rhs(:, b) = this%rhs(:, b) + &
+                    theta * matmul(c_prev, s_prev) - theta * matmul(c_here, s_prev)
             end if
             ! The paper's internal law: + D_in A^-1 (Sigma_k - Sigma_k^n) / dt (right segment).
             do i = 1, 6
@@ -616,33 +647,33 @@ contains
             end if
         end do
 
-        ! Eq. (12) on the segments k = 0..N-1: blocks (P_k, Sigma_k, P_{k+1}).
+        ! Eq. (12) on the segments k = 0..N-1 (§3.5): blocks (P_k, Sigma_k, P_{k+1}).
         do k = 0, n - 1
             b = 2 * k + 2
-            v = this%mass_inv * this%p_at(x_n, k)
-            v_next = this%mass_inv * this%p_at(x_n, k + 1)
-            s_here = this%s_at(x_n, k)
+            v = this%mass_inv * p_at(x_n, k)
+            v_next = this%mass_inv * p_at(x_n, k + 1)
+            s_here = s_at(x_n, k)
             u_here = this%stiff_inv * s_here + this%u_bar(:, k)
-            ad_u = strand_ad(u_here)
-            ad_v = strand_ad(v + v_next)
+            ! Sigma_k: I/dt + A ad_{V_k + V_{k+1}} A^-1 / 4.
+            call strand_ad_block(v + v_next, quarter_stiff, this%stiff_inv, diag_s, &
+                this%blocks(:, :, 2, b))
+            ! P_k and P_{k+1}: +-A M^-1 / h_k - A ad_U M^-1 / 4.
+            diag_c = this%stiff * this%mass_inv / this%seg_h(k)
+            call strand_ad_block(u_here, -quarter_stiff, this%mass_inv, diag_c, &
+                this%blocks(:, :, 1, b))
+            this%blocks(:, :, 3, b) = this%blocks(:, :, 1, b)
             do i = 1, 6
-                this%blocks(i, :, 2, b) = 0.25_rk * this%stiff(i) * ad_v(i, :) * this%stiff_inv
-                this%blocks(i, :, 1, b) = -0.25_rk * this%stiff(i) * ad_u(i, :) * this%mass_inv
-                this%blocks(i, :, 3, b) = -0.25_rk * this%stiff(i) * ad_u(i, :) * this%mass_inv
-                this%blocks(i, i, 2, b) = this%blocks(i, i, 2, b) + 1.0_rk / h
-                this%blocks(i, i, 1, b) = this%blocks(i, i, 1, b) + this%stiff(i) * &
-                    this%mass_inv(i) / this%seg_h(k)
-                this%blocks(i, i, 3, b) = this%blocks(i, i, 3, b) - this%stiff(i) * &
-                    this%mass_inv(i) / this%seg_h(k)
-                this%rhs(i, b) = s_here(i) / h - 0.25_rk * this%stiff(i) * &
-                    dot_product(ad_v(i, :), this%u_bar(:, k))
+                this%blocks(i, i, 3, b) = -diag_c(i)
             end do
+            this%rhs(:, b) = s_here / h - quarter_stiff * strand_ad_times(v + v_next, &
+                this%u_bar(:, k))
         end do
 
         ! Eq. (15): Sigma_{N-1} + Sigma_N = 2 Sigma_e(t_{n+1}), Sigma_e = (-m, f) in K components.
         b = 2 * n + 2
-        this%blocks(:, :, 1, b) = eye / h
-        this%blocks(:, :, 3, b) = eye / h
+        this%blocks(:, :, 1, b) = eye_h
+        this%blocks(:, :, 2, b) = 0.0_rk
+        this%blocks(:, :, 3, b) = eye_h
         this%rhs(1:3, b) = -2.0_rk * (this%end_m + this%end_m_follower) / h
         this%rhs(4:6, b) = 2.0_rk * (this%end_f + this%end_f_follower) / h
         if (this%needs_pose) then
@@ -654,7 +685,10 @@ contains
                 this%blocks(4:6, i, 2, b) = 2.0_rk * c_here(4:6, i) * this%mass_inv(i)
             end do
         end if
-        if (any(this%blocks /= this%blocks) .or. any(this%rhs /= this%rhs)) status = state_invalid
+        if (any(this%rhs /= this%rhs)) status = state_invalid
+        do b = 0, this%n_blocks - 1
+            if (strand_row_has_nan(this%blocks(:, :, :, b))) status = state_invalid
+        end do
     end subroutine assemble
 
     !> d(-F_lin)/dP_ang of a node's dead force density f (K components at t_n):
@@ -695,7 +729,7 @@ contains
         this%pose_x(:, 0) = x(pose_index(this) + 1:pose_index(this) + 3)
         this%pose_a(:, :, 0) = reshape(x(pose_index(this) + 4:pose_index(this) + 12), [3, 3])
         do k = 0, this%n_seg - 1
-            u = this%stiff_inv * this%s_at(x, k) + this%u_bar(:, k)
+            u = this%stiff_inv * s_at(x, k) + this%u_bar(:, k)
             call strand_march(this%pose_a(:, :, k), this%pose_x(:, k), u, this%seg_h(k), &
                 this%pose_a(:, :, k + 1), this%pose_x(:, k + 1))
         end do
@@ -769,44 +803,40 @@ contains
         real(rk), intent(in) :: residual_norm
         real(rk) :: work, dissipated, kin_n, str_n, kin_1, str_1, v(6), rate(6), f(6), r(6)
         real(rk) :: w(3), se(6), res
-        integer :: k, n, b, c, col, status
+        integer :: k, n, b, status
         n = this%n_seg
         call this%ensure_assembled(t_n, h, x_n, status)
         ! The achieved residual of the linear solve, max-norm.
         res = 0.0_rk
         do b = 0, this%n_blocks - 1
-            r = -this%rhs(:, b)
-            do c = 1, 3
-                col = this%row_blocks(c, b)
-                if (col < 0) cycle
-                r = r + matmul(this%blocks(:, :, c, b), x_1(6 * col + 1:6 * col + 6))
-            end do
+            call strand_row_residual(this%blocks(:, :, :, b), this%row_blocks(:, b), &
+                this%rhs(:, b), x_1, r)
             res = max(res, maxval(abs(r)))
         end do
         work = 0.0_rk
         dissipated = 0.0_rk
         do k = 1, n
-            v = this%mass_inv * this%p_at(x_1, k)
+            v = this%mass_inv * p_at(x_1, k)
             w = v(1:3)
             ! F_k as the step applied it (dead loads turned by h w x f).
-            f(1:3) = -(this%load_m(:, k) + h * matmul(hat(w), this%load_m(:, k)))
-            f(4:6) = this%load_f(:, k) + h * matmul(hat(w), this%load_f(:, k))
+            f(1:3) = -(this%load_m(:, k) + h * strand_cross(w, this%load_m(:, k)))
+            f(4:6) = this%load_f(:, k) + h * strand_cross(w, this%load_f(:, k))
             work = work + h * this%weight(k) * dot_product(v, f)
             dissipated = dissipated + h * this%weight(k) * this%eta_external * dot_product(v, v)
-            rate = this%stiff_inv * (this%s_at(x_1, k) - this%s_at(x_n, k)) / h
+            rate = this%stiff_inv * (s_at(x_1, k) - s_at(x_n, k)) / h
             dissipated = dissipated + h * this%weight(k) * this%eta_internal * dot_product(v, rate)
         end do
         ! The end load's power V_N . Sigma_e.
-        v = this%mass_inv * this%p_at(x_1, n)
+        v = this%mass_inv * p_at(x_1, n)
         w = v(1:3)
-        se(1:3) = -(this%end_m + h * matmul(hat(w), this%end_m) + this%end_m_follower)
-        se(4:6) = this%end_f + h * matmul(hat(w), this%end_f) + this%end_f_follower
+        se(1:3) = -(this%end_m + h * strand_cross(w, this%end_m) + this%end_m_follower)
+        se(4:6) = this%end_f + h * strand_cross(w, this%end_f) + this%end_f_follower
         work = work + h * dot_product(v, se)
         ! The driven start's power: V_0 against the stress the rod takes there.
-        v = this%mass_inv * this%p_at(x_1, 0)
-        work = work - h * dot_product(v, this%s_at(x_1, 0))
+        v = this%mass_inv * p_at(x_1, 0)
+        work = work - h * dot_product(v, s_at(x_1, 0))
         do k = 0, n - 1
-            rate = (this%s_at(x_1, k) - this%s_at(x_n, k)) / h
+            rate = (s_at(x_1, k) - s_at(x_n, k)) / h
             dissipated = dissipated + h * this%seg_h(k) * this%tau_kv * dot_product(rate, &
                 this%stiff_inv * rate)
         end do
@@ -833,11 +863,11 @@ contains
         kinetic = 0.0_rk
         strain = 0.0_rk
         do k = 0, this%n_seg
-            p = this%p_at(x, k)
+            p = p_at(x, k)
             kinetic = kinetic + 0.5_rk * this%weight(k) * dot_product(p, this%mass_inv * p)
         end do
         do k = 0, this%n_seg - 1
-            s = this%s_at(x, k)
+            s = s_at(x, k)
             strain = strain + 0.5_rk * this%seg_h(k) * dot_product(s, this%stiff_inv * s)
         end do
     end subroutine energies
@@ -886,7 +916,7 @@ contains
             centre = 0.0_rk
             do k = 0, this%n_seg
                 a = this%pose_a(:, :, k)
-                p = this%p_at(x, k)
+                p = p_at(x, k)
                 v = this%mass_inv * p
                 omega = -matmul(a, v(1:3))
                 vel = matmul(a, v(4:6))
@@ -902,7 +932,7 @@ contains
                 centre = centre + this%weight(k) * this%pose_x(:, k)
             end do
             do k = 0, this%n_seg - 1
-                s = this%s_at(x, k)
+                s = s_at(x, k)
                 u = this%stiff_inv * s + this%u_bar(:, k)
                 hs%stress(:, k + 1, rec) = [s(5), s(6), s(4), -s(2), -s(3), -s(1)]
                 hs%strains(:, k + 1, rec) = [u(5), u(6), u(4), -u(2), -u(3), -u(1)]

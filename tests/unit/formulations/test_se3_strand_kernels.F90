@@ -13,17 +13,27 @@
 !>   homogeneous exponential of h [[hat(kappa), sigma], [0, 0]], kappa = -u, and of the paper's
 !>   placement update exp(h L) P with L written out as in eq. (1) (methods §3.6, eq. 16), for
 !>   angles |h kappa| of 0, about 1e-9, up to 1 and about 3;
-!> - the straight rod: U = (0, 0, 0, 1, 0, 0) moves x by h along d3 and keeps the directors.
+!> - the straight rod: U = (0, 0, 0, 1, 0, 0) moves x by h along d3 and keeps the directors;
+!> - the written-out block kernels of the step's system equal, bit for bit, the expressions with
+!>   strand_ad and hat they replaced (strand_ad_transpose_block, strand_ad_block), or those summed
+!>   term by term from zero in column order, as the inlined 6 x 6 matmul of the Release build does
+!>   (strand_ad_times, strand_cross; libgfortran's own matmul, called at -O0, may use FMA), so the
+!>   step's results do not move; strand_row_residual against matmul to round-off;
+!>   strand_row_to_csr against the CSR order; strand_row_has_nan finds a NaN at every position
+!>   and takes an infinity for a number, as any(blocks /= blocks) did.
 !>
 !> A pose is (a, x) with a = [d3 d1 d2] (K to inertial components), as in the kernels.
 module rs_test_se3_strand_kernels
     use, intrinsic :: iso_fortran_env, only: output_unit
+    use, intrinsic :: ieee_arithmetic, only: ieee_value, ieee_quiet_nan, ieee_positive_inf
     use rs_core_kinds, only: rk
     use rs_test_random, only: set_random_seed, uniform, random_vector, random_unit_vector
     use rs_test_assert, only: run_test, assert_true, assert_close
     use rs_math_so3, only: hat, vee, exp_so3
     use rs_math_se3, only: exp_se3, pose_compose
-    use rs_se3_strand_kernels, only: strand_ad, cross_matrix, strand_march, strand_twist_of
+    use rs_se3_strand_kernels, only: strand_ad, cross_matrix, strand_march, strand_twist_of, &
+        strand_ad_transpose_block, strand_ad_block, strand_ad_times, strand_cross, &
+        strand_row_residual, strand_row_to_csr, strand_row_has_nan
     implicit none
     private
 
@@ -62,6 +72,12 @@ contains
         call run_test('march_exponential', test_march_exponential)
         call run_test('twist_of', test_twist_of)
         call run_test('straight_rod_march', test_straight_rod_march)
+        call run_test('ad_transpose_block', test_ad_transpose_block)
+        call run_test('ad_block', test_ad_block)
+        call run_test('ad_times_and_cross', test_ad_times_and_cross)
+        call run_test('row_residual', test_row_residual)
+        call run_test('row_to_csr', test_row_to_csr)
+        call run_test('row_has_nan', test_row_has_nan)
     end subroutine run_all_tests
 
     ! ---------------------------------------------------------------------------------------
@@ -416,6 +432,144 @@ contains
             CHECK_CLOSE(x_next, x + h * a(:, 1), 4.0_rk * eps * (2.0_rk + h), 0.0_rk, 'straight march moves x by h d3')
         end do
     end subroutine test_straight_rod_march
+
+    ! diag(d) + alpha ad_X^T, for the node row's alphas (1/2, -1) and a random one.
+    subroutine test_ad_transpose_block()
+        real(rk) :: x(6), d(6), alpha, m(6, 6), expected(6, 6)
+        integer :: sample, i
+        do sample = 1, n_samples
+            x = random_vector(6, 10.0_rk**uniform(-3.0_rk, 3.0_rk))
+            d = random_vector(6, 1.0e3_rk)
+            select case (mod(sample, 3))
+            case (0)
+                alpha = 0.5_rk
+            case (1)
+                alpha = -1.0_rk
+            case default
+                alpha = uniform(-2.0_rk, 2.0_rk)
+            end select
+            expected = alpha * transpose(strand_ad(x))
+            do i = 1, 6
+                expected(i, i) = d(i)
+            end do
+            call strand_ad_transpose_block(x, alpha, d, m)
+            CHECK_CLOSE(m, expected, 0.0_rk, 0.0_rk, 'strand_ad_transpose_block = diag(d) + alpha ad^T')
+        end do
+    end subroutine test_ad_transpose_block
+
+    ! diag(d) + diag(left) ad_X diag(right), each entry as (left_i ad_ij) right_j.
+    subroutine test_ad_block()
+        real(rk) :: x(6), d(6), left(6), right(6), ad(6, 6), m(6, 6), expected(6, 6)
+        integer :: sample, i, j
+        do sample = 1, n_samples
+            x = random_vector(6, 10.0_rk**uniform(-3.0_rk, 3.0_rk))
+            d = random_vector(6, 1.0e3_rk)
+            left = random_vector(6, 1.0e9_rk)
+            right = random_vector(6, 1.0e-6_rk)
+            ad = strand_ad(x)
+            do j = 1, 6
+                do i = 1, 6
+                    expected(i, j) = left(i) * ad(i, j) * right(j)
+                end do
+                expected(j, j) = d(j)
+            end do
+            call strand_ad_block(x, left, right, d, m)
+            CHECK_CLOSE(m, expected, 0.0_rk, 0.0_rk, 'strand_ad_block = diag(d) + left ad right')
+        end do
+    end subroutine test_ad_block
+
+    ! ad_X Y and hat(a) b, each row summed from zero in column order, bit for bit.
+    subroutine test_ad_times_and_cross()
+        real(rk) :: x(6), y(6), a(3), b(3), ad(6, 6), a_hat(3, 3), expected(6)
+        integer :: sample, i, j
+        do sample = 1, n_samples
+            x = random_vector(6, 10.0_rk**uniform(-3.0_rk, 3.0_rk))
+            y = random_vector(6, 10.0_rk**uniform(-3.0_rk, 3.0_rk))
+            ad = strand_ad(x)
+            expected = 0.0_rk
+            do j = 1, 6
+                do i = 1, 6
+                    expected(i) = expected(i) + ad(i, j) * y(j)
+                end do
+            end do
+            CHECK_CLOSE(strand_ad_times(x, y), expected, 0.0_rk, 0.0_rk, 'strand_ad_times = ad_X Y')
+            a = x(1:3)
+            b = y(4:6)
+            a_hat = hat(a)
+            expected = 0.0_rk
+            do j = 1, 3
+                do i = 1, 3
+                    expected(i) = expected(i) + a_hat(i, j) * b(j)
+                end do
+            end do
+            CHECK_CLOSE(strand_cross(a, b), expected(1:3), 0.0_rk, 0.0_rk, 'strand_cross = hat(a) b')
+            CHECK_CLOSE(strand_cross(a, b), cross(a, b), 4.0_rk * eps * maxval(abs(a)) * maxval(abs(b)), 0.0_rk, 'strand_cross = a x b')
+        end do
+    end subroutine test_ad_times_and_cross
+
+    ! A block row's A y - b against matmul (to round-off: entries and y in [-1, 1], 19 terms),
+    ! an absent block (column -1) left out.
+    subroutine test_row_residual()
+        real(rk) :: blocks(6, 6, 3), rhs(6), y(36), r(6), expected(6)
+        integer :: sample, c, cols(3)
+        do sample = 1, n_samples
+            call random_number(blocks)
+            blocks = 2.0_rk * blocks - 1.0_rk
+            rhs = random_vector(6, 1.0_rk)
+            y = random_vector(36, 1.0_rk)
+            if (mod(sample, 2) == 0) then
+                cols = [2, 3, 4]
+            else
+                cols = [0, 5, -1]
+            end if
+            expected = -rhs
+            do c = 1, 3
+                if (cols(c) < 0) cycle
+                expected = expected + matmul(blocks(:, :, c), y(6 * cols(c) + 1:6 * cols(c) + 6))
+            end do
+            call strand_row_residual(blocks, cols, rhs, y, r)
+            CHECK_CLOSE(r, expected, 64.0_rk * eps, 0.0_rk, 'strand_row_residual = sum of block products - rhs')
+            CHECK_TRUE(maxval(abs(r + rhs)) > 1.0e-3_rk, 'the block products are not zero')
+        end do
+    end subroutine test_row_residual
+
+    ! values(j, c, i) = blocks(i, j, c): row i of the block row, its blocks side by side.
+    subroutine test_row_to_csr()
+        real(rk) :: blocks(6, 6, 3), values(108)
+        integer :: n_c, i, j, c, at
+        call random_number(blocks)
+        do n_c = 1, 3
+            values = -1.0_rk
+            call strand_row_to_csr(blocks, n_c, values)
+            at = 0
+            do i = 1, 6
+                do c = 1, n_c
+                    do j = 1, 6
+                        at = at + 1
+                        CHECK_TRUE(values(at) == blocks(i, j, c), 'strand_row_to_csr: CSR order')
+                    end do
+                end do
+            end do
+            CHECK_TRUE(all(values(at + 1:) == -1.0_rk), 'strand_row_to_csr writes 36 n_c values')
+        end do
+    end subroutine test_row_to_csr
+
+    ! A NaN anywhere in the 108 entries is found; a clean row and an infinity are not NaN.
+    subroutine test_row_has_nan()
+        real(rk) :: blocks(6, 6, 3), probe(6, 6, 3)
+        integer :: k
+        call random_number(blocks)
+        CHECK_TRUE(.not. strand_row_has_nan(blocks), 'no NaN in a random row')
+        do k = 1, 108
+            probe = blocks
+            probe(mod(k - 1, 6) + 1, mod((k - 1) / 6, 6) + 1, (k - 1) / 36 + 1) = &
+                ieee_value(1.0_rk, ieee_quiet_nan)
+            CHECK_TRUE(strand_row_has_nan(probe), 'a NaN is found at every position')
+        end do
+        probe = blocks
+        probe(3, 4, 2) = ieee_value(1.0_rk, ieee_positive_inf)
+        CHECK_TRUE(.not. strand_row_has_nan(probe), 'an infinity is not a NaN')
+    end subroutine test_row_has_nan
 
 end module rs_test_se3_strand_kernels
 
