@@ -8,7 +8,7 @@ module rs_formulations_plan
     use rs_core_kinds, only: rk
     use rs_core_error, only: error_t
     use rs_core_strings, only: str
-    use rs_model_scene, only: scene_t
+    use rs_model_scene, only: scene_t, step_count
     use rs_model_units, only: unit_in_system
     use rs_ph_director_plan, only: ph_director_plan_lines
     use rs_ph_planar_plan, only: ph_planar_plan_lines
@@ -19,7 +19,7 @@ module rs_formulations_plan
     implicit none
     private
 
-    public :: scene_plan_text, plan_step_count
+    public :: scene_plan_text
 
     !> First line of the plan; a reader of --check-input output finds the plan by it.
     character(len=*), parameter, public :: plan_header = &
@@ -38,7 +38,7 @@ contains
         integer, allocatable :: system_of(:), first(:), members(:), system_rank(:)
 
         units = trim(scene%run%units)
-        n_steps = plan_step_count(scene)
+        n_steps = step_count(scene)
         n_records = 1 + n_steps / scene%output%stride
         if (mod(n_steps, scene%output%stride) /= 0) n_records = n_records + 1
         text = plan_header // new_line('a')
@@ -205,12 +205,5 @@ contains
             end if
         end function value_text
     end function sweep_plan_lines
-
-    !> Number of steps of the scene's time grid, max(1, ceiling(t_end / dt)) as the run takes
-    !> them (the last one may be shorter).
-    pure integer function plan_step_count(scene) result(n)
-        type(scene_t), intent(in) :: scene
-        n = max(1, ceiling(scene%time%t_end / scene%time%dt - 1.0e-9_rk))
-    end function plan_step_count
 
 end module rs_formulations_plan

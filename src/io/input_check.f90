@@ -18,7 +18,7 @@
 module rs_io_input_check
     use rs_core_kinds, only: rk
     use rs_core_error, only: error_list_t, error_t
-    use rs_core_strings, only: str, vector_text, did_you_mean
+    use rs_core_strings, only: str, vector_text, did_you_mean, str_significant
     use rs_model_scene, only: scene_t, rod_input_t, actuator_input_t, bc_input_t, time_input_t, &
         unset_real, unset_int, section_derived_names, name_len
     use rs_model_time_function, only: time_function_t, time_function_from_bc, time_function_from_plate
@@ -62,6 +62,7 @@ contains
         if (scene%time%dt /= unset_real .and. scene%time%t_end /= unset_real) then
             if (scene%time%dt > scene%time%t_end) call errors%add(at(scene, 0) // '&time dt: ' // &
                 str(scene%time%dt) // ' is larger than t_end = ' // str(scene%time%t_end))
+            call check_step_count(scene, errors)
         end if
         call check_relaxation(scene, errors)
         call check_output_and_restart(scene, errors)
@@ -85,6 +86,22 @@ contains
         call resolve_formulation_options(scene)
         call check_joint_formulations(scene, errors)
     end subroutine resolve_scene
+
+    !> t_end / dt steps, counted in 64-bit reals (a 32-bit count of 2.2e9 steps wrapped to one
+    !> step, reported as a success: issue 21 item 6), must fit the step numbers of the result
+    !> file's checkpoint (32-bit integers, docs/user/output.md): at most 2147483647 per run.
+    subroutine check_step_count(scene, errors)
+        type(scene_t), intent(in) :: scene
+        type(error_list_t), intent(inout) :: errors
+        real(rk) :: steps
+        if (scene%time%dt <= 0.0_rk) return
+        steps = scene%time%t_end / scene%time%dt
+        if (steps <= real(huge(1), rk)) return
+        call errors%add(at(scene, 0) // '&time dt: t_end / dt = ' // str(scene%time%t_end) // &
+            ' / ' // str(scene%time%dt) // ' = ' // str_significant(steps, 3) // ' steps, more ' // &
+            'than the ' // str(huge(1)) // ' steps one run can number; give a larger dt or a ' // &
+            'shorter t_end')
+    end subroutine check_step_count
 
     !> &time relaxation (statics by damped dynamics) needs inertia, so not with quasistatic;
     !> kinetic_energy_tol only means something with relaxation, so a value other than the

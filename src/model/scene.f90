@@ -12,7 +12,7 @@ module rs_model_scene
     private
 
     public :: load_applies_to, sweep_value_count, sweep_values, sweep_member_count, &
-        sweep_member_indices
+        sweep_member_indices, step_count
 
     !> Marks a real variable that was not given and has no default.
     real(rk), parameter, public :: unset_real = huge(1.0_rk)
@@ -337,6 +337,17 @@ module rs_model_scene
     end type scene_t
 
 contains
+
+    !> Number of steps of the scene's time grid, max(1, ceiling(t_end / dt)) as the run takes
+    !> them (the last one may be shorter). The quotient is taken in reals and capped at the
+    !> largest default integer, which the input check refuses (a 32-bit ceiling of 2.2e9 was
+    !> one step); never more steps than that are numbered.
+    pure integer function step_count(scene)
+        type(scene_t), intent(in) :: scene
+        real(rk) :: steps
+        steps = scene%time%t_end / scene%time%dt - 1.0e-9_rk
+        step_count = max(1, ceiling(min(steps, real(huge(1), rk) - 1.0_rk)))
+    end function step_count
 
     !> True if `load` acts on the rod named `rod_name`: it names that rod, or it is gravity
     !> without a rod (gravity on every rod).

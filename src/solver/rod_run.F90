@@ -14,7 +14,7 @@ module rs_solver_rod_run
     use rs_core_logger, only: log_info
     use rs_core_strings, only: str, str_significant
     use rs_core_timer, only: wall_time
-    use rs_model_scene, only: scene_t
+    use rs_model_scene, only: scene_t, step_count
     use rs_model_rod_history, only: rod_history_t
     use rs_formulations_formulation, only: rod_formulation_t, state_valid
     use rs_formulations_factory, only: create_formulation
@@ -109,12 +109,6 @@ module rs_solver_rod_run
     end type rod_runner_t
 
 contains
-
-    !> Number of steps of the scene's time grid (the last one may be shorter).
-    pure integer function step_count(scene)
-        type(scene_t), intent(in) :: scene
-        step_count = max(1, ceiling(scene%time%t_end / scene%time%dt - 1.0e-9_rk))
-    end function step_count
 
     !> Build the system of the scene's rods `rods` with room for `capacity` records between two
     !> writes.
