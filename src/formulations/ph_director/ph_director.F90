@@ -59,6 +59,18 @@ module rs_ph_director
         type(time_function_t) :: factor
     end type rod_actuator_t
 
+    !> Where the dense Jacobians of a family of blocks (the elements, or the nodes) go in the
+    !> CSR values: block b writes entry local(n) of its Jacobian (column-major index) to
+    !> values(position(n)), n = first(b) .. first(b + 1) - 1. Only the entries of the block's
+    !> mask between unknowns are listed, so entries outside the pattern and clamped entries
+    !> cost nothing. The first n_assigned(b) entries of a block are the first contributions to
+    !> their positions in assembly order (all elements, then all nodes), and are assigned
+    !> rather than added: the values need no zeroing (every position of the pattern comes from
+    !> a block's mask), and each sum is formed in the order of the entry-by-entry assembly.
+    type :: scatter_t
+        integer, allocatable :: first(:), n_assigned(:), local(:), position(:)
+    end type scatter_t
+
     !> The ph_director formulation of one rod.
     type, extends(rod_formulation_t), public :: ph_director_t
         ! Parameters (read-only after init).
@@ -90,6 +102,8 @@ module rs_ph_director
         integer, allocatable :: node_dof(:, :)
         !> stress_dof(j, e): unknown index of stress coefficient j = 6 (b - 1) + component.
         integer, allocatable :: stress_dof(:, :)
+        !> element_dof(i, e): unknown index of local dof i of element e (0: fixed).
+        integer, allocatable :: element_dof(:, :)
         !> Stresses and velocities eliminated from the Newton unknowns (methods §5.5).
         logical :: condensed = .false.
         !> Condensed unknowns: node_unknown(i, k) for q (1:12) and lambda (13:18) of node k.
@@ -98,9 +112,11 @@ module rs_ph_director
         !> Inverse of each element's stress matrix C_e (constant: R_S is linear in sigma).
         real(rk), allocatable :: compliance_inverse(:, :, :)
         type(csr_pattern_t) :: pattern
-        !> Position in the CSR values of element entry (i, j) of element e (0: not stored).
+        !> Uncondensed step: the scatter of the element and of the node Jacobians.
+        type(scatter_t) :: element_scatter, node_scatter
+        !> Condensed step: position in the CSR values of element entry (i, j) of element e and
+        !> of node entry (i, j) of node k (0: not stored).
         integer, allocatable :: element_map(:, :, :)
-        !> Position in the CSR values of node entry (i, j) of node k (0: not stored).
         integer, allocatable :: node_map(:, :, :)
         ! Workspace (nodal fields at t_n and t_{n+1}, stresses).
         real(rk), allocatable :: q_n(:, :), q_1(:, :), v_n(:, :), v_1(:, :), lambda(:, :)
@@ -463,6 +479,10 @@ contains
             call number_node(e * this%degree + 1)
         end do
         this%n_dofs = next
+        allocate(this%element_dof(this%n_local, this%n_elements))
+        do e = 1, this%n_elements
+            this%element_dof(:, e) = element_dofs(this, e)
+        end do
     contains
         subroutine number_node(node)
             integer, intent(in) :: node
@@ -561,42 +581,87 @@ contains
         mask(25:30, 4:12) = .true.
     end function node_mask
 
+    !> The Jacobian pattern (element_mask, node_mask) and the scatter of the kernels into it.
     subroutine build_pattern(this)
         type(ph_director_t), intent(inout) :: this
         type(csr_builder_t) :: builder
         logical :: emask(this%n_local, this%n_local), nmask(node_dofs, node_dofs)
-        integer :: dofs(this%n_local)
-        integer :: e, k, i, j
+        logical, allocatable :: touched(:)
+        integer :: e, k
         emask = element_mask(this)
         nmask = node_mask()
         call builder%init(this%n_dofs, this%n_elements * count(emask) + this%n_nodes * count(nmask))
         do e = 1, this%n_elements
-            dofs = element_dofs(this, e)
-            call builder%add_block(dofs, dofs, emask)
+            call builder%add_block(this%element_dof(:, e), this%element_dof(:, e), emask)
         end do
         do k = 1, this%n_nodes
             call builder%add_block(this%node_dof(:, k), this%node_dof(:, k), nmask)
         end do
         call builder%build(this%pattern)
-        allocate(this%element_map(this%n_local, this%n_local, this%n_elements), source=0)
-        do e = 1, this%n_elements
-            dofs = element_dofs(this, e)
-            do j = 1, this%n_local
-                do i = 1, this%n_local
-                    if (emask(i, j)) this%element_map(i, j, e) = this%pattern%position(dofs(i), dofs(j))
-                end do
-            end do
-        end do
-        allocate(this%node_map(node_dofs, node_dofs, this%n_nodes), source=0)
-        do k = 1, this%n_nodes
-            do j = 1, node_dofs
-                do i = 1, node_dofs
-                    if (nmask(i, j)) this%node_map(i, j, k) = &
-                        this%pattern%position(this%node_dof(i, k), this%node_dof(j, k))
-                end do
-            end do
-        end do
+        allocate(touched(this%pattern%nnz()), source=.false.)
+        call build_scatter(this%pattern, this%element_dof, emask, touched, this%element_scatter)
+        call build_scatter(this%pattern, this%node_dof, nmask, touched, this%node_scatter)
     end subroutine build_pattern
+
+    !> The scatter (scatter_t) of the blocks b with unknowns dofs(:, b) (0: none) and the mask
+    !> of their non-zeros, in assembly order after the positions already `touched`.
+    subroutine build_scatter(pattern, dofs, mask, touched, scatter)
+        type(csr_pattern_t), intent(in) :: pattern
+        integer, intent(in) :: dofs(:, :)
+        logical, intent(in) :: mask(:, :)
+        logical, intent(inout) :: touched(:)
+        type(scatter_t), intent(out) :: scatter
+        integer :: local(count(mask)), position(count(mask))
+        logical :: fresh(count(mask))
+        integer :: b, i, j, m, n, n_fresh
+        allocate(scatter%first(size(dofs, 2) + 1), scatter%n_assigned(size(dofs, 2)))
+        allocate(scatter%local(size(dofs, 2) * count(mask)), &
+            scatter%position(size(dofs, 2) * count(mask)))
+        n = 0
+        do b = 1, size(dofs, 2)
+            m = 0
+            do j = 1, size(mask, 2)
+                if (dofs(j, b) <= 0) cycle
+                do i = 1, size(mask, 1)
+                    if (dofs(i, b) <= 0 .or. .not. mask(i, j)) cycle
+                    m = m + 1
+                    local(m) = i + size(mask, 1) * (j - 1)
+                    position(m) = pattern%position(dofs(i, b), dofs(j, b))
+                end do
+            end do
+            ! A block's positions are distinct: its unknowns are.
+            fresh(1:m) = .not. touched(position(1:m))
+            touched(position(1:m)) = .true.
+            n_fresh = count(fresh(1:m))
+            scatter%first(b) = n + 1
+            scatter%n_assigned(b) = n_fresh
+            scatter%local(n + 1:n + n_fresh) = pack(local(1:m), fresh(1:m))
+            scatter%position(n + 1:n + n_fresh) = pack(position(1:m), fresh(1:m))
+            scatter%local(n + n_fresh + 1:n + m) = pack(local(1:m), .not. fresh(1:m))
+            scatter%position(n + n_fresh + 1:n + m) = pack(position(1:m), .not. fresh(1:m))
+            n = n + m
+        end do
+        scatter%first(size(dofs, 2) + 1) = n + 1
+        scatter%local = scatter%local(1:n)
+        scatter%position = scatter%position(1:n)
+    end subroutine build_scatter
+
+    !> Write the dense Jacobian `block` (size_block entries, column-major) of block b into the
+    !> CSR values through its scatter (scatter_t).
+    pure subroutine scatter_block(scatter, b, size_block, block, values)
+        type(scatter_t), intent(in) :: scatter
+        integer, intent(in) :: b, size_block
+        real(rk), intent(in) :: block(size_block)
+        real(rk), intent(inout) :: values(:)
+        integer :: n, last_assigned
+        last_assigned = scatter%first(b) + scatter%n_assigned(b) - 1
+        do n = scatter%first(b), last_assigned
+            values(scatter%position(n)) = block(scatter%local(n))
+        end do
+        do n = last_assigned + 1, scatter%first(b + 1) - 1
+            values(scatter%position(n)) = values(scatter%position(n)) + block(scatter%local(n))
+        end do
+    end subroutine scatter_block
 
     pure integer function ph_director_n_dofs(this)
         class(ph_director_t), intent(in) :: this
@@ -644,7 +709,7 @@ contains
         class(ph_director_t), intent(in) :: this
         real(rk), intent(in) :: x(:)
         real(rk), intent(out) :: q(:, :), v(:, :), lambda(:, :), s(:, :, 0:, :)
-        integer :: k, e, i
+        integer :: k, e, i, j, b, br
         do k = 1, this%n_nodes
             if (this%clamped(k)) then
                 q(:, k) = this%fixed_q(:, k)
@@ -661,8 +726,15 @@ contains
             end if
         end do
         do e = 1, this%n_elements
-            s(:, :, :, e) = reshape(x(this%stress_dof(:, e)), &
-                [6, this%degree, 1 + this%material%n_branches])
+            j = 0
+            do br = 0, this%material%n_branches
+                do b = 1, this%degree
+                    do i = 1, 6
+                        j = j + 1
+                        s(i, b, br, e) = x(this%stress_dof(j, e))
+                    end do
+                end do
+            end do
         end do
     end subroutine unpack
 
@@ -774,31 +846,27 @@ contains
         real(rk) :: r_k(node_dofs), j_k(node_dofs, node_dofs)
         real(rk) :: nbar(3), mbar(3), t_mid
         type(ph_director_actuation_t) :: actuation
-        integer :: e, k, i, j, p, nodes(2), dofs(this%n_local)
+        integer :: e, k, i
         call this%unpack(x_n, this%q_n, this%v_n, this%lambda, this%s_n)
         call this%unpack(y, this%q_1, this%v_1, this%lambda, this%s_1)
         t_mid = load_time(this, t_n, h)
         call distributed_loads(this, t_mid, nbar, mbar)
         actuation = actuation_at(this, t_mid)
         if (present(f)) f = 0.0_rk
-        if (present(values)) values = 0.0_rk
+        ! No zeroing of the values: every position is assigned by its first block (scatter_t).
         do e = 1, this%n_elements
-            nodes = this%element_nodes(e)
-            if (present(values)) then
+            if (present(values) .and. present(f)) then
                 call element_kernel(this, e, h, nbar, mbar, actuation, r_e, j_e)
-                do j = 1, this%n_local
-                    do i = 1, this%n_local
-                        p = this%element_map(i, j, e)
-                        if (p > 0) values(p) = values(p) + j_e(i, j)
-                    end do
-                end do
+            else if (present(values)) then
+                call element_kernel(this, e, h, nbar, mbar, actuation, j_e=j_e)
             else
                 call element_kernel(this, e, h, nbar, mbar, actuation, r_e)
             end if
+            if (present(values)) call scatter_block(this%element_scatter, e, size(j_e), j_e, values)
             if (present(f)) then
-                dofs = element_dofs(this, e)
                 do i = 1, this%n_local
-                    if (dofs(i) > 0) f(dofs(i)) = f(dofs(i)) + r_e(i)
+                    if (this%element_dof(i, e) > 0) f(this%element_dof(i, e)) = &
+                        f(this%element_dof(i, e)) + r_e(i)
                 end do
             end if
         end do
@@ -806,16 +874,15 @@ contains
             if (this%clamped(k)) cycle
             if (present(values)) then
                 call node_kernel(this, k, h, t_mid, r_k, j_k)
-                do j = 1, node_dofs
-                    do i = 1, node_dofs
-                        p = this%node_map(i, j, k)
-                        if (p > 0) values(p) = values(p) + j_k(i, j)
-                    end do
-                end do
+                call scatter_block(this%node_scatter, k, size(j_k), j_k, values)
             else
                 call node_kernel(this, k, h, t_mid, r_k)
             end if
-            if (present(f)) f(this%node_dof(:, k)) = f(this%node_dof(:, k)) + r_k
+            if (present(f)) then
+                do i = 1, node_dofs
+                    f(this%node_dof(i, k)) = f(this%node_dof(i, k)) + r_k(i)
+                end do
+            end if
         end do
     end subroutine uncondensed_step
 
@@ -1026,14 +1093,14 @@ contains
     end subroutine condensed_fields
 
     !> The element kernel (methods §5.6 rows R_M, R_S) of element e on the workspace fields at
-    !> t_n and t_{n+1}, with its Jacobian when `j_e` is present.
+    !> t_n and t_{n+1}: its residual `r_e` and/or its Jacobian `j_e`, those present.
     subroutine element_kernel(this, e, h, nbar, mbar, actuation, r_e, j_e)
         type(ph_director_t), intent(in) :: this
         integer, intent(in) :: e
         real(rk), intent(in) :: h, nbar(3), mbar(3)
         type(ph_director_actuation_t), intent(in) :: actuation
-        real(rk), intent(out) :: r_e(:)
-        real(rk), intent(out), optional :: j_e(:, :)
+        real(rk), intent(out), contiguous, optional :: r_e(:)
+        real(rk), intent(out), contiguous, optional :: j_e(:, :)
         integer :: nodes(2)
         nodes = this%element_nodes(e)
         call ph_director_element_residual(this%basis, this%material, this%element_length(e), &

@@ -187,7 +187,7 @@ contains
         nloc = 24 * basis%nen + 6 * basis%degree * (1 + material%n_branches)
     end function ph_director_local_size
 
-    !> Residual (and optionally Jacobian with respect to q_1, v_1, s_1) of one element in one
+    !> Residual and/or Jacobian (with respect to q_1, v_1, s_1) of one element in one
     !> implicit-midpoint step, methods/ph_director_3d.md §5.2 (M1), (M2), (S1), (S2), §5.6, with
     !> the generalized-Maxwell branches of §3.1 and the actuation of §3.2:
     !>   R_M = M_e (v_1 - v_n) + h [int B(q_t)^T (sigma_t + dsigma_act(q_t)) - f_ext]  (v rows)
@@ -222,8 +222,8 @@ contains
         real(rk), intent(in) :: s_1(6, basis%degree, 0:material%n_branches)
         real(rk), intent(in) :: nbar(3), mbar(3)
         type(ph_director_actuation_t), intent(in) :: actuation
-        real(rk), intent(out) :: residual(:)
-        real(rk), intent(out), optional :: jacobian(:, :)
+        real(rk), intent(out), contiguous, optional :: residual(:)
+        real(rk), intent(out), contiguous, optional :: jacobian(:, :)
         real(rk) :: q_t(12, ph_director_max_nodes), dv(12, ph_director_max_nodes), mass(12)
         real(rk) :: nn(ph_director_max_nodes), bb(ph_director_max_nodes)
         real(rk) :: psi(ph_director_max_degree)
@@ -232,16 +232,22 @@ contains
         ! Strains and their derivatives with respect to the values (x) and s-derivatives (xs)
         ! of (phi, d1, d2, d3): d eps = e_x dx + e_xs dxs (methods §2.2, §4.4).
         real(rk) :: eps(6), e_x(6, 12), e_xs(6, 12), eps_1(6), e_x1(6, 12), e_xs1(6, 12)
-        real(rk) :: phi_sn(3), dn(3, 3), d_sn(3, 3), eps_n(6), e_xn(6, 12), e_xsn(6, 12)
-        real(rk) :: act(6), act_x(6, 12), act_xs(6, 12), b_a(6, 12), b_b(6, 12)
-        real(rk) :: sig(6), force(12), m_hat(3, 3), eye(3, 3), comp(6), visc(6)
-        real(rk) :: theta, h_visc, wds, c, mab, wab, cpsi
-        integer :: nen, p, nb, g, a, b, cc, i, j, k, ra, rb, rs, cs, l, br
-        logical :: with_jacobian
+        real(rk) :: phi_sn(3), dn(3, 3), d_sn(3, 3), eps_n(6)
+        real(rk) :: act(6), act_x(6, 12), act_xs(6, 12)
+        ! B_a = N_a e_x + N_a' e_xs of each node at q_t (b_t) and at q_1 (b_1).
+        real(rk) :: b_t(6, 12, ph_director_max_nodes), b_1(6, 12, ph_director_max_nodes)
+        ! live(:, br): the components of branch br that are stresses: all of the elastic branch,
+        ! the non-rigid ones of a Maxwell branch (a rigid component has none, methods §3.1).
+        logical :: live(6, 0:ph_director_max_branches)
+        real(rk) :: sig(6), branch_sig(6), force(12), m_hat(3, 3), comp(6), visc(6)
+        real(rk) :: theta, h_visc, wds, c, mab, wab, cpsi, wpsi
+        integer :: nen, p, nb, g, a, b, cc, i, j, k, ra, rb, rs, cs, l, m, br
+        logical :: with_residual, with_jacobian
 
         nen = basis%nen
         p = basis%degree
         nb = material%n_branches
+        with_residual = present(residual)
         with_jacobian = present(jacobian)
         theta = merge(1.0_rk, 0.5_rk, static)
         h_visc = merge(0.0_rk, h, static)
@@ -253,12 +259,10 @@ contains
         mass(7:9) = material%rhoI(2)
         mass(10:12) = 0.0_rk
         m_hat = hat(mbar)
-        eye = 0.0_rk
-        do l = 1, 3
-            eye(l, l) = 1.0_rk
-        end do
+        live(:, 0) = .true.
+        live(:, 1:nb) = material%branch_active(:, 1:nb)
 
-        residual = 0.0_rk
+        if (with_residual) residual = 0.0_rk
         if (with_jacobian) jacobian = 0.0_rk
         ! Branch components of rigid (constrained) components: s_1 = 0.
         do br = 1, nb
@@ -266,7 +270,7 @@ contains
                 rs = stress_row(basis, br, b)
                 do l = 1, 6
                     if (material%branch_active(l, br)) cycle
-                    residual(rs + l) = s_1(l, b, br)
+                    if (with_residual) residual(rs + l) = s_1(l, b, br)
                     if (with_jacobian) jacobian(rs + l, rs + l) = 1.0_rk
                 end do
             end do
@@ -281,69 +285,70 @@ contains
             call gauss_fields(q_t(:, 1:nen), nn(1:nen), bb(1:nen), phi_s, d, d_s)
             call strain_operator(phi_s, d, d_s, eps, e_x, e_xs)
             call gauss_fields(q_1, nn(1:nen), bb(1:nen), phi_s1, d1, d_s1)
-            call strain_operator(phi_s1, d1, d_s1, eps_1, e_x1, e_xs1)
             ! Total stress at q_t: all branches plus the actuators (methods §3.1 eq. 49, §3.2).
-            sig = matmul(s_n(:, 1:p, 0) + theta * (s_1(:, 1:p, 0) - s_n(:, 1:p, 0)), psi(1:p))
+            sig = stress_at(s_n(:, :, 0), s_1(:, :, 0), theta, psi(1:p))
             do br = 1, nb
                 ! A rigid component has no branch: its branch unknown is not a stress.
-                sig = sig + merge(matmul(s_n(:, 1:p, br) + theta * (s_1(:, 1:p, br) &
-                    - s_n(:, 1:p, br)), psi(1:p)), 0.0_rk, material%branch_active(:, br))
+                branch_sig = stress_at(s_n(:, :, br), s_1(:, :, br), theta, psi(1:p))
+                where (material%branch_active(:, br)) sig = sig + branch_sig
             end do
             call actuation_stress(actuation, phi_s, d, d_s, act, act_x, act_xs)
             sig = sig + act
-
             do a = 1, nen
-                ra = 24 * (a - 1) + 12
-                ! Inertia: consistent mass from the same Gauss rule (methods §4.3 eq. 112).
-                do b = 1, nen
-                    mab = wds * nn(a) * nn(b)
-                    rb = 24 * (b - 1) + 12
-                    residual(ra + 1:ra + 12) = residual(ra + 1:ra + 12) + mab * mass * dv(:, b)
-                    if (with_jacobian) then
-                        do l = 1, 12
-                            jacobian(ra + l, rb + l) = jacobian(ra + l, rb + l) + mab * mass(l)
-                        end do
-                    end if
-                end do
-                ! Internal force int B_a^T sigma with B_a = N_a e_x + N_a' e_xs: the adjoint of
-                ! the strain rate, i.e. r_phi,a = int N_a' n and r_di,a = int N_a N_i phi'
-                ! + N_a (L(d')^T M)_i - N_a' (L(d)^T M)_i (methods §2.6 J_v = J_sigma^*, §4.4).
-                ! External: - int N_a nbar, - int N_a 1/2 mbar x d_i (T(d) mbar, §2.5, §4.3).
-                b_a = nn(a) * e_x + bb(a) * e_xs
-                force = matmul(sig, b_a)
-                force(1:3) = force(1:3) - nn(a) * nbar
-                do i = 1, 3
-                    force(3 * i + 1:3 * i + 3) = force(3 * i + 1:3 * i + 3) &
-                        - 0.5_rk * nn(a) * cross(mbar, d(:, i))
-                end do
-                residual(ra + 1:ra + 12) = residual(ra + 1:ra + 12) + h * wds * force
+                b_t(:, :, a) = nn(a) * e_x + bb(a) * e_xs
             end do
 
-            ! Stress rows (methods §4.4, §5.2 (S1), (S2), §3.1 eq. 52 with the midpoint rule).
-            if (nb > 0) then
-                call gauss_fields(q_n, nn(1:nen), bb(1:nen), phi_sn, dn, d_sn)
-                call strain_operator(phi_sn, dn, d_sn, eps_n, e_xn, e_xsn)
-            end if
-            do b = 1, p
-                rs = stress_row(basis, 0, b)
-                residual(rs + 1:rs + 6) = residual(rs + 1:rs + 6) - wds * psi(b) * (eps_1 - eps_ref(:, g))
-                do cc = 1, p
-                    residual(rs + 1:rs + 6) = residual(rs + 1:rs + 6) &
-                        + wds * psi(b) * psi(cc) * material%compliance * s_1(:, cc, 0)
-                end do
-                do br = 1, nb
-                    rs = stress_row(basis, br, b)
-                    do cc = 1, p
-                        where (material%branch_active(:, br)) residual(rs + 1:rs + 6) = &
-                            residual(rs + 1:rs + 6) + wds * psi(b) * psi(cc) &
-                            * (material%branch_compliance(:, br) * (s_1(:, cc, br) - s_n(:, cc, br)) &
-                            + 0.5_rk * h_visc * material%branch_fluidity(:, br) &
-                            * (s_1(:, cc, br) + s_n(:, cc, br)))
+            if (with_residual) then
+                do a = 1, nen
+                    ra = 24 * (a - 1) + 12
+                    ! Inertia: consistent mass from the same Gauss rule (methods §4.3 eq. 112).
+                    do b = 1, nen
+                        mab = wds * nn(a) * nn(b)
+                        residual(ra + 1:ra + 12) = residual(ra + 1:ra + 12) + mab * mass * dv(:, b)
                     end do
-                    where (material%branch_active(:, br)) residual(rs + 1:rs + 6) = &
-                        residual(rs + 1:rs + 6) - wds * psi(b) * (eps_1 - eps_n)
+                    ! Internal force int B_a^T sigma with B_a = N_a e_x + N_a' e_xs: the adjoint
+                    ! of the strain rate, i.e. r_phi,a = int N_a' n and r_di,a = int N_a N_i
+                    ! phi' + N_a (L(d')^T M)_i - N_a' (L(d)^T M)_i (methods §2.6
+                    ! J_v = J_sigma^*, §4.4). External: - int N_a nbar, - int N_a 1/2 mbar x d_i
+                    ! (T(d) mbar, §2.5, §4.3).
+                    force = matmul(sig, b_t(:, :, a))
+                    force(1:3) = force(1:3) - nn(a) * nbar
+                    do i = 1, 3
+                        force(3 * i + 1:3 * i + 3) = force(3 * i + 1:3 * i + 3) &
+                            - 0.5_rk * nn(a) * cross(mbar, d(:, i))
+                    end do
+                    residual(ra + 1:ra + 12) = residual(ra + 1:ra + 12) + h * wds * force
                 end do
-            end do
+
+                ! Stress rows (methods §4.4, §5.2 (S1), (S2), §3.1 eq. 52, midpoint rule).
+                eps_1 = point_strains(phi_s1, d1, d_s1)
+                if (nb > 0) then
+                    call gauss_fields(q_n, nn(1:nen), bb(1:nen), phi_sn, dn, d_sn)
+                    eps_n = point_strains(phi_sn, dn, d_sn)
+                end if
+                do b = 1, p
+                    rs = stress_row(basis, 0, b)
+                    residual(rs + 1:rs + 6) = residual(rs + 1:rs + 6) &
+                        - wds * psi(b) * (eps_1 - eps_ref(:, g))
+                    do cc = 1, p
+                        residual(rs + 1:rs + 6) = residual(rs + 1:rs + 6) &
+                            + wds * psi(b) * psi(cc) * material%compliance * s_1(:, cc, 0)
+                    end do
+                    do br = 1, nb
+                        rs = stress_row(basis, br, b)
+                        do cc = 1, p
+                            where (material%branch_active(:, br)) residual(rs + 1:rs + 6) = &
+                                residual(rs + 1:rs + 6) + wds * psi(b) * psi(cc) &
+                                * (material%branch_compliance(:, br) * (s_1(:, cc, br) &
+                                - s_n(:, cc, br)) + 0.5_rk * h_visc &
+                                * material%branch_fluidity(:, br) &
+                                * (s_1(:, cc, br) + s_n(:, cc, br)))
+                        end do
+                        where (material%branch_active(:, br)) residual(rs + 1:rs + 6) = &
+                            residual(rs + 1:rs + 6) - wds * psi(b) * (eps_1 - eps_n)
+                    end do
+                end do
+            end if
 
             if (.not. with_jacobian) cycle
 
@@ -351,30 +356,35 @@ contains
             ! c = theta h wds on the geometric, actuation and stress-coupling blocks.
             do a = 1, nen
                 ra = 24 * (a - 1) + 12
-                b_a = nn(a) * e_x + bb(a) * e_xs
                 do b = 1, nen
                     rb = 24 * (b - 1)
+                    ! Inertia: the consistent mass in the v columns (methods §4.3 eq. 112).
+                    mab = wds * nn(a) * nn(b)
+                    do l = 1, 12
+                        jacobian(ra + l, rb + 12 + l) = jacobian(ra + l, rb + 12 + l) &
+                            + mab * mass(l)
+                    end do
                     wab = nn(a) * bb(b) - bb(a) * nn(b)
                     do i = 1, 3
-                        j = mod(i, 3) + 1
-                        k = mod(i + 1, 3) + 1
+                        j = cyclic_next(i)
+                        k = cyclic_next(j)
                         ! d f_phi,a / d d_i,b = N_a' N_i N_b I
-                        call add_block(jacobian, ra, rb + 3 * i, c * bb(a) * sig(i) * nn(b) * eye)
+                        call add_diagonal(jacobian, ra, rb + 3 * i, c * bb(a) * sig(i) * nn(b))
                         ! d f_di,a / d phi_b = N_a N_i N_b' I
-                        call add_block(jacobian, ra + 3 * i, rb, c * nn(a) * sig(i) * bb(b) * eye)
+                        call add_diagonal(jacobian, ra + 3 * i, rb, c * nn(a) * sig(i) * bb(b))
                         ! d(-1/2 N_a mbar x d_i) / d d_i,b = -1/2 N_a N_b mbar^
                         call add_block(jacobian, ra + 3 * i, rb + 3 * i, &
                             -0.5_rk * c * nn(a) * nn(b) * m_hat)
                         ! bending/torsion: d/d d_k,b = 1/2 M_j W_ab I, d/d d_j,b = -1/2 M_k W_ab I
-                        call add_block(jacobian, ra + 3 * i, rb + 3 * k, &
-                            0.5_rk * c * sig(3 + j) * wab * eye)
-                        call add_block(jacobian, ra + 3 * i, rb + 3 * j, &
-                            -0.5_rk * c * sig(3 + k) * wab * eye)
+                        call add_diagonal(jacobian, ra + 3 * i, rb + 3 * k, &
+                            0.5_rk * c * sig(3 + j) * wab)
+                        call add_diagonal(jacobian, ra + 3 * i, rb + 3 * j, &
+                            -0.5_rk * c * sig(3 + k) * wab)
                     end do
                     ! State-dependent actuation (tendons): B_a^T d(dsigma_act)/dq_b (§5.6 end).
                     if (actuation%n_tendons > 0) jacobian(ra + 1:ra + 12, rb + 1:rb + 12) = &
                         jacobian(ra + 1:ra + 12, rb + 1:rb + 12) &
-                        + c * matmul(transpose(b_a), nn(b) * act_x + bb(b) * act_xs)
+                        + c * matmul(transpose(b_t(:, :, a)), nn(b) * act_x + bb(b) * act_xs)
                 end do
                 ! Stress columns: psi_c B_a^T for every branch (sigma = sum of the branches).
                 do br = 0, nb
@@ -382,29 +392,29 @@ contains
                         cs = stress_row(basis, br, cc)
                         cpsi = c * psi(cc)
                         do l = 1, 6
-                            if (br > 0) then
-                                if (.not. material%branch_active(l, br)) cycle
-                            end if
+                            if (.not. live(l, br)) cycle
                             jacobian(ra + 1:ra + 12, cs + l) = jacobian(ra + 1:ra + 12, cs + l) &
-                                + cpsi * b_a(l, :)
+                                + cpsi * b_t(l, :, a)
                         end do
                     end do
                 end do
             end do
 
-            ! Stress rows: -psi_c d eps(q_1)/dq_1 and the branch matrices.
+            ! Stress rows: -psi_c d eps(q_1)/dq_1 (down the columns: the 6 rows of a stress
+            ! coefficient are adjacent) and the branch matrices.
+            call strain_operator(phi_s1, d1, d_s1, eps_1, e_x1, e_xs1)
+            do b = 1, nen
+                b_1(:, :, b) = nn(b) * e_x1 + bb(b) * e_xs1
+            end do
             do cc = 1, p
-                do b = 1, nen
-                    rb = 24 * (b - 1)
-                    b_b = nn(b) * e_x1 + bb(b) * e_xs1
-                    do br = 0, nb
-                        rs = stress_row(basis, br, cc)
-                        do l = 1, 6
-                            if (br > 0) then
-                                if (.not. material%branch_active(l, br)) cycle
-                            end if
-                            jacobian(rs + l, rb + 1:rb + 12) = jacobian(rs + l, rb + 1:rb + 12) &
-                                - wds * psi(cc) * b_b(l, :)
+                wpsi = wds * psi(cc)
+                do br = 0, nb
+                    rs = stress_row(basis, br, cc)
+                    do b = 1, nen
+                        rb = 24 * (b - 1)
+                        do m = 1, 12
+                            where (live(:, br)) jacobian(rs + 1:rs + 6, rb + m) = &
+                                jacobian(rs + 1:rs + 6, rb + m) - wpsi * b_1(:, m, b)
                         end do
                     end do
                 end do
@@ -803,31 +813,64 @@ contains
     end function stress_row
 
     ! phi', d_i and d_i' (columns i) at a point from nodal q(12, nen), shape values nn and
-    ! s-derivatives bb.
+    ! s-derivatives bb. Sums over the nodes in node order, written out: matmul of sections of
+    ! run-time size would allocate temporaries.
     pure subroutine gauss_fields(q, nn, bb, phi_s, d, d_s)
         real(rk), intent(in) :: q(:, :), nn(:), bb(:)
         real(rk), intent(out) :: phi_s(3), d(3, 3), d_s(3, 3)
-        phi_s = matmul(q(1:3, :), bb)
-        d = reshape(matmul(q(4:12, :), nn), [3, 3])
-        d_s = reshape(matmul(q(4:12, :), bb), [3, 3])
+        integer :: a, i
+        phi_s = 0.0_rk
+        d = 0.0_rk
+        d_s = 0.0_rk
+        do a = 1, size(nn)
+            phi_s = phi_s + q(1:3, a) * bb(a)
+            do i = 1, 3
+                d(:, i) = d(:, i) + q(3 * i + 1:3 * i + 3, a) * nn(a)
+                d_s(:, i) = d_s(:, i) + q(3 * i + 1:3 * i + 3, a) * bb(a)
+            end do
+        end do
     end subroutine gauss_fields
 
+    ! Stress sum_b psi_b (s_n + theta (s_1 - s_n))_b of one branch at a point (s_n, s_1 with
+    ! p = size(psi) coefficients), summed in coefficient order.
+    pure function stress_at(s_n, s_1, theta, psi) result(sig)
+        real(rk), intent(in) :: s_n(:, :), s_1(:, :), theta, psi(:)
+        real(rk) :: sig(6)
+        integer :: b
+        sig = 0.0_rk
+        do b = 1, size(psi)
+            sig = sig + (s_n(:, b) + theta * (s_1(:, b) - s_n(:, b))) * psi(b)
+        end do
+    end function stress_at
+
     ! Strains eps = (Gamma, K) at a point (methods §2.2): Gamma_i = d_i . phi',
-    ! K_i = 1/2 (d_k . d_j' - d_j . d_k') with (i, j, k) cyclic, and the constant-coefficient
-    ! operators of their variation, d eps = e_x d(phi, d) + e_xs d(phi', d'): eps is bilinear,
-    ! so the same operators give the strain rate eps_dot = e_x v + e_xs v' (eq. 18) and, by
-    ! adjointness, the internal force of a node, int (N_a e_x + N_a' e_xs)^T sigma ds.
+    ! K_i = 1/2 (d_k . d_j' - d_j . d_k') with (i, j, k) cyclic.
+    pure function point_strains(phi_s, d, d_s) result(eps)
+        real(rk), intent(in) :: phi_s(3), d(3, 3), d_s(3, 3)
+        real(rk) :: eps(6)
+        integer :: i, j, k
+        do i = 1, 3
+            j = cyclic_next(i)
+            k = cyclic_next(j)
+            eps(i) = dot_product(d(:, i), phi_s)
+            eps(3 + i) = 0.5_rk * (dot_product(d(:, k), d_s(:, j)) - dot_product(d(:, j), d_s(:, k)))
+        end do
+    end function point_strains
+
+    ! The strains at a point (point_strains) and the constant-coefficient operators of their
+    ! variation, d eps = e_x d(phi, d) + e_xs d(phi', d'): eps is bilinear, so the same
+    ! operators give the strain rate eps_dot = e_x v + e_xs v' (eq. 18) and, by adjointness,
+    ! the internal force of a node, int (N_a e_x + N_a' e_xs)^T sigma ds.
     pure subroutine strain_operator(phi_s, d, d_s, eps, e_x, e_xs)
         real(rk), intent(in) :: phi_s(3), d(3, 3), d_s(3, 3)
         real(rk), intent(out) :: eps(6), e_x(6, 12), e_xs(6, 12)
         integer :: i, j, k
+        eps = point_strains(phi_s, d, d_s)
         e_x = 0.0_rk
         e_xs = 0.0_rk
         do i = 1, 3
-            j = mod(i, 3) + 1
-            k = mod(i + 1, 3) + 1
-            eps(i) = dot_product(d(:, i), phi_s)
-            eps(3 + i) = 0.5_rk * (dot_product(d(:, k), d_s(:, j)) - dot_product(d(:, j), d_s(:, k)))
+            j = cyclic_next(i)
+            k = cyclic_next(j)
             e_x(i, 3 * i + 1:3 * i + 3) = phi_s
             e_xs(i, 1:3) = d(:, i)
             e_x(3 + i, 3 * k + 1:3 * k + 3) = 0.5_rk * d_s(:, j)
@@ -836,6 +879,13 @@ contains
             e_xs(3 + i, 3 * k + 1:3 * k + 3) = -0.5_rk * d(:, j)
         end do
     end subroutine strain_operator
+
+    ! The successor of i in the cyclic order (1, 2, 3).
+    pure integer function cyclic_next(i)
+        integer, intent(in) :: i
+        integer, parameter :: next(3) = [2, 3, 1]
+        cyclic_next = next(i)
+    end function cyclic_next
 
     ! Additional material stresses of the actuators at a point (methods §3.2 eqs. 62-65):
     ! dN = R^T n_u, dM = R^T m_u with n_u = sum_k tau_k t_k and m_u = sum_k rho_k x tau_k t_k.
@@ -922,12 +972,23 @@ contains
 
     ! Add a 3 x 3 block at rows row0 + 1:3, columns col0 + 1:3.
     pure subroutine add_block(matrix, row0, col0, block)
-        real(rk), intent(inout) :: matrix(:, :)
+        real(rk), intent(inout), contiguous :: matrix(:, :)
         integer, intent(in) :: row0, col0
         real(rk), intent(in) :: block(3, 3)
         matrix(row0 + 1:row0 + 3, col0 + 1:col0 + 3) = &
             matrix(row0 + 1:row0 + 3, col0 + 1:col0 + 3) + block
     end subroutine add_block
+
+    ! Add value I (3 x 3) at rows row0 + 1:3, columns col0 + 1:3.
+    pure subroutine add_diagonal(matrix, row0, col0, value)
+        real(rk), intent(inout), contiguous :: matrix(:, :)
+        integer, intent(in) :: row0, col0
+        real(rk), intent(in) :: value
+        integer :: l
+        do l = 1, 3
+            matrix(row0 + l, col0 + l) = matrix(row0 + l, col0 + l) + value
+        end do
+    end subroutine add_diagonal
 
     ! Add a 3-vector at rows row0 + 1:3 of column col.
     pure subroutine add_column(matrix, row0, col, vector)

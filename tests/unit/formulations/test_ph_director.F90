@@ -28,6 +28,7 @@ contains
         call run_test('jacobian_matches_differences_p1', test_jacobian_p1)
         call run_test('condensed_jacobian_matches_differences_p2', test_condensed_jacobian_p2)
         call run_test('condensed_jacobian_matches_differences_p1', test_condensed_jacobian_p1)
+        call run_test('jacobian_assigns_every_value', test_jacobian_assigns_every_value)
         call run_test('newton_step_balances_energy', test_newton_step_energy)
         call run_test('condensed_step_is_the_same_step', test_condensed_same_step)
         call run_test('sizes_with_branches', test_sizes_with_branches)
@@ -429,6 +430,37 @@ contains
         scale = 1.0e-12_rk * maxval(abs(f_tendon))
         CHECK_CLOSE(f_chamber, f_tendon, scale, 0.0_rk, 'chamber = tendon on a straight rod')
     end subroutine test_chamber_equals_tendon
+
+    !> The uncondensed Jacobian assigns every stored value (there is no zeroing pass: each
+    !> position is assigned by the first element or node that writes it, scatter_t): it does
+    !> not depend on what the array held, on a clamped rod of each degree and on one with a
+    !> Maxwell branch, rigid components (their branch stresses' identity rows) and actuators.
+    subroutine test_jacobian_assigns_every_value()
+        call check_assigns_every_value(cantilever_scene(3, 2, .false.), 'p = 2')
+        call check_assigns_every_value(cantilever_scene(4, 1, .false.), 'p = 1')
+        call check_assigns_every_value(actuated_scene(3, 2), 'actuated, p = 2')
+    end subroutine test_jacobian_assigns_every_value
+
+    subroutine check_assigns_every_value(scene, label)
+        type(scene_t), intent(in) :: scene
+        character(len=*), intent(in) :: label
+        type(ph_director_t) :: rod
+        real(rk), allocatable :: x_n(:), y(:), from_zero(:), from_stale(:)
+        integer, allocatable :: row_ptr(:), cols(:)
+        integer :: status
+        call set_random_seed(20261126, 7)
+        call build_scene(scene, rod)
+        allocate(x_n(rod%n_state()), y(rod%n_unknown()))
+        call perturbed_state(rod, x_n, 0.1_rk)
+        call rod%predictor(0.3_rk, 0.05_rk, x_n, y)
+        call rod%jacobian_pattern(row_ptr, cols)
+        allocate(from_zero(size(cols)), source=0.0_rk)
+        allocate(from_stale(size(cols)), source=huge(1.0_rk))
+        call rod%step_jacobian(0.3_rk, 0.05_rk, x_n, y, from_zero, status)
+        CHECK_EQUAL(status, state_valid, label // ': Jacobian status')
+        call rod%step_jacobian(0.3_rk, 0.05_rk, x_n, y, from_stale, status)
+        CHECK_TRUE(all(from_stale == from_zero), label // ': every value assigned')
+    end subroutine check_assigns_every_value
 
     !> Newton on the assembled residual with a dense solve: one loaded step from rest ends with
     !> H_{n+1} - H_n = W_n (methods §5.3 item 1) to a multiple of the final residual.

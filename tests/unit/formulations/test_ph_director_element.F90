@@ -269,7 +269,7 @@ contains
 
     subroutine element_residual(ec, residual, jacobian)
         type(element_case_t), intent(in) :: ec
-        real(rk), intent(out) :: residual(:)
+        real(rk), intent(out), optional, contiguous :: residual(:)
         real(rk), intent(out), optional, contiguous :: jacobian(:, :)
         ! Contiguous copies of the stresses (no array temporaries at the call).
         real(rk) :: s_n(6, ec%basis%degree, 0:ec%material%n_branches)
@@ -554,19 +554,19 @@ contains
     end function inactive_branch_column
 
     ! Analytic element Jacobian of one case against central differences of its residual,
-    ! relative to max |J|; the residual without the optional Jacobian is the same, and the q
-    ! rows of an element are zero (they are nodal).
+    ! relative to max |J|; the residual without the Jacobian and the Jacobian without the
+    ! residual are the same, and the q rows of an element are zero (they are nodal).
     subroutine element_fd_error(ec, error)
         type(element_case_t), intent(in) :: ec
         real(rk), intent(out) :: error
         type(element_case_t) :: ep, em
         real(rk) :: x(max_local), xp(max_local), residual(max_local), rp(max_local)
         real(rk) :: rm(max_local), zero(12), q_rows(12), step
-        real(rk), allocatable :: jac(:, :), fd(:, :)
+        real(rk), allocatable :: jac(:, :), fd(:, :), jac_alone(:, :)
         integer :: n, j, a
         zero = 0.0_rk
         n = local_size(ec)
-        allocate(jac(n, n), fd(n, n))
+        allocate(jac(n, n), fd(n, n), jac_alone(n, n))
         call element_residual(ec, residual(1:n), jac)
         call pack_unknowns(ec, x(1:n))
         do j = 1, n
@@ -585,6 +585,8 @@ contains
         error = maxval(abs(jac - fd)) / maxval(abs(jac))
         call element_residual(ec, rp(1:n))
         CHECK_CLOSE(rp(1:n), residual(1:n), 0.0_rk, 0.0_rk, 'residual without Jacobian')
+        call element_residual(ec, jacobian=jac_alone)
+        CHECK_TRUE(all(jac_alone == jac), 'Jacobian without residual')
         do a = 1, ec%basis%nen
             q_rows = residual(24 * (a - 1) + 1:24 * (a - 1) + 12)
             CHECK_CLOSE(q_rows, zero, 0.0_rk, 0.0_rk, 'q rows zero')
