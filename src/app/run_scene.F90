@@ -21,6 +21,7 @@ module rs_app_run_scene
         unpack_layout, result_writer_t, prepare_result_file, finish_result_file, read_checkpoint
     use rs_io_hdf5_file, only: hdf5_file_t
     use rs_io_scene_writer, only: resolved_scene_text
+    use rs_io_scene_diff, only: first_scene_difference
     use rs_io_xdmf_writer, only: xdmf_rod_t, write_xdmf_sidecar
     use rs_solver_petsc_env, only: petsc_version
     use rs_solver_rod_stepper, only: petsc_apply_options, petsc_options_text
@@ -97,6 +98,8 @@ contains
         allocate(records(size(scene%rods)), source=0)
         first_step = 1
         if (restarting) then
+            if (world_rank() == 0) call check_restart_scene(scene, local_err)
+            if (collective_failure(local_err, err, 'the restart was refused (see rank 0)')) return
             call restore_checkpoints(scene, runners, records, first_step, local_err)
             if (collective_failure(local_err, err, 'the restart failed (see above)')) return
         end if
@@ -248,6 +251,34 @@ contains
         end do
     end subroutine share_layouts
 
+    !> A restart continues the scene its checkpoint was computed with: the restart file's
+    !> /input/resolved and this scene's resolved text agree in every variable but those that
+    !> do not change the motion (t_end, the output path and flushes, the sidecar, messages and
+    !> the title). A changed dt made a checkpoint at t = 12 continue at t = 6.05; a changed
+    !> stiffness continued silently (issue 21 item 7).
+    subroutine check_restart_scene(scene, err)
+        type(scene_t), intent(in) :: scene
+        type(error_t), allocatable, intent(out) :: err
+        character(len=*), parameter :: free(*) = [character(len=24) :: 'time%t_end', &
+            'output%path', 'output%flush_every', 'output%xdmf', 'run%restart_from', &
+            'run%progress_interval', 'run%log_level', 'run%title']
+        type(hdf5_file_t) :: file
+        type(error_t), allocatable :: close_err
+        character(len=:), allocatable :: before, difference, message
+        call file%open(trim(scene%run%restart_from), err, writable=.false.)
+        if (allocated(err)) return
+        call file%read_string_dataset('/input/resolved', before, err)
+        call file%close(close_err)
+        if (allocated(err)) return
+        difference = first_scene_difference(before, resolved_scene_text(scene), free)
+        if (len(difference) == 0) return
+        message = 'restart_from = ''' // trim(scene%run%restart_from) // ''' continues another ' // &
+            'scene: ' // difference // '. A restart continues the scene of its checkpoint ' // &
+            '(only t_end, the output path and flushes, xdmf, progress_interval, log_level and ' // &
+            'the title may change); run the changed scene from the start instead'
+        RS_SET_ERROR(err, 'run_scene', message)
+    end subroutine check_restart_scene
+
     !> Each owner restores its rods from the checkpoint of `restart_from`; every rank learns the
     !> records each rod has there and the first step to take (the same for all rods).
     subroutine restore_checkpoints(scene, runners, records, first_step, err)
@@ -271,6 +302,17 @@ contains
             end if
             call read_checkpoint(trim(scene%run%restart_from), trim(scene%rods(i)%name), state, &
                 internal, step, records(i), time, err)
+            ! The run goes on at step * dt: a checkpoint at another time (a last step cut
+            ! short at the old t_end) cannot be continued on this grid.
+            if (.not. allocated(err) .and. abs(time - real(step, rk) * scene%time%dt) > &
+                    1.0e-9_rk * max(abs(time), scene%time%dt)) then
+                message = 'the checkpoint of "' // trim(scene%run%restart_from) // '" is at t = ' // &
+                    str(time) // ', not on the step grid (step ' // str(step) // ' x dt = ' // &
+                    str(real(step, rk) * scene%time%dt) // '): its last step was cut short at ' // &
+                    't_end, so it cannot be continued; run it again with a t_end that is a ' // &
+                    'multiple of dt'
+                RS_SET_ERROR(err, 'run_scene', message)
+            end if
             if (.not. allocated(err)) call runners(rod_system(i))%restore(scene, step, state, &
                 internal, err)
             if (allocated(err)) exit

@@ -22,7 +22,8 @@
 !>   record (`set_records`, `write_records`).
 !>   Other datasets are contiguous.
 module rs_io_hdf5_file
-    use, intrinsic :: iso_c_binding, only: c_char, c_int, c_null_char, c_ptr, c_null_ptr, c_loc
+    use, intrinsic :: iso_c_binding, only: c_char, c_int, c_null_char, c_ptr, c_null_ptr, c_loc, &
+        c_associated, c_f_pointer, c_size_t
     use rs_io_hdf5_info, only: hdf5_open_library
     use hdf5, only: hid_t, hsize_t, h5eset_auto_f, h5fcreate_f, h5fclose_f, h5ocopy_f, &
         h5gcreate_f, h5gclose_f, h5lexists_f, h5oopen_f, h5oclose_f, h5screate_f, &
@@ -40,7 +41,7 @@ module rs_io_hdf5_file
     use mpi, only: MPI_COMM_WORLD, MPI_INFO_NULL
     use rs_core_kinds, only: rk
     use rs_core_error, only: error_t, set_error
-    use rs_core_strings, only: str, to_c_string
+    use rs_core_strings, only: str, to_c_string, from_c_string
     use rs_core_files, only: make_directories
     implicit none
     private
@@ -124,6 +125,8 @@ module rs_io_hdf5_file
             write_attribute_real, write_attribute_real_vector
         !> Write a scalar variable-length string dataset with `unit` and `description`.
         procedure :: write_string_dataset => file_write_string_dataset
+        !> Read a scalar variable-length string dataset (as write_string_dataset writes).
+        procedure :: read_string_dataset => file_read_string_dataset
         !> Write a real dataset of rank 1 to 4 or an integer dataset of rank 1 from a Fortran
         !> array, with `unit` and `description` attributes.
         generic :: write_dataset => write_real_1, write_real_2, write_real_3, write_real_4, &
@@ -353,6 +356,55 @@ contains
         if (allocated(err)) return
         call this%write_attribute(path, 'description', description, err)
     end subroutine file_write_string_dataset
+
+    subroutine file_read_string_dataset(this, path, text, err)
+        class(hdf5_file_t), intent(inout) :: this
+        character(len=*), intent(in) :: path
+        character(len=:), allocatable, intent(out) :: text
+        type(error_t), allocatable, intent(out) :: err
+        character(len=*), parameter :: routine = 'hdf5_file%read_string_dataset'
+        type(c_ptr), target :: pointer
+        type(c_ptr) :: buffer
+        character(kind=c_char), pointer :: chars(:)
+        integer(hid_t) :: string_type, dataset
+        integer :: status, close_status, n
+        interface
+            pure function c_strlen(s) bind(C, name='strlen') result(n)
+                import :: c_ptr, c_size_t
+                type(c_ptr), value :: s
+                integer(c_size_t) :: n
+            end function c_strlen
+            subroutine c_free(p) bind(C, name='free')
+                import :: c_ptr
+                type(c_ptr), value :: p
+            end subroutine c_free
+        end interface
+        text = ''
+        call this%check_open(path, routine, err)
+        if (allocated(err)) return
+        string_type = -1
+        dataset = -1
+        pointer = c_null_ptr
+        body: block
+            call new_string_type(string_type, status)
+            if (this%failed(status, 'H5Tcopy/H5Tset_cset', path, routine, __LINE__, err)) &
+                exit body
+            call h5dopen_f(this%id, path, dataset, status)
+            if (this%failed(status, 'H5Dopen', path, routine, __LINE__, err)) exit body
+            buffer = c_loc(pointer)
+            call h5dread_f(dataset, string_type, buffer, status)
+            if (this%failed(status, 'H5Dread', path, routine, __LINE__, err)) exit body
+            if (.not. c_associated(pointer)) exit body
+            n = int(c_strlen(pointer))
+            call c_f_pointer(pointer, chars, [n])
+            text = from_c_string(chars)
+            ! HDF5 allocated the string with the C library's malloc (default transfer).
+            call c_free(pointer)
+        end block body
+        call close_all(dataset, -1_hid_t, string_type, close_status)
+        if (allocated(err)) return
+        if (this%failed(close_status, 'H5Dclose/H5Tclose', path, routine, __LINE__, err)) return
+    end subroutine file_read_string_dataset
 
     !> A real rank-1 dataset (h5py shape (n,)). With `series`, the dimension counts steps.
     subroutine write_real_1(this, path, values, unit, description, err, series)

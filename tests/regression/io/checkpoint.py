@@ -10,6 +10,12 @@
     checkpoint.py restart_in_place the same, continuing in the killed file itself
     checkpoint.py restart_ranks    two rods on 2 ranks (parallel HDF5), interrupted by a short
                                    t_end and continued to the full one: the same final state
+    checkpoint.py restart_refused  a restart of another scene is refused, naming the first
+                                   variable that differs (dt, a stiffness), and so is a
+                                   checkpoint off the step grid (a last step cut short at
+                                   t_end); a later t_end and another title are accepted; the
+                                   restart file is left as it was (issue 21 item 7; the planar
+                                   spaghetti of input/, for speed)
 
 The scene is the flying spaghetti of input/ (methods/ph_director_3d.md §6.1), shortened.
 """
@@ -177,10 +183,48 @@ def restart_ranks(args, checks):
         compare_records(checks, f"2 ranks, rod {name}", path, reference, name)
 
 
+def restart_refused(args, checks):
+    text = rs.read_example(args.source, "planar_flying_spaghetti.nml")
+    first = rs.run(args, rs.set_variable(text, "time", "t_end", "1.0"), "refused_first")
+    with open(first, "rb") as f:
+        before = f.read()
+    later = rs.set_variable(text, "time", "t_end", "2.0")
+    later = rs.set_variable(later, "run", "restart_from", f"'{first}'")
+    cases = [("dt", rs.set_variable(later, "time", "dt", "0.05"),
+              "&time dt: 0.1 in the checkpoint's scene, 0.05 in this one"),
+             ("EA", later.replace("EA = 1e4", "EA = 2e4"),
+              "&rod 'spaghetti' EA: 10000.0 in the checkpoint's scene, 20000.0 in this one")]
+    for what, changed, expected in cases:
+        output = os.path.join(args.workdir, f"refused_{what}.h5")
+        status, log = rs.run_failing(args, rs.set_variable(changed, "output", "path",
+                                                           f"'{output}'"), f"refused_{what}")
+        checks.check(f"changed {what}: exit status - 1", abs(status - 1), 0)
+        checks.check(f"changed {what}: the message names it", 0 if expected in log else 1, 0)
+    with open(first, "rb") as f:
+        checks.check("the restart file is unchanged", 0 if f.read() == before else 1, 0)
+    accepted = rs.set_variable(later, "run", "title", "'the same scene, later'")
+    path = rs.run_restart(args, accepted, "refused_accepted",
+                          os.path.join(args.workdir, "refused_accepted.h5"))
+    with h5py.File(path, "r") as f:
+        checks.check("a later t_end and another title: continued to t = 2",
+                     abs(float(f["rods/spaghetti/time"][-1]) - 2.0), 1e-12)
+    # A last step cut short: t_end = 1.05 with dt = 0.1 ends at t = 1.05, not on the grid.
+    short = rs.run(args, rs.set_variable(text, "time", "t_end", "1.05"), "refused_short")
+    off_grid = rs.set_variable(text, "time", "t_end", "1.05")
+    off_grid = rs.set_variable(off_grid, "run", "restart_from", f"'{short}'")
+    off_grid = rs.set_variable(off_grid, "time", "t_end", "2.0")
+    output = os.path.join(args.workdir, "refused_off_grid.h5")
+    status, log = rs.run_failing(args, rs.set_variable(off_grid, "output", "path", f"'{output}'"),
+                                 "refused_off_grid")
+    checks.check("off the step grid: exit status - 1", abs(status - 1), 0)
+    checks.check("off the step grid: the message says so", 0 if "not on the step grid" in log
+                 else 1, 0)
+
+
 def main():
     parser = rs.common_arguments(__doc__)
     parser.add_argument("case", choices=["sigkill", "restart", "restart_in_place",
-                                         "restart_ranks"])
+                                         "restart_ranks", "restart_refused"])
     args = parser.parse_args()
     checks = rs.Checks()
     if args.case == "sigkill":
@@ -189,6 +233,8 @@ def main():
         restart(args, checks, in_place=False)
     elif args.case == "restart_in_place":
         restart(args, checks, in_place=True)
+    elif args.case == "restart_refused":
+        restart_refused(args, checks)
     else:
         restart_ranks(args, checks)
     checks.finish()
