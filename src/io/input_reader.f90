@@ -223,6 +223,11 @@ contains
                 a%value // ')'
             return
         end if
+        if (a%subscripted) then
+            ! The namelist reader would name its internal copy (load_copy%table_times).
+            message = subscript_problem(a%target, a%n_values, spec%max_count)
+            if (len(message) > 0) return
+        end if
         if (.not. a%subscripted) then
             if (a%n_values < spec%min_count .or. a%n_values > spec%max_count) then
                 if (spec%min_count == spec%max_count) then
@@ -245,6 +250,15 @@ contains
                 end if
                 value = "'" // text // "'"
             end if
+        case ('logical')
+            ! The namelist reader takes any word after a '.' that starts with t or f
+            ! (.FALSE_not is false): only the spellings Fortran means pass here.
+            text = to_lower(trim(adjustl(a%value)))
+            if (.not. any(text == [character(len=7) :: '.true.', '.false.', '.t.', '.f.', 't', &
+                    'f', 'true', 'false'])) then
+                message = '"' // trim(a%value) // '" is not a logical; allowed: .true. or .false.'
+                return
+            end if
         case ('integer', 'real')
             allocate(numbers(a%n_values))
             read(a%value, *, iostat=ios) numbers
@@ -257,6 +271,33 @@ contains
             end do
         end select
     end subroutine check_value
+
+    !> '' if `target` = name(first) or name(first:last) with `n_values` values stays within
+    !> indices 1 .. `max_count`; otherwise what is wrong, in the reference's terms.
+    function subscript_problem(target, n_values, max_count) result(message)
+        character(len=*), intent(in) :: target
+        integer, intent(in) :: n_values, max_count
+        character(len=:), allocatable :: message
+        character(len=:), allocatable :: inside
+        integer :: open_at, close_at, colon, first, last, ios
+        message = ''
+        open_at = index(target, '(')
+        close_at = index(target, ')', back=.true.)
+        if (close_at <= open_at + 1) return   ! the namelist read reports a malformed one
+        inside = target(open_at + 1:close_at - 1)
+        colon = index(inside, ':')
+        if (colon > 0) then
+            read(inside(1:colon - 1), *, iostat=ios) first
+            if (ios == 0) read(inside(colon + 1:), *, iostat=ios) last
+        else
+            read(inside, *, iostat=ios) first
+            last = first + n_values - 1
+        end if
+        if (ios /= 0) return
+        if (first >= 1 .and. last <= max_count .and. last >= first) return
+        message = 'index ' // trim(inside) // ' with ' // str(n_values) // ' value(s) is out ' // &
+            'of range; allowed: indices 1 to ' // str(max_count)
+    end function subscript_problem
 
     !> Read `target = value` of group `group` through a namelist whose object is a copy of the
     !> group's plain type (`&rod_nml rod%target = value /`), so only that component changes; the
