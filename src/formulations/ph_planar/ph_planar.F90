@@ -91,6 +91,9 @@ module rs_ph_planar
         !> Per element: its rod, its index there, its 6 q indices.
         integer, allocatable :: element_rod(:), element_dofs(:, :)
         real(rk), allocatable :: element_length(:)
+        !> Per element: the consistent mass (6, 6) in its q ordering (methods §3.2), built once:
+        !> residual and Jacobian need it at every Newton iteration.
+        real(rk), allocatable :: mass(:, :, :)
         !> Jacobian pattern and, per element, the CSR position of entry (i, j) of its local
         !> matrix over (q_a, q_b, strains) (0: a fixed row or column).
         type(csr_pattern_t) :: pattern
@@ -133,8 +136,8 @@ module rs_ph_planar
         procedure :: restore_internal => planar_restore_internal
         procedure :: native_lu => planar_native_lu
         procedure :: full_newton => planar_full_newton
-        !> Kinetic and strain energy of each rod in state x.
-        procedure :: rod_energies
+        !> Kinetic and strain energy of one rod in state x.
+        procedure :: rod_energy
         procedure, private :: full_q, element_strains, load_vectors
     end type ph_planar_t
 
@@ -192,7 +195,7 @@ contains
 
         ! Elements in system order.
         allocate(this%element_rod(this%n_elements), this%element_dofs(6, this%n_elements), &
-            this%element_length(this%n_elements))
+            this%element_length(this%n_elements), this%mass(6, 6, this%n_elements))
         do r = 1, size(this%rods)
             associate (rod => this%rods(r))
                 do e = 1, rod%n_elements
@@ -200,6 +203,8 @@ contains
                     this%element_rod(next) = r
                     this%element_dofs(:, next) = [rod%dofs(:, e), rod%dofs(:, e + 1)]
                     this%element_length(next) = rod%length / real(rod%n_elements, rk)
+                    call element_mass(this%element_length(next), rod%rho_a, rod%rho_i, &
+                        this%mass(:, :, next))
                 end do
             end associate
         end do
@@ -656,17 +661,29 @@ contains
         real(rk), intent(in) :: t_n, h, x_n(:), y(:)
         real(rk), intent(out) :: f(:)
         integer, intent(out) :: status
-        real(rk) :: r9(9), k6(6, 6), e_1(3), m6(6, 6), q_n6(6), q_16(6), v_n6(6), gamma_n(2, 2)
-        integer :: e, i, at, row
+        call residual_values(this, t_n, h, x_n, y, size(f), f)
+        status = state_valid
+        if (has_nan(size(f), f)) status = state_invalid
+    end subroutine planar_step_residual
+
+    ! The rows of planar_step_residual, on an explicit-shape f (as jacobian_values).
+    subroutine residual_values(this, t_n, h, x_n, y, n_f, f)
+        type(ph_planar_t), intent(inout) :: this
+        real(rk), intent(in) :: t_n, h, x_n(:), y(:)
+        integer, intent(in) :: n_f
+        real(rk), intent(out) :: f(n_f)
+        real(rk) :: r9(9), k6(6, 6), e_1(3), q_n6(6), q_16(6), v_n6(6), gamma_n(2, 2)
+        integer :: e, i, at, row, dofs(6)
         f = 0.0_rk
         call this%full_q(x_n(1:this%n_q), y, this%q_1)
         do e = 1, this%n_elements
-            associate (rod => this%rods(this%element_rod(e)), le => this%element_length(e), &
-                    dofs => this%element_dofs(:, e))
+            ! A fixed-size copy: index expressions on the section allocated a temporary.
+            dofs = this%element_dofs(:, e)
+            associate (rod => this%rods(this%element_rod(e)), le => this%element_length(e))
                 q_n6 = x_n(dofs)
                 q_16 = this%q_1(dofs)
                 at = 2 * this%n_q + this%n_history * (e - 1)
-                r9 = 0.0_rk
+                ! Every branch sets r9(1:6); r9(7:9) only matters for uncondensed PH-EM.
                 select case (this%scheme)
                 case (scheme_ph_em)
                     if (this%condensed) then
@@ -687,8 +704,8 @@ contains
                 end select
                 if (.not. this%quasistatic) then
                     v_n6 = x_n(this%n_q + dofs)
-                    call element_mass(le, rod%rho_a, rod%rho_i, m6)
-                    r9(1:6) = r9(1:6) + matmul(m6, 2.0_rk * (q_16 - q_n6) / h - 2.0_rk * v_n6) / h
+                    r9(1:6) = r9(1:6) + mass_times(this%mass(:, :, e), &
+                        2.0_rk * (q_16 - q_n6) / h - 2.0_rk * v_n6) / h
                 end if
                 do i = 1, 6
                     row = this%unknown_of(dofs(i))
@@ -700,9 +717,7 @@ contains
         do i = 1, this%n_q
             if (this%unknown_of(i) > 0) f(this%unknown_of(i)) = f(this%unknown_of(i)) - this%f_ext(i)
         end do
-        status = state_valid
-        if (any(f /= f)) status = state_invalid
-    end subroutine planar_step_residual
+    end subroutine residual_values
 
     !> dF/dY: the element tangents (methods §10: analytic, checked against finite differences in
     !> tests/unit/formulations/test_planar_element) plus (2 / h^2) M in the nodal block.
@@ -711,19 +726,32 @@ contains
         real(rk), intent(in) :: t_n, h, x_n(:), y(:)
         real(rk), intent(out) :: values(:)
         integer, intent(out) :: status
-        real(rk) :: k9(9, 9), k6(6, 6), r6(6), e_1(3), m6(6, 6), q_n6(6), q_16(6), gamma_n(2, 2)
-        integer :: e, i, j, at, row, n_local
+        call jacobian_values(this, h, x_n, y, size(values), values)
+        status = state_valid
+        if (has_nan(size(values), values)) status = state_invalid
+    end subroutine planar_step_jacobian
+
+    ! The CSR values of planar_step_jacobian, on an explicit-shape values: with the interface's
+    ! values(:), of a stride unknown at compile time, zeroing and NaN-checking the 729 values of
+    ! the 10-element spaghetti were strided scalar loops, a third of this routine's own time.
+    subroutine jacobian_values(this, h, x_n, y, n_values, values)
+        type(ph_planar_t), intent(inout) :: this
+        real(rk), intent(in) :: h, x_n(:), y(:)
+        integer, intent(in) :: n_values
+        real(rk), intent(out) :: values(n_values)
+        real(rk) :: k9(9, 9), k6(6, 6), r6(6), e_1(3), q_n6(6), q_16(6), gamma_n(2, 2)
+        integer :: e, i, j, at, row, n_local, dofs(6)
         values = 0.0_rk
         n_local = size(this%element_map, 1)
         call this%full_q(x_n(1:this%n_q), y, this%q_1)
         do e = 1, this%n_elements
-            associate (rod => this%rods(this%element_rod(e)), le => this%element_length(e), &
-                    dofs => this%element_dofs(:, e))
+            dofs = this%element_dofs(:, e)
+            associate (rod => this%rods(this%element_rod(e)), le => this%element_length(e))
                 q_n6 = x_n(dofs)
                 q_16 = this%q_1(dofs)
                 at = 2 * this%n_q + this%n_history * (e - 1)
-                ! Local arrays of fixed shape: no temporaries in the time loop.
-                k9 = 0.0_rk
+                ! Local arrays of fixed shape: no temporaries in the time loop. Every branch sets
+                ! k9(1:n_local, 1:n_local), the part that is scattered.
                 select case (this%scheme)
                 case (scheme_ph_em)
                     if (this%condensed) then
@@ -744,10 +772,8 @@ contains
                         gamma_n(:, 1:this%n_gauss), k6)
                     k9(1:6, 1:6) = k6
                 end select
-                if (.not. this%quasistatic) then
-                    call element_mass(le, rod%rho_a, rod%rho_i, m6)
-                    k9(1:6, 1:6) = k9(1:6, 1:6) + (2.0_rk / h**2) * m6
-                end if
+                if (.not. this%quasistatic) &
+                    k9(1:6, 1:6) = k9(1:6, 1:6) + (2.0_rk / h**2) * this%mass(:, :, e)
                 do j = 1, n_local
                     do i = 1, n_local
                         if (this%element_map(i, j, e) > 0) values(this%element_map(i, j, e)) = &
@@ -756,9 +782,7 @@ contains
                 end do
             end associate
         end do
-        status = state_valid
-        if (any(values /= values)) status = state_invalid
-    end subroutine planar_step_jacobian
+    end subroutine jacobian_values
 
     !> Nodal load vectors at time t: per rod (f_rod, for its work) and in total (f_ext).
     !> Distributed loads are consistent, int N_I nbar ds = nbar L_e / 2 per node (methods §3.4).
@@ -801,61 +825,64 @@ contains
         real(rk), intent(in) :: t_n, h, x_n(:), x_1(:)
         integer, intent(in) :: newton_iterations
         real(rk), intent(in) :: residual_norm
-        real(rk) :: kinetic_n(size(this%rods)), strain_n(size(this%rods))
-        real(rk) :: kinetic_1(size(this%rods)), strain_1(size(this%rods)), work
+        real(rk) :: kinetic_n, strain_n, kinetic_1, strain_1, work
         integer :: r
         call this%load_vectors(t_n + 0.5_rk * h)
-        call this%rod_energies(x_n, kinetic_n, strain_n)
-        call this%rod_energies(x_1, kinetic_1, strain_1)
         do r = 1, size(this%rods)
+            call this%rod_energy(x_n, r, kinetic_n, strain_n)
+            call this%rod_energy(x_1, r, kinetic_1, strain_1)
             ! The angles moved by x_1 - x_n plus the shift that update took away.
             work = dot_product(this%f_rod(:, r), x_1(1:this%n_q) - x_n(1:this%n_q)) + &
                 this%theta_shift * sum(this%f_rod(this%theta_dofs, r))
             this%work_since_record(r) = this%work_since_record(r) + work
-            this%balance_since_record = this%balance_since_record + (kinetic_1(r) + &
-                strain_1(r)) - (kinetic_n(r) + strain_n(r)) - work
+            this%balance_since_record = this%balance_since_record + (kinetic_1 + &
+                strain_1) - (kinetic_n + strain_n) - work
         end do
         this%iterations_since_record = this%iterations_since_record + newton_iterations
         this%smallest_step = min(this%smallest_step, h)
         this%last_residual = residual_norm
     end subroutine planar_accept_step
 
-    !> Kinetic energy 1/2 v^T M v with the consistent mass and the strain energy of each rod
+    !> Kinetic energy 1/2 v^T M v with the consistent mass and the strain energy of rod r
     !> (methods §4.3 "discrete diagnostics"): of the mixed strains (PH-EM), of the compatible
     !> strains with the scheme's quadrature (cl-EM) or of the Gauss-point strains (PH-EMi).
-    subroutine rod_energies(this, x, kinetic, strain)
+    !> Per rod, with scalar results: arrays over the rods sized at run time were allocated at
+    !> every step (accept_step, record).
+    subroutine rod_energy(this, x, r, kinetic, strain)
         class(ph_planar_t), intent(in) :: this
         real(rk), intent(in) :: x(:)
-        real(rk), intent(out) :: kinetic(:), strain(:)
-        real(rk) :: m6(6, 6), v6(6), q6(6), g(2, 2)
-        integer :: e, r, at
+        integer, intent(in) :: r
+        real(rk), intent(out) :: kinetic, strain
+        real(rk) :: v6(6), q6(6), g(2, 2)
+        integer :: e, at, dofs(6)
         kinetic = 0.0_rk
         strain = 0.0_rk
-        do e = 1, this%n_elements
-            r = this%element_rod(e)
-            associate (rod => this%rods(r), le => this%element_length(e), &
-                    dofs => this%element_dofs(:, e))
-                q6 = x(dofs)
-                if (.not. this%quasistatic) then
-                    v6 = x(this%n_q + dofs)
-                    call element_mass(le, rod%rho_a, rod%rho_i, m6)
-                    kinetic(r) = kinetic(r) + 0.5_rk * dot_product(v6, matmul(m6, v6))
-                end if
-                at = 2 * this%n_q + this%n_history * (e - 1)
-                select case (this%scheme)
-                case (scheme_ph_em)
-                    strain(r) = strain(r) + mixed_strain_energy(le, rod%stiffness, x(at + 1:at + 3))
-                case (scheme_stander_stein)
-                    strain(r) = strain(r) + compatible_strain_energy(le, rod%stiffness, &
-                        this%n_gauss, q6)
-                case (scheme_ph_irreducible)
-                    call history_at_gauss_points(this, x, at, g)
-                    strain(r) = strain(r) + ph_emi_strain_energy(le, rod%stiffness, &
-                        this%n_gauss, q6, g(:, 1:this%n_gauss))
-                end select
-            end associate
-        end do
-    end subroutine rod_energies
+        associate (rod => this%rods(r))
+            do e = rod%first_element, rod%first_element + rod%n_elements - 1
+                dofs = this%element_dofs(:, e)
+                associate (le => this%element_length(e))
+                    q6 = x(dofs)
+                    if (.not. this%quasistatic) then
+                        v6 = x(this%n_q + dofs)
+                        kinetic = kinetic + 0.5_rk * dot_product(v6, &
+                            mass_times(this%mass(:, :, e), v6))
+                    end if
+                    at = 2 * this%n_q + this%n_history * (e - 1)
+                    select case (this%scheme)
+                    case (scheme_ph_em)
+                        strain = strain + mixed_strain_energy(le, rod%stiffness, x(at + 1:at + 3))
+                    case (scheme_stander_stein)
+                        strain = strain + compatible_strain_energy(le, rod%stiffness, &
+                            this%n_gauss, q6)
+                    case (scheme_ph_irreducible)
+                        call history_at_gauss_points(this, x, at, g)
+                        strain = strain + ph_emi_strain_energy(le, rod%stiffness, &
+                            this%n_gauss, q6, g(:, 1:this%n_gauss))
+                    end select
+                end associate
+            end do
+        end associate
+    end subroutine rod_energy
 
     ! ---- Output (DESIGN.md §7) ---------------------------------------------------------------
 
@@ -888,25 +915,28 @@ contains
         class(ph_planar_t), intent(inout) :: this
         type(rod_history_t), intent(inout), target :: histories(:)
         real(rk), intent(in) :: t, x(:)
-        real(rk) :: kinetic(size(this%rods)), strain(size(this%rods))
-        real(rk) :: q(3), v(3), alpha, d(3), n(3), m6(6, 6), p6(6), q6(6), planar(3)
+        real(rk) :: kinetic, strain
+        real(rk) :: q(3), v(3), alpha, cos_alpha, sin_alpha, d(3), n(3), p6(6), q6(6), planar(3)
         real(rk) :: gammas(3, 2), history(2, 2), linear(3), angular(3), centre(3), le
-        integer :: r, k, i, e, rec, at, node
+        integer :: r, k, i, e, rec, at, node, dofs(6), node_dofs(3)
         n = this%plane%normal
-        call this%rod_energies(x, kinetic, strain)
         do r = 1, size(this%rods)
             associate (rod => this%rods(r))
                 rec = histories(r)%next_record()
                 if (rec == 0) cycle
+                call this%rod_energy(x, r, kinetic, strain)
                 histories(r)%time(rec) = t
                 do k = 1, rod%n_elements + 1
-                    q = x(rod%dofs(:, k))
-                    v = x(this%n_q + rod%dofs(:, k))
+                    node_dofs = rod%dofs(:, k)
+                    q = x(node_dofs)
+                    v = x(this%n_q + node_dofs)
                     histories(r)%position(:, k, rec) = point_from_plane(this%plane, q(1:2))
                     histories(r)%velocity(:, k, rec) = vector_from_plane(this%plane, v(1:2))
                     alpha = q(3) - rod%theta0
+                    cos_alpha = cos(alpha)
+                    sin_alpha = sin(alpha)
                     do i = 1, 3
-                        d = rotated(rod%directors0(:, i), n, alpha)
+                        d = rotated(rod%directors0(:, i), n, cos_alpha, sin_alpha)
                         histories(r)%directors(:, i, k, rec) = d
                         histories(r)%director_velocity(:, i, k, rec) = v(3) * cross(n, d)
                     end do
@@ -917,7 +947,8 @@ contains
                 do e = 1, rod%n_elements
                     i = rod%first_element + e - 1
                     le = this%element_length(i)
-                    q6 = x(this%element_dofs(:, i))
+                    dofs = this%element_dofs(:, i)
+                    q6 = x(dofs)
                     at = 2 * this%n_q + this%n_history * (i - 1)
                     select case (this%scheme)
                     case (scheme_ph_em)
@@ -933,9 +964,9 @@ contains
                     histories(r)%strains(:, e, rec) = matmul(rod%stress_map, planar)
                     histories(r)%stress(:, e, rec) = matmul(rod%stress_map, rod%stiffness * planar)
                     ! Momenta with the consistent mass (methods eq. 57): r x (M v) + (M v)_theta.
-                    call element_mass(le, rod%rho_a, rod%rho_i, m6)
-                    if (this%quasistatic) m6 = 0.0_rk
-                    p6 = matmul(m6, x(this%n_q + this%element_dofs(:, i)))
+                    p6 = 0.0_rk
+                    if (.not. this%quasistatic) &
+                        p6 = mass_times(this%mass(:, :, i), x(this%n_q + dofs))
                     do node = 0, 1
                         linear = linear + vector_from_plane(this%plane, p6(3 * node + 1:3 * node + 2))
                         angular = angular + cross(point_from_plane(this%plane, &
@@ -945,9 +976,9 @@ contains
                     centre = centre + 0.5_rk * le * (point_from_plane(this%plane, q6(1:2)) + &
                         point_from_plane(this%plane, q6(4:5)))
                 end do
-                histories(r)%kinetic(rec) = kinetic(r)
-                histories(r)%strain(rec) = strain(r)
-                histories(r)%total(rec) = kinetic(r) + strain(r)
+                histories(r)%kinetic(rec) = kinetic
+                histories(r)%strain(rec) = strain
+                histories(r)%total(rec) = kinetic + strain
                 histories(r)%external_work(rec) = this%work_since_record(r)
                 histories(r)%balance_error(rec) = merge(this%balance_since_record, 0.0_rk, r == 1)
                 histories(r)%linear_momentum(:, rec) = linear
@@ -1041,12 +1072,27 @@ contains
 
     ! ---- Small helpers ----------------------------------------------------------------------
 
-    !> v rotated by the angle alpha about the unit axis n (Rodrigues).
-    pure function rotated(v, n, alpha) result(w)
-        real(rk), intent(in) :: v(3), n(3), alpha
+    !> m a for one element's mass m(6, 6); explicit shapes, so that the product is unrolled (on
+    !> a section of the allocatable element masses it was a loop with a store per term).
+    pure function mass_times(m, a) result(b)
+        real(rk), intent(in) :: m(6, 6), a(6)
+        real(rk) :: b(6)
+        b = matmul(m, a)
+    end function mass_times
+
+    !> Whether a(1:n) holds a NaN (a failed evaluation, reported to the solver as such).
+    pure logical function has_nan(n, a)
+        integer, intent(in) :: n
+        real(rk), intent(in) :: a(n)
+        has_nan = any(a /= a)
+    end function has_nan
+
+    !> v rotated about the unit axis n by the angle whose cosine and sine are c and s
+    !> (Rodrigues; the caller rotates the three directors of a node by one angle).
+    pure function rotated(v, n, c, s) result(w)
+        real(rk), intent(in) :: v(3), n(3), c, s
         real(rk) :: w(3)
-        w = v * cos(alpha) + cross(n, v) * sin(alpha) + n * dot_product(n, v) * &
-            (1.0_rk - cos(alpha))
+        w = v * c + cross(n, v) * s + n * dot_product(n, v) * (1.0_rk - c)
     end function rotated
 
 end module rs_ph_planar

@@ -39,8 +39,6 @@ module rs_ph_planar_element
     !> Largest number of Gauss points an element accepts.
     integer, parameter, public :: planar_max_gauss = max_gauss_points
 
-    ! S of methods §2.1 eq. (1), column-major: S = [[0, 1], [-1, 0]].
-    real(rk), parameter :: skew(2, 2) = reshape([0.0_rk, -1.0_rk, 1.0_rk, 0.0_rk], [2, 2])
     ! Below this |x|, sin(x)/x and its derivative are evaluated by their Taylor series (the
     ! closed form of the derivative loses ~eps/x^3 relative accuracy to cancellation).
     real(rk), parameter :: sinc_series_limit = 0.1_rk
@@ -59,9 +57,14 @@ contains
         integer, intent(in) :: n_gauss
         real(rk), intent(in) :: h, q_n(6), q_1(6), e_n(3), e_1(3)
         real(rk), intent(out) :: r(9)
-        real(rk) :: inc(3)
-        call ph_em_forces(le, stiffness, n_gauss, q_n, q_1, e_n, e_1, r(1:6))
-        call ph_em_strain_increment(le, n_gauss, q_n, q_1, inc)
+        real(rk) :: w(max_gauss_points), nn(2, max_gauss_points), cs(2, max_gauss_points)
+        real(rk) :: q05(6), dq(6), inc(3)
+        q05 = 0.5_rk * (q_n + q_1)
+        dq = q_1 - q_n
+        call gauss_shapes(n_gauss, w, nn)
+        call gauss_point_angles(n_gauss, nn, q05(3), q05(6), cs)
+        call ph_em_forces(le, stiffness, n_gauss, w, nn, cs, q05, e_n, e_1, r(1:6))
+        call ph_em_strain_increment(le, n_gauss, w, nn, cs, q05, dq, inc)
         r(7:9) = (-le * (e_1 - e_n) + inc) / h
     end subroutine ph_em_residual
 
@@ -72,10 +75,15 @@ contains
         integer, intent(in) :: n_gauss
         real(rk), intent(in) :: h, q_n(6), q_1(6), e_n(3), e_1(3)
         real(rk), intent(out) :: k(9, 9)
-        real(rk) :: r(6), inc(3), dinc(3, 6)
+        real(rk) :: w(max_gauss_points), nn(2, max_gauss_points), cs(2, max_gauss_points)
+        real(rk) :: q05(6), dq(6), r(6), inc(3), dinc(3, 6)
         integer :: i
-        call ph_em_forces(le, stiffness, n_gauss, q_n, q_1, e_n, e_1, r, k(1:6, :))
-        call ph_em_strain_increment(le, n_gauss, q_n, q_1, inc, dinc)
+        q05 = 0.5_rk * (q_n + q_1)
+        dq = q_1 - q_n
+        call gauss_shapes(n_gauss, w, nn)
+        call gauss_point_angles(n_gauss, nn, q05(3), q05(6), cs)
+        call ph_em_forces(le, stiffness, n_gauss, w, nn, cs, q05, e_n, e_1, r, k)
+        call ph_em_strain_increment(le, n_gauss, w, nn, cs, q05, dq, inc, dinc)
         k(7:9, 1:6) = dinc / h
         k(7:9, 7:9) = 0.0_rk
         do i = 7, 9
@@ -95,12 +103,17 @@ contains
         integer, intent(in) :: n_gauss
         real(rk), intent(in) :: h, q_n(6), q_1(6), e_n(3)
         real(rk), intent(out) :: r(6), k(6, 6), e_1(3)
-        real(rk) :: inc(3), dinc(3, 6), kf(6, 9), h_unused
+        real(rk) :: w(max_gauss_points), nn(2, max_gauss_points), cs(2, max_gauss_points)
+        real(rk) :: q05(6), dq(6), inc(3), dinc(3, 6), kf(9, 9), h_unused
         h_unused = h
-        call ph_em_strain_increment(le, n_gauss, q_n, q_1, inc, dinc)
+        q05 = 0.5_rk * (q_n + q_1)
+        dq = q_1 - q_n
+        call gauss_shapes(n_gauss, w, nn)
+        call gauss_point_angles(n_gauss, nn, q05(3), q05(6), cs)
+        call ph_em_strain_increment(le, n_gauss, w, nn, cs, q05, dq, inc, dinc)
         e_1 = e_n + inc / le
-        call ph_em_forces(le, stiffness, n_gauss, q_n, q_1, e_n, e_1, r, kf)
-        k = kf(:, 1:6) + matmul(kf(:, 7:9), dinc / le)
+        call ph_em_forces(le, stiffness, n_gauss, w, nn, cs, q05, e_n, e_1, r, kf)
+        k = kf(1:6, 1:6) + matmul(kf(1:6, 7:9), dinc / le)
     end subroutine ph_em_condensed
 
     !> cl-EM (Stander-Stein) internal nodal forces r(6) of one step (methods §5.1 eqs. 72-75):
@@ -165,19 +178,18 @@ contains
         integer, intent(in) :: n_gauss
         real(rk), intent(in) :: q_n(6), q_1(6), gamma_n(2, n_gauss)
         real(rk), intent(out) :: gamma_1(2, n_gauss)
-        real(rk) :: xi(max_gauss_points), w(max_gauss_points), nn(2), q05(6), u(2), dr_s(2)
-        real(rk) :: dq(6), lam(2, 2)
+        real(rk) :: w(max_gauss_points), nn(2, max_gauss_points), cs(2, max_gauss_points)
+        real(rk) :: q05(6), u(2), dr_s(2), dq(6)
         integer :: g
-        call gauss_rule(n_gauss, xi, w)
+        call gauss_shapes(n_gauss, w, nn)
         q05 = 0.5_rk * (q_n + q_1)
         dq = q_1 - q_n
         u = (q05(4:5) - q05(1:2)) / le
         dr_s = (dq(4:5) - dq(1:2)) / le
+        call gauss_point_angles(n_gauss, nn, q05(3), q05(6), cs)
         do g = 1, n_gauss
-            nn = shape_values(xi(g))
-            lam = rotation(nn(1) * q05(3) + nn(2) * q05(6))
-            gamma_1(:, g) = gamma_n(:, g) + (nn(1) * dq(3) + nn(2) * dq(6)) &
-                * matmul(transpose(lam), matmul(skew, u)) + matmul(transpose(lam), dr_s)
+            gamma_1(:, g) = gamma_n(:, g) + (nn(1, g) * dq(3) + nn(2, g) * dq(6)) &
+                * rotate_back(cs(:, g), skew_times(u)) + rotate_back(cs(:, g), dr_s)
         end do
     end subroutine ph_emi_strains
 
@@ -189,13 +201,13 @@ contains
         integer, intent(in) :: n_gauss
         real(rk), intent(in) :: q(6)
         real(rk), intent(out) :: gammas(3, n_gauss)
-        real(rk) :: xi(max_gauss_points), w(max_gauss_points), nn(2), r_s(2)
+        real(rk) :: w(max_gauss_points), nn(2, max_gauss_points), cs(2, max_gauss_points), r_s(2)
         integer :: g
-        call gauss_rule(n_gauss, xi, w)
+        call gauss_shapes(n_gauss, w, nn)
+        call gauss_point_angles(n_gauss, nn, q(3), q(6), cs)
         r_s = (q(4:5) - q(1:2)) / le
         do g = 1, n_gauss
-            nn = shape_values(xi(g))
-            gammas(1:2, g) = matmul(transpose(rotation(nn(1) * q(3) + nn(2) * q(6))), r_s)
+            gammas(1:2, g) = rotate_back(cs(:, g), r_s)
             gammas(1, g) = gammas(1, g) - 1.0_rk
             gammas(3, g) = (q(6) - q(3)) / le
         end do
@@ -263,96 +275,137 @@ contains
         end do
     end function ph_emi_strain_energy
 
+    !> s = sin(x)/x (1 at x = 0) and ds = ds/dx, the Z2 factor of cl-EM at x = dphi/2 (methods
+    !> §5.1 eq. 67); Taylor series (to x^10 and x^9, truncation below 1e-19) for |x| < 0.1, so
+    !> that Z2 and its derivative are smooth and accurate to round-off through dphi = 0.
+    pure subroutine planar_sinc(x, s, ds)
+        real(rk), intent(in) :: x
+        real(rk), intent(out) :: s, ds
+        call sinc_of(x, sin(x), cos(x), s, ds)
+    end subroutine planar_sinc
+
     ! ---------------------------------------------------------------------------------------
     ! Private parts
 
     ! PH-EM nodal rows (methods §4.3): r = G2 N05 (x, y rows), -V N05 + G1 M05 (phi rows), and
-    ! optionally k(6, 9) = dr/d(q_1, e_1) (assumed shape: a section of the 9 x 9 Jacobian).
-    ! G1 = [-1, +1]^T (§3.2), so G1 M05 = (-M05, +M05).
-    pure subroutine ph_em_forces(le, stiffness, n_gauss, q_n, q_1, e_n, e_1, r, k)
+    ! optionally their derivatives dr/d(q_1, e_1) in the rows 1:6 of k(9, 9) (rows 7:9 are left
+    ! alone). G1 = [-1, +1]^T (§3.2), so G1 M05 = (-M05, +M05).
+    ! cs(:, g): Lambda_g at the interpolated midpoint angle (gauss_point_angles), no
+    ! trigonometric factors (§4.3). The Gauss-point terms are those of gauss_point_force with
+    ! Z1 = Z2 = 1 and N05 a function of e_1 only (dN05/de_1 = D_ts/2, columns 7 and 8).
+    pure subroutine ph_em_forces(le, stiffness, n_gauss, w, nn, cs, q05, e_n, e_1, r, k)
         real(rk), intent(in) :: le, stiffness(3)
         integer, intent(in) :: n_gauss
-        real(rk), intent(in) :: q_n(6), q_1(6), e_n(3), e_1(3)
+        real(rk), intent(in) :: w(max_gauss_points), nn(2, max_gauss_points)
+        real(rk), intent(in) :: cs(2, max_gauss_points), q05(6), e_n(3), e_1(3)
         real(rk), intent(out) :: r(6)
-        real(rk), intent(out), optional :: k(:, :)
-        real(rk) :: xi(max_gauss_points), w(max_gauss_points), nn(2), q05(6), u(2), n05(2)
-        real(rk) :: m05, dn(2, 9)
+        real(rk), intent(inout), optional :: k(9, 9)
+        real(rk) :: u(2), n05(2), m05, g0(2), sg0(2), t, hw, df_phi(2, 2), df_e(2, 2), dt(8), ut(2)
+        real(rk) :: k_phi(2, 2), k_e(2, 2), k_t(8, 2)
         integer :: g
-        call gauss_rule(n_gauss, xi, w)
-        q05 = 0.5_rk * (q_n + q_1)
         u = (q05(4:5) - q05(1:2)) / le
         ! N05 = D_ts Gamma05, M05 = EI kappa05 (eqs. 56g-h; W quadratic)
         n05 = 0.5_rk * stiffness(1:2) * (e_n(1:2) + e_1(1:2))
         m05 = 0.5_rk * stiffness(3) * (e_n(3) + e_1(3))
-        dn = 0.0_rk
-        dn(1, 7) = 0.5_rk * stiffness(1)
-        dn(2, 8) = 0.5_rk * stiffness(2)
         r = 0.0_rk
         r(3) = -m05
         r(6) = m05
-        if (present(k)) then
-            k = 0.0_rk
-            k(3, 9) = -0.5_rk * stiffness(3)
-            k(6, 9) = 0.5_rk * stiffness(3)
-        end if
+        ! The Gauss-point sums of the non-zero blocks of k, written to k after the loop (a
+        ! tenth faster than adding to k's strided rows in place): k_phi and k_e are the
+        ! (x, y)_a rows in the columns phi_a, phi_b (3, 6) and Gamma_1 (7, 8), whose
+        ! (x, y)_b rows are their negatives; k_t(:, I) is the phi_I row in columns 1:8.
+        k_phi = 0.0_rk
+        k_e = 0.0_rk
+        k_t = 0.0_rk
         do g = 1, n_gauss
-            nn = shape_values(xi(g))
-            ! Lambda_g at the interpolated midpoint angle, no trigonometric factors (§4.3).
-            if (present(k)) then
-                call gauss_point_force(le, w(g), nn, rotation(nn(1) * q05(3) + nn(2) * q05(6)), &
-                    u, [1.0_rk, 1.0_rk], [0.0_rk, 0.0_rk], n05, r, dn, k)
-            else
-                call gauss_point_force(le, w(g), nn, rotation(nn(1) * q05(3) + nn(2) * q05(6)), &
-                    u, [1.0_rk, 1.0_rk], [0.0_rk, 0.0_rk], n05, r)
-            end if
+            ! f = Lambda_g N05, t = (d_s r05)^T S Lambda_g N05
+            g0 = rotate(cs(:, g), n05)
+            sg0 = skew_times(g0)
+            t = dot_product(u, sg0)
+            hw = 0.5_rk * w(g)
+            r(1:2) = r(1:2) - hw * g0
+            r(4:5) = r(4:5) + hw * g0
+            r(3) = r(3) - hw * le * nn(1, g) * t
+            r(6) = r(6) - hw * le * nn(2, g) * t
+            if (.not. present(k)) cycle
+            ! df = df/d(unknowns) and dt = dt/d(unknowns) in their non-zero columns: f depends on
+            ! phi_1 (columns 3, 6: df_phi) and e_1 (7, 8: df_e), t on everything but kappa_1 (9).
+            ! Through N05: df = Lambda_g dN05, dt = (Lambda_g^T S^T u) . dN05 (S^T = -S)
+            ut = rotate_back(cs(:, g), -skew_times(u))
+            df_e(:, 1) = 0.5_rk * stiffness(1) * cs(:, g)
+            df_e(:, 2) = 0.5_rk * stiffness(2) * [-cs(2, g), cs(1, g)]
+            dt(7) = 0.5_rk * stiffness(1) * ut(1)
+            dt(8) = 0.5_rk * stiffness(2) * ut(2)
+            ! Through d_s r05 in t: d(d_s r05)/dr_1,b = -d(d_s r05)/dr_1,a = I/(2 le)
+            dt(1:2) = -0.5_rk / le * sg0
+            dt(4:5) = 0.5_rk / le * sg0
+            ! Through phi05_g: dLambda_g/dphi_1,J = 1/2 N_J S^T Lambda_g
+            df_phi(:, 1) = -nn(1, g) * 0.5_rk * sg0
+            df_phi(:, 2) = -nn(2, g) * 0.5_rk * sg0
+            dt(3) = nn(1, g) * 0.5_rk * dot_product(u, g0)
+            dt(6) = nn(2, g) * 0.5_rk * dot_product(u, g0)
+            k_phi = k_phi - hw * df_phi
+            k_e = k_e - hw * df_e
+            k_t(:, 1) = k_t(:, 1) - hw * le * nn(1, g) * dt
+            k_t(:, 2) = k_t(:, 2) - hw * le * nn(2, g) * dt
         end do
+        if (.not. present(k)) return
+        k(1:6, :) = 0.0_rk
+        k(1:2, 3:6:3) = k_phi
+        k(4:5, 3:6:3) = -k_phi
+        k(1:2, 7:8) = k_e
+        k(4:5, 7:8) = -k_e
+        k(3, 1:8) = k_t(:, 1)
+        k(6, 1:8) = k_t(:, 2)
+        k(3, 9) = -0.5_rk * stiffness(3)
+        k(6, 9) = 0.5_rk * stiffness(3)
     end subroutine ph_em_forces
 
     ! The PH-EM strain-row increments without the 1/h (methods §4.3, eq. 64 and eq. 63):
     !   inc(1:2) = G2e^T dr - Ve^T dphi
     !            = sum_g w_g le/2 [Lambda_g^T d_s dr + dphi_g Lambda_g^T S d_s r05]
     !   inc(3)   = G1e^T dphi = dphi_b - dphi_a,
-    ! and optionally dinc(3, 6) = d inc / d q_1.
-    pure subroutine ph_em_strain_increment(le, n_gauss, q_n, q_1, inc, dinc)
+    ! and optionally dinc(3, 6) = d inc / d q_1. cs(:, g): Lambda_g as in ph_em_forces (the same
+    ! G2 and V in the momentum and the strain rows, §4.3).
+    pure subroutine ph_em_strain_increment(le, n_gauss, w, nn, cs, q05, dq, inc, dinc)
         real(rk), intent(in) :: le
         integer, intent(in) :: n_gauss
-        real(rk), intent(in) :: q_n(6), q_1(6)
+        real(rk), intent(in) :: w(max_gauss_points), nn(2, max_gauss_points)
+        real(rk), intent(in) :: cs(2, max_gauss_points), q05(6), dq(6)
         real(rk), intent(out) :: inc(3)
         real(rk), intent(out), optional :: dinc(3, 6)
-        real(rk) :: xi(max_gauss_points), w(max_gauss_points), nn(2), q05(6), dq(6), u(2)
-        real(rk) :: dr_ba(2), lam_t(2, 2), dphi_g, su(2), b(2, 2), v(2)
+        real(rk) :: u(2), dr_ba(2), dphi_g, su(2), b(2, 2), v(2), d_r(2, 2), d_phi(2, 2)
         integer :: g
-        call gauss_rule(n_gauss, xi, w)
-        q05 = 0.5_rk * (q_n + q_1)
-        dq = q_1 - q_n
         u = (q05(4:5) - q05(1:2)) / le
         dr_ba = dq(4:5) - dq(1:2)
-        su = matmul(skew, u)
+        su = skew_times(u)
         inc = 0.0_rk
         inc(3) = dq(6) - dq(3)
-        if (present(dinc)) then
-            dinc = 0.0_rk
-            dinc(3, 3) = -1.0_rk
-            dinc(3, 6) = 1.0_rk
-        end if
+        ! Gauss-point sums of d inc(1:2) / d r_1,b (= -d / d r_1,a) and d / d phi_1,a|b
+        d_r = 0.0_rk
+        d_phi = 0.0_rk
         do g = 1, n_gauss
-            nn = shape_values(xi(g))
-            lam_t = transpose(rotation(nn(1) * q05(3) + nn(2) * q05(6)))
-            dphi_g = nn(1) * dq(3) + nn(2) * dq(6)
+            dphi_g = nn(1, g) * dq(3) + nn(2, g) * dq(6)
             ! (w_g le/2)(1/le) Lambda_g^T dr_ba + (w_g le/2) dphi_g Lambda_g^T S u
-            inc(1:2) = inc(1:2) + 0.5_rk * w(g) * matmul(lam_t, dr_ba + le * dphi_g * su)
+            inc(1:2) = inc(1:2) + 0.5_rk * w(g) * rotate_back(cs(:, g), dr_ba + le * dphi_g * su)
             if (.not. present(dinc)) cycle
             ! d/dr_1,b = w_g/2 Lambda_g^T (I + 1/2 dphi_g S)  (du/dr_1,b = I/(2 le)); r_1,a: minus
-            b = 0.5_rk * w(g) * matmul(lam_t, identity2() + 0.5_rk * dphi_g * skew)
-            dinc(1:2, 4:5) = dinc(1:2, 4:5) + b
-            dinc(1:2, 1:2) = dinc(1:2, 1:2) - b
+            b(:, 1) = 0.5_rk * w(g) * rotate_back(cs(:, g), [1.0_rk, -0.5_rk * dphi_g])
+            b(:, 2) = 0.5_rk * w(g) * rotate_back(cs(:, g), [0.5_rk * dphi_g, 1.0_rk])
+            d_r = d_r + b
             ! d/dphi_1,J = w_g/2 N_J Lambda_g^T [1/2 S dr_ba + le S u - 1/2 le dphi_g u]
             ! (dLambda_g^T/dphi_1,J = 1/2 N_J Lambda_g^T S, d dphi_g/dphi_1,J = N_J, S S = -I)
-            v = 0.5_rk * w(g) * matmul(lam_t, 0.5_rk * matmul(skew, dr_ba) + le * su &
+            v = 0.5_rk * w(g) * rotate_back(cs(:, g), 0.5_rk * skew_times(dr_ba) + le * su &
                 - 0.5_rk * le * dphi_g * u)
-            dinc(1:2, 3) = dinc(1:2, 3) + nn(1) * v
-            dinc(1:2, 6) = dinc(1:2, 6) + nn(2) * v
+            d_phi(:, 1) = d_phi(:, 1) + nn(1, g) * v
+            d_phi(:, 2) = d_phi(:, 2) + nn(2, g) * v
         end do
+        if (.not. present(dinc)) return
+        dinc(1:2, 1:2) = -d_r
+        dinc(1:2, 4:5) = d_r
+        dinc(1:2, 3) = d_phi(:, 1)
+        dinc(1:2, 6) = d_phi(:, 2)
+        dinc(3, :) = [0.0_rk, 0.0_rk, -1.0_rk, 0.0_rk, 0.0_rk, 1.0_rk]
     end subroutine ph_em_strain_increment
 
     ! Nodal rows of the displacement-based schemes (methods §5.1 eq. 75 for cl-EM, §5.2 eq. 77
@@ -364,15 +417,15 @@ contains
         logical, intent(in) :: stander_stein
         real(rk), intent(in) :: le, stiffness(3)
         integer, intent(in) :: n_gauss
-        real(rk), intent(in) :: q_n(6), q_1(6), gamma_n(:, :)
+        real(rk), intent(in) :: q_n(6), q_1(6), gamma_n(2, n_gauss)
         real(rk), intent(out) :: r(6)
         real(rk), intent(out), optional :: k(6, 6)
-        real(rk) :: xi(max_gauss_points), w(max_gauss_points), nn(2), q05(6), dq(6), u(2)
-        real(rk) :: rs_1(2), rs_n(2), dr_s(2), lam05(2, 2), lam05_t(2, 2), lam1_t(2, 2)
+        real(rk) :: w(max_gauss_points), nn(2, max_gauss_points), q05(6), dq(6), u(2)
+        real(rk) :: rs_1(2), rs_n(2), dr_s(2), cs05(2), cs1(2), cs_n(2), cs_half(2)
         real(rk) :: gam(2), dgam(2, 6), b(2, 2), v(2), z(2), dz(2), dphi_g, phi1_g, phin_g
-        real(rk) :: m05, ei2, half
+        real(rk) :: phi05_g, m05, ei2, half
         integer :: g
-        call gauss_rule(n_gauss, xi, w)
+        call gauss_shapes(n_gauss, w, nn)
         q05 = 0.5_rk * (q_n + q_1)
         dq = q_1 - q_n
         u = (q05(4:5) - q05(1:2)) / le
@@ -393,76 +446,82 @@ contains
             k(6, 6) = ei2
         end if
         do g = 1, n_gauss
-            nn = shape_values(xi(g))
-            phi1_g = nn(1) * q_1(3) + nn(2) * q_1(6)
-            phin_g = nn(1) * q_n(3) + nn(2) * q_n(6)
+            phi1_g = nn(1, g) * q_1(3) + nn(2, g) * q_1(6)
+            phin_g = nn(1, g) * q_n(3) + nn(2, g) * q_n(6)
             dphi_g = phi1_g - phin_g
-            lam05 = rotation(0.5_rk * (phi1_g + phin_g))
-            lam05_t = transpose(lam05)
-            dgam = 0.0_rk
             if (stander_stein) then
+                ! Lambda05 = Lambda_n Lambda(dphi_g/2), Lambda_1 = Lambda05 Lambda(dphi_g/2)
+                ! (rotations about one axis add): two sine-cosine pairs per point instead of
+                ! four, and those of dphi_g/2 give Z1 and Z2 as well.
+                half = 0.5_rk * dphi_g
+                cs_n = [cos(phin_g), sin(phin_g)]
+                cs_half = [cos(half), sin(half)]
+                cs05 = rotate(cs_n, cs_half)
+                cs1 = rotate(cs05, cs_half)
                 ! Gamma05 = 1/2 (Lambda_1^T d_s r_1 + Lambda_n^T d_s r_n) - e1 (eq. 72)
-                lam1_t = transpose(rotation(phi1_g))
-                gam = 0.5_rk * (matmul(lam1_t, rs_1) + matmul(transpose(rotation(phin_g)), rs_n))
+                gam = 0.5_rk * (rotate_back(cs1, rs_1) + rotate_back(cs_n, rs_n))
                 gam(1) = gam(1) - 1.0_rk
                 ! Z1 = cos(dphi/2), Z2 = sin(dphi/2)/(dphi/2) (eq. 67), derivatives in dphi_g
-                half = 0.5_rk * dphi_g
-                call planar_sinc(half, z(2), dz(2))
-                z(1) = cos(half)
-                dz(1) = -0.5_rk * sin(half)
+                call sinc_of(half, cs_half(2), cs_half(1), z(2), dz(2))
+                z(1) = cs_half(1)
+                dz(1) = -0.5_rk * cs_half(2)
                 dz(2) = 0.5_rk * dz(2)
                 if (present(k)) then
                     ! dGamma05/dr_1,b = 1/(2 le) Lambda_1^T;
                     ! dGamma05/dphi_1,J = 1/2 N_J Lambda_1^T S d_s r_1
-                    b = 0.5_rk / le * lam1_t
-                    v = 0.5_rk * matmul(lam1_t, matmul(skew, rs_1))
+                    b(:, 1) = 0.5_rk / le * rotate_back(cs1, [1.0_rk, 0.0_rk])
+                    b(:, 2) = 0.5_rk / le * rotate_back(cs1, [0.0_rk, 1.0_rk])
+                    v = 0.5_rk * rotate_back(cs1, skew_times(rs_1))
                 end if
             else
+                phi05_g = 0.5_rk * (phi1_g + phin_g)
+                cs05 = [cos(phi05_g), sin(phi05_g)]
                 ! Gamma05 = Gamma_n + 1/2 (dphi Lambda05^T S d_s r05 + Lambda05^T d_s dr) (eq. 78a)
-                gam = gamma_n(:, g) + 0.5_rk * matmul(lam05_t, dphi_g * matmul(skew, u) + dr_s)
+                gam = gamma_n(:, g) + 0.5_rk * rotate_back(cs05, dphi_g * skew_times(u) + dr_s)
                 z = 1.0_rk
                 dz = 0.0_rk
                 if (present(k)) then
                     ! dGamma05/dr_1,b = 1/(2 le) Lambda05^T (I + 1/2 dphi_g S);
                     ! dGamma05/dphi_1,J = 1/2 N_J Lambda05^T [S u - 1/2 dphi_g u + 1/2 S d_s dr]
-                    b = 0.5_rk / le * matmul(lam05_t, identity2() + 0.5_rk * dphi_g * skew)
-                    v = 0.5_rk * matmul(lam05_t, matmul(skew, u) - 0.5_rk * dphi_g * u &
-                        + 0.5_rk * matmul(skew, dr_s))
+                    b(:, 1) = 0.5_rk / le * rotate_back(cs05, [1.0_rk, -0.5_rk * dphi_g])
+                    b(:, 2) = 0.5_rk / le * rotate_back(cs05, [0.5_rk * dphi_g, 1.0_rk])
+                    v = 0.5_rk * rotate_back(cs05, skew_times(u) - 0.5_rk * dphi_g * u &
+                        + 0.5_rk * skew_times(dr_s))
                 end if
             end if
             if (present(k)) then
+                ! N = D_ts Gamma05: dN = D_ts dGamma05
                 dgam(:, 4:5) = b
                 dgam(:, 1:2) = -b
-                dgam(:, 3) = nn(1) * v
-                dgam(:, 6) = nn(2) * v
-                ! N = D_ts Gamma05: dN = D_ts dGamma05
+                dgam(:, 3) = nn(1, g) * v
+                dgam(:, 6) = nn(2, g) * v
                 dgam(1, :) = stiffness(1) * dgam(1, :)
                 dgam(2, :) = stiffness(2) * dgam(2, :)
-                call gauss_point_force(le, w(g), nn, lam05, u, z, dz, stiffness(1:2) * gam, r, &
-                    dgam, k)
+                call gauss_point_force(le, w(g), nn(:, g), cs05, u, z, dz, stiffness(1:2) * gam, &
+                    r, dgam, k)
             else
-                call gauss_point_force(le, w(g), nn, lam05, u, z, dz, stiffness(1:2) * gam, r)
+                call gauss_point_force(le, w(g), nn(:, g), cs05, u, z, dz, stiffness(1:2) * gam, r)
             end if
         end do
     end subroutine displacement_forces
 
-    ! Add the contribution of one Gauss point to the nodal rows (methods §4.3 "pointwise",
-    ! §5.1 eq. 75):
+    ! Add the contribution of one Gauss point to the nodal rows of the displacement schemes
+    ! (methods §4.3 "pointwise", §5.1 eq. 75), Lambda05 given by cs05 = (cos, sin) phi05_g:
     !   f = Z1 Lambda05 N,  t = Z2 (d_s r05)^T S Lambda05 N,
     !   r(x, y)_I += w le/2 d_sN_I f = -+ w/2 f,  r(phi)_I -= w le/2 N_I t,
-    ! with Z1, Z2 functions of dphi_g (dz their derivatives in dphi_g; 0 and 1 outside cl-EM).
-    ! With k (ncol <= 9 columns, the q_1 unknowns first): dn(2, ncol) = dN/d(unknowns); the explicit
-    ! dependencies are dphi_g/dphi_1,J = N_J, dLambda05/dphi_1,J = 1/2 N_J S^T Lambda05 and
-    ! d(d_s r05)/dr_1,b = -d(d_s r05)/dr_1,a = I/(2 le).
-    pure subroutine gauss_point_force(le, w, nn, lam05, u, z, dz, n, r, dn, k)
-        real(rk), intent(in) :: le, w, nn(2), lam05(2, 2), u(2), z(2), dz(2), n(2)
+    ! with Z1, Z2 functions of dphi_g (dz their derivatives in dphi_g; 0 and 1 in PH-EMi).
+    ! With k: dn(2, 6) = dN/dq_1; the explicit dependencies are dphi_g/dphi_1,J = N_J,
+    ! dLambda05/dphi_1,J = 1/2 N_J S^T Lambda05 and d(d_s r05)/dr_1,b = -d(d_s r05)/dr_1,a =
+    ! I/(2 le). PH-EM's rows (ph_em_forces) are these with Z1 = Z2 = 1 and N a function of e_1.
+    pure subroutine gauss_point_force(le, w, nn, cs05, u, z, dz, n, r, dn, k)
+        real(rk), intent(in) :: le, w, nn(2), cs05(2), u(2), z(2), dz(2), n(2)
         real(rk), intent(inout) :: r(6)
-        real(rk), intent(in), optional :: dn(:, :)
-        real(rk), intent(inout), optional :: k(:, :)
-        real(rk) :: g0(2), sg0(2), f(2), t, df(2, 9), dt(9), ut(2), e(2)
-        integer :: j, a, ncol
-        g0 = matmul(lam05, n)
-        sg0 = matmul(skew, g0)
+        real(rk), intent(in), optional :: dn(2, 6)
+        real(rk), intent(inout), optional :: k(6, 6)
+        real(rk) :: g0(2), sg0(2), f(2), t, df(2, 6), dt(6), ut(2), e(2)
+        integer :: j, a
+        g0 = rotate(cs05, n)
+        sg0 = skew_times(g0)
         f = z(1) * g0
         t = z(2) * dot_product(u, sg0)
         r(1:2) = r(1:2) - 0.5_rk * w * f
@@ -470,30 +529,27 @@ contains
         r(3) = r(3) - 0.5_rk * w * le * nn(1) * t
         r(6) = r(6) - 0.5_rk * w * le * nn(2) * t
         if (.not. present(k)) return
-        ! Through N: df = Z1 Lambda05 dN, dt = Z2 (Lambda05^T S^T u) . dN
-        ncol = size(k, 2)
-        ut = matmul(transpose(lam05), matmul(transpose(skew), u))
-        do j = 1, ncol
-            df(:, j) = z(1) * matmul(lam05, dn(:, j))
+        ! Through N: df = Z1 Lambda05 dN, dt = Z2 (Lambda05^T S^T u) . dN (S^T = -S)
+        ut = rotate_back(cs05, -skew_times(u))
+        do j = 1, 6
+            df(:, j) = z(1) * rotate(cs05, dn(:, j))
             dt(j) = z(2) * dot_product(ut, dn(:, j))
         end do
         ! Through d_s r05 in t
         dt(1:2) = dt(1:2) - 0.5_rk / le * z(2) * sg0
         dt(4:5) = dt(4:5) + 0.5_rk / le * z(2) * sg0
-        ! Through dphi_g (Z1, Z2) and phi05_g (Lambda05); S S^T = I
-        e = dz(1) * g0 + 0.5_rk * z(1) * matmul(transpose(skew), g0)
+        ! Through dphi_g (Z1, Z2) and phi05_g (Lambda05); S^T g0 = -sg0
+        e = dz(1) * g0 - 0.5_rk * z(1) * sg0
         do a = 1, 2
             j = 3 * a
             df(:, j) = df(:, j) + nn(a) * e
             dt(j) = dt(j) + nn(a) * (dz(2) * dot_product(u, sg0) &
                 + 0.5_rk * z(2) * dot_product(u, g0))
         end do
-        do j = 1, 2
-            k(j, :) = k(j, :) - 0.5_rk * w * df(j, 1:ncol)
-            k(3 + j, :) = k(3 + j, :) + 0.5_rk * w * df(j, 1:ncol)
-        end do
-        k(3, :) = k(3, :) - 0.5_rk * w * le * nn(1) * dt(1:ncol)
-        k(6, :) = k(6, :) - 0.5_rk * w * le * nn(2) * dt(1:ncol)
+        k(1:2, :) = k(1:2, :) - 0.5_rk * w * df
+        k(4:5, :) = k(4:5, :) + 0.5_rk * w * df
+        k(3, :) = k(3, :) - 0.5_rk * w * le * nn(1) * dt
+        k(6, :) = k(6, :) - 0.5_rk * w * le * nn(2) * dt
     end subroutine gauss_point_force
 
     ! Gauss points and weights on [-1, 1] (methods §3.1: 2-point full, 1-point reduced); zero
@@ -508,33 +564,61 @@ contains
         call gauss_legendre(n_gauss, xi(1:n_gauss), w(1:n_gauss), ok)
     end subroutine gauss_rule
 
-    ! Linear shape functions (N_a, N_b) at xi (methods §3.1 eqs. 87-89).
-    pure function shape_values(xi) result(nn)
-        real(rk), intent(in) :: xi
-        real(rk) :: nn(2)
-        nn = [0.5_rk * (1.0_rk - xi), 0.5_rk * (1.0_rk + xi)]
-    end function shape_values
+    ! The n_gauss rule with the linear shape functions at its points: weights w(g) and
+    ! nn(:, g) = (N_a, N_b)(xi_g) = ((1 - xi_g)/2, (1 + xi_g)/2) (methods §3.1 eqs. 87-89).
+    pure subroutine gauss_shapes(n_gauss, w, nn)
+        integer, intent(in) :: n_gauss
+        real(rk), intent(out) :: w(max_gauss_points), nn(2, max_gauss_points)
+        real(rk) :: xi(max_gauss_points)
+        call gauss_rule(n_gauss, xi, w)
+        nn(1, :) = 0.5_rk * (1.0_rk - xi)
+        nn(2, :) = 0.5_rk * (1.0_rk + xi)
+    end subroutine gauss_shapes
 
-    ! Lambda(phi) of methods §2.2 eq. (3).
-    pure function rotation(phi) result(lam)
-        real(rk), intent(in) :: phi
-        real(rk) :: lam(2, 2)
-        real(rk) :: c, s
-        c = cos(phi)
-        s = sin(phi)
-        lam = reshape([c, s, -s, c], [2, 2])
-    end function rotation
+    ! cs(:, g) = (cos, sin) of the interpolated angle N_a(xi_g) phi_a + N_b(xi_g) phi_b: one
+    ! sine-cosine pair per Gauss point, for every term of a kernel that needs Lambda_g.
+    pure subroutine gauss_point_angles(n_gauss, nn, phi_a, phi_b, cs)
+        integer, intent(in) :: n_gauss
+        real(rk), intent(in) :: nn(2, max_gauss_points), phi_a, phi_b
+        real(rk), intent(out) :: cs(2, max_gauss_points)
+        real(rk) :: phi
+        integer :: g
+        cs = 0.0_rk
+        do g = 1, min(n_gauss, max_gauss_points)
+            phi = nn(1, g) * phi_a + nn(2, g) * phi_b
+            cs(:, g) = [cos(phi), sin(phi)]
+        end do
+    end subroutine gauss_point_angles
 
-    pure function identity2() result(eye)
-        real(rk) :: eye(2, 2)
-        eye = reshape([1.0_rk, 0.0_rk, 0.0_rk, 1.0_rk], [2, 2])
-    end function identity2
+    ! Lambda x, Lambda = Lambda(phi) of methods §2.2 eq. (3) given by cs = (cos phi, sin phi).
+    ! With cs = (cos b, sin b) for x this is (cos, sin)(phi + b).
+    pure function rotate(cs, x) result(y)
+        real(rk), intent(in) :: cs(2), x(2)
+        real(rk) :: y(2)
+        y(1) = cs(1) * x(1) - cs(2) * x(2)
+        y(2) = cs(2) * x(1) + cs(1) * x(2)
+    end function rotate
 
-    !> s = sin(x)/x (1 at x = 0) and ds = ds/dx, the Z2 factor of cl-EM at x = dphi/2 (methods
-    !> §5.1 eq. 67); Taylor series (to x^10 and x^9, truncation below 1e-19) for |x| < 0.1, so
-    !> that Z2 and its derivative are smooth and accurate to round-off through dphi = 0.
-    pure subroutine planar_sinc(x, s, ds)
-        real(rk), intent(in) :: x
+    ! Lambda^T x, Lambda given by cs as in rotate.
+    pure function rotate_back(cs, x) result(y)
+        real(rk), intent(in) :: cs(2), x(2)
+        real(rk) :: y(2)
+        y(1) = cs(1) * x(1) + cs(2) * x(2)
+        y(2) = -cs(2) * x(1) + cs(1) * x(2)
+    end function rotate_back
+
+    ! S x with S = [[0, 1], [-1, 0]] of methods §2.1 eq. (1); S^T x = -S x.
+    pure function skew_times(x) result(y)
+        real(rk), intent(in) :: x(2)
+        real(rk) :: y(2)
+        y(1) = x(2)
+        y(2) = -x(1)
+    end function skew_times
+
+    ! sin(x)/x and its derivative from x, sin(x) and cos(x) (planar_sinc; cl-EM has the sine
+    ! and cosine of dphi_g/2 already, for Z1 and Lambda05).
+    pure subroutine sinc_of(x, sin_x, cos_x, s, ds)
+        real(rk), intent(in) :: x, sin_x, cos_x
         real(rk), intent(out) :: s, ds
         real(rk) :: x2
         if (abs(x) < sinc_series_limit) then
@@ -544,9 +628,9 @@ contains
             ds = -x / 3.0_rk * (1.0_rk - x2 / 10.0_rk * (1.0_rk - x2 / 28.0_rk &
                 * (1.0_rk - x2 / 54.0_rk * (1.0_rk - x2 / 88.0_rk))))
         else
-            s = sin(x) / x
-            ds = (cos(x) - s) / x
+            s = sin_x / x
+            ds = (cos_x - s) / x
         end if
-    end subroutine planar_sinc
+    end subroutine sinc_of
 
 end module rs_ph_planar_element
