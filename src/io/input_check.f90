@@ -1268,6 +1268,13 @@ contains
             associate (rod => scene%rods(i))
                 if (trim(rod%formulation) == 'cl_em_planar' .and. len_trim(rod%em_variant) == 0) &
                     rod%em_variant = 'stander_stein'
+                ! cl_em_planar's full (2-point) quadrature of the axial and shear terms locks
+                ! in bending (methods/ph_planar.md §5.1-5.2, the roll-up): its default is the
+                ! reduced one (issue 21 item 16).
+                if (rod%n_gauss == unset_int) then
+                    rod%n_gauss = 2
+                    if (trim(rod%formulation) == 'cl_em_planar') rod%n_gauss = 1
+                end if
             end associate
         end do
     end subroutine resolve_formulation_options

@@ -308,11 +308,12 @@ contains
             spec_v('degree', 'integer', '-', '2', 'Polynomial degree of the elements (ph_director; the ' // &
                 'planar elements are linear, two-node, whatever the degree).', lower=1.0_rk, &
                 upper=2.0_rk, example='1'), &
-            spec_v('n_gauss', 'integer', '-', '2', &
+            spec_v('n_gauss', 'integer', '-', '2 (cl_em_planar: 1)', &
                 'Gauss points per element. The planar formulations take 1 or 2; for cl_em_planar ' // &
                 'this is the quadrature of the axial and shear terms (methods/ph_planar.md §5.1): ' // &
-                '1 = reduced, free of shear locking; 2 = full, which locks in bending (the ' // &
-                'roll-up); bending is exact with either.', lower=1.0_rk, upper=5.0_rk, example='3'), &
+                '1 = reduced, free of shear locking (its default); 2 = full, which locks in ' // &
+                'bending (the roll-up); bending is exact with either.', lower=1.0_rk, upper=5.0_rk, &
+                example='3'), &
             spec_v('em_variant', 'string', '-', "'stander_stein'", &
                 'cl_em_planar only (an error for any other formulation): ''stander_stein'' is the ' // &
                 'classical energy-momentum scheme of Stander and Stein (methods/ph_planar.md ' // &

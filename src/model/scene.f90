@@ -95,7 +95,8 @@ module rs_model_scene
         character(len=name_len) :: formulation = ''
         integer :: n_elements = unset_int
         integer :: degree = 2
-        integer :: n_gauss = 2
+        !> Resolved by the input check: 1 for cl_em_planar (reduced, free of shear locking), else 2.
+        integer :: n_gauss = unset_int
         !> Formulation as resolved from: 'rod' (given in &rod), 'default' (&run
         !> formulation_default) or 'auto' (set by the resolver; not an input variable).
         character(len=name_len) :: formulation_origin = ''

@@ -80,8 +80,8 @@ class Benchmark:
 # others are raw 2-norms of forces; se3_pg cannot reach 1e-11 on the spaghetti (its first step
 # stagnates), on the stiff four-bar PH-EM stagnates below 1e-8 at n_e = 160 and cl-EM below
 # 1e-5 (docs/performance.md); se3_pg keeps the bend's 1e-6 N (600 N loads, E = 1e7).
-# cl_em_planar runs with its reduced (1-point) axial and shear quadrature: its default, full
-# quadrature locks (docs/theory/ph_planar.md).
+# cl_em_planar runs with its reduced (1-point) axial and shear quadrature (its default; the full
+# rule locks, docs/theory/ph_planar.md).
 CL_EM = (("rod", "n_gauss", "1"),)
 PG_SPAGHETTI = (("solver", "newton_atol", "1e-9"),)
 PLANAR_SPAGHETTI = (("solver", "newton_atol", "1e-8"),)

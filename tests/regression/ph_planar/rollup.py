@@ -84,6 +84,11 @@ def cl_em_locking(args, checks):
     checks.check("cl-EM 1-GP: |tip angle - 2 pi|", abs(angle - 2 * np.pi), 1e-6)
     print(f"info: cl-EM 1-GP: max |M2 - 100 pi| / (100 pi) "
           f"{np.max(np.abs(r['stress'][k, :, 4] - M_ROLLUP)) / M_ROLLUP:.2e}")
+    # Without n_gauss cl_em_planar takes the reduced rule (issue 21 item 16): it rolls up.
+    _, _, _, tip, angle = run(args, "cl_em_default", cl_em)
+    checks.check("cl-EM by default (n_gauss not given) closes the ring: |tip|",
+                 float(np.linalg.norm(tip)), 1e-6)
+    checks.check("cl-EM by default: |tip angle - 2 pi|", abs(angle - 2 * np.pi), 1e-6)
     _, _, _, tip, angle = run(args, "ph_emi", cl_em + [("rod", "n_gauss", "2"),
                                                        ("rod", "em_variant", "'ph_irreducible'")])
     checks.check("PH-EMi 2-GP locks: |tip angle - 1.74668|", abs(angle - 1.74668), 0.01)

@@ -171,7 +171,7 @@ contains
         CHECK_CONTAINS(plan, "rod 'a' on rank 0: cl_em_planar (from &run formulation_default)", 'cl_em')
         expected = 'unknowns: 3 x 5 nodes (x, y, theta) = 15, less 2 fixed by supports; no element unknowns'
         CHECK_CONTAINS(plan, expected, 'cl_em unknowns')
-        CHECK_CONTAINS(plan, 'axial and shear terms at 2 Gauss points (full, locks in bending)', 'quadrature')
+        CHECK_CONTAINS(plan, 'axial and shear terms at 1 Gauss point (reduced, free of shear locking)', 'quadrature: reduced by default')
     end subroutine test_planar_plan
 
     ! 'auto' on a rod pushed out of its plane: ph_director, and the reason names the load.
