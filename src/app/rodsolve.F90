@@ -26,6 +26,7 @@ program rodsolve
     use rs_io_sweep, only: sweep_member_count
     use rs_io_output_guard, only: output_lock_t, check_output_target
     use rs_core_logger, only: log_warning
+    use rs_core_interrupt, only: install_interrupt_handlers
     implicit none
 
     type(cli_t) :: cli
@@ -39,6 +40,9 @@ program rodsolve
     call petsc_initialize(cli%program, cli%petsc_args, err)
     if (allocated(err)) call stop_all(exit_run_error, 'rodsolve: ' // err%describe())
     call set_cleanup(petsc_finalize)
+    ! After PETSc's own handlers, which abort: SIGTERM and SIGINT end a run cleanly.
+    if (.not. install_interrupt_handlers()) call log_warning('rodsolve: cannot catch SIGTERM ' // &
+        'and SIGINT: a run stopped by its job''s time limit keeps only its last flush')
     call logger_init(world_rank(), quiet=cli%quiet)
     if (len(cli%error) > 0) call stop_all(exit_input_error, cli%error // new_line('a') // usage_text())
 
@@ -74,7 +78,7 @@ program rodsolve
                 call run_scene(scene, full_command_line(), err)
             end if
             call output_lock%release()
-            if (allocated(err)) call stop_all(exit_run_error, 'rodsolve: ' // err%describe())
+            if (allocated(err)) call stop_all(err%exit_status, 'rodsolve: ' // err%describe())
         end if
     end select
     call stop_all(0)

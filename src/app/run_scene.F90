@@ -10,7 +10,8 @@
 module rs_app_run_scene
     use, intrinsic :: iso_fortran_env, only: error_unit, int64
     use rs_core_kinds, only: rk
-    use rs_core_error, only: error_t, set_error
+    use rs_core_error, only: error_t, set_error, exit_not_reached
+    use rs_core_interrupt, only: interrupt_signal, signal_name
     use rs_core_logger, only: log_info, log_debug, log_warning
     use rs_core_strings, only: str, str_significant
     use rs_core_timer, only: wall_time
@@ -59,7 +60,8 @@ contains
         real(rk), allocatable :: record_times(:)
         real(rk) :: started, output_seconds, last_report, t_flush, last_sidecar
         integer :: i, n, n_steps, first_step, capacity, n_times
-        logical :: restarting, failed, last
+        logical :: restarting, failed, last, unrelaxed
+        integer :: flags(2), stop_signal
 
         call petsc_apply_options(scene_options(scene), trim(scene%solver%petsc_options), err)
         RS_RETURN_IF_ERROR(err)
@@ -138,14 +140,20 @@ contains
         ! The time loop: every rank steps its rods; the ranks meet only at the flushes.
         last_report = wall_time()
         last_sidecar = -huge(1.0_rk)
+        stop_signal = 0
         do n = first_step, n_steps
             do i = 1, size(runners)
                 if (runs_here(i)) call runners(i)%advance(scene, n)
             end do
             call log_debug('rodsolve: step ' // str(n) // ' done')
             ! The run ends when every system has failed, or with &time relaxation relaxed:
-            ! nothing is left to step (and the step count and progress say so).
-            last = n == n_steps .or. .not. any_rank_true(any(still_running()))
+            ! nothing is left to step (and the step count and progress say so); or when a
+            ! rank was asked to stop (SIGTERM, SIGINT): then everything is flushed and the
+            ! file says 'interrupted'. One reduction for both.
+            flags = [merge(1, 0, any(still_running())), interrupt_signal()]
+            call max_each_over_ranks(flags)
+            stop_signal = flags(2)
+            last = n == n_steps .or. flags(1) == 0 .or. stop_signal /= 0
             if (mod(n, scene%output%stride) == 0 .or. last) then
                 n_times = n_times + 1
                 record_times(n_times) = min(real(n, rk) * scene%time%dt, scene%time%t_end)
@@ -165,10 +173,12 @@ contains
             end if
             if (last) exit
         end do
+        unrelaxed = .false.
         if (scene%time%relaxation) then
             do i = 1, size(runners)
                 if (system_owner(i) /= world_rank() .or. runners(i)%relaxed .or. runners(i)%failed) &
                     cycle
+                unrelaxed = .true.
                 call log_warning('rodsolve: ' // runners(i)%name() // ' did not relax by t_end = ' // &
                     str(scene%time%t_end) // ': kinetic energy ' // str_significant( &
                     runners(i)%formulation%kinetic_energy(runners(i)%x), 3) // ' >= ' // &
@@ -177,11 +187,19 @@ contains
         end if
 
         failed = any_rank_true(any(runners%failed))
+        ! A relaxation that never relaxed is no static answer: its own status (issue 21 item 14).
+        unrelaxed = any_rank_true(unrelaxed)
         call writer%close(local_err)
         t_flush = wall_time()
         if (world_rank() == 0 .and. .not. allocated(local_err)) then
             if (failed) then
                 call finish_result_file(path, layouts, 'failed', local_err, trim(scene%run%units))
+            else if (stop_signal /= 0 .and. n < n_steps) then
+                call finish_result_file(path, layouts, 'interrupted', local_err, &
+                    trim(scene%run%units))
+            else if (unrelaxed) then
+                call finish_result_file(path, layouts, 'not relaxed', local_err, &
+                    trim(scene%run%units))
             else
                 call finish_result_file(path, layouts, 'completed', local_err, &
                     trim(scene%run%units))
@@ -210,6 +228,16 @@ contains
                 end do
             end if
             RS_SET_ERROR(err, 'run_scene', message)
+        else if (stop_signal /= 0 .and. n < n_steps) then
+            call set_error(err, 'interrupted by ' // signal_name(stop_signal) // ' after step ' // &
+                str(n) // ' of ' // str(n_steps) // ' (t = ' // str(real(n, rk) * scene%time%dt) // &
+                '): every record up to it and the checkpoint are in ' // path // ', with ' // &
+                'status ''interrupted''; &run restart_from = ''' // path // ''' with the same ' // &
+                'scene continues it', 'run_scene', __FILE__, __LINE__, exit_status=128 + stop_signal)
+        else if (unrelaxed) then
+            call set_error(err, 'the run did not relax by t_end = ' // str(scene%time%t_end) // &
+                ' (above); its records are in ' // path // ', with status ''not relaxed''', &
+                'run_scene', __FILE__, __LINE__, exit_status=exit_not_reached)
         end if
     contains
 

@@ -19,11 +19,12 @@ module rs_app_run_sweep
         level_warning
     use rs_core_strings, only: str, str_significant
     use rs_core_timer, only: wall_time
+    use rs_core_interrupt, only: interrupt_signal, signal_name
     use rs_model_scene, only: scene_t
     use rs_model_coupling, only: coupled_systems, system_costs
     use rs_parallel_deal, only: deal_by_cost
     use rs_parallel_mpi_env, only: world_size, true_rank, barrier, work_alone, work_together, &
-        any_rank_true, sum_over_ranks
+        any_rank_true, sum_over_ranks, max_over_ranks
     use rs_io_input_file, only: parse_scene
     use rs_io_input_check, only: check_capabilities
     use rs_io_sweep, only: sweep_member_t, sweep_member_count, sweep_member
@@ -63,7 +64,7 @@ contains
         real(rk), allocatable :: costs(:)
         integer, allocatable :: owner(:)
         real(rk) :: started, member_started
-        integer :: n, id, ledger, mine, done, failed, ios, level
+        integer :: n, id, ledger, mine, done, failed, ios, level, stop_signal
         character(len=:), allocatable :: path, message
 
         started = wall_time()
@@ -96,6 +97,8 @@ contains
         do id = 1, n
             if (allocated(local_err)) exit
             if (owner(id) /= true_rank()) cycle
+            ! SIGTERM or SIGINT: no new member; the finished ones are merged below.
+            if (interrupt_signal() /= 0) exit
             call build_member(scene, id, member, member_scene, local_err)
             if (allocated(local_err)) exit
             member_scene%output%path = member_file(path, id)
@@ -109,6 +112,9 @@ contains
             call run_scene(member_scene, command_line, member_err)
             call work_together()
             call logger_set_level(level)
+            ! A member cut short by the signal is not run (no ledger line): --merge or a new
+            ! sweep of it runs it whole.
+            if (interrupt_signal() /= 0 .and. allocated(member_err)) exit
             done = done + 1
             if (allocated(member_err)) then
                 failed = failed + 1
@@ -128,6 +134,7 @@ contains
         end do
         close(ledger, iostat=ios)
         failed = sum_over_ranks(failed)
+        stop_signal = nint(max_over_ranks(real(interrupt_signal(), kind(1.0d0))))
         if (collective_failure(local_err, err, 'the sweep stopped on another rank (see there)')) &
             return
         call barrier()
@@ -135,7 +142,13 @@ contains
             seconds=wall_time() - started)
         if (collective_failure(local_err, err, 'the sweep''s result file could not be ' // &
             'written (see rank 0)')) return
-        if (failed > 0) then
+        if (stop_signal /= 0) then
+            message = 'the sweep was interrupted by ' // signal_name(stop_signal) // ': its ' // &
+                'finished members are in ' // path // ' (the others have status ''not run''); ' // &
+                'a sweep of the rest, or the whole scene again, completes it'
+            call set_error(err, message, 'run_sweep', __FILE__, __LINE__, &
+                exit_status=128 + stop_signal)
+        else if (failed > 0) then
             message = str(failed) // ' of ' // str(n) // ' sweep members failed (their messages ' // &
                 'are in ' // path // ': /summary/status and the message attribute of /members/<id>)'
             RS_SET_ERROR(err, 'run_sweep', message)

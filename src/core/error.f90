@@ -14,6 +14,9 @@ module rs_core_error
     integer, parameter, public :: exit_input_error = 2
     !> Exit status for a failure during the run (solver divergence after all cut-backs, I/O).
     integer, parameter, public :: exit_run_error = 1
+    !> Exit status of a run that ended without reaching what it was asked to (&time relaxation
+    !> that did not relax by t_end): its records are valid, its answer is not the one asked for.
+    integer, parameter, public :: exit_not_reached = 3
 
     !> One error: what went wrong, where it was detected and with which exit status the program
     !> should stop if nobody handles it.
