@@ -89,6 +89,9 @@ module rs_ph_director
         type(rod_actuator_t), allocatable :: actuators(:)
         !> Quasistatic run: no mass terms, time is a load factor, endpoint solve at the end.
         logical :: quasistatic = .false.
+        !> Mass per unit length of the rod as given (rhoA), for its weight: the material's rhoA
+        !> is zero in a quasistatic run (no inertia), the weight is not (issue 21 item 9).
+        real(rk) :: line_mass = 0.0_rk
         !> The next step is the endpoint equilibrium at load time t_static (DESIGN.md §3).
         logical :: static = .false.
         real(rk) :: t_static = 0.0_rk
@@ -188,6 +191,7 @@ contains
                 return
             end if
             this%quasistatic = scene%time%quasistatic
+            this%line_mass = rod%rhoA
             call build_material(this, rod, err)
             RS_RETURN_IF_ERROR(err)
             this%n_local = ph_director_local_size(this%basis, this%material)
@@ -450,7 +454,7 @@ contains
                     load%distributed = .true.
                 end select
                 if (trim(input%where) == 'gravity') then
-                    load%force = this%material%rhoA * input%acceleration
+                    load%force = this%line_mass * input%acceleration
                 else
                     load%force = input%force
                     load%moment = input%moment
