@@ -110,6 +110,9 @@ int rs_petsc_apply_options(const char *scene_options, const char *user_options, 
 /* All options in the database ("-name value ..."), for the output file. Copies at most
    length - 1 characters and a NUL; returns the full length (>= length: truncated), or -1. */
 int rs_petsc_options_text(char *buffer, int length);
+/* The user's options (command line, petsc_options) nothing has read: "-name (where); ..."
+   into buffer, their count returned (-1 on a PETSc error). */
+int rs_petsc_unused_options(char *buffer, int length);
 
 /* Start PETSc's default event logging (what -log_view does), for rs_petsc_event_count. */
 int rs_petsc_log_begin(void);

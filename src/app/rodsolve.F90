@@ -25,6 +25,8 @@ program rodsolve
     use rs_app_run_sweep, only: run_sweep, merge_sweep
     use rs_io_sweep, only: sweep_member_count
     use rs_io_output_guard, only: output_lock_t, check_output_target
+    use rs_io_hdf5_file, only: hdf5_file_t
+    use rs_solver_rod_stepper, only: petsc_unused_options
     use rs_core_logger, only: log_warning
     use rs_core_interrupt, only: install_interrupt_handlers
     implicit none
@@ -77,6 +79,7 @@ program rodsolve
             else
                 call run_scene(scene, full_command_line(), err)
             end if
+            if (world_rank() == 0) call report_unused_options(trim(scene%output%path))
             call output_lock%release()
             if (allocated(err)) call stop_all(err%exit_status, 'rodsolve: ' // err%describe())
         end if
@@ -84,6 +87,28 @@ program rodsolve
     call stop_all(0)
 
 contains
+
+    !> PETSc options the user gave that nothing read (a misspelling, or an option of a solver
+    !> the run does not use): a warning in the log and the result file's root attribute
+    !> `unused_petsc_options` (issue 21 item 19).
+    subroutine report_unused_options(path)
+        character(len=*), intent(in) :: path
+        character(len=:), allocatable :: unused
+        type(hdf5_file_t) :: file
+        type(error_t), allocatable :: file_err
+        logical :: exists
+        unused = petsc_unused_options()
+        if (len(unused) == 0) return
+        call log_warning('rodsolve: PETSc options given but never used (misspelled, or for a ' // &
+            'solver this run does not use): ' // unused)
+        inquire(file=path, exist=exists)
+        if (.not. exists) return
+        call file%open(path, file_err)
+        if (.not. allocated(file_err)) call file%write_attribute('/', 'unused_petsc_options', &
+            unused, file_err)
+        if (allocated(file_err)) deallocate(file_err)
+        call file%close(file_err)
+    end subroutine report_unused_options
 
     !> Before anything is written: rank 0 takes the output path's lock and checks what is
     !> there (rs_io_output_guard); if either fails, every rank stops with rank 0's message and

@@ -273,6 +273,34 @@ int rs_petsc_options_text(char *buffer, int length)
     return (int)n;
 }
 
+/* The options the user gave (command line or a scene's petsc_options) that nothing has read
+   so far, as "-name (where)" separated by "; ", the count returned (-1 if PETSc failed). A
+   misspelled option is one of them (PETSc's -options_left, for the user's options only:
+   rodsolve's own defaults are set whether a run reads them or not). */
+int rs_petsc_unused_options(char *buffer, int length)
+{
+    PetscInt n = 0, count = 0;
+    char   **names = NULL, **values = NULL;
+    size_t   used = 0;
+    if (buffer && length > 0) buffer[0] = '\0';
+    if (PetscOptionsLeftGet(NULL, &n, &names, &values)) return -1;
+    for (PetscInt i = 0; i < n; ++i) {
+        const char *name = names[i][0] == '-' ? names[i] + 1 : names[i];
+        const char *where = layer_has(&rs_command_line_layer, name) ? "command line"
+                            : layer_has(&rs_user_layer, name)       ? "petsc_options"
+                                                                    : NULL;
+        if (!where) continue;
+        ++count;
+        if (buffer && length > 0 && used < (size_t)length) {
+            int written = snprintf(buffer + used, (size_t)length - used, "%s-%s (%s)",
+                                   count > 1 ? "; " : "", name, where);
+            if (written > 0) used += (size_t)written;
+        }
+    }
+    PetscOptionsLeftRestore(NULL, &n, &names, &values);
+    return (int)count;
+}
+
 int rs_petsc_log_begin(void)
 {
     return (int)PetscLogDefaultBegin();

@@ -25,7 +25,8 @@ module rs_solver_rod_stepper
     private
 
     public :: rod_stepper_t
-    public :: petsc_apply_options, petsc_options_text, petsc_log_begin, petsc_event_count
+    public :: petsc_apply_options, petsc_options_text, petsc_log_begin, petsc_event_count, &
+        petsc_unused_options
     public :: residual_callback, jacobian_callback, predictor_callback, update_callback, &
         poststep_callback
 
@@ -156,6 +157,11 @@ module rs_solver_rod_stepper
             character(kind=c_char), intent(out) :: errmsg(*)
             integer(c_int), value :: errlen
         end function rs_petsc_apply_options
+        integer(c_int) function rs_petsc_unused_options(buffer, length) bind(C)
+            import :: c_int, c_char
+            character(kind=c_char), intent(out) :: buffer(*)
+            integer(c_int), value :: length
+        end function rs_petsc_unused_options
         integer(c_int) function rs_petsc_options_text(buffer, length) bind(C)
             import :: c_int, c_char
             character(kind=c_char), intent(out) :: buffer(*)
@@ -432,6 +438,16 @@ contains
             text = from_c_string(buffer)
         end if
     end function petsc_options_text
+
+    !> The options given on the command line or in a scene's petsc_options that nothing has
+    !> read ('' if none): misspelled, or for a solver the run does not use.
+    function petsc_unused_options() result(text)
+        character(len=:), allocatable :: text
+        character(kind=c_char) :: buffer(4096)
+        text = ''
+        if (rs_petsc_unused_options(buffer, int(size(buffer), c_int)) > 0) &
+            text = from_c_string(buffer)
+    end function petsc_unused_options
 
     !> Start PETSc's event logging (as -log_view does), e.g. to count factorizations.
     subroutine petsc_log_begin(err)

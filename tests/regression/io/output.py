@@ -9,6 +9,9 @@ spaghetti of input/ shortened to t_end = 2.
     output.py units      &run units = 'mm_tonne_s' names the units in the file
     output.py progress   progress lines (time, step, dt, Newton, balance, time left) and the
                          summary line; --quiet prints neither
+    output.py unused_options  a misspelled PETSc option in petsc_options and another on the
+                         command line are named in a warning and in the root attribute
+                         unused_petsc_options; options the run reads are not (issue 21 item 19)
 """
 import os
 import re
@@ -111,12 +114,32 @@ def progress(args, checks):
     checks.check("--quiet: characters printed", float(len(quiet.stdout.strip())), 0.0)
 
 
+def unused_options(args, checks):
+    text = rs.set_variable(scene(args), "solver", "petsc_options",
+                           "'-snes_monitr -snes_max_it 30'")
+    path, log = rs.run(args, text, "unused_options", extra=("-ksp_typo", "preonly"),
+                       want_log=True)
+    warning = next((line for line in log.splitlines() if "never used" in line), "")
+    print(f"info: {warning}")
+    for name, where in (("-snes_monitr", "petsc_options"), ("-ksp_typo", "command line")):
+        checks.check(f"the warning names {name} ({where})",
+                     0 if f"{name} ({where})" in warning else 1, 0)
+    checks.check("an option the run reads is not named (-snes_max_it)",
+                 0 if "-snes_max_it" not in warning else 1, 0)
+    with h5py.File(path, "r") as f:
+        stored = f.attrs.get("unused_petsc_options", "")
+    checks.check("the root attribute holds the same list", 0 if stored and stored in warning
+                 else 1, 0)
+
+
 def main():
     parser = rs.common_arguments(__doc__)
-    parser.add_argument("case", choices=["fields", "xdmf", "units", "progress"])
+    parser.add_argument("case", choices=["fields", "xdmf", "units", "progress",
+                                         "unused_options"])
     args = parser.parse_args()
     checks = rs.Checks()
-    {"fields": fields, "xdmf": xdmf, "units": units, "progress": progress}[args.case](args, checks)
+    {"fields": fields, "xdmf": xdmf, "units": units, "progress": progress,
+     "unused_options": unused_options}[args.case](args, checks)
     checks.finish()
 
 
