@@ -129,6 +129,25 @@ class Rod:
         return "Rod(%r, formulation=%r)" % (self.name, self.formulation)
 
 
+def why_unreadable(path, exc):
+    """What h5py's OSError on opening `path` means: another program holds it (HDF5's file
+    lock, e.g. a rodsolve run writing it: its PATH.lock names the run), or it is no HDF5
+    file at all."""
+    text = str(exc).lower()
+    if "lock" in text or "resource temporarily unavailable" in text or os.path.exists(
+            path + ".lock"):
+        holder = ""
+        if os.path.exists(path + ".lock"):
+            with open(path + ".lock", encoding="utf-8", errors="replace") as f:
+                holder = f.read().strip()
+        return ("open in another program (a run still writing it?%s); wait for it, or read a "
+                "copy" % (": " + holder if holder else ""))
+    with open(path, "rb") as f:
+        if f.read(8) == b"\x89HDF\r\n\x1a\n":
+            return "an HDF5 file that cannot be read (damaged or cut short?)"
+    return "not an HDF5 file"
+
+
 class ResultFile:
     """An open rodsolve result file. Use as a context manager or call close()."""
 
@@ -139,7 +158,8 @@ class ResultFile:
         try:
             self.file = h5py.File(self.path, "r")
         except OSError as exc:
-            raise NotAResultFile("%s: not an HDF5 file (%s)" % (self.path, exc)) from None
+            raise NotAResultFile("%s: %s (%s)" % (self.path, why_unreadable(self.path, exc),
+                                                  exc)) from None
         if "schema_version" not in self.file.attrs:
             self.file.close()
             raise NotAResultFile(

@@ -72,7 +72,8 @@ program rodsolve
                 ! A killed sweep: its finished members into its result file (rank 0; DESIGN.md §7).
                 if (sweep_member_count(scene) == 0) call stop_all(exit_input_error, 'rodsolve: ' // &
                     cli%scene_file // ' has no &sweep group: there is nothing to merge')
-                if (world_rank() == 0) call merge_sweep(scene, full_command_line(), err)
+                if (world_rank() == 0) call merge_sweep(scene, full_command_line(), err, &
+                    verify=.true.)
                 call barrier()
             else if (sweep_member_count(scene) > 0) then
                 call run_sweep(scene, full_command_line(), err)

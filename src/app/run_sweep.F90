@@ -29,6 +29,8 @@ module rs_app_run_sweep
     use rs_io_input_check, only: check_capabilities
     use rs_io_sweep, only: sweep_member_t, sweep_member_count, sweep_member
     use rs_io_hdf5_file, only: hdf5_file_t
+    use rs_io_scene_writer, only: resolved_scene_text
+    use rs_io_scene_diff, only: first_scene_difference
     use rs_io_result_file, only: result_meta_t, prepare_sweep_file
     use rs_solver_rod_run, only: step_count
     use rs_app_run_scene, only: run_scene, run_meta, collective_failure
@@ -307,11 +309,14 @@ contains
 
     !> Merge the finished members of the sweep `scene` into its result file (rank 0 only):
     !> /members/<id>/ and /summary; the members' files are removed once all are merged.
-    subroutine merge_sweep(scene, command_line, err, seconds)
+    subroutine merge_sweep(scene, command_line, err, seconds, verify)
         type(scene_t), intent(in) :: scene
         character(len=*), intent(in) :: command_line
         type(error_t), allocatable, intent(out) :: err
         real(rk), intent(in), optional :: seconds
+        !> Check first that every member's file was computed from the member this scene builds
+        !> (`rodsolve --merge`: the scene file may have been edited since the sweep ran).
+        logical, intent(in), optional :: verify
         type(member_record_t), allocatable :: records(:)
         type(hdf5_file_t) :: file, source
         type(sweep_member_t) :: member
@@ -339,6 +344,10 @@ contains
         end if
         allocate(records(n))
         call read_ledgers(path, n, records)
+        if (present(verify)) then
+            if (verify) call verify_members(scene, records, err)
+            if (allocated(err)) return
+        end if
         meta = run_meta(scene, command_line)
         allocate(status(n), ids(n), n_records(n), final_time(n), max_balance(n), iterations(n), &
             wall(n), tip(3, n), ranks(n))
@@ -418,6 +427,48 @@ contains
         end do
         call remove_directory(member_directory(path))
     end subroutine merge_sweep
+
+    !> Before --merge writes anything: each finished member's file holds the resolved scene it
+    !> ran (/input/resolved), which must be the member this scene builds now, apart from what
+    !> does not change results (issue 21 item 8: an edited sweep scene relabelled members, a
+    !> member computed at EI1 = 1.0 merged as 2.0).
+    subroutine verify_members(scene, records, err)
+        type(scene_t), intent(in) :: scene
+        type(member_record_t), intent(in) :: records(:)
+        type(error_t), allocatable, intent(out) :: err
+        character(len=*), parameter :: free(*) = [character(len=24) :: 'output%flush_every', &
+            'output%xdmf', 'run%progress_interval', 'run%log_level', 'run%title']
+        type(sweep_member_t) :: member
+        type(scene_t) :: member_scene
+        type(hdf5_file_t) :: source
+        type(error_t), allocatable :: close_err
+        character(len=:), allocatable :: path, stored, difference, message
+        integer :: id
+        logical :: exists
+        path = trim(scene%output%path)
+        do id = 1, size(records)
+            if (records(id)%status == member_not_run) cycle
+            inquire(file=member_file(path, id), exist=exists)
+            if (.not. exists) cycle
+            call build_member(scene, id, member, member_scene, err)
+            if (allocated(err)) return
+            member_scene%output%path = member_file(path, id)
+            member_scene%output%xdmf = .false.
+            call source%open(member_file(path, id), err, writable=.false.)
+            if (allocated(err)) return
+            call source%read_string_dataset('/input/resolved', stored, err)
+            call source%close(close_err)
+            if (allocated(err)) return
+            difference = first_scene_difference(stored, resolved_scene_text(member_scene), free, &
+                'the member''s file')
+            if (len(difference) == 0) cycle
+            message = 'member ' // str(id) // ' was computed from another scene than the ' // &
+                'one this scene builds now (' // difference // '): --merge needs the scene ' // &
+                'file the sweep ran; nothing was merged'
+            RS_SET_ERROR(err, 'merge_sweep', message)
+            return
+        end do
+    end subroutine verify_members
 
     !> The summary quantities of one member, from rod `rod` (an HDF5 path /rods/<name>) of its
     !> result file: the last stored time, the last node's last position, the largest

@@ -17,28 +17,32 @@ module rs_io_scene_diff
 
 contains
 
-    !> '' when `before` (the checkpoint's scene) and `now` give every variable the same value,
+    !> '' when `before` (what a file stored) and `now` give every variable the same value,
     !> apart from the variables in `free` ('group%name', e.g. 'time%t_end'); otherwise one
-    !> sentence naming the first variable that differs, with both values.
-    function first_scene_difference(before, now, free) result(message)
+    !> sentence naming the first variable that differs, with both values. `stored_as` names
+    !> `before` in it (default "the checkpoint's scene").
+    function first_scene_difference(before, now, free, stored_as) result(message)
         character(len=*), intent(in) :: before, now
         character(len=*), intent(in) :: free(:)
-        character(len=:), allocatable :: message
+        character(len=*), intent(in), optional :: stored_as
+        character(len=:), allocatable :: message, there
         type(entry_t), allocatable :: a(:), b(:)
         integer :: i, j
         message = ''
+        there = 'the checkpoint''s scene'
+        if (present(stored_as)) there = stored_as
         call parse(before, a)
         call parse(now, b)
         do i = 1, size(a)
             if (is_free(a(i))) cycle
             j = find(b, a(i))
             if (j == 0) then
-                message = where_(a(i)) // ' = ' // a(i)%value // ' in the checkpoint''s scene ' // &
-                    'is not in this scene'
+                message = where_(a(i)) // ' = ' // a(i)%value // ' in ' // there // &
+                    ' is not in this scene'
                 return
             end if
             if (b(j)%value /= a(i)%value) then
-                message = where_(a(i)) // ': ' // a(i)%value // ' in the checkpoint''s scene, ' // &
+                message = where_(a(i)) // ': ' // a(i)%value // ' in ' // there // ', ' // &
                     b(j)%value // ' in this one'
                 return
             end if
@@ -46,8 +50,7 @@ contains
         do j = 1, size(b)
             if (is_free(b(j))) cycle
             if (find(a, b(j)) /= 0) cycle
-            message = where_(b(j)) // ' = ' // b(j)%value // ' in this scene is not in the ' // &
-                'checkpoint''s scene'
+            message = where_(b(j)) // ' = ' // b(j)%value // ' in this scene is not in ' // there
             return
         end do
     contains

@@ -5,7 +5,8 @@ failed on the code before the fix.
     faults.py two_runs        a second run of the same output path, started while the first
                               runs, stops at once with a message naming the other run and
                               touches nothing; the first completes with every record
-                              (item 1); the lock file is gone afterwards
+                              (item 1); the lock file is gone afterwards; rodplot on the
+                              file meanwhile says it is in use (item 20)
     faults.py merge_running   `rodsolve --merge` of a sweep that is still running is refused and
                               deletes nothing; the sweep completes with every member (item 2)
     faults.py overwrite       the output path is the scene itself, a text file, an HDF5 file
@@ -15,6 +16,10 @@ failed on the code before the fix.
     faults.py killed_sweep    a sweep killed after a few members leaves no result file of the
                               previous sweep of its path, marked completed, beside its members
                               (item 5)
+    faults.py merge_edited    `rodsolve --merge` with the sweep's scene edited after the sweep was
+                              killed (other EI1 values) is refused naming the member and the
+                              variable, and leaves the members as they were; --merge with the
+                              scene the sweep ran merges them (item 8)
     faults.py sigterm         SIGTERM (a job's time limit) ends a run after its current step
                               with a last flush, status 'interrupted' and exit status 143;
                               restart_from continues it to the end; on 2 ranks, SIGTERM to
@@ -88,6 +93,14 @@ def two_runs(args, checks):
     locked = wait_for(output + ".lock", process)
     checks.check("the first run holds the lock file", 0 if locked else 1, 0)
     status, log = run(args, second)
+    # rodplot on the file being written: it says the file is in use, not "not an HDF5 file"
+    # (item 20).
+    plot = subprocess.run([sys.executable, os.path.join(args.source, "scripts", "rodplot.py"),
+                           "summary", output], capture_output=True, text=True)
+    print(plot.stderr[-400:])
+    checks.check("rodplot on the file being written: exit status - 2", abs(plot.returncode - 2), 0)
+    checks.check("rodplot says the file is open in another program",
+                 0 if "open in another program" in plot.stderr else 1, 0)
     running = process.poll() is None
     checks.check("the first run was still running when the second stopped", 0 if running else 1, 0)
     checks.check("exit status of the second run - 1", abs(status - 1), 0)
@@ -121,6 +134,19 @@ def ledger_lines(ledger):
         return 0
     with open(ledger, encoding="utf-8") as f:
         return sum(1 for line in f if line.strip())
+
+
+def killed_sweep_run(args, scene, output, members):
+    """Run the sweep `scene` (rodsolve itself, one rank) and SIGKILL it once its ledger
+    lists `members` finished members; whether the kill ended it."""
+    ledger = output + ".members/ledger_rank0.txt"
+    process = subprocess.Popen([args.rodsolve, scene], stdout=subprocess.DEVNULL,
+                               stderr=subprocess.DEVNULL)
+    while process.poll() is None and ledger_lines(ledger) < members:
+        time.sleep(0.005)
+    process.send_signal(signal.SIGKILL)
+    process.wait()
+    return process.returncode == -signal.SIGKILL
 
 
 def merge_running(args, checks):
@@ -216,15 +242,8 @@ def killed_sweep(args, checks):
         before = f.attrs["status"]
     checks.check("the first sweep completed", abs(status) + (0 if before == "completed" else 1), 0)
     scene = write_scene(args, "again", long_sweep(args, 64), output)
-    ledger = output + ".members/ledger_rank0.txt"
-    process = subprocess.Popen([args.rodsolve, scene], stdout=subprocess.DEVNULL,
-                               stderr=subprocess.DEVNULL)
-    while process.poll() is None and ledger_lines(ledger) < 2:
-        time.sleep(0.005)
-    process.send_signal(signal.SIGKILL)
-    process.wait()
-    checks.check("the second sweep was killed (SIGKILL)",
-                 0 if process.returncode == -signal.SIGKILL else 1, 0)
+    killed = killed_sweep_run(args, scene, output, 2)
+    checks.check("the second sweep was killed (SIGKILL)", 0 if killed else 1, 0)
     stale = False
     if os.path.exists(output):
         with h5py.File(output, "r") as f:
@@ -247,6 +266,33 @@ def children(pid):
     """The processes `pid` started (mpiexec's ranks on this host)."""
     found = subprocess.run(["pgrep", "-P", str(pid)], capture_output=True, text=True).stdout
     return [int(p) for p in found.split()]
+
+
+def merge_edited(args, checks):
+    output = os.path.join(args.workdir, "edited.h5")
+    if os.path.exists(output):
+        os.remove(output)
+    text = long_sweep(args, 64)
+    scene = write_scene(args, "edited", text, output)
+    killed = killed_sweep_run(args, scene, output, 3)
+    checks.check("the sweep was killed (SIGKILL)", 0 if killed else 1, 0)
+    members = sorted(os.listdir(output + ".members"))
+    edited = write_scene(args, "edited", rs.set_variable(text, "sweep", "logspace",
+                                                         "2.0, 200.0, 64"), output)
+    status, log = run(args, edited, "--merge")
+    checks.check("--merge with an edited scene: exit status - 1", abs(status - 1), 0)
+    checks.check("... names the member and the variable",
+                 0 if "member 1 was computed from another scene" in log and "EI1" in log else 1,
+                 0)
+    checks.check("... leaves the members as they were",
+                 0 if sorted(os.listdir(output + ".members")) == members else 1, 0)
+    checks.check("... writes no result file", 1 if os.path.exists(output) else 0, 0)
+    original = write_scene(args, "edited", text, output)
+    status, _ = run(args, original, "--merge")
+    with h5py.File(output, "r") as f:
+        done = int((f["summary/status"][()] == 0).sum())
+    checks.check("--merge with the scene the sweep ran: exit status", status, 0)
+    checks.check("... merged the finished members (at least 3)", 0 if done >= 3 else 1, 0)
 
 
 def interrupted(args, checks, name, command, ranks_text):
@@ -365,11 +411,11 @@ def not_relaxed(args, checks):
 def main():
     parser = rs.common_arguments(__doc__)
     parser.add_argument("case", choices=["two_runs", "merge_running", "overwrite", "killed_sweep",
-                                         "sigterm", "not_relaxed"])
+                                         "merge_edited", "sigterm", "not_relaxed"])
     args = parser.parse_args()
     checks = rs.Checks()
     {"two_runs": two_runs, "merge_running": merge_running, "overwrite": overwrite,
-     "killed_sweep": killed_sweep, "sigterm": sigterm,
+     "killed_sweep": killed_sweep, "merge_edited": merge_edited, "sigterm": sigterm,
      "not_relaxed": not_relaxed}[args.case](args, checks)
     checks.finish()
 
