@@ -707,6 +707,11 @@ contains
                 if (load%where == 'gravity') then
                     if (any(load%force /= 0.0_rk) .or. any(load%moment /= 0.0_rk)) call errors%add(here // &
                         'force: a gravity load takes acceleration, not force or moment')
+                    ! A weight does not turn with the sections (issue 21 item 15: se3_pg and
+                    ! se3_strand accepted the frame and ignored it).
+                    if (trim(load%frame) == 'follower') call errors%add(here // 'frame: ' // &
+                        '''follower'' with where = ''gravity'': a weight is a spatial (dead) ' // &
+                        'load; remove frame or set frame = ''spatial''')
                     if (all(load%acceleration == 0.0_rk)) call errors%add(here // &
                         'acceleration: a gravity load needs a non-zero acceleration')
                 else if (any(load%acceleration /= 0.0_rk)) then
@@ -1509,6 +1514,10 @@ contains
                 at(scene, rod%input_line) // '&rod geometry: a curved reference (''' // &
                 trim(rod%geometry) // ''') is not available for ' // what // ' (rod ''' // &
                 trim(rod%name) // '''); available: ''straight''' // see_matrix)
+            if (rod%prestressed .and. .not. row%prestressed) call errors%add(at(scene, &
+                rod%input_line) // '&rod prestressed: a straight stress-free shape under a ' // &
+                'curved initial one is not available for ' // what // ' (rod ''' // &
+                trim(rod%name) // '''): it would be ignored' // see_matrix)
             if (scene%time%quasistatic .and. .not. row%quasistatic) call errors%add(at(scene, 0) // &
                 '&time quasistatic: not available for ' // what // ' (rod ''' // trim(rod%name) // &
                 ''')' // see_matrix)

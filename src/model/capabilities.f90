@@ -33,6 +33,8 @@ module rs_model_capabilities
         logical :: actuation = .false.
         !> A curved stress-free reference (&rod geometry = 'helix' or 'polyline').
         logical :: curved_reference = .false.
+        !> A straight stress-free shape under a curved initial one (&rod prestressed).
+        logical :: prestressed = .false.
         !> Kinds of &joint it can tie its rods' ends with ('revolute', 'rigid', 'spherical').
         character(len=64) :: joints = ''
         !> Rod ends tied to rigid end plates, fixed or driven (&plate).
@@ -70,8 +72,8 @@ contains
             row = capability_t(formulation='ph_director', available=.true., end_kinds='clamped|free', &
                 load_places='start|end|distributed|gravity', load_frames='spatial', &
                 constraints='none|kirchhoff|inextensible', quasistatic=.true., viscoelastic=.true., &
-                actuation=.true., curved_reference=.true., joints='rigid|spherical|revolute', &
-                end_plates=.true., contact=.true.)
+                actuation=.true., curved_reference=.true., prestressed=.true., &
+                joints='rigid|spherical|revolute', end_plates=.true., contact=.true.)
         case ('ph_planar', 'cl_em_planar')
             ! seed 001 (methods/ph_planar.md §2.5, §5, §6.3): straight planar rods with
             ! clamped, pinned (ground pin: position fixed, angle free) and free ends; dead end
@@ -103,8 +105,8 @@ contains
                 end_kinds='clamped|driven', end_kinds_at_end='free', &
                 load_places='end|distributed|gravity', load_frames='spatial|follower', &
                 constraints='none', quasistatic=.false., viscoelastic=.false., actuation=.false., &
-                curved_reference=.true., joints='', planar=.false., relaxation=.true., &
-                drive='velocity')
+                curved_reference=.true., prestressed=.true., joints='', planar=.false., &
+                relaxation=.true., drive='velocity')
         end select
     end function capability_of
 
