@@ -36,13 +36,23 @@ contains
         type(error_t), allocatable :: err
         integer :: i, n_steps, n_records, rank
         integer, allocatable :: system_of(:), first(:), members(:), system_rank(:)
+        logical :: all_strands
 
         units = trim(scene%run%units)
         n_steps = step_count(scene)
         n_records = 1 + n_steps / scene%output%stride
         if (mod(n_steps, scene%output%stride) /= 0) n_records = n_records + 1
         text = plan_header // new_line('a')
-        if (scene%time%quasistatic) then
+        ! se3_strand's step is semi-implicit, one linear solve without Newton (issue 21 item
+        ! 15: its plan named midpoint steps and Newton).
+        all_strands = all([(trim(scene%rods(i)%formulation) == 'se3_strand', i = 1, &
+            size(scene%rods))])
+        if (all_strands) then
+            call add('time: ' // str(n_steps) // ' semi-implicit step(s) of dt = ' // &
+                str(scene%time%dt) // ' ' // unit_in_system('s', units) // ' to t_end = ' // &
+                str(scene%time%t_end) // ' ' // unit_in_system('s', units) // &
+                ' (se3_strand, methods/se3_strands.md §3.5)')
+        else if (scene%time%quasistatic) then
             call add('time: quasistatic, ' // str(n_steps) // ' midpoint load step(s) of ' // &
                 str(scene%time%dt) // ' to the load factor t_end = ' // str(scene%time%t_end) // &
                 ', then one endpoint equilibrium solve (ph_director rods)')
@@ -52,9 +62,15 @@ contains
                 str(scene%time%t_end) // ' ' // unit_in_system('s', units) // &
                 ' (halved up to ' // str(scene%solver%max_cutbacks) // ' times on Newton failure)')
         end if
-        call add('Newton: stops at the scaled residual norm ' // str(scene%solver%newton_atol) // &
-            ', at most ' // str(scene%solver%max_newton) // ' iterations; LU per system: MUMPS, ' // &
-            'or PETSc''s own LU where the Jacobian needs no pivoting (planar dynamics)')
+        if (all_strands) then
+            call add('Newton: none, one linear solve per step (PETSc''s LU)')
+        else
+            call add('Newton: stops at the scaled residual norm ' // str(scene%solver%newton_atol) // &
+                ', at most ' // str(scene%solver%max_newton) // ' iterations; LU per system: ' // &
+                'the chain LU (rodchain) for one rod of ph_director, se3_pg or quasistatic ' // &
+                'PH-EM, PETSc''s own LU where the Jacobian needs no pivoting (planar dynamics, ' // &
+                'se3_strand), MUMPS for a system the ranks share')
+        end if
         call add('output: ' // trim(scene%output%path) // ': fields ''' // trim(scene%output%fields) // &
             ''', ' // str(n_records) // ' record(s) (t = 0, every ' // str(scene%output%stride) // &
             ' step(s) and the last), flushed every ' // str(scene%output%flush_every) // &

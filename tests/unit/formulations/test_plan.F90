@@ -36,6 +36,7 @@ contains
         call run_test('planar_plan', test_planar_plan)
         call run_test('auto_3d_reason', test_auto_3d_reason)
         call run_test('bundle_plan', test_bundle_plan)
+        call run_test('strand_step', test_strand_step)
     end subroutine run_all_tests
 
     !> A clamped-free rod of 4 quadratic elements (9 nodes, 8 free) with an end load.
@@ -85,6 +86,19 @@ contains
         CHECK_CONTAINS(plan, '3 record(s)', 'records')
         CHECK_CONTAINS(plan, 'stress-free initial geometry', 'stress-free reference')
     end subroutine test_cantilever_counts
+
+    ! se3_strand's step: semi-implicit, one linear solve, no Newton (issue 21 item 15); the
+    ! scene-level lines say so instead of 'midpoint' and the Newton tolerance.
+    subroutine test_strand_step()
+        character(len=:), allocatable :: plan
+        plan = plan_of("&time t_end = 1, dt = 0.25 /" // nl // &
+            "&rod formulation = 'se3_strand', n_elements = 4, length = 1, section = 'circle', " // &
+            "radius = 0.01, E = 2e11, nu = 0.3, density = 7800 /" // nl // &
+            "&bc rod = 'rod1', end = 'start', kind = 'clamped' /" // nl, 1)
+        CHECK_CONTAINS(plan, 'time: 4 semi-implicit step(s) of dt = 0.25', 'semi-implicit steps')
+        CHECK_CONTAINS(plan, 'Newton: none, one linear solve per step', 'no Newton')
+        CHECK_TRUE(index(plan, 'midpoint step') == 0, 'no midpoint steps')
+    end subroutine test_strand_step
 
     ! Condensed: 18 unknowns per free node.
     subroutine test_condensed_counts()
