@@ -74,19 +74,51 @@ contains
             message = file // ': no such file'
             return
         end if
+        ! A pipe or FIFO has no size (a scene written by another program, issue 21 item 19):
+        ! it is read line by line to its end.
+        if (size_ <= 0) then
+            call read_lines(file, text, message)
+            return
+        end if
         open(newunit=unit, file=file, access='stream', form='unformatted', action='read', &
             status='old', iostat=ios, iomsg=iomsg)
         if (ios /= 0) then
             message = file // ': cannot be opened (' // trim(iomsg) // ')'
             return
         end if
-        if (size_ > 0) then
-            deallocate(text)
-            allocate(character(len=size_) :: text)
-            read(unit, iostat=ios, iomsg=iomsg) text
-            if (ios /= 0) message = file // ': cannot be read (' // trim(iomsg) // ')'
-        end if
+        deallocate(text)
+        allocate(character(len=size_) :: text)
+        read(unit, iostat=ios, iomsg=iomsg) text
+        if (ios /= 0) message = file // ': cannot be read (' // trim(iomsg) // ')'
         close(unit)
     end subroutine read_text_file
+
+    !> The lines of `file` (any length), each ended by a new line, read to the end of the file.
+    subroutine read_lines(file, text, message)
+        character(len=*), intent(in) :: file
+        character(len=:), allocatable, intent(inout) :: text, message
+        character(len=4096) :: chunk
+        character(len=256) :: iomsg
+        integer :: unit, ios, got
+        open(newunit=unit, file=file, access='sequential', form='formatted', action='read', &
+            status='old', iostat=ios, iomsg=iomsg)
+        if (ios /= 0) then
+            message = file // ': cannot be opened (' // trim(iomsg) // ')'
+            return
+        end if
+        do
+            got = 0
+            read(unit, '(a)', advance='no', size=got, iostat=ios, iomsg=iomsg) chunk
+            ! A last line without its new line still counts.
+            if (got > 0) text = text // chunk(1:got)
+            if (is_iostat_end(ios)) exit
+            if (ios /= 0 .and. .not. is_iostat_eor(ios)) then
+                message = file // ': cannot be read (' // trim(iomsg) // ')'
+                exit
+            end if
+            if (is_iostat_eor(ios)) text = text // new_line('a')
+        end do
+        close(unit)
+    end subroutine read_lines
 
 end module rs_io_input_file

@@ -26,6 +26,9 @@ failed on the code before the fix.
                               every rank (as a batch system sends it) stops both at one step
                               the same way; SIGTERM to mpiexec (which kills its ranks) leaves
                               no rank running and the records up to the last flush (item 18)
+    faults.py scene_from_pipe a scene read from a FIFO (written by another program) runs like
+                              the same scene from a file (item 19; it read as "no &rod group");
+                              rank 0 reads it and shares it, so any rank count works
     faults.py not_relaxed     a relaxation run (statics by damped dynamics) that has not relaxed
                               by t_end ends with status 'not relaxed' and exit status 3, not
                               'completed' and 0; one that relaxes still completes (item 14)
@@ -35,6 +38,7 @@ import re
 import signal
 import subprocess
 import sys
+import threading
 import time
 
 import h5py
@@ -391,6 +395,30 @@ def sigterm(args, checks):
                  0)
 
 
+def scene_from_pipe(args, checks):
+    text = rs.read_example(args.source, "planar_flying_spaghetti.nml")
+    text = rs.set_variable(text, "time", "t_end", "0.5")
+    os.makedirs(args.workdir, exist_ok=True)
+    output = os.path.join(args.workdir, "piped.h5")
+    text = rs.set_variable(text, "output", "path", f"'{output}'")
+    fifo = os.path.join(args.workdir, "scene.fifo")
+    if os.path.exists(fifo):
+        os.remove(fifo)
+    os.mkfifo(fifo)
+
+    def feed():
+        with open(fifo, "w", encoding="utf-8") as f:
+            f.write(text)
+    writer = threading.Thread(target=feed)
+    writer.start()
+    status, log = run(args, fifo)
+    writer.join(timeout=60)
+    checks.check("a scene from a FIFO: exit status", status, 0)
+    with h5py.File(output, "r") as f:
+        records = f["rods/spaghetti/time"].shape[0]
+    checks.check("a scene from a FIFO: records - 6 (t = 0 and 5 steps)", abs(records - 6), 0)
+
+
 def not_relaxed(args, checks):
     text = rs.read_example(args.source, "bend45_strand.nml")
     # Seed 004's bend relaxes in 28 steps of 10 s (docs/performance.md); 3 steps do not.
@@ -411,11 +439,13 @@ def not_relaxed(args, checks):
 def main():
     parser = rs.common_arguments(__doc__)
     parser.add_argument("case", choices=["two_runs", "merge_running", "overwrite", "killed_sweep",
-                                         "merge_edited", "sigterm", "not_relaxed"])
+                                         "merge_edited", "sigterm", "scene_from_pipe",
+                                         "not_relaxed"])
     args = parser.parse_args()
     checks = rs.Checks()
     {"two_runs": two_runs, "merge_running": merge_running, "overwrite": overwrite,
      "killed_sweep": killed_sweep, "merge_edited": merge_edited, "sigterm": sigterm,
+     "scene_from_pipe": scene_from_pipe,
      "not_relaxed": not_relaxed}[args.case](args, checks)
     checks.finish()
 
