@@ -80,18 +80,32 @@ contains
             call read_lines(file, text, message)
             return
         end if
-        open(newunit=unit, file=file, access='stream', form='unformatted', action='read', &
-            status='old', iostat=ios, iomsg=iomsg)
-        if (ios /= 0) then
-            message = file // ': cannot be opened (' // trim(iomsg) // ')'
-            return
-        end if
+        call open_to_read(file, 'stream', unit, message)
+        if (len(message) > 0) return
         deallocate(text)
         allocate(character(len=size_) :: text)
         read(unit, iostat=ios, iomsg=iomsg) text
         if (ios /= 0) message = file // ': cannot be read (' // trim(iomsg) // ')'
         close(unit)
     end subroutine read_text_file
+
+    !> Open `file` for reading: 'stream' (its bytes) or 'sequential' (its lines); `message`
+    !> is '' on success.
+    subroutine open_to_read(file, access, unit, message)
+        character(len=*), intent(in) :: file, access
+        integer, intent(out) :: unit
+        character(len=:), allocatable, intent(inout) :: message
+        character(len=256) :: iomsg
+        integer :: ios
+        if (access == 'stream') then
+            open(newunit=unit, file=file, access='stream', form='unformatted', action='read', &
+                status='old', iostat=ios, iomsg=iomsg)
+        else
+            open(newunit=unit, file=file, access='sequential', form='formatted', action='read', &
+                status='old', iostat=ios, iomsg=iomsg)
+        end if
+        if (ios /= 0) message = file // ': cannot be opened (' // trim(iomsg) // ')'
+    end subroutine open_to_read
 
     !> The lines of `file` (any length), each ended by a new line, read to the end of the file.
     subroutine read_lines(file, text, message)
@@ -100,12 +114,8 @@ contains
         character(len=4096) :: chunk
         character(len=256) :: iomsg
         integer :: unit, ios, got
-        open(newunit=unit, file=file, access='sequential', form='formatted', action='read', &
-            status='old', iostat=ios, iomsg=iomsg)
-        if (ios /= 0) then
-            message = file // ': cannot be opened (' // trim(iomsg) // ')'
-            return
-        end if
+        call open_to_read(file, 'sequential', unit, message)
+        if (len(message) > 0) return
         do
             got = 0
             read(unit, '(a)', advance='no', size=got, iostat=ios, iomsg=iomsg) chunk
