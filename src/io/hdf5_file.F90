@@ -77,6 +77,8 @@ module rs_io_hdf5_file
         !> a parallel file makes the same calls, so every rank holds the same open datasets.
         type(open_dataset_t), allocatable :: open_sets(:)
         integer :: n_open = 0
+        !> Where open_dataset last found a dataset (0-based), to start the next search there.
+        integer :: last_found = 0
     contains
         !> Create (or truncate) a file, creating missing parent directories.
         procedure :: create => file_create
@@ -991,11 +993,16 @@ contains
         character(len=*), intent(in) :: path
         integer(hid_t), intent(out) :: dataset
         integer, intent(out) :: status
-        integer :: i
+        integer :: k, i
         status = 0
-        do i = this%n_open, 1, -1
+        ! A writer visits its datasets in the same order at every flush (dims, extent, write):
+        ! the search starts where the last one was found, so it is one comparison in the
+        ! usual case, not a pass over all of a bundle's datasets.
+        do k = 0, this%n_open - 1
+            i = mod(this%last_found + k, this%n_open) + 1
             if (this%open_sets(i)%path == path) then
                 dataset = this%open_sets(i)%id
+                this%last_found = i - 1
                 return
             end if
         end do
@@ -1033,6 +1040,7 @@ contains
             this%open_sets(i)%id = -1
         end do
         this%n_open = 0
+        this%last_found = 0
     end subroutine close_datasets
 
 

@@ -98,14 +98,14 @@ contains
         character(len=*), intent(in) :: text
         type(entry_t), allocatable, intent(out) :: entries(:)
         type(entry_t), allocatable :: grown(:)
-        character(len=:), allocatable :: line, group, label, groups_seen
+        character(len=:), allocatable :: line, group, label
+        character(len=32), allocatable :: groups(:)
         integer :: start, eol, eq, n, ordinal, first
-        allocate(entries(64))
+        allocate(entries(64), groups(0))
         n = 0
         group = ''
         label = ''
         ordinal = 0
-        groups_seen = ' '
         first = 1
         start = 1
         do while (start <= len(text))
@@ -118,8 +118,8 @@ contains
             if (line(1:1) == '&') then
                 group = trim(line(2:))
                 label = ''
-                ordinal = count_words(groups_seen, ' ' // group // ' ') + 1
-                groups_seen = groups_seen // group // ' '
+                groups = [character(len=32) :: groups, group]
+                ordinal = count(groups == group)
                 first = n + 1
                 cycle
             end if
@@ -147,19 +147,5 @@ contains
         end do
         entries = entries(1:n)
     end subroutine parse
-
-    !> How often `word` (with its surrounding blanks) occurs in `text`.
-    pure integer function count_words(text, word) result(n)
-        character(len=*), intent(in) :: text, word
-        integer :: at, from
-        n = 0
-        from = 1
-        do
-            at = index(text(from:), word)
-            if (at == 0) exit
-            n = n + 1
-            from = from + at
-        end do
-    end function count_words
 
 end module rs_io_scene_diff

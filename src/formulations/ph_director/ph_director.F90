@@ -89,8 +89,9 @@ module rs_ph_director
         type(rod_actuator_t), allocatable :: actuators(:)
         !> Quasistatic run: no mass terms, time is a load factor, endpoint solve at the end.
         logical :: quasistatic = .false.
-        !> Mass per unit length of the rod as given (rhoA), for its weight: the material's rhoA
-        !> is zero in a quasistatic run (no inertia), the weight is not (issue 21 item 9).
+        !> Mass per unit length of the rod as given (rhoA), for its weight, a distributed force
+        !> n̄ = rhoA g of eq. (12a) (methods/ph_director_3d.md §2.5): the material's rhoA is zero
+        !> in a quasistatic run (no inertia, §6.3), the weight is not (issue 21 item 9).
         real(rk) :: line_mass = 0.0_rk
         !> The next step is the endpoint equilibrium at load time t_static (DESIGN.md §3).
         logical :: static = .false.
