@@ -3,7 +3,7 @@
 !>     rodsolve [--quiet] SCENE.nml [PETSc options]
 !>     rodsolve --check-input SCENE.nml
 !>     rodsolve --merge SWEEP.nml
-!>     rodsolve --help | --version | --input-reference
+!>     rodsolve --help | --version | --input-reference | --capabilities
 !>
 !> rodsolve's own flags start with "--"; every other argument that starts with "-" begins a
 !> PETSc option (with the arguments up to the next "-" as its value) and is handed to
@@ -18,7 +18,7 @@ module rs_io_cli
 
     !> What the command line asks for.
     type :: cli_t
-        !> 'run', 'check', 'merge', 'help', 'version' or 'reference'.
+        !> 'run', 'check', 'merge', 'help', 'version', 'reference' or 'capabilities'.
         character(len=16) :: action = 'run'
         character(len=:), allocatable :: scene_file
         logical :: quiet = .false.
@@ -57,6 +57,8 @@ contains
                         cli%action = 'version'
                     case ('--input-reference')
                         cli%action = 'reference'
+                    case ('--capabilities')
+                        cli%action = 'capabilities'
                     case ('--check-input')
                         if (cli%action == 'run') cli%action = 'check'
                     case ('--merge')
@@ -102,7 +104,7 @@ contains
         text = 'usage: mpirun -np N rodsolve [--quiet] SCENE.nml [PETSc options]' // nl // &
             '       rodsolve --check-input SCENE.nml' // nl // &
             '       rodsolve --merge SWEEP.nml' // nl // &
-            '       rodsolve --help | --version | --input-reference' // nl // nl // &
+            '       rodsolve --help | --version | --input-reference | --capabilities' // nl // nl // &
             'Simulates Cosserat rods described by a namelist scene file (docs/user/input.md).' // nl // nl // &
             '  --check-input      read and validate SCENE.nml, print the resolved scene; run nothing' // nl // &
             '  --merge            rebuild the result file of a killed sweep from its finished' // nl // &
@@ -110,6 +112,7 @@ contains
             '  --quiet            print warnings and errors only' // nl // &
             '  --version          print the version of rodsolve and of the libraries it uses' // nl // &
             '  --input-reference  print the reference of every input group and variable' // nl // &
+            '  --capabilities     print what each formulation can do (docs/user/capabilities.md)' // nl // &
             '  --help, -h         print this text' // nl // nl // &
             'Any argument starting with a single "-" is a PETSc option, e.g. -snes_monitor or' // nl // &
             '-ksp_type gmres; they override the scene''s petsc_options.' // nl // &

@@ -1,0 +1,135 @@
+!> The capability matrix of docs/user/capabilities.md as Markdown, rendered from the rows of
+!> rs_model_capabilities (`rodsolve --capabilities`). The docs hold this output between their
+!> GENERATED markers and the input_capabilities_doc test compares the two, so the matrix a
+!> reader sees is the one `--check-input` enforces (issue 21 item 15).
+module rs_model_capability_matrix
+    use rs_model_capabilities, only: capability_t, capability_of, formulation_names, lists_name
+    implicit none
+    private
+
+    public :: capability_matrix_markdown
+
+    character(len=*), parameter :: none = '-'
+
+contains
+
+    !> The matrix: one row per formulation of this build, one column per capability.
+    function capability_matrix_markdown() result(text)
+        character(len=:), allocatable :: text
+        character(len=*), parameter :: nl = new_line('a')
+        integer :: i
+        text = '| formulation | ends | ends at s = L, if other | driven ends by | end loads | ' // &
+            'distributed loads, gravity | curved reference | prestressed | constraints | ' // &
+            'viscoelasticity | actuation | joints | end plates | contact | quasistatics | ' // &
+            'relaxation | planar |' // nl // '|' // repeat('---|', 17)
+        do i = 1, size(formulation_names)
+            associate (row => capability_of(formulation_names(i)))
+                if (row%available) text = text // nl // row_markdown(row)
+            end associate
+        end do
+    end function capability_matrix_markdown
+
+    !> One formulation's row.
+    function row_markdown(row) result(line)
+        type(capability_t), intent(in) :: row
+        character(len=:), allocatable :: line
+        line = '| ' // trim(row%formulation) // &
+            ' | ' // listed(row%end_kinds) // &
+            ' | ' // listed(row%end_kinds_at_end) // &
+            ' | ' // drive_text(row%drive) // &
+            ' | ' // end_load_text(row) // &
+            ' | ' // distributed_load_text(row) // &
+            ' | ' // yes_no(row%curved_reference, 'yes: `geometry` helix, polyline') // &
+            ' | ' // yes_no(row%prestressed, 'yes (`prestressed`)') // &
+            ' | ' // listed(row%constraints) // &
+            ' | ' // yes_no(row%viscoelastic, 'generalized Maxwell (`maxwell_*`)') // &
+            ' | ' // yes_no(row%actuation, 'pneumatic chambers, tendons (`&actuator`)') // &
+            ' | ' // listed(row%joints) // &
+            ' | ' // yes_no(row%end_plates, 'yes: fixed or driven (`&plate`)') // &
+            ' | ' // yes_no(row%contact, 'yes: rod-rod and self (`&contact`), frictionless') // &
+            ' | ' // yes_no(row%quasistatic, 'yes (`&time quasistatic`)') // &
+            ' | ' // yes_no(row%relaxation, 'yes (`&time relaxation`)') // &
+            ' | ' // yes_no(row%planar, 'yes: rods and loads in one plane') // ' |'
+    end function row_markdown
+
+    !> A '|'-separated list as 'a, b, c' ('-' when empty).
+    function listed(list) result(text)
+        character(len=*), intent(in) :: list
+        character(len=:), allocatable :: text
+        integer :: i
+        if (len_trim(list) == 0) then
+            text = none
+            return
+        end if
+        text = ''
+        do i = 1, len_trim(list)
+            if (list(i:i) == '|') then
+                text = text // ', '
+            else
+                text = text // list(i:i)
+            end if
+        end do
+    end function listed
+
+    function yes_no(flag, what) result(text)
+        logical, intent(in) :: flag
+        character(len=*), intent(in) :: what
+        character(len=:), allocatable :: text
+        if (flag) then
+            text = what
+        else
+            text = none
+        end if
+    end function yes_no
+
+    !> How a driven end is prescribed (the row's `drive`).
+    function drive_text(drive) result(text)
+        character(len=*), intent(in) :: drive
+        character(len=:), allocatable :: text
+        select case (trim(drive))
+        case ('pose')
+            text = 'pose (`displacement`, `rotation`)'
+        case ('velocity')
+            text = 'velocity (`velocity`, `angular_velocity`; several `&bc` add up)'
+        case default
+            text = none
+        end select
+    end function drive_text
+
+    !> End loads: their frames and the ends that take them.
+    function end_load_text(row) result(text)
+        type(capability_t), intent(in) :: row
+        character(len=:), allocatable :: text
+        logical :: at_start, at_end
+        at_start = lists_name(row%load_places, 'start')
+        at_end = lists_name(row%load_places, 'end')
+        if (.not. (at_start .or. at_end)) then
+            text = none
+            return
+        end if
+        text = 'dead (spatial)'
+        if (lists_name(row%load_frames, 'follower')) text = text // ' and follower'
+        text = text // ' force and moment'
+        if (.not. (at_start .and. at_end)) then
+            if (at_end) then
+                text = text // ', at s = L only'
+            else
+                text = text // ', at s = 0 only'
+            end if
+        end if
+    end function end_load_text
+
+    !> Loads per length and gravity.
+    function distributed_load_text(row) result(text)
+        type(capability_t), intent(in) :: row
+        character(len=:), allocatable :: text
+        text = ''
+        if (lists_name(row%load_places, 'distributed')) text = 'force and moment per length'
+        if (lists_name(row%load_places, 'gravity')) then
+            if (len(text) > 0) text = text // '; '
+            text = text // 'gravity'
+        end if
+        if (len(text) == 0) text = none
+    end function distributed_load_text
+
+end module rs_model_capability_matrix
