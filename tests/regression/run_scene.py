@@ -97,6 +97,54 @@ def rod(path, name):
     return fields
 
 
+def time_function(kind, t, t_on=0.0, t_off=1.0):
+    """f(t) of a &load time function, written here from the table of docs/user/input.md ("Loads
+    and time functions"), not read from the program: the tests' own computation of the work."""
+    t = np.asarray(t, dtype=float)
+    x = (t - t_on) / (t_off - t_on)
+    inside = (x > 0) & (x < 1)
+    if kind == "constant":
+        return np.ones_like(t)
+    if kind == "ramp":
+        return np.clip(x, 0.0, 1.0)
+    if kind == "hat":
+        return np.where(inside, 1 - np.abs(2 * x - 1), 0.0)
+    if kind == "pulse":
+        return np.where(inside, 0.5 * (1 - np.cos(2 * np.pi * x)), 0.0)
+    if kind == "sine":
+        return np.where(x > 0, np.sin(2 * np.pi * x), 0.0)
+    raise ValueError(f"time function {kind!r} not written here")
+
+
+def one_step_per_record(r):
+    """The record times, after checking that every record ends exactly one step (stride 1 and
+    no cut-back), so that a record's positions and directors are the step's ends."""
+    t = r["time"]
+    taken = r["series/dt"][1:]
+    if not np.allclose(taken, np.diff(t), rtol=1e-9, atol=0.0):
+        raise SystemExit("the work is computed per step: the run needs stride 1 and no cut-back")
+    return t
+
+
+def end_load_work(r, node, force, moment, factor):
+    """Work of a dead force and moment f(t) (force, moment) on the node `node` over each step
+    (index n for the step from record n to n + 1), computed from the stored positions and
+    directors, independently of the program's external_work.
+
+    The midpoint rule's exact discrete work (methods/ph_director_3d.md §5.3 item 1) is
+    W_n = h [F(t_mid) . v_mid + M(t_mid) . 1/2 sum_i d_i,mid x v_i,mid]. The kinematic rows give
+    h v_mid = phi_{n+1} - phi_n and h v_i,mid = d_i,n+1 - d_i,n (methods §5.2), and
+    d_mid x (d_n+1 - d_n) = d_n x d_n+1 exactly, so
+    W_n = f(t_mid) [F . (phi_{n+1} - phi_n) + M . 1/2 sum_i d_i,n x d_i,n+1]."""
+    t = one_step_per_record(r)
+    t_mid = 0.5 * (t[1:] + t[:-1])
+    phi = r["position"][:, node, :]
+    d = r["directors"][:, node, :, :]
+    turn = 0.5 * np.sum(np.cross(d[:-1], d[1:]), axis=1)
+    return factor(t_mid) * (np.diff(phi, axis=0) @ np.asarray(force, float)
+                            + turn @ np.asarray(moment, float))
+
+
 class Checks:
     """Named checks with their measured values, printed as a table; exit status 1 if any
     failed (DESIGN.md §8: a test asserts something that can fail)."""

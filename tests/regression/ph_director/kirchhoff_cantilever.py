@@ -7,10 +7,12 @@ generalized-Maxwell variant input/kirchhoff_cantilever_maxwell.nml.
     kirchhoff_cantilever.py maxwell          dissipation, passivity, balance with D
 
 Tolerances: the constraints (nodal orthonormality, Gamma = Gamma0) and the strain consistency
-C sigma = eps(q) - eps0 hold exactly in the discrete scheme (methods §5.3) and are checked at
-the stress points at 1e-10, a few hundred times the Newton tolerance 1e-12 accumulated over
-300 steps; the energy balance likewise at 1e-10 of max H. The compliances come from the
-paper's parameters (d = 4 mm, E = 7.2e10 Pa, nu = 0.35), not from the result file.
+C sigma = eps(q) - eps0 hold exactly in the discrete scheme (methods §5.3), up to the Newton
+tolerance 1e-12 accumulated over 300 steps; checked at the stress points within 10-100 times
+what the Release build achieves: |g| 1e-12 (4.5e-13), |Gamma - Gamma0| 5e-12 (1.1e-13),
+|C M - K| 1e-10 (6.6e-12); the energy balance at 1e-11 of max H (5.6e-13). The compliances
+come from the paper's parameters (d = 4 mm, E = 7.2e10 Pa, nu = 0.35), not from the result
+file, and the work of the pulse from the paper's loads (pulse_work).
 """
 import math
 import os
@@ -42,7 +44,7 @@ def constraint_checks(checks, r, label=""):
     checks.check(label + "max nodal |g(d)| over all records",
                  np.max(r["series/constraint_residual"]), 1e-12)
     checks.check(label + "max |Gamma - Gamma0| (stress points, all records)",
-                 np.max(np.abs(r["strain"][:, :, :3] - GAMMA_0)), 1e-10)
+                 np.max(np.abs(r["strain"][:, :, :3] - GAMMA_0)), 5e-12)
 
 
 def invariants(args, checks):
@@ -57,10 +59,14 @@ def invariants(args, checks):
                  np.max(np.abs(r["stress"][:, :, 3:] * C_M - curvature)), 1e-10)
     total = r["series/energy/total"]
     checks.check("max_n |H_{n+1} - H_n - W_n| / max H",
-                 np.max(np.abs(r["series/energy/balance_error"])) / np.max(total), 1e-10)
+                 np.max(np.abs(r["series/energy/balance_error"])) / np.max(total), 1e-11)
+    # The same balance with the pulse's work computed in the test (pulse_work), not read from
+    # the program: exact up to the Newton residual as above.
+    checks.check("max_n |H_{n+1} - H_n - W_n (test)| / max H",
+                 np.max(np.abs(np.diff(total) - pulse_work(r))) / np.max(total), 1e-11)
     free = t >= PULSE_END - 1e-12
     checks.check("free oscillation (t >= 0.05): (max H - min H) / max H",
-                 np.ptp(total[free]) / np.max(total), 1e-10)
+                 np.ptp(total[free]) / np.max(total), 1e-11)
     checks.check("the pulse puts energy in: -H(0.05) / max H", -total[free][0] / np.max(total),
                  -0.5)
     tip = r["position"][:, -1, :]
@@ -101,30 +107,78 @@ def time_refinement(args, checks):
     checks.check("estimated error of h = 5e-4 / tip amplitude", d2 * 4 / 3 / amplitude, 1e-3)
 
 
+def pulse_work(r):
+    """Work W_n of the tip pulse over each step, computed from the paper's loads (methods §6.2:
+    n(L, t) = f(t) (0, 1, 1) N, m(L, t) = f(t) (0.25, 0, 0) N m, f the pulse of 0.05 s) and the
+    stored motion of the tip, not from the program's external_work (run_scene.end_load_work)."""
+    return rs.end_load_work(r, -1, (0.0, 1.0, 1.0), (0.25, 0.0, 0.0),
+                            lambda s: rs.time_function("pulse", s, 0.0, PULSE_END))
+
+
+def maxwell_dissipation(r):
+    """D_n = h int sigma_mid . V^-1 sigma_mid ds of each step (methods §3.1, §5.2), computed from
+    the stored branch stresses and the paper's viscosities V_K = tau 3/4 diag(EI, EI, GJ)
+    (methods §6.2; V_Gamma^-1 = 0: the constrained N carries no branch stress). The stress points
+    are the 2-point Gauss points (docs/user/output.md `stress_mesh`), so the P1 stresses there
+    and the Gauss weights (1, 1) give the integral exactly."""
+    t = rs.one_step_per_record(r)
+    tau = 0.08
+    fluidity = 1.0 / (tau * MAXWELL_FRACTION * np.array([EI, EI, GJ]))
+    moments = r["branch_stress"][:, 0, :, 3:]
+    mid = 0.5 * (moments[1:] + moments[:-1])
+    nodes = r["mesh"]
+    element = np.repeat(nodes[2::2] - nodes[:-2:2], 2)   # two stress points per element
+    density = np.sum(fluidity * mid**2, axis=2)           # sigma . V^-1 sigma per point
+    return np.diff(t) * np.sum(0.5 * element * density, axis=1)
+
+
 def maxwell(args, checks):
-    """One Maxwell branch with 3/4 of the bending and torsion stiffness (tau = 0.08 s)."""
+    """One Maxwell branch with 3/4 of the bending and torsion stiffness (tau = 0.08 s).
+
+    Work and dissipation are computed here from the paper's loads and viscosities and the stored
+    motion and branch stresses (pulse_work, maxwell_dissipation), so that the balance does not
+    rest on the program's own external_work, dissipated and balance_error alone. Bounds: the
+    balances are exact up to the Newton residual (newton_atol = 1e-12) and round-off; measured
+    on the Release build (in brackets): 1e-11 of max H per step (7.2e-13) and over the run,
+    300 steps (6.7e-13); the work per step against the program's 1e-13 of max W_n (1.7e-15);
+    the stored D_n against D_n computed here 1e-12 of max D_n (1.4e-14: the same formula
+    evaluated in another order). Most of the energy the pulse put in is dissipated by t = 0.3
+    (84 %; tau = 0.08 s is a few periods of the lowest bending modes): at least half.
+    H_{n+1} <= H_n after the pulse is one-sided (measured -6e-5 max H per step at most)."""
     r = rs.rod(rs.run(args, rs.read_example(args.source, "kirchhoff_cantilever_maxwell.nml"),
                       "maxwell"), ROD)
     t = r["time"]
     checks.check("|t_last - T| (the run reaches T = 0.3)", abs(t[-1] - T_END), 1e-12)
     total = r["series/energy/total"]
     kinetic = r["series/energy/kinetic"]
-    dissipated = r["series/energy/dissipated"]
+    dissipated = r["series/energy/dissipated"][1:]
     top = np.max(total)
     moving = kinetic[1:] > 1e-12 * top
     checks.check("records with motion (kinetic energy > 1e-12 max H): -count",
                  -float(np.sum(moving)), -100.0)
-    checks.check("D >= 0 everywhere: -min D", -np.min(dissipated), 0.0)
-    checks.check("steps with motion and D_n <= 0", float(np.sum(dissipated[1:][moving] <= 0.0)),
-                 0.0)
-    checks.check("max_n |H_{n+1} - H_n - W_n + D_n| / max H",
-                 np.max(np.abs(r["series/energy/balance_error"])) / top, 1e-10)
+    work = pulse_work(r)
+    dissipation = maxwell_dissipation(r)
+    checks.check("max_n |W_n (test) - external_work_n| / max |W_n|",
+                 np.max(np.abs(work - r["series/energy/external_work"][1:]))
+                 / np.max(np.abs(work)), 1e-13)
+    checks.check("max_n |D_n (test, from branch_stress and V) - dissipated_n| / max D_n",
+                 np.max(np.abs(dissipation - dissipated)) / np.max(dissipation), 1e-12)
+    checks.check("steps with motion and D_n (test) <= 0",
+                 float(np.sum(dissipation[moving] <= 0.0)), 0.0)
+    checks.check("max_n |balance_error_n| / max H (the program's own balance)",
+                 np.max(np.abs(r["series/energy/balance_error"])) / top, 1e-11)
+    checks.check("max_n |H_{n+1} - H_n - W_n + D_n| / max H (W, D computed in the test)",
+                 np.max(np.abs(np.diff(total) - work + dissipation)) / top, 1e-11)
+    checks.check("|H(0.3) - H(0) - sum W_n + sum D_n| / max H (W, D computed in the test)",
+                 abs(total[-1] - total[0] - np.sum(work) + np.sum(dissipation)) / top, 1e-11)
     after = t >= PULSE_END - 1e-12
     checks.check("H non-increasing after the pulse: max (H_{n+1} - H_n) / max H",
-                 np.max(np.diff(total[after])) / top, 1e-10)
-    dissipated_after = np.sum(dissipated[1:][t[1:] > PULSE_END + 1e-12])
-    checks.check("H(0.05) - H(0.3) = sum of D_n after the pulse, relative to H(0.05)",
-                 abs(total[after][0] - total[-1] - dissipated_after) / total[after][0], 1e-9)
+                 np.max(np.diff(total[after])) / top, 1e-12)
+    # The damping takes most of the energy after the pulse: D is large enough to matter, so
+    # that the balance above tests the dissipation and not only the work.
+    lost = np.sum(dissipation[t[1:] > PULSE_END + 1e-12])
+    checks.check("the branch dissipates: -(sum of D_n after the pulse) / H(0.05)",
+                 -lost / total[after][0], -0.5)
     constraint_checks(checks, r)
     branch = r["branch_stress"]
     checks.check("branch_stress has one branch: |branches - 1|", abs(float(branch.shape[1] - 1)),
@@ -133,9 +187,9 @@ def maxwell(args, checks):
     compliance = C_M / (1.0 - MAXWELL_FRACTION)
     checks.check("elastic branch: max |C_inf M_inf - K(q)|, C_inf = (C_K/4)^-1",
                  np.max(np.abs(elastic[:, :, 3:] * compliance - r["strain"][:, :, 3:])), 1e-10)
-    print(f"info: H(0.05) = {total[after][0]:.6e} J, H(0.3) = {total[-1]:.6e} J, dissipated "
-          f"{np.sum(dissipated):.6e} J, smallest D_n with motion "
-          f"{np.min(dissipated[1:][moving]):.3e} J")
+    print(f"info: H(0.05) = {total[after][0]:.6e} J, H(0.3) = {total[-1]:.6e} J, work of the "
+          f"pulse {np.sum(work):.6e} J, dissipated {np.sum(dissipation):.6e} J ({lost:.6e} J "
+          f"after the pulse), smallest D_n with motion {np.min(dissipation[moving]):.3e} J")
 
 
 def main():

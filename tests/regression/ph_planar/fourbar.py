@@ -22,9 +22,11 @@ Tolerances (DESIGN.md §8): P(1) = (1.3993463915, -0.7575291362) to 1e-8 per com
 energy per step to 1e-9 of the energy scale 220.998 J (the initial gravity potential) are
 methods §10 acceptance test 4 (the values to 10 decimals, the energy exact up to Newton at
 1e-11). The errors of the convergence tables (methods §6.3 [proto]) are the method document's
-own re-computation: centres with a band (2 % in time, 5 % in space), as the 4.594 residual
-evaluations (band 0.1) and the soft P(1) (band 1e-3, given to 4 decimals). The authors' code
-references (h = 0.005; n_e = (160, 96, 96)) are to 1e-8 per component. The soft energy error
+own re-computation: centres with a band (2 % in time, 5 % in space), as the soft P(1) (band
+1e-3, given to 4 decimals). The mean residual evaluations per step, the paper's 4.594 at
+tolerance 1e-5 and the methods' 5.070 at 1e-10, are hit exactly: band 0.005, two evaluations
+in the 500 steps (newton_count). The authors' code references (h = 0.005; n_e = (160, 96,
+96)) are to 1e-8 per component. The soft energy error
 per step < 1e-9 is methods §10 acceptance test 5. A restart agrees with the uninterrupted run
 to round-off (docs/user/output.md; 1e-12 in the positions); ranks do not change results.
 """
@@ -202,9 +204,17 @@ def newton_count(args, checks):
         print(f"info: tol {tol}: mean residual evaluations per step {means[tol]:.4f} (linear "
               f"solves {np.mean(iterations):.4f}, max {iterations.max()}); max per-step "
               f"|delta(H - W)| {np.max(drift):.2e} J")
+    # A mean Newton count is a property of the solver (the residual scaling, the tolerance test,
+    # the Jacobian), not of the solution: kept as a regression check against the paper's 4.594
+    # and the methods' re-computation 5.070 at 1e-10, which are hit exactly (2297 and 2535
+    # evaluations in 500 steps). The mean of 500 integers moves in steps of 0.002; the bound
+    # 0.005 allows two steps whose final residual lies within round-off of the tolerance to
+    # take one iteration more or less (another BLAS or compiler), and fails on any change of
+    # the Newton loop that costs or saves an iteration in three steps of 500.
     checks.check("tol 1e-5: |mean residual evaluations per step - 4.594| (paper, Fig. 11)",
-                 abs(means["1e-5"] - 4.594), 0.1)
-    print(f"info: tol 1e-10: {means['1e-10']:.4f} residual evaluations per step (methods [proto] 5.070)")
+                 abs(means["1e-5"] - 4.594), 0.005)
+    checks.check("tol 1e-10: |mean residual evaluations per step - 5.070| (methods §6.3 [proto])",
+                 abs(means["1e-10"] - 5.070), 0.005)
 
 
 def soft(args, checks):

@@ -18,11 +18,12 @@ K components, the locking test with an exactly representable constant-strain sol
 Each case checks (issue 7, methods §10.2 "Expected result"): the run reaches the full load (a
 failing increment is halved by the stepper, up to &solver max_cutbacks times; the cut-backs are
 reported), the residual 2-norm at the end of every increment is within the tolerance, the tip
-at r*(1) = (0, -10, 50) to 1e-8 per component; the nodes at r*(i/5) to 1e-8 per component and
-their frames at the Serret-Frenet frame (e_x^K, e_y^K, e_z^K) = (d3, d1, d2) to 1e-8 (the
-angle of A^T A*); every element's strains K gamma = (1, 0, 0) and K kappa = (c, 0, 1) R0
-alpha'^2 / L^2 = (0.0343506, 0, 0.0863324) to 1e-8 per component (a rotation error delta of the
-nodes changes the strain by about delta / l_e, l_e = 27).
+at r*(1) = (0, -10, 50) per component; the nodes at r*(i/5) per component and their frames at
+the Serret-Frenet frame (e_x^K, e_y^K, e_z^K) = (d3, d1, d2) (the angle of A^T A*); every
+element's strains K gamma = (1, 0, 0) and K kappa = (c, 0, 1) R0 alpha'^2 / L^2 = (0.0343506,
+0, 0.0863324) per component (a rotation error delta of the nodes changes the strain by about
+delta / l_e, l_e = 27). Issue 7 asks for 1e-8 in each; the bounds here are tighter, per case
+(BOUNDS).
 """
 import os
 import sys
@@ -44,7 +45,18 @@ X = R0 * ALPHA_PRIME**2 / LENGTH**2
 N_ELEMENTS = 5
 # Table 2: slenderness -> (Newton tolerance, load increments).
 TABLE_2 = {10: (1e-8, 70), 100: (1e-9, 100), 1000: (1e-10, 200), 10000: (1e-11, 500)}
-TOLERANCE = 1e-8
+#: Issue 7's acceptance (1e-8 per component) is far above what the exactly representable
+#: solution gives, so each case has its own bounds, about 10 to 50 times the Release build's
+#: errors (in brackets): (positions of the tip and nodes, nodal frame angles, strains).
+#: rho = 10 and 1e2 sit at round-off of positions of size 50 (eps 50 = 1e-14): 1e-12 (2.9e-14)
+#: and 1e-11 (4.3e-13); angles 1e-13 (2.6e-15) and 1e-12 (4.8e-14). The two slender cases are
+#: limited by their tight Newton tolerances (module header): 2e-10 (1.0e-11, 9e-12), angles
+#: 2e-11 (1.2e-12, 1.0e-12). Strains are constant per element and exact at any load: 1e-14
+#: (4.8e-16, 5.6e-16) and 2e-13 (1.2e-14, 1.1e-14). The cases at Table 2's own tolerances,
+#: not run by ctest, keep the issue's 1e-8 (which they miss, module header).
+BOUNDS = {(10, 1e-8): (1e-12, 1e-13, 1e-14), (100, 1e-9): (1e-11, 1e-12, 1e-14),
+          (1000, 1e-13): (2e-10, 2e-11, 2e-13), (10000, 1e-16): (2e-10, 2e-11, 2e-13)}
+ISSUE_7 = (1e-8, 1e-8, 1e-8)
 
 
 def exact(xi):
@@ -85,13 +97,14 @@ def helix(args, checks, rho, atol=None):
     checks.check(f"rho = {rho}: 1 - final load factor", 1.0 - r["time"][-1], 0)
     checks.check(f"rho = {rho}: largest residual 2-norm at the end of an increment",
                  float(np.max(residual)), atol)
+    bound_position, bound_angle, bound_strain = BOUNDS.get((rho, atol), ISSUE_7)
     position, directors = r["position"][-1], r["directors"][-1]
     tip = position[-1]
     print(f"info: rho = {rho}: tip ({tip[0]:.3e}, {tip[1]:.12f}, {tip[2]:.12f}); error "
           f"{np.array2string(tip - [0.0, -10.0, 50.0], precision=3)}")
     for c, expected in enumerate((0.0, -10.0, 50.0)):
         checks.check(f"rho = {rho}: |tip component {c} - ({expected})|", abs(tip[c] - expected),
-                     TOLERANCE)
+                     bound_position)
     frames = se3_field.frames(directors)
     node_error, angle_error = 0.0, 0.0
     for i in range(N_ELEMENTS + 1):
@@ -99,8 +112,10 @@ def helix(args, checks, rho, atol=None):
         node_error = max(node_error, float(np.max(np.abs(position[i] - r_star))))
         angle_error = max(angle_error,
                           float(np.linalg.norm(se3_field.log_so3(frames[i].T @ a_star))))
-    checks.check(f"rho = {rho}: nodes: largest |r_i - r*(i/5)| component", node_error, TOLERANCE)
-    checks.check(f"rho = {rho}: nodes: largest angle of A_i^T A*(i/5)", angle_error, TOLERANCE)
+    checks.check(f"rho = {rho}: nodes: largest |r_i - r*(i/5)| component", node_error,
+                 bound_position)
+    checks.check(f"rho = {rho}: nodes: largest angle of A_i^T A*(i/5)", angle_error,
+                 bound_angle)
     # Strains in director components (Gamma1, Gamma2, Gamma3, K1, K2, K3) = (gamma_y, gamma_z,
     # gamma_x, kappa_y, kappa_z, kappa_x).
     strain = r["strain"][-1]
@@ -110,9 +125,9 @@ def helix(args, checks, rho, atol=None):
           f"{np.array2string(strain[:, [5, 3, 4]], precision=9)} (exact (1, 0, 0) | "
           f"({C * X:.7f}, 0, {X:.7f}))")
     checks.check(f"rho = {rho}: strains: largest |gamma - (1, 0, 0)| component",
-                 float(np.max(np.abs(strain[:, :3] - expected[:3]))), TOLERANCE)
+                 float(np.max(np.abs(strain[:, :3] - expected[:3]))), bound_strain)
     checks.check(f"rho = {rho}: strains: largest |kappa - (0.0343506, 0, 0.0863324)| component",
-                 float(np.max(np.abs(strain[:, 3:] - expected[3:]))), TOLERANCE)
+                 float(np.max(np.abs(strain[:, 3:] - expected[3:]))), bound_strain)
 
 
 def main():

@@ -3,12 +3,14 @@
 segments, the spin ramped up over 4 s and held to 8 s, a Kelvin-Voigt stress to settle the
 transient (it vanishes in the steady spin).
 
-    spinning_strip.py f1 | f2 | f8   the steady tip radius and height at 1, 2 and 8 Hz within
-                                     1e-3 m of the methods' rotating-frame statics (0.46693,
-                                     -0.08998), (0.47457, -0.05112), (0.47875, -0.00792)
-                                     (issue 8); steady: the tip moves less than 1e-4 m over the
-                                     last second; the relaxed start at t = 0 is the 30-degree
-                                     arc's tip (R sin 30°, -R (1 - cos 30°)) to 1e-9
+    spinning_strip.py f1 | f2 | f8   the steady tip radius and height at 1, 2 and 8 Hz against
+                                     the methods' rotating-frame statics (0.46693, -0.08998),
+                                     (0.47457, -0.05112), (0.47875, -0.00792) (issue 8), with
+                                     the bounds of BOUNDS below; steady: the tip moves over the
+                                     last second less than STILL; the relaxed start at t = 0 is
+                                     the 30-degree arc's tip (R sin 30°, -R (1 - cos 30°)) to
+                                     1e-9; at 8 Hz the steady tip does not depend on the step
+                                     (dt = 1 ms lands on the 2 ms tip to 1e-11)
 
     spinning_strip.py resonance      Fig. 8 (methods §4.5), input/strand_strip_resonance.nml: the
                                      clamp oscillating vertically (the drive spans 0.04 m to
@@ -37,6 +39,18 @@ ROD = "strip"
 LENGTH = 0.479
 RADIUS = LENGTH / (math.pi / 6)
 STEADY = {1: (0.46693, -0.08998), 2: (0.47457, -0.05112), 8: (0.47875, -0.00792)}
+# Bounds on |radius - reference| and |height - reference| (m). The references are the methods'
+# N = 32 statics (methods/se3_strands.md §4.4), the same N as the scene, printed to 5 decimals
+# (half unit 5e-6); measured on the Release build: radius 1.5e-6, 2.1e-6, 2.3e-6 and height
+# 8.7e-7, 5.1e-6 at 1 and 2 Hz, all within the printing: bound 5e-5. The 8 Hz height misses by
+# 6.4e-5 although the dynamic steady state does not depend on the step (case f8 checks dt =
+# 1 ms against 2 ms; 0.5 ms agrees as well): the methods' explicit 8 Hz relaxation "converged
+# only with dt = 0.5 ms and a long ramp" (methods §4.4, §7 item 4), so its last digit is the
+# reference's, and the bound is 10 times that miss, 7e-4 (the old 1e-3 was 13 % of the height).
+BOUNDS = {1: (5e-5, 5e-5), 2: (5e-5, 5e-5), 8: (5e-5, 7e-4)}
+# Tip motion over the last second (m): the Kelvin-Voigt time of 0.05 s damps the spin-up over
+# the 4 s hold; measured 1.7e-7, 1.1e-7 and 2.1e-10, bounds 12, 18 and 24 times that.
+STILL = {1: 2e-6, 2: 2e-6, 8: 5e-9}
 
 
 def restart(args, checks):
@@ -122,9 +136,22 @@ def main():
     print(f"info: {f} Hz: tip radius {radius[-1]:.6f} m, height {height[-1]:.6f} m at t = "
           f"{t[-1]:.3g} s (methods' rotating-frame statics {STEADY[f]}); motion over the last "
           f"second {drift:.2e} m; {r.summary()}")
-    checks.check(f"{f} Hz: tip motion over the last second (steady)", drift, 1e-4)
-    checks.check(f"{f} Hz: |tip radius - {STEADY[f][0]}|", abs(radius[-1] - STEADY[f][0]), 1e-3)
-    checks.check(f"{f} Hz: |tip height - {STEADY[f][1]}|", abs(height[-1] - STEADY[f][1]), 1e-3)
+    checks.check(f"{f} Hz: tip motion over the last second (steady)", drift, STILL[f])
+    checks.check(f"{f} Hz: |tip radius - {STEADY[f][0]}|", abs(radius[-1] - STEADY[f][0]),
+                 BOUNDS[f][0])
+    checks.check(f"{f} Hz: |tip height - {STEADY[f][1]}|", abs(height[-1] - STEADY[f][1]),
+                 BOUNDS[f][1])
+    if f == 8:
+        # The steady spin's shape (radius and height: the strip's shape in the rotating frame)
+        # does not depend on the step: dt = 1 ms lands on the 2 ms tip radius and height to
+        # 1e-11 (measured 3e-13 m), so the 6.4e-5 miss of the height above is not this run's
+        # time error.
+        finer = se3_scene.run(args, se3_scene.edit(text, [("time", "dt", "1.0e-3"),
+                                                          ("output", "stride", "50")]),
+                              "f8_dt1ms", ROD)
+        other = finer["position"][-1, -1]
+        change = max(abs(np.hypot(other[1], other[2]) - radius[-1]), abs(-other[0] - height[-1]))
+        checks.check("8 Hz: tip radius and height, |dt = 1 ms - dt = 2 ms| (m)", change, 1e-11)
     checks.finish()
 
 
