@@ -143,18 +143,22 @@ def objectivity(args, checks):
         rotated = rs.set_variable(rotated, group, variable, rs.vector(rotation @ np.array(value)))
     a = rs.rod(rs.run(args, base, "objectivity_base"), ROD)
     b = rs.rod(rs.run(args, rotated, "objectivity_rotated"), ROD)
+    # Newton takes the same iterations in both frames, so the two runs differ by round-off
+    # carried along the run, not by the Newton tolerance: measured 6.4e-16 (positions), 3.0e-15
+    # (directors), 2.0e-14 (velocities), 1.7e-13 (stresses, the differences of nearly equal
+    # strains) and 8e-16 (H) of their scales; each bound sits 30 to 80 times above.
     scale = np.max(np.abs(a["position"]))
     checks.check("|phi_rot - R phi| / max|phi|",
-                 np.max(np.abs(b["position"] - a["position"] @ rotation.T)) / scale, 1e-10)
-    checks.check("|d_rot - R d|", np.max(np.abs(b["directors"] - a["directors"] @ rotation.T)), 1e-10)
+                 np.max(np.abs(b["position"] - a["position"] @ rotation.T)) / scale, 5e-14)
+    checks.check("|d_rot - R d|", np.max(np.abs(b["directors"] - a["directors"] @ rotation.T)), 1e-13)
     vscale = np.max(np.abs(a["velocity"]))
     checks.check("|v_rot - R v| / max|v|",
-                 np.max(np.abs(b["velocity"] - a["velocity"] @ rotation.T)) / vscale, 1e-10)
+                 np.max(np.abs(b["velocity"] - a["velocity"] @ rotation.T)) / vscale, 1e-12)
     sscale = np.max(np.abs(a["stress"]))
     checks.check("|sigma_rot - sigma| / max|sigma| (material stresses)",
-                 np.max(np.abs(b["stress"] - a["stress"])) / sscale, 1e-10)
+                 np.max(np.abs(b["stress"] - a["stress"])) / sscale, 1e-11)
     checks.check("|H_rot - H| / max H", np.max(np.abs(b["series/energy/total"] - a["series/energy/total"]))
-                 / np.max(a["series/energy/total"]), 1e-10)
+                 / np.max(a["series/energy/total"]), 5e-14)
 
 
 def order(args, checks):
