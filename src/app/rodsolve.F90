@@ -18,6 +18,7 @@ program rodsolve
     use rs_io_input_file, only: load_scene
     use rs_io_scene_writer, only: resolved_scene_text
     use rs_formulations_plan, only: scene_plan_text
+    use rs_formulations_memory_estimate, only: memory_refusal
     use rs_io_input_reference, only: input_reference_markdown
     use rs_model_capability_matrix, only: capability_matrix_markdown
     use rs_io_hdf5_info, only: hdf5_version
@@ -70,6 +71,7 @@ program rodsolve
             call log_info('rodsolve: ' // cli%scene_file // ' is valid (' // str(size(scene%rods)) // &
                 ' rod(s)); nothing was run (--check-input)')
         else
+            if (cli%action == 'run') call refuse_what_will_not_fit(cli%scene_file, scene)
             call guard_output(cli%action, cli%scene_file, scene)
             if (cli%action == 'merge') then
                 ! A killed sweep: its finished members into its result file (rank 0; DESIGN.md §7).
@@ -136,6 +138,20 @@ contains
         call broadcast_text(message, 0)
         call stop_all(exit_run_error, message)
     end subroutine guard_output
+
+    !> Before anything is allocated or written: a run whose estimated memory exceeds what is
+    !> available is refused (issue 21 item 17; rs_formulations_memory_estimate). Rank 0's
+    !> verdict, from its machine, holds for all ranks.
+    subroutine refuse_what_will_not_fit(scene_file, scene)
+        character(len=*), intent(in) :: scene_file
+        type(scene_t), intent(in) :: scene
+        character(len=:), allocatable :: refusal
+        refusal = ''
+        if (world_rank() == 0) refusal = memory_refusal(scene, world_size())
+        call broadcast_text(refusal, 0)
+        if (len(refusal) > 0) call stop_all(exit_input_error, 'rodsolve: ' // scene_file // &
+            ': ' // refusal // '; nothing was run')
+    end subroutine refuse_what_will_not_fit
 
     !> The command line, parsed (rodsolve's flags, the scene, PETSc's options).
     function command_line() result(parsed)

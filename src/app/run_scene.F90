@@ -17,7 +17,8 @@ module rs_app_run_scene
     use rs_core_timer, only: wall_time
     use rs_model_scene, only: scene_t
     use rs_parallel_mpi_env, only: world_rank, world_size, any_rank_true, mpi_library_version, &
-        broadcast_array, max_each_over_ranks, sum_over_ranks, max_over_ranks, barrier
+        broadcast_array, max_each_over_ranks, sum_over_ranks, max_over_ranks, barrier, &
+        broadcast_text, broadcast_flag
     use rs_io_result_file, only: result_meta_t, rod_layout_t, layout_of, pack_layout, &
         unpack_layout, result_writer_t, prepare_result_file, finish_result_file, read_checkpoint
     use rs_io_hdf5_file, only: hdf5_file_t
@@ -161,10 +162,13 @@ contains
             if (mod(n, scene%output%flush_every) == 0 .or. last) then
                 t_flush = wall_time()
                 call flush_records(scene, n, runners, writer, record_times(1:n_times), &
-                    last_sidecar, local_err)
+                    last_sidecar, err)
                 output_seconds = output_seconds + (wall_time() - t_flush)
-                if (collective_failure(local_err, err, 'the result file could not be ' // &
-                    'written (see above)')) return
+                ! Agreed on every rank by flush_records: all ranks stop here together.
+                if (allocated(err)) then
+                    call stop_after_write_failure(path, n, writer, err)
+                    return
+                end if
                 call log_debug('rodsolve: flushed after step ' // str(n))
             end if
             if (wall_time() - last_report >= scene%run%progress_interval .or. last) then
@@ -369,9 +373,13 @@ contains
         end if
     end subroutine restore_checkpoints
 
-    !> Collective: the file makes room for every rod's new records, the ranks write the records
-    !> and checkpoints of their own rods, the file is flushed, and rank 0 refreshes the XDMF
-    !> sidecar (DESIGN.md §7).
+    !> Collective: the file makes room for every rod's new records, the ranks write them and
+    !> the file is flushed; only when that succeeded on every rank are the checkpoints written
+    !> and flushed, so a checkpoint never lists records that are not on disk. Then rank 0
+    !> refreshes the XDMF sidecar (DESIGN.md §7). A failure on any rank (a full disk: issue 21
+    !> item 3) is agreed on by all ranks, which return with the message of the first failing
+    !> rank, after the records of this flush were cut off again (`drop_unflushed`): every
+    !> record the file lists holds what was computed.
     subroutine flush_records(scene, n, runners, writer, record_times, last_sidecar, err)
         type(scene_t), intent(in) :: scene
         integer, intent(in) :: n
@@ -381,7 +389,7 @@ contains
         !> Wall time of the last rewrite of the XDMF sidecar (rank 0).
         real(rk), intent(inout) :: last_sidecar
         type(error_t), allocatable, intent(out) :: err
-        type(error_t), allocatable :: flush_err
+        type(error_t), allocatable :: local_err, one_err, drop_err
         integer :: totals(size(rod_system)), failed(size(rod_system)), i
         real(rk) :: t
         real(rk), allocatable :: no_values(:)
@@ -395,48 +403,127 @@ contains
         end do
         call max_each_over_ranks(totals)
         call max_each_over_ranks(failed)
-        call writer%extend(totals, err)
-        ! Every write is collective: all ranks take part for every rod, the owner with its data.
-        ! A failed rod keeps the checkpoint of its last flush before the failure.
-        t = min(real(n, rk) * scene%time%dt, scene%time%t_end)
-        allocate(no_values(0))
+        ! Disk space for the new records first: a full disk stops the run here, with the file
+        ! whole (HDF5 does not recover from a failed flush: its file could not even be closed).
+        if (world_rank() == 0) call writer%reserve(totals, local_err)
+        if (shared_failure(local_err, err)) return
+        ! Every call below is collective and made on every rank, whatever failed locally (the
+        ! first local error is kept): ranks that skipped a call waited for each other forever.
+        call writer%extend(totals, local_err)
         do i = 1, size(totals)
-            if (allocated(err)) exit
             if (rod_owner(i) == world_rank()) then
                 associate (h => runners(rod_system(i))%histories(rod_slot(i)))
-                    call writer%write_records(i, err, h)
+                    call writer%write_records(i, one_err, h)
                     call h%clear()
                 end associate
             else
-                call writer%write_records(i, err)
+                call writer%write_records(i, one_err)
                 ! The other ranks of a shared system keep the same records: drop them.
                 if (system_shared(rod_system(i))) &
                     call runners(rod_system(i))%histories(rod_slot(i))%clear()
             end if
-            if (allocated(err) .or. failed(i) == 1) cycle
+            call keep_first(one_err)
+        end do
+        call writer%flush(one_err)
+        call keep_first(one_err)
+        if (shared_failure(local_err, err)) then
+            call writer%drop_unflushed(drop_err)
+            if (any_rank_true(allocated(drop_err))) err%message = err%message // &
+                '; cutting the file back to its last complete flush failed too, so its ' // &
+                'last records may be damaged'
+            return
+        end if
+        call writer%commit_records()
+        ! The checkpoints of the records now on disk. A failed rod keeps the checkpoint of its
+        ! last flush before the failure.
+        t = min(real(n, rk) * scene%time%dt, scene%time%t_end)
+        allocate(no_values(0))
+        do i = 1, size(totals)
+            if (failed(i) == 1) cycle
             if (rod_owner(i) == world_rank() .and. rod_slot(i) == 1) then
-                call writer%write_checkpoint(i, n, t, err, runners(rod_system(i))%checkpoint_state(), &
-                    runners(rod_system(i))%internal())
+                call writer%write_checkpoint(i, n, t, one_err, &
+                    runners(rod_system(i))%checkpoint_state(), runners(rod_system(i))%internal())
             else if (rod_owner(i) == world_rank()) then
                 ! Coupled to the system's first rod, which holds the checkpoint.
-                call writer%write_checkpoint(i, n, t, err, no_values, no_values)
+                call writer%write_checkpoint(i, n, t, one_err, no_values, no_values)
             else
-                call writer%write_checkpoint(i, n, t, err)
+                call writer%write_checkpoint(i, n, t, one_err)
             end if
+            call keep_first(one_err)
         end do
-        call writer%flush(flush_err)
-        if (.not. allocated(err) .and. allocated(flush_err)) call move_alloc(flush_err, err)
-        if (world_rank() /= 0 .or. allocated(err) .or. .not. scene%output%xdmf) return
+        call writer%flush(one_err)
+        call keep_first(one_err)
+        if (shared_failure(local_err, err)) return
         ! The sidecar grows with the records, so it is rewritten at most once per
         ! progress_interval, and at the last step. A failed rod has fewer records than the
-        ! others: then it is not rewritten.
-        if (n < step_count(scene) .and. wall_time() - last_sidecar < scene%run%progress_interval) &
-            return
-        if (all(totals == size(record_times))) then
-            call write_sidecar(writer, record_times, err)
-            last_sidecar = wall_time()
+        ! others: then it is not rewritten. Rank 0 writes it; its failure (a full disk) is
+        ! agreed on like the others.
+        if (world_rank() == 0 .and. scene%output%xdmf .and. (n >= step_count(scene) .or. &
+                wall_time() - last_sidecar >= scene%run%progress_interval)) then
+            if (all(totals == size(record_times))) then
+                call write_sidecar(writer, record_times, local_err)
+                last_sidecar = wall_time()
+            end if
         end if
+        if (shared_failure(local_err, err)) return
+    contains
+        subroutine keep_first(one)
+            type(error_t), allocatable, intent(inout) :: one
+            if (allocated(one) .and. .not. allocated(local_err)) call move_alloc(one, local_err)
+            if (allocated(one)) deallocate(one)
+        end subroutine keep_first
     end subroutine flush_records
+
+    !> Collective: true on every rank if `local_err` is set on any; then `err` is set on every
+    !> rank with the message of the first failing rank (rank 0 prints it: stop_all).
+    logical function shared_failure(local_err, err)
+        type(error_t), allocatable, intent(inout) :: local_err
+        type(error_t), allocatable, intent(inout) :: err
+        integer :: first(1)
+        character(len=:), allocatable :: message
+        first = -world_size()
+        if (allocated(local_err)) first = -world_rank()
+        call max_each_over_ranks(first)
+        shared_failure = -first(1) < world_size()
+        if (.not. shared_failure) return
+        if (allocated(local_err)) message = local_err%message
+        call broadcast_text(message, -first(1))
+        if (allocated(local_err)) then
+            call move_alloc(local_err, err)
+        else
+            call set_error(err, message // ' (on rank ' // str(-first(1)) // ')', 'run_scene', &
+                __FILE__, __LINE__)
+        end if
+    end function shared_failure
+
+    !> After a flush failed (agreed on every rank, `err` set): close the file, let rank 0 mark
+    !> it 'failed' (without /series/, which a full disk could not take), and say in `err` what
+    !> the file holds (issue 21 item 3).
+    subroutine stop_after_write_failure(path, n, writer, err)
+        character(len=*), intent(in) :: path
+        integer, intent(in) :: n
+        type(result_writer_t), intent(inout) :: writer
+        type(error_t), allocatable, intent(inout) :: err
+        type(error_t), allocatable :: close_err, status_err
+        logical :: marked
+        call writer%close(close_err)
+        marked = .false.
+        if (world_rank() == 0) then
+            call finish_result_file(path, writer%layouts, 'failed', status_err, series=.false.)
+            marked = .not. allocated(status_err)
+        end if
+        call broadcast_flag(marked, 0)
+        err%message = 'the result file "' // path // '" could not be written after step ' // &
+            str(n) // ': ' // err%message // '. The run stopped; '
+        if (marked) then
+            err%message = err%message // 'the file holds every record and the checkpoint ' // &
+                'of the last complete flush, with status ''failed'''
+        else
+            err%message = err%message // 'the file''s status could not be written either ' // &
+                '(it has none, like a killed run): its records and checkpoint are those of ' // &
+                'the last complete flush'
+        end if
+    end subroutine stop_after_write_failure
 
     !> The times of the first `n` records of rod `name` in the result file `path` (a restart).
     subroutine read_record_times(path, name, n, times, n_times, err)

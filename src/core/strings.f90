@@ -10,6 +10,18 @@ module rs_core_strings
     public :: str_significant, to_lower, str, edit_distance, closest_name, vector_text, did_you_mean
     public :: to_c_string, from_c_string
 
+    !> Text built by appending pieces, grown by doubling: appending n pieces costs time linear
+    !> in the total length (appending to a deferred-length string copies all of it each time,
+    !> quadratic in a big scene or plan; issue 21 item 17).
+    type, public :: text_buffer_t
+        character(len=:), allocatable, private :: buffer
+        integer, private :: used = 0
+    contains
+        procedure :: append => text_buffer_append
+        !> The text appended so far.
+        procedure :: text => text_buffer_text
+    end type text_buffer_t
+
     !> Shortest readable text of a number.
     interface str
         module procedure str_int, str_real
@@ -210,5 +222,30 @@ contains
             text(i:i) = chars(i)
         end do
     end function from_c_string
+
+    subroutine text_buffer_append(this, piece)
+        class(text_buffer_t), intent(inout) :: this
+        character(len=*), intent(in) :: piece
+        character(len=:), allocatable :: grown
+        if (.not. allocated(this%buffer)) allocate(character(len=max(4096, 2 * len(piece))) :: &
+            this%buffer)
+        if (this%used + len(piece) > len(this%buffer)) then
+            allocate(character(len=2 * (this%used + len(piece))) :: grown)
+            grown(1:this%used) = this%buffer(1:this%used)
+            call move_alloc(grown, this%buffer)
+        end if
+        this%buffer(this%used + 1:this%used + len(piece)) = piece
+        this%used = this%used + len(piece)
+    end subroutine text_buffer_append
+
+    function text_buffer_text(this) result(text)
+        class(text_buffer_t), intent(in) :: this
+        character(len=:), allocatable :: text
+        if (allocated(this%buffer)) then
+            text = this%buffer(1:this%used)
+        else
+            text = ''
+        end if
+    end function text_buffer_text
 
 end module rs_core_strings

@@ -12,6 +12,7 @@ module rs_formulations_formulation
     use rs_core_error, only: error_t
     use rs_model_scene, only: scene_t
     use rs_model_rod_history, only: rod_history_t
+    use rs_formulations_energy_sentinel, only: step_energy_t, energy_unchecked
     implicit none
     private
 
@@ -22,6 +23,9 @@ module rs_formulations_formulation
 
     !> A rod formulation: one object per rod.
     type, abstract, public :: rod_formulation_t
+        !> The energy terms of the last accepted (sub)step, booked by accept_step for the run's
+        !> energy sentinel (rs_formulations_energy_sentinel); not reported by default.
+        type(step_energy_t) :: step_energy
     contains
         !> Build the rods `rods` of the scene (indices into scene%rods): one rod, or the rods a
         !> set of joints couples into one system (the first leads): mesh, unknowns, loads.
@@ -56,6 +60,18 @@ module rs_formulations_formulation
         !> Switch the step problem to (or back from) the endpoint equilibrium at load time
         !> `t_load`: the next step solves it instead of a time step; default: nothing to switch.
         procedure :: set_endpoint_solve => default_set_endpoint_solve
+        !> True if the endpoint equilibrium is solved as a continuation from a given state
+        !> (set_continuation_start): rod_run then also solves the initial equilibrium of a
+        !> quasistatic run and bounds each increment by largest_rotation (DESIGN.md §3,
+        !> "Quasistatics"); default false (one Newton solve in the last step's h).
+        procedure :: continues_equilibrium => default_continues_equilibrium
+        !> In the endpoint solve, continue from the state x_from: a step from tau_n to tau_n + h
+        !> of the pseudo-time tau in [0, 1] solves R(Y) = (1 - tau_n - h) R(x_from), the residual
+        !> rows in the scaling of a step of length row_scale; default: nothing.
+        procedure :: set_continuation_start => default_set_continuation_start
+        !> The largest rotation (radians) of a cross-section from state x_from to x_to: the size
+        !> of a continuation increment; default 0 (not measured).
+        procedure :: largest_rotation => default_largest_rotation
         !> Length of the book-keeping a restart needs besides the state X (sums since the last
         !> record, Newton statistics; DESIGN.md §7 /checkpoint); default 0.
         procedure :: n_internal => default_n_internal
@@ -79,6 +95,9 @@ module rs_formulations_formulation
         !> Kinetic energy of the state X, for runs that stop when it is small (&time
         !> relaxation); default -1: not reported.
         procedure :: kinetic_energy => default_kinetic_energy
+        !> The kind of time scheme for the energy sentinel (energy_consistent,
+        !> energy_dissipative); default energy_unchecked.
+        procedure :: energy_scheme => default_energy_scheme
         !> Before each step from X_n: refresh what the step needs besides X_n (bundles: the
         !> contact candidate pairs). `repattern` is true when the Jacobian pattern changed, so
         !> the stepper must be built again; default: nothing to do.
@@ -183,6 +202,22 @@ contains
         real(rk), intent(in) :: t_load
     end subroutine default_set_endpoint_solve
 
+    pure logical function default_continues_equilibrium(this)
+        class(rod_formulation_t), intent(in) :: this
+        default_continues_equilibrium = .false.
+    end function default_continues_equilibrium
+
+    subroutine default_set_continuation_start(this, x_from, row_scale)
+        class(rod_formulation_t), intent(inout) :: this
+        real(rk), intent(in) :: x_from(:), row_scale
+    end subroutine default_set_continuation_start
+
+    real(rk) function default_largest_rotation(this, x_from, x_to)
+        class(rod_formulation_t), intent(in) :: this
+        real(rk), intent(in) :: x_from(:), x_to(:)
+        default_largest_rotation = 0.0_rk
+    end function default_largest_rotation
+
     pure logical function default_native_lu(this)
         class(rod_formulation_t), intent(in) :: this
         default_native_lu = .false.
@@ -208,6 +243,11 @@ contains
         real(rk), intent(in) :: x(:)
         default_kinetic_energy = -1.0_rk
     end function default_kinetic_energy
+
+    pure integer function default_energy_scheme(this)
+        class(rod_formulation_t), intent(in) :: this
+        default_energy_scheme = energy_unchecked
+    end function default_energy_scheme
 
     pure integer function default_n_internal(this)
         class(rod_formulation_t), intent(in) :: this

@@ -5,9 +5,10 @@
 !> or why they are 3D), and what that formulation says about it (rs_ph_director_plan,
 !> rs_ph_planar_plan). Adding a formulation adds its case here, as in the factory.
 module rs_formulations_plan
+    use, intrinsic :: iso_fortran_env, only: int64
     use rs_core_kinds, only: rk
     use rs_core_error, only: error_t
-    use rs_core_strings, only: str
+    use rs_core_strings, only: str, text_buffer_t
     use rs_model_scene, only: scene_t, step_count
     use rs_model_units, only: unit_in_system
     use rs_ph_director_plan, only: ph_director_plan_lines
@@ -16,6 +17,9 @@ module rs_formulations_plan
     use rs_se3_strand_plan, only: se3_strand_plan_lines
     use rs_model_coupling, only: coupled_systems, system_costs, is_bundle
     use rs_parallel_deal, only: deal_by_cost
+    use rs_formulations_memory_estimate, only: memory_estimate_t, run_memory_estimate, &
+        bytes_text, available_memory_bytes, rod_memory_bytes
+    use rs_formulations_rod_sizes, only: rod_sizes_t, rod_sizes_of
     implicit none
     private
 
@@ -34,7 +38,10 @@ contains
         integer, intent(in) :: n_ranks
         character(len=:), allocatable :: text, lines, units, why
         type(error_t), allocatable :: err
+        type(memory_estimate_t) :: memory
+        type(rod_sizes_t) :: sizes
         integer :: i, n_steps, n_records, rank
+        type(text_buffer_t) :: buffer
         integer, allocatable :: system_of(:), first(:), members(:), system_rank(:)
         logical :: all_strands
 
@@ -42,7 +49,9 @@ contains
         n_steps = step_count(scene)
         n_records = 1 + n_steps / scene%output%stride
         if (mod(n_steps, scene%output%stride) /= 0) n_records = n_records + 1
-        text = plan_header // new_line('a')
+        ! The plan grows in `buffer` (doubling), not by copying all of it per line: a scene
+        ! of 4,000 rods has 80,000 plan lines (issue 21 item 17).
+        call append(plan_header // new_line('a'))
         ! se3_strand's step is semi-implicit, one linear solve without Newton (issue 21 item
         ! 15: its plan named midpoint steps and Newton).
         all_strands = all([(trim(scene%rods(i)%formulation) == 'se3_strand', i = 1, &
@@ -55,7 +64,8 @@ contains
         else if (scene%time%quasistatic) then
             call add('time: quasistatic, ' // str(n_steps) // ' midpoint load step(s) of ' // &
                 str(scene%time%dt) // ' to the load factor t_end = ' // str(scene%time%t_end) // &
-                ', then one endpoint equilibrium solve (ph_director rods)')
+                ', between equilibrium solves at t = 0 and t_end (ph_director and planar ' // &
+                'rods; continued from the state before them)')
         else
             call add('time: ' // str(n_steps) // ' ' // trim(scene%time%scheme) // ' step(s) of dt = ' // &
                 str(scene%time%dt) // ' ' // unit_in_system('s', units) // ' to t_end = ' // &
@@ -89,6 +99,18 @@ contains
             'loop but the flushes); on several ranks a ph_director bundle is solved by all ' // &
             'ranks together (rods partitioned by METIS, MUMPS in parallel)')
         system_rank = deal_by_cost(system_costs(scene, first, members), n_ranks)
+        memory = run_memory_estimate(scene, n_ranks)
+        if (memory%known) then
+            call add('memory: estimated peak ' // bytes_text(memory%busiest_rank_bytes) // &
+                ' on rank ' // str(memory%busiest_rank) // ' (the busiest), ' // &
+                bytes_text(memory%total_bytes) // ' on all ranks together; the largest part ' // &
+                'is rod ''' // trim(scene%rods(memory%largest_rod)%name) // ''' (' // &
+                bytes_text(memory%largest_rod_bytes) // '); available now: ' // &
+                bytes_text(available_memory_bytes()) // ' (MemAvailable); a run that will ' // &
+                'not fit is refused (docs/user/getting_started.md, "Memory")')
+        else
+            call add('memory: no estimate (a rod cannot be built; see its lines below)')
+        end if
         do i = 1, size(scene%rods)
             rank = system_rank(system_of(i))
             if (n_ranks > 1 .and. is_bundle(scene, members(first(system_of(i)):first(system_of(i) + 1) - 1))) &
@@ -122,15 +144,36 @@ contains
                 case default
                     lines = '!     formulation not available in this version' // new_line('a')
                 end select
-                text = text // lines
+                call append(lines)
+                call rod_sizes_of(scene, i, sizes, err)
+                if (.not. allocated(err)) call append('!     memory: ' // &
+                    bytes_text(rod_memory_bytes(scene, sizes)) // ' estimated (Jacobian ' // &
+                    count_text(sizes%n_nonzeros) // ' non-zeros, ' // &
+                    count_text(sizes%n_unknown) // ' unknowns, state ' // &
+                    count_text(sizes%n_state) // ')' // new_line('a'))
             end associate
         end do
-        text = text // sweep_plan_lines(scene)
+        call append(sweep_plan_lines(scene))
+        text = buffer%text()
     contains
         subroutine add(line)
             character(len=*), intent(in) :: line
-            text = text // '!   ' // line // new_line('a')
+            call append('!   ' // line // new_line('a'))
         end subroutine add
+
+        !> A count that may exceed the default integer.
+        function count_text(n) result(t)
+            integer(int64), intent(in) :: n
+            character(len=:), allocatable :: t
+            character(len=24) :: digits
+            write(digits, '(i0)') n
+            t = trim(digits)
+        end function count_text
+
+        subroutine append(piece)
+            character(len=*), intent(in) :: piece
+            call buffer%append(piece)
+        end subroutine append
     end function scene_plan_text
 
     !> The sweep part of the plan ('' without &sweep): the number of members and how the sweeps

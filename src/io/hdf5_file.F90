@@ -5,9 +5,10 @@
 !> same arguments, same order), and so are raw-data writes: a rank with nothing to write to a
 !> dataset calls `write_no_records` on it.
 !>
-!> Every HDF5 call is checked; a failure returns an `error_t` naming the HDF5 call, the object
-!> and the file, and HDF5's own error-stack printing is switched off so that the message is the
-!> only output.
+!> Every HDF5 call is checked; a failure returns an `error_t` naming the HDF5 call, the object,
+!> the file and, when HDF5's error stack has it, the system's reason ("No space left on device
+!> (errno 28)", hdf5_error_cause.c), and HDF5's own error-stack printing is switched off so that
+!> the message is the only output.
 !>
 !> Conventions of the files written here:
 !> - Fortran arrays are stored in Fortran order, so h5py and C see the dimensions reversed: a
@@ -19,11 +20,14 @@
 !> - A dataset whose last Fortran dimension counts stored steps (`series = .true.`) is chunked
 !>   along that dimension (64 steps, fewer when one chunk would exceed 1 MiB; every other
 !>   dimension whole), allocated early, with an unlimited maximum there, so it grows record by
-!>   record (`set_records`, `write_records`).
-!>   Other datasets are contiguous.
+!>   record (`set_records`, `write_records`); created with `checksum`, every chunk carries
+!>   HDF5's Fletcher-32 checksum (files one rank writes: parallel HDF5 1.10 cannot write
+!>   filtered datasets collectively). Other datasets are contiguous.
+!> - `reserve` allocates disk space beyond the file's end before a file grows, so that a full
+!>   disk is an error there and not in the middle of HDF5's writes.
 module rs_io_hdf5_file
-    use, intrinsic :: iso_c_binding, only: c_char, c_int, c_null_char, c_ptr, c_null_ptr, c_loc, &
-        c_associated, c_f_pointer, c_size_t
+    use, intrinsic :: iso_c_binding, only: c_char, c_int, c_long_long, c_null_char, c_ptr, &
+        c_null_ptr, c_loc, c_associated, c_f_pointer, c_size_t
     use rs_io_hdf5_info, only: hdf5_open_library
     use hdf5, only: hid_t, hsize_t, h5eset_auto_f, h5fcreate_f, h5fclose_f, h5ocopy_f, &
         h5gcreate_f, h5gclose_f, h5lexists_f, h5oopen_f, h5oclose_f, h5screate_f, &
@@ -37,8 +41,10 @@ module rs_io_hdf5_file
         h5sget_simple_extent_ndims_f, h5sget_simple_extent_dims_f, h5sselect_hyperslab_f, &
         H5S_SELECT_SET_F, h5ldelete_f, h5pset_alloc_time_f, H5D_ALLOC_TIME_EARLY_F, &
         h5pset_fill_time_f, H5D_FILL_TIME_NEVER_F, h5pset_dxpl_mpio_f, H5FD_MPIO_COLLECTIVE_F, &
-        H5P_DATASET_XFER_F, h5sselect_none_f
+        H5P_DATASET_XFER_F, h5sselect_none_f, h5pset_fletcher32_f, h5dget_create_plist_f, &
+        h5pget_nfilters_f
     use mpi, only: MPI_COMM_WORLD, MPI_INFO_NULL
+    use, intrinsic :: iso_fortran_env, only: int64
     use rs_core_kinds, only: rk
     use rs_core_error, only: error_t, set_error
     use rs_core_strings, only: str, to_c_string, from_c_string
@@ -46,7 +52,7 @@ module rs_io_hdf5_file
     implicit none
     private
 
-    public :: hdf5_file_t
+    public :: hdf5_file_t, series_chunk_records
 
     !> Most stored steps in one chunk of a series dataset.
     integer, parameter, public :: max_chunk_steps = 64
@@ -89,6 +95,9 @@ module rs_io_hdf5_file
         procedure :: open => file_open
         !> Flush everything written to the disk (collective when parallel).
         procedure :: flush => file_flush
+        !> Reserve disk space for `bytes` more of the file (one rank of a parallel file): fails
+        !> with the system's reason (no space left, file too large) before anything is written.
+        procedure :: reserve => file_reserve
         !> Whether an object (group or dataset) exists at `path`.
         procedure :: exists => file_exists
         !> Remove the link `path` (its storage is not reclaimed).
@@ -99,8 +108,12 @@ module rs_io_hdf5_file
         !> Dimensions of a dataset in Fortran order (the last one counts records in series).
         procedure :: dataset_dims => file_dataset_dims
         !> Create an empty series dataset (no records yet) of real or integer (`integer_values`)
-        !> records of Fortran shape `record_dims`, with `unit` and `description`.
+        !> records of Fortran shape `record_dims`, with `unit` and `description`; `checksum`
+        !> adds HDF5's Fletcher-32 checksum to every chunk (a file written by one rank only:
+        !> parallel HDF5 1.10 cannot write filtered datasets).
         procedure :: create_series => file_create_series
+        !> Whether a dataset has HDF5 filters (the Fletcher-32 checksum).
+        procedure :: has_filters => file_has_filters
         !> Set the number of records (the last Fortran dimension) of a series dataset; grows or
         !> shrinks it. Collective when parallel.
         procedure :: set_records => file_set_records
@@ -148,6 +161,30 @@ module rs_io_hdf5_file
             integer(c_int), value :: mode
             integer(c_int) :: status
         end function c_access
+
+        function c_reserve(file, path, bytes) bind(C, name='rs_hdf5_reserve') result(status)
+            import :: c_char, c_int, hid_t, c_long_long
+            integer(hid_t), value :: file
+            character(kind=c_char), intent(in) :: path(*)
+            integer(c_long_long), value :: bytes
+            integer(c_int) :: status
+        end function c_reserve
+
+        subroutine c_error_text(number, text, size) bind(C, name='rs_error_text')
+            import :: c_char, c_int
+            integer(c_int), value :: number
+            character(kind=c_char), intent(out) :: text(*)
+            integer(c_int), value :: size
+        end subroutine c_error_text
+
+        !> The system's or MPI-IO's reason for the last failed HDF5 call (hdf5_error_cause.c).
+        function c_hdf5_error_cause(text, size) bind(C, name='rs_hdf5_error_cause') &
+                result(found)
+            import :: c_char, c_int
+            character(kind=c_char), intent(out) :: text(*)
+            integer(c_int), value :: size
+            integer(c_int) :: found
+        end function c_hdf5_error_cause
     end interface
 
 contains
@@ -490,7 +527,7 @@ contains
     !> Create the dataset `path` of Fortran shape `dims`, write `data` (not referenced when the
     !> dataset is empty) and its `unit` and `description`.
     subroutine write_numeric_dataset(this, path, dims, file_type, memory_type, element_bytes, &
-            data, unit, description, series, err)
+            data, unit, description, series, err, checksum)
         class(hdf5_file_t), intent(inout) :: this
         character(len=*), intent(in) :: path, unit, description
         integer(hsize_t), intent(in) :: dims(:)
@@ -499,6 +536,8 @@ contains
         type(c_ptr), intent(in) :: data
         logical, intent(in) :: series
         type(error_t), allocatable, intent(out) :: err
+        !> A series with HDF5's Fletcher-32 checksum of every chunk (serial writers only).
+        logical, intent(in), optional :: checksum
         character(len=*), parameter :: routine = 'hdf5_file%write_dataset'
         integer(hid_t) :: space, dataset, properties
         integer(hsize_t) :: max_dims(size(dims)), chunk(size(dims)), step_bytes
@@ -522,8 +561,7 @@ contains
                 max_dims(rank) = H5S_UNLIMITED_F
                 chunk = max(dims, 1_hsize_t)
                 step_bytes = product(chunk(1:rank - 1)) * int(element_bytes, hsize_t)
-                chunk(rank) = max(1_hsize_t, min(int(max_chunk_steps, hsize_t), &
-                    int(max_chunk_bytes, hsize_t) / step_bytes))
+                chunk(rank) = int(series_chunk_records(step_bytes), hsize_t)
                 call h5pset_chunk_f(properties, rank, chunk, status)
                 if (this%failed(status, 'H5Pset_chunk', path, routine, __LINE__, err)) exit body
                 call h5pset_alloc_time_f(properties, H5D_ALLOC_TIME_EARLY_F, status)
@@ -533,6 +571,12 @@ contains
                 call h5pset_fill_time_f(properties, H5D_FILL_TIME_NEVER_F, status)
                 if (this%failed(status, 'H5Pset_fill_time', path, routine, __LINE__, err)) &
                     exit body
+                ! Damage on disk is then detected by every reader (issue 21 item 21).
+                if (optional_true(checksum)) then
+                    call h5pset_fletcher32_f(properties, status)
+                    if (this%failed(status, 'H5Pset_fletcher32', path, routine, __LINE__, err)) &
+                        exit body
+                end if
             end if
             call h5screate_simple_f(rank, dims, space, status, max_dims)
             if (this%failed(status, 'H5Screate_simple', path, routine, __LINE__, err)) exit body
@@ -687,6 +731,29 @@ contains
         end if
     end subroutine file_open
 
+    !> Records in one chunk of a series dataset whose records have `record_bytes` bytes.
+    pure integer function series_chunk_records(record_bytes)
+        integer(hsize_t), intent(in) :: record_bytes
+        series_chunk_records = int(max(1_hsize_t, min(int(max_chunk_steps, hsize_t), &
+            int(max_chunk_bytes, hsize_t) / max(record_bytes, 1_hsize_t))))
+    end function series_chunk_records
+
+    subroutine file_reserve(this, bytes, err)
+        class(hdf5_file_t), intent(inout) :: this
+        integer(int64), intent(in) :: bytes
+        type(error_t), allocatable, intent(out) :: err
+        integer(c_int) :: status
+        character(kind=c_char) :: text(256)
+        call this%check_open('/', 'hdf5_file%reserve', err)
+        if (allocated(err)) return
+        status = c_reserve(this%id, to_c_string(this%path), int(bytes, c_long_long))
+        if (status == 0) return
+        call c_error_text(status, text, size(text, kind=c_int))
+        call set_error(err, 'no room for the next ' // str(int(min(bytes, int(huge(1), int64)))) &
+            // ' bytes of "' // this%path // '": ' // from_c_string(text), 'hdf5_file%reserve', &
+            __FILE__, __LINE__)
+    end subroutine file_reserve
+
     subroutine file_flush(this, err)
         class(hdf5_file_t), intent(inout) :: this
         type(error_t), allocatable, intent(out) :: err
@@ -782,23 +849,46 @@ contains
         if (this%failed(close_status, 'H5Sclose', path, routine, __LINE__, err)) return
     end subroutine file_dataset_dims
 
-    subroutine file_create_series(this, path, record_dims, integer_values, unit, description, err)
+    subroutine file_create_series(this, path, record_dims, integer_values, unit, description, &
+            err, checksum)
         class(hdf5_file_t), intent(inout) :: this
         character(len=*), intent(in) :: path, unit, description
         integer, intent(in) :: record_dims(:)
         logical, intent(in) :: integer_values
         type(error_t), allocatable, intent(out) :: err
+        logical, intent(in), optional :: checksum
         integer(hsize_t) :: dims(size(record_dims) + 1)
         dims(1:size(record_dims)) = int(record_dims, hsize_t)
         dims(size(dims)) = 0
         if (integer_values) then
             call this%write_numeric_dataset(path, dims, H5T_STD_I32LE, H5T_NATIVE_INTEGER, 4, &
-                c_null_ptr, unit, description, .true., err)
+                c_null_ptr, unit, description, .true., err, optional_true(checksum))
         else
             call this%write_numeric_dataset(path, dims, H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, 8, &
-                c_null_ptr, unit, description, .true., err)
+                c_null_ptr, unit, description, .true., err, optional_true(checksum))
         end if
     end subroutine file_create_series
+
+    !> Whether the dataset `path` has HDF5 filters (a Fletcher-32 checksum): parallel HDF5 1.10
+    !> cannot write such a dataset collectively.
+    logical function file_has_filters(this, path, err) result(filtered)
+        class(hdf5_file_t), intent(inout) :: this
+        character(len=*), intent(in) :: path
+        type(error_t), allocatable, intent(out) :: err
+        character(len=*), parameter :: routine = 'hdf5_file%has_filters'
+        integer(hid_t) :: dataset, properties
+        integer :: status, n_filters, close_status
+        filtered = .false.
+        call this%open_dataset(path, dataset, status)
+        if (this%failed(status, 'H5Dopen', path, routine, __LINE__, err)) return
+        call h5dget_create_plist_f(dataset, properties, status)
+        if (this%failed(status, 'H5Dget_create_plist', path, routine, __LINE__, err)) return
+        call h5pget_nfilters_f(properties, n_filters, status)
+        call h5pclose_f(properties, close_status)
+        if (this%failed(status, 'H5Pget_nfilters', path, routine, __LINE__, err)) return
+        if (this%failed(close_status, 'H5Pclose', path, routine, __LINE__, err)) return
+        filtered = n_filters > 0
+    end function file_has_filters
 
     subroutine file_set_records(this, path, n_records, err)
         class(hdf5_file_t), intent(inout) :: this
@@ -859,6 +949,9 @@ contains
         per_record = max(1, product(dims(1:rank - 1)))
         n = count / per_record
         if (n * per_record /= count .or. first < 1 .or. first + n - 1 > dims(rank)) then
+            ! The other ranks are in the collective write: take part with nothing.
+            call this%write_no_records(path, err)
+            if (allocated(err)) deallocate(err)
             call set_error(err, 'cannot write ' // str(count) // ' values as records ' // &
                 str(first) // '.. of "' // path // '" in "' // this%path // &
                 '": not whole records, or beyond its ' // str(dims(rank)) // ' records', &
@@ -1080,20 +1173,25 @@ contains
             '": no HDF5 file is open', routine, __FILE__, __LINE__)
     end subroutine check_open
 
-    !> True (and `err` set, naming the HDF5 call, the object and the file) when `status` is a
-    !> failure of an HDF5 call.
+    !> True (and `err` set, naming the HDF5 call, the object, the file and, when HDF5's error
+    !> stack has it, the system's reason: "No space left on device (errno 28)") when `status`
+    !> is a failure of an HDF5 call.
     logical function failed(this, status, call_name, object, routine, line, err)
         class(hdf5_file_t), intent(in) :: this
         integer, intent(in) :: status, line
         character(len=*), intent(in) :: call_name, object, routine
         type(error_t), allocatable, intent(inout) :: err
-        character(len=:), allocatable :: file_name
+        character(len=:), allocatable :: file_name, cause
+        character(kind=c_char) :: text(512)
         failed = status /= 0
         if (.not. failed) return
         file_name = '(no file)'
         if (allocated(this%path)) file_name = this%path
+        cause = ''
+        if (c_hdf5_error_cause(text, size(text, kind=c_int)) == 1) &
+            cause = ': ' // from_c_string(text)
         call set_error(err, 'HDF5 call ' // call_name // ' failed for "' // object // &
-            '" in "' // file_name // '"', routine, __FILE__, line)
+            '" in "' // file_name // '"' // cause, routine, __FILE__, line)
     end function failed
 
     !> A variable-length UTF-8 string type (h5py reads its attributes as str).

@@ -104,8 +104,8 @@ contains
     end subroutine check_step_count
 
     !> &time relaxation (statics by damped dynamics) needs inertia, so not with quasistatic;
-    !> kinetic_energy_tol only means something with relaxation, so a value other than the
-    !> default without it would be silently ignored.
+    !> kinetic_energy_tol only means something with relaxation, and equilibrium_solves with
+    !> quasistatic, so a value other than the default without it would be silently ignored.
     subroutine check_relaxation(scene, errors)
         type(scene_t), intent(in) :: scene
         type(error_list_t), intent(inout) :: errors
@@ -117,6 +117,9 @@ contains
                 scene%time%kinetic_energy_tol /= defaults%kinetic_energy_tol) call errors%add( &
             at(scene, 0) // '&time kinetic_energy_tol: ' // str(scene%time%kinetic_energy_tol) // &
             ' given, but it is only used with relaxation = .true.; remove it or set relaxation')
+        if (.not. scene%time%quasistatic .and. .not. scene%time%equilibrium_solves) &
+            call errors%add(at(scene, 0) // '&time equilibrium_solves: .false. given, but ' // &
+            'a dynamic run solves no equilibrium; it is only used with quasistatic = .true.')
     end subroutine check_relaxation
 
     !> 'out/<scene name>.h5' for scene file '<dir>/<scene name>.nml'.
@@ -1264,8 +1267,9 @@ contains
         end function auto_note
     end subroutine check_joint_formulations
 
-    !> em_variant of cl_em_planar rods defaults to 'stander_stein' (a value given for another
-    !> formulation is refused by check_formulation_variables).
+    !> em_variant of cl_em_planar rods defaults to 'stander_stein' and free_end of se3_strand
+    !> rods to 'balanced' (a value given for another formulation is refused by
+    !> check_formulation_variables).
     subroutine resolve_formulation_options(scene)
         type(scene_t), intent(inout) :: scene
         integer :: i
@@ -1273,6 +1277,8 @@ contains
             associate (rod => scene%rods(i))
                 if (trim(rod%formulation) == 'cl_em_planar' .and. len_trim(rod%em_variant) == 0) &
                     rod%em_variant = 'stander_stein'
+                if (trim(rod%formulation) == 'se3_strand' .and. len_trim(rod%free_end) == 0) &
+                    rod%free_end = 'balanced'
                 ! cl_em_planar's full (2-point) quadrature of the axial and shear terms locks
                 ! in bending (methods/ph_planar.md §5.1-5.2, the roll-up): its default is the
                 ! reduced one (issue 21 item 16).
@@ -1390,7 +1396,7 @@ contains
     !> Variables that only some formulations read: the planar elements take n_gauss 1 or 2 (for
     !> cl_em_planar the quadrature of the axial and shear terms, 1 reduced, 2 full:
     !> methods/ph_planar.md §5.1); em_variant is cl_em_planar's only; the damping of seed 004
-    !> (external_damping, internal_damping, kelvin_voigt_time) is se3_strand's only.
+    !> (external_damping, internal_damping, kelvin_voigt_time) and free_end are se3_strand's only.
     subroutine check_formulation_variables(scene, i, row, errors)
         type(scene_t), intent(in) :: scene
         integer, intent(in) :: i
@@ -1406,6 +1412,9 @@ contains
                 call errors%add(here // 'em_variant: only used with formulation ''cl_em_planar'' ' // &
                 '(this rod runs on ''' // trim(row%formulation) // '''); remove it')
             if (trim(row%formulation) == 'se3_strand') return
+            if (len_trim(rod%free_end) > 0) call errors%add(here // 'free_end: only used with ' // &
+                'formulation ''se3_strand'' (this rod runs on ''' // trim(row%formulation) // &
+                '''); remove it')
             call strand_only(rod%external_damping, 'external_damping')
             call strand_only(rod%internal_damping, 'internal_damping')
             call strand_only(rod%kelvin_voigt_time, 'kelvin_voigt_time')

@@ -4,6 +4,7 @@
 !> further communication (DESIGN.md §6).
 module rs_io_input_file
     use rs_core_error, only: error_list_t
+    use rs_core_strings, only: text_buffer_t
     use rs_model_scene, only: scene_t
     use rs_parallel_mpi_env, only: world_rank, broadcast_text, broadcast_flag
     use rs_io_input_reader, only: read_scene_text
@@ -108,9 +109,12 @@ contains
     end subroutine open_to_read
 
     !> The lines of `file` (any length), each ended by a new line, read to the end of the file.
+    !> The text grows by doubling (appending each line to a copy of all before it was
+    !> quadratic in the size of the scene, issue 21 item 17).
     subroutine read_lines(file, text, message)
         character(len=*), intent(in) :: file
         character(len=:), allocatable, intent(inout) :: text, message
+        type(text_buffer_t) :: buffer
         character(len=4096) :: chunk
         character(len=256) :: iomsg
         integer :: unit, ios, got
@@ -120,15 +124,16 @@ contains
             got = 0
             read(unit, '(a)', advance='no', size=got, iostat=ios, iomsg=iomsg) chunk
             ! A last line without its new line still counts.
-            if (got > 0) text = text // chunk(1:got)
+            if (got > 0) call buffer%append(chunk(1:got))
             if (is_iostat_end(ios)) exit
             if (ios /= 0 .and. .not. is_iostat_eor(ios)) then
                 message = file // ': cannot be read (' // trim(iomsg) // ')'
                 exit
             end if
-            if (is_iostat_eor(ios)) text = text // new_line('a')
+            if (is_iostat_eor(ios)) call buffer%append(new_line('a'))
         end do
         close(unit)
+        text = buffer%text()
     end subroutine read_lines
 
 end module rs_io_input_file

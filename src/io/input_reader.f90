@@ -31,15 +31,16 @@ contains
         type(group_chunk_t), allocatable :: chunks(:)
         integer, allocatable :: first_line(:)
         integer :: c, g
+        !> Occurrences read of each repeatable group (rod, bc, load, actuator, joint, plate, sweep).
+        integer :: n_read(7)
 
         scene%source_file = file
         scene%source_text = text
-        allocate(scene%rods(0), scene%bcs(0), scene%loads(0), scene%actuators(0), scene%joints(0), &
-            scene%plates(0), scene%sweeps(0))
         groups = input_groups()
         allocate(first_line(size(groups)))
         first_line = 0
         call split_namelist(text, file, chunks, errors)
+        call allocate_repeatable(chunks, scene, n_read)
 
         do c = 1, size(chunks)
             g = find_group(groups, chunks(c)%name)
@@ -60,16 +61,57 @@ contains
                 cycle
             end if
             if (first_line(g) == 0) first_line(g) = chunks(c)%line
-            call read_chunk(chunks(c), groups(g), file, scene, errors)
+            call read_chunk(chunks(c), groups(g), file, scene, n_read, errors)
         end do
+        call trim_repeatable(scene, n_read)
     end subroutine read_scene_text
 
-    !> Check and read the assignments of one group occurrence into its place in `scene`.
-    subroutine read_chunk(chunk, group, file, scene, errors)
+    !> Room for every occurrence of each repeatable group, counted before reading, so that
+    !> reading stays linear in the number of groups (issue 21 item 17: appending one &load to a
+    !> copy of all the loads before it made 4,000 of them take 45 s). trim_repeatable cuts the
+    !> arrays to what was read.
+    subroutine allocate_repeatable(chunks, scene, n_read)
+        type(group_chunk_t), intent(in) :: chunks(:)
+        type(scene_t), intent(inout) :: scene
+        integer, intent(out) :: n_read(7)
+        allocate(scene%rods(occurrences('rod')), scene%bcs(occurrences('bc')), &
+            scene%loads(occurrences('load')), scene%actuators(occurrences('actuator')), &
+            scene%joints(occurrences('joint')), scene%plates(occurrences('plate')), &
+            scene%sweeps(occurrences('sweep')))
+        n_read = 0
+    contains
+        integer function occurrences(name)
+            character(len=*), intent(in) :: name
+            integer :: c
+            occurrences = 0
+            do c = 1, size(chunks)
+                if (chunks(c)%name == name) occurrences = occurrences + 1
+            end do
+        end function occurrences
+    end subroutine allocate_repeatable
+
+    !> Cut the arrays of repeatable groups to the occurrences read (a group given in a version
+    !> that does not have it is counted but not read).
+    subroutine trim_repeatable(scene, n_read)
+        type(scene_t), intent(inout) :: scene
+        integer, intent(in) :: n_read(7)
+        if (size(scene%rods) > n_read(1)) scene%rods = scene%rods(1:n_read(1))
+        if (size(scene%bcs) > n_read(2)) scene%bcs = scene%bcs(1:n_read(2))
+        if (size(scene%loads) > n_read(3)) scene%loads = scene%loads(1:n_read(3))
+        if (size(scene%actuators) > n_read(4)) scene%actuators = scene%actuators(1:n_read(4))
+        if (size(scene%joints) > n_read(5)) scene%joints = scene%joints(1:n_read(5))
+        if (size(scene%plates) > n_read(6)) scene%plates = scene%plates(1:n_read(6))
+        if (size(scene%sweeps) > n_read(7)) scene%sweeps = scene%sweeps(1:n_read(7))
+    end subroutine trim_repeatable
+
+    !> Check and read the assignments of one group occurrence into its place in `scene`
+    !> (the next of its kind after the n_read already read).
+    subroutine read_chunk(chunk, group, file, scene, n_read, errors)
         type(group_chunk_t), intent(in) :: chunk
         type(group_spec_t), intent(in) :: group
         character(len=*), intent(in) :: file
         type(scene_t), intent(inout) :: scene
+        integer, intent(inout) :: n_read(7)
         type(error_list_t), intent(inout) :: errors
         type(rod_input_t) :: rod
         type(bc_input_t) :: bc
@@ -129,21 +171,29 @@ contains
                 ': required but not given')
         end do
         call check_conditions(chunk, group, file, given, errors)
+        ! Into the places allocate_repeatable made, in file order.
         select case (group%name)
         case ('rod')
-            scene%rods = [scene%rods, rod]
+            n_read(1) = n_read(1) + 1
+            scene%rods(n_read(1)) = rod
         case ('bc')
-            scene%bcs = [scene%bcs, bc]
+            n_read(2) = n_read(2) + 1
+            scene%bcs(n_read(2)) = bc
         case ('load')
-            scene%loads = [scene%loads, load]
+            n_read(3) = n_read(3) + 1
+            scene%loads(n_read(3)) = load
         case ('actuator')
-            scene%actuators = [scene%actuators, actuator]
+            n_read(4) = n_read(4) + 1
+            scene%actuators(n_read(4)) = actuator
         case ('joint')
-            scene%joints = [scene%joints, joint]
+            n_read(5) = n_read(5) + 1
+            scene%joints(n_read(5)) = joint
         case ('plate')
-            scene%plates = [scene%plates, plate]
+            n_read(6) = n_read(6) + 1
+            scene%plates(n_read(6)) = plate
         case ('sweep')
-            scene%sweeps = [scene%sweeps, sweep]
+            n_read(7) = n_read(7) + 1
+            scene%sweeps(n_read(7)) = sweep
         end select
     end subroutine read_chunk
 
@@ -345,63 +395,64 @@ contains
         character(len=256) :: msg
         character(len=:), allocatable :: buffer
 
-        run_copy = scene%run
-        time_copy = scene%time
-        solver_copy = scene%solver
-        output_copy = scene%output
-        rod_copy = rod
-        bc_copy = bc
-        load_copy = load
-        actuator_copy = actuator
-        joint_copy = joint
-        plate_copy = plate
-        contact_copy = scene%contact
-        sweep_copy = sweep
+        ! Only the group being read is copied in and out: a copy of every group type per
+        ! assignment (a &sweep alone holds 32 KB) made large scenes slow to read.
         msg = ''
         buffer = '&' // group // '_nml ' // group // '_copy%' // target // ' = ' // value // ' /'
         select case (group)
         case ('run')
+            run_copy = scene%run
             read(buffer, nml=run_nml, iostat=ios, iomsg=msg)
+            if (ios == 0) scene%run = run_copy
         case ('time')
+            time_copy = scene%time
             read(buffer, nml=time_nml, iostat=ios, iomsg=msg)
+            if (ios == 0) scene%time = time_copy
         case ('solver')
+            solver_copy = scene%solver
             read(buffer, nml=solver_nml, iostat=ios, iomsg=msg)
+            if (ios == 0) scene%solver = solver_copy
         case ('output')
+            output_copy = scene%output
             read(buffer, nml=output_nml, iostat=ios, iomsg=msg)
+            if (ios == 0) scene%output = output_copy
         case ('rod')
+            rod_copy = rod
             read(buffer, nml=rod_nml, iostat=ios, iomsg=msg)
+            if (ios == 0) rod = rod_copy
         case ('bc')
+            bc_copy = bc
             read(buffer, nml=bc_nml, iostat=ios, iomsg=msg)
+            if (ios == 0) bc = bc_copy
         case ('load')
+            load_copy = load
             read(buffer, nml=load_nml, iostat=ios, iomsg=msg)
+            if (ios == 0) load = load_copy
         case ('actuator')
+            actuator_copy = actuator
             read(buffer, nml=actuator_nml, iostat=ios, iomsg=msg)
+            if (ios == 0) actuator = actuator_copy
         case ('joint')
+            joint_copy = joint
             read(buffer, nml=joint_nml, iostat=ios, iomsg=msg)
+            if (ios == 0) joint = joint_copy
         case ('plate')
+            plate_copy = plate
             read(buffer, nml=plate_nml, iostat=ios, iomsg=msg)
+            if (ios == 0) plate = plate_copy
         case ('contact')
+            contact_copy = scene%contact
             read(buffer, nml=contact_nml, iostat=ios, iomsg=msg)
+            if (ios == 0) scene%contact = contact_copy
         case ('sweep')
+            sweep_copy = sweep
             read(buffer, nml=sweep_nml, iostat=ios, iomsg=msg)
+            if (ios == 0) sweep = sweep_copy
         case default
             ios = -1
             msg = 'no reader for group &' // group
         end select
         message = trim(msg)
-        if (ios /= 0) return
-        scene%run = run_copy
-        scene%time = time_copy
-        scene%solver = solver_copy
-        scene%output = output_copy
-        rod = rod_copy
-        bc = bc_copy
-        load = load_copy
-        actuator = actuator_copy
-        joint = joint_copy
-        plate = plate_copy
-        scene%contact = contact_copy
-        sweep = sweep_copy
     end subroutine read_assignment
 
     ! --- message helpers ---------------------------------------------------------------------

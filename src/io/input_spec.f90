@@ -229,9 +229,17 @@ contains
                 example="'midpoint'"), &
             spec_v('quasistatic', 'logical', '-', '.false.', &
                 'No inertia (mass terms dropped): time is a load factor (t_end usually 1). The ' // &
-                'loads are stepped with midpoint steps, then one endpoint (non-rate ' // &
-                'Hellinger-Reissner) equilibrium solve at t_end gives the last record (seed 000 ' // &
-                '§5, §6.3; methods/ph_director_3d.md §6.3).', example='.true.'), &
+                'loads are stepped with midpoint steps between an equilibrium solve at t = 0 ' // &
+                'and an endpoint (non-rate, e.g. Hellinger-Reissner) equilibrium solve at ' // &
+                't_end, which gives the last record; both are continued from the state ' // &
+                'before them (seed 000 §5, §6.3; methods/ph_director_3d.md §6.3; ' // &
+                'Constraints, Maxwell branches, actuators, quasistatics above).', example='.true.'), &
+            spec_v('equilibrium_solves', 'logical', '-', '.true.', &
+                'Quasistatic runs only: .false. skips the equilibrium solves at t = 0 and t_end, ' // &
+                'leaving the midpoint load path alone, as seed 001 computes its quasistatics ' // &
+                '(the last record then depends on dt: the open rings of its Fig. 7 right, ' // &
+                'methods/ph_planar.md §6.2). se3_pg solves an equilibrium at every step either way.', &
+                example='.false.'), &
             spec_v('relaxation', 'logical', '-', '.false.', &
                 'Statics by damped dynamics (seed 004, methods/se3_strands.md §3.7): the ' // &
                 'dynamics run with the rods'' damping, and the run stops as soon as the kinetic ' // &
@@ -476,7 +484,15 @@ contains
                 'se3_strand only (an error for any other formulation): Kelvin-Voigt viscosity, ' // &
                 'the viscous stress kelvin_voigt_time A dU/dt (A the stiffness matrix, U the ' // &
                 'strains) added to the elastic stress inside the divergence; provably ' // &
-                'dissipative (methods/se3_strands.md §2.6).', lower=0.0_rk, example='1e-3')]
+                'dissipative (methods/se3_strands.md §2.6).', lower=0.0_rk, example='1e-3'), &
+            spec_v('free_end', 'string', '-', "'balanced'", &
+                'se3_strand only (an error for any other formulation): the free end''s half ' // &
+                'cell. ''balanced'' takes the ad^T term of its one segment in full, so an end ' // &
+                'load enters with exactly its power; ''paper'' is seed 004''s average with the ' // &
+                'ghost segment, an end moment of about h |f| / 2 that converges away as h^2 ' // &
+                '(the paper''s Fig. 3 tip error) but can create energy and blow up under large ' // &
+                'end loads (docs/theory/se3_strand.md, "The free end").', &
+                allowed='balanced|paper', example="'paper'")]
     end function rod_group
 
     function bc_group() result(g)

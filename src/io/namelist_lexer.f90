@@ -53,19 +53,24 @@ contains
         character(len=*), intent(in) :: text, file
         type(group_chunk_t), allocatable, intent(out) :: chunks(:)
         type(error_list_t), intent(inout) :: errors
-        character(len=len(text)) :: clean
-        integer :: line_of(len(text))
-        integer :: p, n, name_end, body_end, reported_line
+        ! Allocatable, not automatic: a scene may be larger than the stack (issue 21 item 17).
+        character(len=:), allocatable :: clean
+        integer, allocatable :: line_of(:)
+        integer :: p, n, name_end, body_end, reported_line, n_chunks
         type(group_chunk_t) :: chunk
         logical :: unterminated_string
 
         allocate(chunks(0))
+        call check_utf8(text, file, errors)
         n = len(text)
+        allocate(character(len=n) :: clean)
+        allocate(line_of(n))
         call strip_comments(text, clean, line_of, unterminated_string)
         if (unterminated_string) then
             call errors%add(file // ': a quoted string is not closed before the end of the file')
             return
         end if
+        n_chunks = 0
         p = 1
         reported_line = 0
         do while (p <= n)
@@ -104,7 +109,7 @@ contains
                 call split_assignments(clean, line_of, name_end + 1, body_end - 1, file, chunk, errors)
                 chunk%last = body_end
                 if (clean(body_end:body_end) == '&') chunk%last = body_end + 3   ! "&end"
-                chunks = [chunks, chunk]
+                call append_chunk(chunks, n_chunks, chunk)
                 p = chunk%last + 1
             else
                 if (line_of(p) /= reported_line) then
@@ -115,12 +120,146 @@ contains
                 p = p + 1
             end if
         end do
+        call shrink_chunks(chunks, n_chunks)
     end subroutine split_namelist
+
+    !> Report every line of `text` that is not valid UTF-8, with its first bad byte (position
+    !> in the file and on the line, and its value). The scene text is stored in the result file
+    !> as a UTF-8 string (/input/text) that h5py and other readers decode: a Latin-1 "é" there
+    !> made output.md's own recipe fail (issue 21 item 19). Rejected rather than escaped, so
+    !> that the stored text is the file as written.
+    subroutine check_utf8(text, file, errors)
+        character(len=*), intent(in) :: text, file
+        type(error_list_t), intent(inout) :: errors
+        integer :: i, line, line_start, length, reported_line
+        character(len=2) :: hex
+        i = 1
+        line = 1
+        line_start = 1
+        reported_line = 0
+        do while (i <= len(text))
+            length = utf8_sequence_length(text, i)
+            if (length == 0) then
+                if (line /= reported_line) then
+                    write(hex, '(z2.2)') iachar(text(i:i))
+                    call errors%add(file // ':' // str(line) // ': byte ' // str(i) // &
+                        ' (column ' // str(i - line_start + 1) // ', value 0x' // hex // &
+                        ') is not valid UTF-8: scene files must be ' // &
+                        'UTF-8 (ASCII is) since the scene is stored as UTF-8 text in the ' // &
+                        'result file; re-encode it, e.g. iconv -f latin1 -t utf-8')
+                    reported_line = line
+                end if
+                length = 1
+            end if
+            if (text(i:i) == achar(10)) then
+                line = line + 1
+                line_start = i + 1
+            end if
+            i = i + length
+        end do
+    end subroutine check_utf8
+
+    !> Length (1 to 4) of the well-formed UTF-8 sequence starting at text(i:i) (Unicode 15,
+    !> table 3-7: no overlong forms, no surrogates, nothing above U+10FFFF); 0 if ill-formed.
+    pure integer function utf8_sequence_length(text, i) result(length)
+        character(len=*), intent(in) :: text
+        integer, intent(in) :: i
+        integer :: lead, second_low, second_high, k
+        lead = iachar(text(i:i))
+        length = 0
+        second_low = 128
+        second_high = 191
+        select case (lead)
+        case (0:127)
+            length = 1
+            return
+        case (194:223)
+            length = 2
+        case (224)
+            length = 3
+            second_low = 160
+        case (225:236, 238:239)
+            length = 3
+        case (237)
+            length = 3
+            second_high = 159
+        case (240)
+            length = 4
+            second_low = 144
+        case (241:243)
+            length = 4
+        case (244)
+            length = 4
+            second_high = 143
+        case default
+            return
+        end select
+        if (i + length - 1 > len(text)) then
+            length = 0
+            return
+        end if
+        do k = 1, length - 1
+            associate (byte => iachar(text(i + k:i + k)))
+                if (k == 1) then
+                    if (byte < second_low .or. byte > second_high) length = 0
+                else
+                    if (byte < 128 .or. byte > 191) length = 0
+                end if
+            end associate
+            if (length == 0) return
+        end do
+    end function utf8_sequence_length
+
+    !> Append `chunk` as chunks(n + 1), the capacity doubling when full: reading stays linear
+    !> in the number of groups (issue 21 item 17: 4,000 &load groups took 45 s when every
+    !> group copied all the groups before it).
+    subroutine append_chunk(chunks, n, chunk)
+        type(group_chunk_t), allocatable, intent(inout) :: chunks(:)
+        integer, intent(inout) :: n
+        type(group_chunk_t), intent(in) :: chunk
+        type(group_chunk_t), allocatable :: grown(:)
+        integer :: k
+        if (n == size(chunks)) then
+            allocate(grown(max(16, 2 * n)))
+            do k = 1, n
+                call move_chunk(chunks(k), grown(k))
+            end do
+            call move_alloc(grown, chunks)
+        end if
+        n = n + 1
+        chunks(n) = chunk
+    end subroutine append_chunk
+
+    !> Drop the unused capacity past chunks(n).
+    subroutine shrink_chunks(chunks, n)
+        type(group_chunk_t), allocatable, intent(inout) :: chunks(:)
+        integer, intent(in) :: n
+        type(group_chunk_t), allocatable :: kept(:)
+        integer :: k
+        if (n == size(chunks)) return
+        allocate(kept(n))
+        do k = 1, n
+            call move_chunk(chunks(k), kept(k))
+        end do
+        call move_alloc(kept, chunks)
+    end subroutine shrink_chunks
+
+    !> Move a chunk without copying its assignments.
+    subroutine move_chunk(from, to)
+        type(group_chunk_t), intent(inout) :: from
+        type(group_chunk_t), intent(inout) :: to
+        call move_alloc(from%name, to%name)
+        call move_alloc(from%assignments, to%assignments)
+        to%line = from%line
+        to%first = from%first
+        to%name_end = from%name_end
+        to%last = from%last
+    end subroutine move_chunk
 
     !> Blank out comments (keeping newlines) and note the line of every character.
     subroutine strip_comments(text, clean, line_of, unterminated_string)
         character(len=*), intent(in) :: text
-        character(len=len(text)), intent(out) :: clean
+        character(len=*), intent(out) :: clean
         integer, intent(out) :: line_of(:)
         logical, intent(out) :: unterminated_string
         character :: quote, c
@@ -192,28 +331,40 @@ contains
         type(group_chunk_t), intent(inout) :: chunk
         type(error_list_t), intent(inout) :: errors
         integer, allocatable :: equals(:), starts(:)
-        integer :: i, k, depth, j, value_end
+        integer :: i, k, depth, j, value_end, n_equals, n_kept, pass
         character :: quote
         type(assignment_t) :: a
+        type(assignment_t), allocatable :: kept(:)
 
         if (allocated(chunk%assignments)) deallocate(chunk%assignments)
-        allocate(chunk%assignments(0))
+        ! Two passes, counting and then recording the "=", instead of growing the list by one
+        ! per "=" (quadratic in the assignments of a group).
         allocate(equals(0))
-        quote = ' '
-        depth = 0
-        do i = first, last
-            if (quote /= ' ') then
-                if (clean(i:i) == quote) quote = ' '
-            else if (clean(i:i) == '"' .or. clean(i:i) == "'") then
-                quote = clean(i:i)
-            else if (clean(i:i) == '(') then
-                depth = depth + 1
-            else if (clean(i:i) == ')') then
-                depth = depth - 1
-            else if (clean(i:i) == '=' .and. depth == 0) then
-                equals = [equals, i]
+        do pass = 1, 2
+            n_equals = 0
+            quote = ' '
+            depth = 0
+            do i = first, last
+                if (quote /= ' ') then
+                    if (clean(i:i) == quote) quote = ' '
+                else if (clean(i:i) == '"' .or. clean(i:i) == "'") then
+                    quote = clean(i:i)
+                else if (clean(i:i) == '(') then
+                    depth = depth + 1
+                else if (clean(i:i) == ')') then
+                    depth = depth - 1
+                else if (clean(i:i) == '=' .and. depth == 0) then
+                    n_equals = n_equals + 1
+                    if (pass == 2) equals(n_equals) = i
+                end if
+            end do
+            if (pass == 1) then
+                deallocate(equals)
+                allocate(equals(n_equals))
             end if
         end do
+        allocate(chunk%assignments(size(equals)))
+        n_kept = 0
 
         allocate(starts(size(equals)))
         do k = 1, size(equals)
@@ -257,8 +408,13 @@ contains
             call value_span(clean, equals(k) + 1, value_end, a%value_first, a%value_last)
             a%value = one_line(clean(equals(k) + 1:value_end))
             a%n_values = count_values(a%value)
-            chunk%assignments = [chunk%assignments, a]
+            n_kept = n_kept + 1
+            chunk%assignments(n_kept) = a
         end do
+        if (n_kept < size(chunk%assignments)) then
+            kept = chunk%assignments(1:n_kept)
+            call move_alloc(kept, chunk%assignments)
+        end if
     end subroutine split_assignments
 
     !> First and last non-blank characters of clean(from:to) without one trailing comma, as
@@ -383,11 +539,15 @@ contains
     pure function remove_blanks(text) result(out)
         character(len=*), intent(in) :: text
         character(len=:), allocatable :: out
-        integer :: i
-        out = ''
+        integer :: i, n
+        allocate(character(len=len(text)) :: out)
+        n = 0
         do i = 1, len(text)
-            if (index(blanks, text(i:i)) == 0) out = out // text(i:i)
+            if (index(blanks, text(i:i)) > 0) cycle
+            n = n + 1
+            out(n:n) = text(i:i)
         end do
+        out = out(1:n)
     end function remove_blanks
 
     !> Newlines and tabs to blanks, outer blanks and one trailing comma removed.
@@ -395,7 +555,7 @@ contains
         character(len=*), intent(in) :: text
         character(len=:), allocatable :: out
         integer :: i
-        character(len=len(text)) :: work
+        character(len=:), allocatable :: work
         work = text
         do i = 1, len(work)
             if (index(blanks, work(i:i)) > 0) work(i:i) = ' '

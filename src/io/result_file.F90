@@ -13,26 +13,32 @@
 !>                             center_of_mass, constraint_residual, newton/{iterations,residual},
 !>                             dt; rods of a bundle: contact/{energy,force,penetration},
 !>                             ties/force
-!>     /checkpoint/<name>/     state, internal, step, records, time: what a restart needs
+!>     /checkpoint/<name>/     state, internal, step, records, time: what a restart needs;
+!>                             checksum (rs_io_checksum), verified by read_checkpoint
 !>     /series/                time, energy/..., momentum/... summed over all rods (at the end)
 !>
 !> A run writes the file in three stages: rank 0 creates it with every dataset empty
 !> (`prepare_result_file`); every rank opens it (`result_writer_t`, parallel HDF5 when there are
-!> several ranks) and at every flush the datasets are extended, each rank writes the records
-!> and checkpoints of its own rods (collectively) and the file is flushed, so a killed run
-!> leaves a readable file with every record up to the last flush; rank 0 finally adds /series/
-!> (`finish_result_file`). Growing datasets are chunked along the records.
+!> several ranks) and at every flush disk space is reserved, the datasets are extended, each
+!> rank writes the records of its own rods (collectively), the file is flushed, and then the
+!> checkpoints are written and flushed, so a killed run leaves a readable file with every
+!> record up to the last flush and a checkpoint that lists only records on disk; rank 0 finally
+!> adds /series/ (`finish_result_file`). Growing datasets are chunked along the records, with
+!> HDF5's Fletcher-32 checksum in a file one rank writes.
 !>
 !> Arrays are written in Fortran order, so h5py shows them reversed: position(:, node, step) is
 !> h5py's position[step, node, :].
 module rs_io_result_file
+    use, intrinsic :: iso_fortran_env, only: int64
     use rs_core_kinds, only: rk
     use rs_core_error, only: error_t, set_error
     use rs_core_strings, only: str
     use rs_core_version, only: rodsolve_version, rodsolve_git_commit
     use rs_model_rod_history, only: rod_history_t
-    use rs_io_hdf5_file, only: hdf5_file_t
+    use hdf5, only: hsize_t
+    use rs_io_hdf5_file, only: hdf5_file_t, series_chunk_records
     use rs_io_hdf5_info, only: hdf5_version
+    use rs_io_checksum, only: checkpoint_checksum
     use rs_model_units, only: unit_in_system
     implicit none
     private
@@ -105,21 +111,33 @@ module rs_io_result_file
 
     !> The result file during a run (DESIGN.md §7), open on every rank (with MPI-IO when there
     !> are several). At every flush, all collective: `extend` makes room for every rod's new
-    !> records, `write_records` and `write_checkpoint` write them (the owner of a rod passes its
-    !> data, the others nothing), and `flush` puts them on disk.
+    !> records, `write_records` writes them (the owner of a rod passes its data, the others
+    !> nothing) and `flush` puts them on disk; once every rank's flush succeeded,
+    !> `commit_records` notes them as on disk, and `write_checkpoint` and another `flush`
+    !> follow, so a checkpoint never lists records that are not in the file. When a write or
+    !> flush failed on any rank (a full disk), `drop_unflushed` cuts the datasets back to the
+    !> committed records (issue 21 item 3). Every collective procedure makes its HDF5 calls on
+    !> every rank even after a local failure (the first error is returned), so that the ranks
+    !> never wait for each other in different calls.
     type, public :: result_writer_t
         type(hdf5_file_t) :: file
         type(rod_layout_t), allocatable :: layouts(:)
         type(rod_fields_t), allocatable :: fields(:)
         !> Records of each rod in the file (after the last `extend`).
         integer, allocatable :: n_records(:)
+        !> Records of each rod known to be on disk (after the last `commit_records`).
+        integer, allocatable :: committed(:)
     contains
         procedure :: open => writer_open
         procedure :: extend => writer_extend
+        procedure :: reserve => writer_reserve
         procedure :: write_records => writer_write_records
         procedure :: write_checkpoint => writer_write_checkpoint
         procedure :: flush => writer_flush
+        procedure :: commit_records => writer_commit_records
+        procedure :: drop_unflushed => writer_drop_unflushed
         procedure :: close => writer_close
+        procedure, private :: set_all_records => writer_set_all_records
     end type result_writer_t
 
     !> The fields `&output fields` may select: nodal and stress fields, and the bundle series
@@ -487,7 +505,8 @@ contains
             call write_root(file, meta, err)
             call write_input(file, meta, err)
             do i = 1, size(layouts)
-                call create_rod(file, layouts(i), selection, system_of(meta), err)
+                call create_rod(file, layouts(i), selection, system_of(meta), &
+                    meta%n_ranks == 1, err)
             end do
         end if
         call file%close(close_err)
@@ -509,10 +528,13 @@ contains
     end subroutine prepare_sweep_file
 
     !> /rods/<name>/ with its meshes and empty growing datasets; /checkpoint/<name>/.
-    subroutine create_rod(file, layout, selection, system, err)
+    !> `checksums`: the growing datasets get HDF5's Fletcher-32 checksum (a file one rank
+    !> writes; parallel HDF5 1.10 cannot write filtered datasets collectively).
+    subroutine create_rod(file, layout, selection, system, checksums, err)
         type(hdf5_file_t), intent(inout) :: file
         type(rod_layout_t), intent(in) :: layout
         character(len=*), intent(in) :: selection, system
+        logical, intent(in) :: checksums
         type(error_t), allocatable, intent(inout) :: err
         type(field_t), allocatable :: fields(:)
         character(len=:), allocatable :: group, checkpoint
@@ -534,7 +556,7 @@ contains
         do k = 1, size(fields)
             call file%create_series(group // '/' // trim(fields(k)%path), fields(k)%dims, &
                 fields(k)%integer_values, unit_text(trim(fields(k)%unit), system), &
-                fields(k)%description, err)
+                fields(k)%description, err, checksum=checksums)
             if (allocated(err)) return
             if (len_trim(fields(k)%components) > 0) call put_attribute(file, group // '/' // &
                 trim(fields(k)%path), 'components', trim(fields(k)%components), err)
@@ -559,6 +581,12 @@ contains
         if (allocated(err)) return
         call file%write_dataset(checkpoint // '/time', [0.0_rk], unit_in_system('s', system), &
             'time of the checkpoint', err)
+        if (allocated(err)) return
+        call file%write_dataset(checkpoint // '/checksum', checkpoint_checksum([(0.0_rk, k = 1, &
+            layout%n_state)], [(0.0_rk, k = 1, layout%n_internal)], -1, 0, 0.0_rk), '1', &
+            'Fletcher checksum of state, internal, step, records and time (reals as their ' // &
+            'IEEE bytes, 32-bit words, sums modulo 2^32 - 1; docs/user/output.md), verified ' // &
+            'by a restart', err)
     end subroutine create_rod
 
     !> A restart in the result file itself: check the rods against the layouts, cut each rod's
@@ -629,8 +657,42 @@ contains
                 end if
                 call file%set_records(group // '/' // trim(fields(k)%path), n, err)
                 if (allocated(err)) return
+                if (meta%n_ranks > 1) call drop_checksum(group // '/' // trim(fields(k)%path), n)
+                if (allocated(err)) return
             end do
         end subroutine cut_fields
+
+        !> A file written on one rank continued on several: its checksummed dataset `path`
+        !> is copied into one without the checksum, which parallel HDF5 1.10 cannot write.
+        subroutine drop_checksum(path, n)
+            character(len=*), intent(in) :: path
+            integer, intent(in) :: n
+            real(rk), allocatable :: values(:)
+            integer, allocatable :: integers(:)
+            if (.not. file%has_filters(path, err)) return
+            if (allocated(err)) return
+            if (fields(k)%integer_values) then
+                call file%read(path, integers, err)
+            else
+                call file%read(path, values, err)
+            end if
+            if (allocated(err)) return
+            call file%delete(path, err)
+            if (allocated(err)) return
+            call file%create_series(path, fields(k)%dims, fields(k)%integer_values, &
+                unit_text(trim(fields(k)%unit), system_of(meta)), fields(k)%description, err)
+            if (allocated(err)) return
+            if (len_trim(fields(k)%components) > 0) call put_attribute(file, path, &
+                'components', trim(fields(k)%components), err)
+            if (allocated(err)) return
+            call file%set_records(path, n, err)
+            if (allocated(err) .or. n == 0) return
+            if (fields(k)%integer_values) then
+                call file%write_records(path, 1, integers, err)
+            else
+                call file%write_records(path, 1, values, err)
+            end if
+        end subroutine drop_checksum
     end subroutine restart_in_place
 
     !> Read the checkpoint of rod `name` from `path` (rank that owns the rod; serial driver).
@@ -645,6 +707,8 @@ contains
         character(len=:), allocatable :: group
         integer, allocatable :: values(:)
         real(rk), allocatable :: times(:)
+        integer :: sums(2)
+        logical :: mismatch
         step = -1
         records = 0
         time = 0.0_rk
@@ -671,21 +735,45 @@ contains
             call file%read(group // '/time', times, err)
             if (allocated(err)) exit body
             time = times(1)
-            if (step < 0) call set_error(err, 'the restart file "' // path // '" holds no ' // &
-                'checkpoint yet (the run stopped before its first flush)', 'read_checkpoint', &
-                __FILE__, __LINE__)
+            if (step < 0) then
+                call set_error(err, 'the restart file "' // path // '" holds no ' // &
+                    'checkpoint yet (the run stopped before its first flush)', 'read_checkpoint', &
+                    __FILE__, __LINE__)
+                exit body
+            end if
+            ! Damage on disk (or a torn write) must not be continued silently (issue 21 item 21).
+            if (.not. file%exists(group // '/checksum')) then
+                call set_error(err, 'the checkpoint of rod "' // name // '" in "' // path // &
+                    '" has no checksum (written by an older rodsolve): it cannot be verified', &
+                    'read_checkpoint', __FILE__, __LINE__)
+                exit body
+            end if
+            call file%read(group // '/checksum', values, err)
+            if (allocated(err)) exit body
+            sums = checkpoint_checksum(state, internal, step, records, time)
+            if (size(values) /= 2) then
+                mismatch = .true.
+            else
+                mismatch = any(values /= sums)
+            end if
+            if (mismatch) call set_error(err, 'the checkpoint of rod "' // name // '" in "' // &
+                path // '" is corrupted: its checksum does not match its values (the file ' // &
+                'was damaged on disk or in a copy); restart from an intact copy, or run ' // &
+                'the scene from the start', 'read_checkpoint', __FILE__, __LINE__)
         end block body
         call file%close(close_err)
         if (.not. allocated(err) .and. allocated(close_err)) call move_alloc(close_err, err)
     end subroutine read_checkpoint
 
     !> Rank 0, after the run: /series/ (the time grid and the energies and momenta summed over
-    !> the rods, over the records every rod has) and the run's status.
-    subroutine finish_result_file(path, layouts, status, err, units)
+    !> the rods, over the records every rod has) and the run's status; with `series` false
+    !> only the status (after a write failed: a full disk takes no new datasets).
+    subroutine finish_result_file(path, layouts, status, err, units, series)
         character(len=*), intent(in) :: path, status
         type(rod_layout_t), intent(in) :: layouts(:)
         type(error_t), allocatable, intent(out) :: err
         character(len=*), intent(in), optional :: units
+        logical, intent(in), optional :: series
         type(hdf5_file_t) :: file
         type(error_t), allocatable :: close_err
         real(rk), allocatable :: time(:), values(:), total(:)
@@ -697,6 +785,12 @@ contains
         call file%open(path, err)
         if (allocated(err)) return
         body: block
+            if (present(series)) then
+                if (.not. series) then
+                    call put_attribute(file, '/', 'status', status, err)
+                    exit body
+                end if
+            end if
             n = huge(1)
             do i = 1, size(layouts)
                 call file%read('/rods/' // layouts(i)%name // '/time', values, err)
@@ -767,6 +861,7 @@ contains
             this%fields(i)%list = rod_fields(layouts(i), selection)
         end do
         this%n_records = n_records
+        this%committed = n_records
         call this%file%open(path, err, parallel=parallel)
     end subroutine writer_open
 
@@ -776,46 +871,116 @@ contains
         class(result_writer_t), intent(inout) :: this
         integer, intent(in) :: totals(:)
         type(error_t), allocatable, intent(out) :: err
+        call this%set_all_records(totals, err)
+        this%n_records = totals
+    end subroutine writer_extend
+
+    !> One rank (of a parallel file: rank 0): reserve the disk the chunks of `totals(rod)`
+    !> records need beyond the chunks of the records in the file, with room for the metadata
+    !> that grows with them (chunk index nodes: 64 KiB and 4 KiB a dataset, several times what
+    !> a flush of the examples adds). A full disk or a file-size limit is found here, before
+    !> anything is extended, so the file stays whole and can still be marked 'failed' (issue 21
+    !> item 3).
+    subroutine writer_reserve(this, totals, err)
+        class(result_writer_t), intent(inout) :: this
+        integer, intent(in) :: totals(:)
+        type(error_t), allocatable, intent(out) :: err
+        integer(int64) :: bytes, record_bytes
+        integer :: i, k, chunk
+        bytes = 64 * 1024
+        do i = 1, size(this%layouts)
+            do k = 1, size(this%fields(i)%list)
+                associate (field => this%fields(i)%list(k))
+                    record_bytes = merge(4_int64, 8_int64, field%integer_values) * &
+                        product(int(field%dims, int64))
+                    chunk = series_chunk_records(int(record_bytes, hsize_t))
+                    bytes = bytes + 4 * 1024 + record_bytes * chunk * &
+                        (chunks(totals(i), chunk) - chunks(this%n_records(i), chunk))
+                end associate
+            end do
+        end do
+        call this%file%reserve(bytes, err)
+    contains
+        pure integer function chunks(n, per_chunk)
+            integer, intent(in) :: n, per_chunk
+            chunks = (n + per_chunk - 1) / per_chunk
+        end function chunks
+    end subroutine writer_reserve
+
+    !> Collective: every growing dataset of rod i gets `totals(i)` records; every call is made
+    !> even after a failure (the first error is returned).
+    subroutine writer_set_all_records(this, totals, err)
+        class(result_writer_t), intent(inout) :: this
+        integer, intent(in) :: totals(:)
+        type(error_t), allocatable, intent(out) :: err
+        type(error_t), allocatable :: one_err
         integer :: i, k
         do i = 1, size(this%layouts)
             do k = 1, size(this%fields(i)%list)
                 call this%file%set_records('/rods/' // this%layouts(i)%name // '/' // &
-                    trim(this%fields(i)%list(k)%path), totals(i), err)
-                if (allocated(err)) return
+                    trim(this%fields(i)%list(k)%path), totals(i), one_err)
+                if (allocated(one_err) .and. .not. allocated(err)) call move_alloc(one_err, err)
+                if (allocated(one_err)) deallocate(one_err)
             end do
         end do
-        this%n_records = totals
-    end subroutine writer_extend
+    end subroutine writer_set_all_records
+
+    !> After every rank's flush succeeded (the caller agreed on it): the records in the file
+    !> are on disk.
+    subroutine writer_commit_records(this)
+        class(result_writer_t), intent(inout) :: this
+        this%committed = this%n_records
+    end subroutine writer_commit_records
+
+    !> Collective, after a write or flush failed on some rank: every rod's datasets are cut
+    !> back to the committed records and the file is flushed, so that every record the file
+    !> lists holds what was written (the cut chunks are dropped with their extent).
+    subroutine writer_drop_unflushed(this, err)
+        class(result_writer_t), intent(inout) :: this
+        type(error_t), allocatable, intent(out) :: err
+        type(error_t), allocatable :: flush_err
+        call this%set_all_records(this%committed, err)
+        this%n_records = this%committed
+        call this%file%flush(flush_err)
+        if (.not. allocated(err) .and. allocated(flush_err)) call move_alloc(flush_err, err)
+    end subroutine writer_drop_unflushed
 
     !> Collective: write rod i's new records (the last ones of its history, after `extend`);
-    !> the rod's owner passes its history, every other rank none.
+    !> the rod's owner passes its history, every other rank none. After a failure the owner
+    !> takes part in the remaining writes with nothing (the first error is returned).
     subroutine writer_write_records(this, i, err, h)
         class(result_writer_t), intent(inout) :: this
         integer, intent(in) :: i
         type(error_t), allocatable, intent(out) :: err
         type(rod_history_t), intent(in), optional :: h
+        type(error_t), allocatable :: one_err
         character(len=:), allocatable :: path
         integer :: k, first
+        logical :: writes
+        writes = present(h)
+        if (writes) writes = h%n_stored > 0
         do k = 1, size(this%fields(i)%list)
             path = '/rods/' // this%layouts(i)%name // '/' // trim(this%fields(i)%list(k)%path)
-            if (.not. present(h)) then
-                call this%file%write_no_records(path, err)
-            else if (h%n_stored == 0) then
-                call this%file%write_no_records(path, err)
+            if (.not. writes .or. allocated(err)) then
+                call this%file%write_no_records(path, one_err)
             else if (this%fields(i)%list(k)%integer_values) then
                 first = this%n_records(i) - h%n_stored + 1
-                call this%file%write_records(path, first, h%newton_iterations(1:h%n_stored), err)
+                call this%file%write_records(path, first, h%newton_iterations(1:h%n_stored), &
+                    one_err)
             else
                 first = this%n_records(i) - h%n_stored + 1
                 call this%file%write_records(path, first, &
-                    record_block(h, trim(this%fields(i)%list(k)%path), 1, h%n_stored), err)
+                    record_block(h, trim(this%fields(i)%list(k)%path), 1, h%n_stored), one_err)
             end if
-            if (allocated(err)) return
+            if (allocated(one_err) .and. .not. allocated(err)) call move_alloc(one_err, err)
+            if (allocated(one_err)) deallocate(one_err)
         end do
     end subroutine writer_write_records
 
     !> Collective: rod i's checkpoint, its state and the formulation's book-keeping after
-    !> `step`, at `time`; the rod's owner passes them, every other rank neither.
+    !> `step`, at `time`, with their checksum; the rod's owner passes them, every other rank
+    !> neither. After a failure the owner takes part in the remaining writes with nothing (the
+    !> first error is returned).
     subroutine writer_write_checkpoint(this, i, step, time, err, state, internal)
         class(result_writer_t), intent(inout) :: this
         integer, intent(in) :: i, step
@@ -826,25 +991,53 @@ contains
         ! A rod coupled to another has its state in that rod's checkpoint.
         if (this%layouts(i)%checkpoint_rod > 0) return
         group = '/checkpoint/' // this%layouts(i)%name
-        if (.not. present(state)) then
-            call this%file%write_no_records(group // '/state', err)
-            if (.not. allocated(err) .and. this%layouts(i)%n_internal > 0) &
-                call this%file%write_no_records(group // '/internal', err)
-            if (.not. allocated(err)) call this%file%write_no_records(group // '/step', err)
-            if (.not. allocated(err)) call this%file%write_no_records(group // '/records', err)
-            if (.not. allocated(err)) call this%file%write_no_records(group // '/time', err)
-            return
+        if (present(state)) then
+            call put_records(group // '/state', state)
+            if (this%layouts(i)%n_internal > 0) call put_records(group // '/internal', internal)
+            call put_integers(group // '/step', [step])
+            call put_integers(group // '/records', [this%n_records(i)])
+            call put_records(group // '/time', [time])
+            call put_integers(group // '/checksum', checkpoint_checksum(state, internal, step, &
+                this%n_records(i), time))
+        else
+            call put_nothing(group // '/state')
+            if (this%layouts(i)%n_internal > 0) call put_nothing(group // '/internal')
+            call put_nothing(group // '/step')
+            call put_nothing(group // '/records')
+            call put_nothing(group // '/time')
+            call put_nothing(group // '/checksum')
         end if
-        call this%file%write_records(group // '/state', 1, state, err)
-        if (allocated(err)) return
-        if (this%layouts(i)%n_internal > 0) &
-            call this%file%write_records(group // '/internal', 1, internal, err)
-        if (allocated(err)) return
-        call this%file%write_records(group // '/step', 1, [step], err)
-        if (allocated(err)) return
-        call this%file%write_records(group // '/records', 1, [this%n_records(i)], err)
-        if (allocated(err)) return
-        call this%file%write_records(group // '/time', 1, [time], err)
+    contains
+        subroutine put_records(path, values)
+            character(len=*), intent(in) :: path
+            real(rk), intent(in) :: values(:)
+            type(error_t), allocatable :: one_err
+            if (allocated(err)) then
+                call put_nothing(path)
+                return
+            end if
+            call this%file%write_records(path, 1, values, one_err)
+            if (allocated(one_err)) call move_alloc(one_err, err)
+        end subroutine put_records
+
+        subroutine put_integers(path, values)
+            character(len=*), intent(in) :: path
+            integer, intent(in) :: values(:)
+            type(error_t), allocatable :: one_err
+            if (allocated(err)) then
+                call put_nothing(path)
+                return
+            end if
+            call this%file%write_records(path, 1, values, one_err)
+            if (allocated(one_err)) call move_alloc(one_err, err)
+        end subroutine put_integers
+
+        subroutine put_nothing(path)
+            character(len=*), intent(in) :: path
+            type(error_t), allocatable :: one_err
+            call this%file%write_no_records(path, one_err)
+            if (allocated(one_err) .and. .not. allocated(err)) call move_alloc(one_err, err)
+        end subroutine put_nothing
     end subroutine writer_write_checkpoint
 
     subroutine writer_flush(this, err)

@@ -7,8 +7,11 @@ module rs_model_rod_history
     implicit none
     private
 
-    !> Stored steps and series of one rod. Capacity is fixed at `init`; `n_stored` counts the
-    !> records written so far.
+    !> Stored steps and series of one rod. `init` fixes the most records it may hold
+    !> (`capacity`, the flush window) but allocates room for a few only: the arrays double when
+    !> full, up to the capacity, so memory grows with what is stored, not with `flush_every`
+    !> (issue 21 item 17: flush_every = 1000000 preallocated gigabytes for a 5-step run).
+    !> `n_stored` counts the records written so far.
     type, public :: rod_history_t
         character(len=:), allocatable :: name
         character(len=:), allocatable :: formulation
@@ -18,6 +21,8 @@ module rs_model_rod_history
         !> Generalized-Maxwell branches (methods/ph_director_3d.md §3.1); 0 for an elastic rod.
         integer :: n_branches = 0
         integer :: n_stored = 0
+        !> The most records the history may hold (the `capacity` of `init`).
+        integer :: capacity = 0
         !> Reference arc length of the nodes and of the stress points.
         real(rk), allocatable :: mesh(:)
         real(rk), allocatable :: stress_mesh(:)
@@ -66,54 +71,63 @@ module rs_model_rod_history
         real(rk), allocatable :: contact_energy(:), penetration(:)
         real(rk), allocatable :: contact_force(:, :), tie_force(:, :, :)
     contains
-        !> Room for the bundle series of `capacity` records.
+        !> The bundle series, with room for as many records as the other arrays.
         procedure :: init_coupling => rod_history_init_coupling
         procedure :: init => rod_history_init
         procedure :: free => rod_history_free
         procedure :: next_record => rod_history_next_record
         !> Forget the stored records (after they went to the file); the capacity stays.
         procedure :: clear => rod_history_clear
+        procedure, private :: grow => rod_history_grow
     end type rod_history_t
+
+    !> Records allocated by `init` (fewer when the capacity is smaller).
+    integer, parameter :: initial_records = 8
 
 contains
 
-    !> Allocate room for `capacity` records of a rod with `n_nodes` nodes, `n_stress_points`
-    !> stress points and `n_branches` (>= 0; default 0) Maxwell branches.
+    !> A history of at most `capacity` records of a rod with `n_nodes` nodes, `n_stress_points`
+    !> stress points and `n_branches` (>= 0; default 0) Maxwell branches; room for a few
+    !> records is allocated now, the rest as records come (`next_record`).
     subroutine rod_history_init(this, name, formulation, n_nodes, n_stress_points, capacity, &
             n_branches)
         class(rod_history_t), intent(inout) :: this
         character(len=*), intent(in) :: name, formulation
         integer, intent(in) :: n_nodes, n_stress_points, capacity
         integer, intent(in), optional :: n_branches
+        integer :: room
         call this%free()
+        this%capacity = max(capacity, 0)
+        room = min(this%capacity, initial_records)
         this%name = name
         this%formulation = formulation
         this%n_nodes = n_nodes
         this%n_stress_points = n_stress_points
         if (present(n_branches)) this%n_branches = n_branches
         allocate(this%mesh(n_nodes), this%stress_mesh(n_stress_points), source=0.0_rk)
-        allocate(this%time(capacity), this%kinetic(capacity), this%strain(capacity), &
-            this%total(capacity), this%external_work(capacity), this%balance_error(capacity), &
-            this%dissipated(capacity), this%actuator_work(capacity), &
-            this%constraint_residual(capacity), this%newton_residual(capacity), &
-            this%dt(capacity), source=0.0_rk)
-        allocate(this%newton_iterations(capacity), source=0)
-        allocate(this%position(3, n_nodes, capacity), this%velocity(3, n_nodes, capacity), &
+        allocate(this%time(room), this%kinetic(room), this%strain(room), &
+            this%total(room), this%external_work(room), this%balance_error(room), &
+            this%dissipated(room), this%actuator_work(room), &
+            this%constraint_residual(room), this%newton_residual(room), &
+            this%dt(room), source=0.0_rk)
+        allocate(this%newton_iterations(room), source=0)
+        allocate(this%position(3, n_nodes, room), this%velocity(3, n_nodes, room), &
             source=0.0_rk)
-        allocate(this%directors(3, 3, n_nodes, capacity), &
-            this%director_velocity(3, 3, n_nodes, capacity), source=0.0_rk)
-        allocate(this%stress(6, n_stress_points, capacity), &
-            this%strains(6, n_stress_points, capacity), source=0.0_rk)
+        allocate(this%directors(3, 3, n_nodes, room), &
+            this%director_velocity(3, 3, n_nodes, room), source=0.0_rk)
+        allocate(this%stress(6, n_stress_points, room), &
+            this%strains(6, n_stress_points, room), source=0.0_rk)
         if (this%n_branches > 0) allocate(this%branch_stress(6, n_stress_points, &
-            this%n_branches, capacity), source=0.0_rk)
-        allocate(this%linear_momentum(3, capacity), this%angular_momentum(3, capacity), &
-            this%center_of_mass(3, capacity), source=0.0_rk)
+            this%n_branches, room), source=0.0_rk)
+        allocate(this%linear_momentum(3, room), this%angular_momentum(3, room), &
+            this%center_of_mass(3, room), source=0.0_rk)
     end subroutine rod_history_init
 
     !> Deallocate everything and reset the counts.
     subroutine rod_history_free(this)
         class(rod_history_t), intent(inout) :: this
         this%n_stored = 0
+        this%capacity = 0
         this%n_nodes = 0
         this%n_stress_points = 0
         this%n_branches = 0
@@ -150,24 +164,111 @@ contains
         if (allocated(this%tie_force)) deallocate(this%tie_force)
     end subroutine rod_history_free
 
+    !> `capacity` is the history's own (kept as an argument for the formulations' calls).
     subroutine rod_history_init_coupling(this, capacity)
         class(rod_history_t), intent(inout) :: this
         integer, intent(in) :: capacity
-        allocate(this%contact_energy(capacity), this%penetration(capacity), source=0.0_rk)
-        allocate(this%contact_force(3, capacity), this%tie_force(3, 2, capacity), source=0.0_rk)
+        integer :: room
+        room = size(this%time)
+        if (capacity < room) room = max(capacity, 0)
+        allocate(this%contact_energy(room), this%penetration(room), source=0.0_rk)
+        allocate(this%contact_force(3, room), this%tie_force(3, 2, room), source=0.0_rk)
     end subroutine rod_history_init_coupling
 
-    !> Index of the next record, or 0 when the capacity is used up.
+    !> Index of the next record (the arrays grown if they are full), or 0 when the capacity
+    !> is used up.
     function rod_history_next_record(this) result(record)
         class(rod_history_t), intent(inout) :: this
         integer :: record
-        if (this%n_stored >= size(this%time)) then
+        if (this%n_stored >= this%capacity) then
             record = 0
-        else
-            this%n_stored = this%n_stored + 1
-            record = this%n_stored
+            return
         end if
+        if (this%n_stored >= size(this%time)) &
+            call this%grow(min(this%capacity, max(2 * size(this%time), initial_records)))
+        this%n_stored = this%n_stored + 1
+        record = this%n_stored
     end function rod_history_next_record
+
+    !> Room for `room` records in every allocated array (the stored records kept); arrays a
+    !> formulation dropped stay unallocated.
+    subroutine rod_history_grow(this, room)
+        class(rod_history_t), intent(inout) :: this
+        integer, intent(in) :: room
+        call grow_1(this%time)
+        call grow_1(this%kinetic)
+        call grow_1(this%strain)
+        call grow_1(this%total)
+        call grow_1(this%external_work)
+        call grow_1(this%balance_error)
+        call grow_1(this%dissipated)
+        call grow_1(this%actuator_work)
+        call grow_1(this%constraint_residual)
+        call grow_1(this%newton_residual)
+        call grow_1(this%dt)
+        call grow_1(this%contact_energy)
+        call grow_1(this%penetration)
+        call grow_integer(this%newton_iterations)
+        call grow_2(this%linear_momentum)
+        call grow_2(this%angular_momentum)
+        call grow_2(this%center_of_mass)
+        call grow_2(this%contact_force)
+        call grow_3(this%position)
+        call grow_3(this%velocity)
+        call grow_3(this%stress)
+        call grow_3(this%strains)
+        call grow_3(this%tie_force)
+        call grow_4(this%directors)
+        call grow_4(this%director_velocity)
+        call grow_4(this%branch_stress)
+    contains
+        ! The last dimension counts records; the first n_stored are copied.
+        subroutine grow_1(values)
+            real(rk), allocatable, intent(inout) :: values(:)
+            real(rk), allocatable :: grown(:)
+            if (.not. allocated(values)) return
+            allocate(grown(room), source=0.0_rk)
+            grown(1:this%n_stored) = values(1:this%n_stored)
+            call move_alloc(grown, values)
+        end subroutine grow_1
+
+        subroutine grow_integer(values)
+            integer, allocatable, intent(inout) :: values(:)
+            integer, allocatable :: grown(:)
+            if (.not. allocated(values)) return
+            allocate(grown(room), source=0)
+            grown(1:this%n_stored) = values(1:this%n_stored)
+            call move_alloc(grown, values)
+        end subroutine grow_integer
+
+        subroutine grow_2(values)
+            real(rk), allocatable, intent(inout) :: values(:, :)
+            real(rk), allocatable :: grown(:, :)
+            if (.not. allocated(values)) return
+            allocate(grown(size(values, 1), room), source=0.0_rk)
+            grown(:, 1:this%n_stored) = values(:, 1:this%n_stored)
+            call move_alloc(grown, values)
+        end subroutine grow_2
+
+        subroutine grow_3(values)
+            real(rk), allocatable, intent(inout) :: values(:, :, :)
+            real(rk), allocatable :: grown(:, :, :)
+            if (.not. allocated(values)) return
+            allocate(grown(size(values, 1), size(values, 2), room), source=0.0_rk)
+            grown(:, :, 1:this%n_stored) = values(:, :, 1:this%n_stored)
+            call move_alloc(grown, values)
+        end subroutine grow_3
+
+        subroutine grow_4(values)
+            real(rk), allocatable, intent(inout) :: values(:, :, :, :)
+            real(rk), allocatable :: grown(:, :, :, :)
+            if (.not. allocated(values)) return
+            allocate(grown(size(values, 1), size(values, 2), size(values, 3), room), &
+                source=0.0_rk)
+            grown(:, :, :, 1:this%n_stored) = values(:, :, :, 1:this%n_stored)
+            call move_alloc(grown, values)
+        end subroutine grow_4
+    end subroutine rod_history_grow
 
     subroutine rod_history_clear(this)
         class(rod_history_t), intent(inout) :: this

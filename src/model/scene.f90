@@ -60,6 +60,10 @@ module rs_model_scene
         real(rk) :: dt = unset_real
         character(len=name_len) :: scheme = 'midpoint'
         logical :: quasistatic = .false.
+        !> Quasistatics: the equilibrium solves at t = 0 and t_end around the midpoint load steps
+        !> (DESIGN.md §3); .false. leaves the midpoint load path alone (seed 001's pseudo-time
+        !> stepping, whose last record depends on dt: methods/ph_planar.md §6.2, Fig. 7 right).
+        logical :: equilibrium_solves = .true.
         !> Statics by damped dynamics (seed 004, methods/se3_strands.md §3.7): the run stops as
         !> soon as the kinetic energy of every system is below kinetic_energy_tol (t_end is then
         !> the latest time).
@@ -163,6 +167,11 @@ module rs_model_scene
         real(rk) :: external_damping = 0.0_rk
         real(rk) :: internal_damping = 0.0_rk
         real(rk) :: kelvin_voigt_time = 0.0_rk
+        !> se3_strand only: the free end's half cell (docs/theory/se3_strand.md, "The free
+        !> end"): 'balanced' (its segment's ad^T term in full: no spurious end moment) or
+        !> 'paper' (seed 004's average with the ghost segment, for its h^2 tip table);
+        !> resolved to 'balanced' for se3_strand rods.
+        character(len=name_len) :: free_end = ''
         !> Radius of the rod's surface in rod-rod contact (&contact); default: the circle
         !> section's radius.
         real(rk) :: contact_radius = unset_real

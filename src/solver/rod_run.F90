@@ -18,6 +18,7 @@ module rs_solver_rod_run
     use rs_model_rod_history, only: rod_history_t
     use rs_formulations_formulation, only: rod_formulation_t, state_valid
     use rs_formulations_factory, only: create_formulation
+    use rs_formulations_energy_sentinel, only: energy_sentinel_t
     use rs_solver_rod_stepper, only: rod_stepper_t
     use rs_model_scene, only: solver_input_t
     use rs_parallel_mpi_env, only: world_rank, world_size
@@ -38,6 +39,9 @@ module rs_solver_rod_run
         real(rk) :: t_reached = 0.0_rk
         !> Wall time spent in the residual and Jacobian callbacks (assembly).
         real(rk) :: assembly_seconds = 0.0_rk
+        !> Checks the energy each accepted (sub)step booked (issue 21 item 12): a scheme that
+        !> creates energy beyond its allowance stops the rod after the step.
+        type(energy_sentinel_t) :: sentinel
     end type callback_context_t
 
     !> One system through time (DESIGN.md §3, §5): its formulation, its own sequential stepper
@@ -144,13 +148,115 @@ contains
         call this%formulation%init_history(this%histories, capacity)
         allocate(this%x(this%formulation%n_state()))
         call this%formulation%initial_state(this%x)
-        if (.not. restarting) call this%formulation%record(this%histories, 0.0_rk, this%x)
-        call this%note_record()
 
         allocate(this%context)
         this%context%formulation => this%formulation
         call build_stepper(this, err)
+        RS_RETURN_IF_ERROR(err)
+        if (.not. restarting .and. this%formulation%continues_equilibrium() .and. &
+                scene%time%equilibrium_solves) then
+            ! Quasistatics (DESIGN.md §3): the midpoint load steps need a start in equilibrium
+            ! with the loads at t = 0 (an unramped load, gravity on a shape that does not hang
+            ! that way); otherwise every step reflects the unbalance and the states alternate.
+            call continue_equilibrium(this, 0.0_rk, 'initial equilibrium at t = 0')
+            if (allocated(this%err)) this%failed = .true.
+        end if
+        if (.not. restarting) call this%formulation%record(this%histories, 0.0_rk, this%x)
+        call this%note_record()
     end subroutine runner_start
+
+    !> The equilibrium at load time t_load of a quasistatic run (DESIGN.md §3, "Quasistatics"),
+    !> continued from the current state x: the formulation solves R(Y; t_load) = (1 - tau)
+    !> R(x; t_load) for a pseudo-time tau from 0 to 1 (a Newton homotopy, so that the solution
+    !> is the one connected to x), its rows scaled as a step of unit length: forces, so that
+    !> newton_atol means the same whatever dt (with dt = 0.01 as the scale, the backtracking
+    !> line search, whose merit function then hardly sees the equilibrium rows, took ten times
+    !> the iterations on the unramped cantilever of tests/regression/ph_director/
+    !> statics_increments.py). An increment of tau whose Newton fails is halved (by the stepper,
+    !> then here); an increment that turns a cross-section by more than max_increment_rotation
+    !> is rejected and halved too, because Newton may converge far from its start on another
+    !> branch (a folded rod) without failing. Accepted increments are doubled again. On failure
+    !> this%err says where; x is the last accepted increment.
+    subroutine continue_equilibrium(this, t_load, label)
+        type(rod_runner_t), intent(inout) :: this
+        real(rk), intent(in) :: t_load
+        character(len=*), intent(in) :: label
+        !> A quarter radian: the unramped cantilever of tests/regression/ph_director/
+        !> statics_increments.py is then followed in 9 increments (115 Newton iterations, failed
+        !> attempts included), while the folded state one Newton solve reached from the straight
+        !> rod is 1.2 rad from the elastica's at its farthest node.
+        real(rk), parameter :: max_increment_rotation = 0.25_rk
+        !> The smallest increment of tau this routine tries (the stepper halves it 6 more
+        !> times by default): below it the continuation is at a limit point, where no branch
+        !> goes on (the cantilever under three times the loads of seed 000 §6.3 reaches one
+        !> at tau = 0.694 of its endpoint solve, and halving on spent 12 s approaching it).
+        real(rk), parameter :: smallest_increment = 2.0_rk**(-10)
+        real(rk), allocatable :: trial(:)
+        character(len=:), allocatable :: message
+        real(rk) :: tau, dtau, rest, fnorm, rotation, t_reached, started
+        integer :: substeps, cutbacks, iterations, total, increments
+        t_reached = this%context%t_reached
+        started = wall_time()
+        call this%formulation%set_endpoint_solve(.true., t_load)
+        call this%formulation%set_continuation_start(this%x, 1.0_rk)
+        tau = 0.0_rk
+        dtau = 1.0_rk
+        total = 0
+        increments = 0
+        do
+            rest = 1.0_rk - tau
+            dtau = min(dtau, rest)
+            trial = this%x
+            call this%stepper%advance(tau, dtau, trial, substeps, cutbacks, iterations, fnorm, &
+                this%err)
+            total = total + iterations
+            this%total_cutbacks = this%total_cutbacks + cutbacks
+            if (allocated(this%err)) then
+                ! The stepper halved the increment max_cutbacks times: halve it once more and
+                ! start again from the last accepted increment.
+                if (0.5_rk * dtau < smallest_increment) then
+                    this%err%message = 'continuation in the pseudo-time t from 0 to 1 ' // &
+                        '(the share of the unbalance removed): ' // this%err%message // &
+                        ' Increments of t below ' // str_significant(smallest_increment, 3) // &
+                        ' failed too: a limit point, where no equilibrium branch goes on?'
+                    exit
+                end if
+                deallocate(this%err)
+                dtau = 0.5_rk * dtau
+                cycle
+            end if
+            rotation = this%formulation%largest_rotation(this%x, trial)
+            if (rotation > max_increment_rotation) then
+                this%total_cutbacks = this%total_cutbacks + 1
+                if (0.5_rk * dtau < smallest_increment) then
+                    message = 'an increment of ' // str_significant(dtau, 3) // ' of the ' // &
+                        'load unbalance at tau = ' // str_significant(tau, 6) // ' still ' // &
+                        'turns a cross-section by ' // str_significant(rotation, 3) // &
+                        ' rad (at most ' // str_significant(max_increment_rotation, 3) // &
+                        '): no equilibrium branch to follow (a limit point?)'
+                    RS_SET_ERROR(this%err, 'rod_runner%continue_equilibrium', message)
+                    exit
+                end if
+                dtau = 0.5_rk * dtau
+                cycle
+            end if
+            this%x = trial
+            increments = increments + 1
+            if (dtau == rest) exit
+            tau = tau + dtau
+            dtau = 2.0_rk * dtau
+        end do
+        call this%formulation%set_endpoint_solve(.false., t_load)
+        this%context%t_reached = t_reached
+        this%total_iterations = this%total_iterations + total
+        this%solve_seconds = this%solve_seconds + (wall_time() - started)
+        if (allocated(this%err)) then
+            this%err%message = label // ': ' // this%err%message
+            return
+        end if
+        if (increments > 1 .or. total > 0) call log_info('  ' // this%name() // ': ' // label // &
+            ' in ' // str(increments) // ' increment(s), ' // str(total) // ' Newton iterations')
+    end subroutine continue_equilibrium
 
     !> A shared system's rods to ranks: METIS on the formulation's coupling graph (DESIGN.md
     !> §5; every rank computes the same partition), logged.
@@ -250,6 +356,7 @@ contains
         integer, intent(in) :: n
         real(rk) :: t_n, h, fnorm, started, kinetic
         integer :: n_steps, substeps, cutbacks, iterations
+        logical :: last_step
         substeps = 0
         cutbacks = 0
         iterations = 0
@@ -266,15 +373,29 @@ contains
         this%solve_seconds = this%solve_seconds + (wall_time() - started)
         this%total_iterations = this%total_iterations + iterations
         this%total_cutbacks = this%total_cutbacks + cutbacks
+        if (.not. allocated(this%err) .and. this%context%sentinel%tripped) then
+            ! The state that shows the energy created is recorded, with its balance error.
+            RS_SET_ERROR(this%err, 'rod_runner%advance', this%context%sentinel%message())
+        end if
         if (allocated(this%err)) then
             ! The stepper left x at the last good state (after any accepted substeps of this
             ! step); record it so it is written.
             call this%stop_here()
             return
         end if
-        if (n == n_steps .and. this%formulation%wants_endpoint_solve()) then
+        ! &time equilibrium_solves = .false.: the midpoint load path alone (seed 001).
+        last_step = n == n_steps .and. scene%time%equilibrium_solves
+        if (last_step .and. this%formulation%continues_equilibrium()) then
             ! Quasistatics (DESIGN.md §3): the midpoint steps are equilibria at the mid loads;
-            ! the last record is the equilibrium at the final load itself.
+            ! the last record is the equilibrium at the final load itself, continued from the
+            ! last step's state.
+            call continue_equilibrium(this, scene%time%t_end, 'endpoint equilibrium at t = ' // &
+                str(scene%time%t_end))
+            if (allocated(this%err)) then
+                call this%stop_here()
+                return
+            end if
+        else if (last_step .and. this%formulation%wants_endpoint_solve()) then
             call this%formulation%set_endpoint_solve(.true., scene%time%t_end)
             started = wall_time()
             call prepare(this, t_n, h)
@@ -488,8 +609,11 @@ contains
         call c_f_pointer(ctx, context)
         call c_f_pointer(x_n, x_n_, [context%n_state])
         call c_f_pointer(x_1, x_1_, [context%n_state])
+        context%formulation%step_energy%reported = .false.
         call context%formulation%accept_step(t_n, h, x_n_, x_1_, int(newton_iterations), fnorm)
         context%t_reached = t_n + h
+        call context%sentinel%check(context%formulation%energy_scheme(), &
+            context%formulation%step_energy, t_n + h)
         status = state_valid
     end function poststep_callback
 

@@ -215,7 +215,17 @@ static PetscErrorCode TSStep_Rodmid(TS ts)
         else PetscCall(VecCopy(rm->X0, rm->Y));
         PetscCall(SNESSolve(ts->snes, NULL, rm->Y));
         PetscCall(SNESGetConvergedReason(ts->snes, &reason));
-        if (reason > 0) break;
+        if (reason > 0) {
+            /* A solve without a Newton test (ksponly: se3_strand's one linear solve per step)
+               "converges" to whatever the solve gives; a NaN or Inf there is a failed step,
+               cut like any other, so no non-finite state is ever accepted and recorded
+               (issue 21 item 20: NaN/Inf in the files of runs that failed at the first step). */
+            PetscReal ynorm;
+            PetscCall(VecNorm(rm->Y, NORM_INFINITY, &ynorm));
+            if (!PetscIsInfOrNanReal(ynorm)) break;
+            reason = SNES_DIVERGED_FNORM_NAN;
+            PetscCall(SNESSetConvergedReason(ts->snes, reason));
+        }
         if (reason == SNES_DIVERGED_LINE_SEARCH) {
             /* No descent left: if the iterate (a failed line search keeps it) is at the
                rounding floor, that is Newton run to stagnation, not a failure. */

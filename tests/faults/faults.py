@@ -32,9 +32,32 @@ failed on the code before the fix.
     faults.py not_relaxed     a relaxation run (statics by damped dynamics) that has not relaxed
                               by t_end ends with status 'not relaxed' and exit status 3, not
                               'completed' and 0; one that relaxes still completes (item 14)
+    faults.py disk_full       a full disk (a small tmpfs, or a file-size limit where mounting is
+                              not allowed) stops a run on 1 and on 2 ranks within the time
+                              limit (2 ranks spun forever), exit status 1, with a message that
+                              names the path and the system's reason; the file opens, has
+                              status 'failed', and every record it lists equals the same
+                              record of a run on a disk with room (they held zeros), with the
+                              checkpoint at its last record; an XDMF sidecar rank 0 cannot
+                              write stops both ranks the same way (item 3)
+    faults.py corrupted_checkpoint
+                              a byte changed on disk in a checkpoint's state (1 and 2 ranks)
+                              makes restart_from stop with a message that says the checkpoint
+                              is corrupted; the intact file restarts; on 1 rank a changed byte in
+                              a record's chunk is found by any reader (Fletcher-32) (item 21)
+    faults.py flush_every_memory
+                              a 5-step run with flush_every = 1000000 stays under 200 MB peak
+                              memory (it preallocated 3.2 GB) (item 17)
+    faults.py nan_at_start    a run of each formulation (ph_director, ph_planar, cl_em_planar,
+                              se3_pg, se3_strand) whose end load (1e300) breaks its first step
+                              fails with status 'failed' and a file without NaN or Inf: the
+                              failed rod records its last good state, t = 0 (se3_strand
+                              accepted a non-finite step and recorded it) (item 20)
 """
 import os
 import re
+import resource
+import shutil
 import signal
 import subprocess
 import sys
@@ -42,6 +65,7 @@ import threading
 import time
 
 import h5py
+import numpy as np
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "regression"))
 import run_scene as rs  # noqa: E402
@@ -436,17 +460,290 @@ def not_relaxed(args, checks):
                          0 if "did not relax by t_end" in log else 1, 0)
 
 
+STRAND_DT = 5.925872307404123e-4
+
+
+def two_rods(text):
+    """The scene with a second rod 'other', a copy of 'tube' (one rod per rank on 2 ranks)."""
+    def group(name):
+        start = re.search(r"^&" + name + r"\b", text, flags=re.M).start()
+        return text[start:text.index("\n/", start) + 2]
+    return (text + "\n" + group("rod").replace("name = 'tube'", "name = 'other'") + "\n"
+            + group("bc").replace("rod = 'tube'", "rod = 'other'"))
+
+
+def small_file_system(directory, megabytes):
+    """Mount a tmpfs of `megabytes` MB at `directory`; whether it worked (root only)."""
+    os.makedirs(directory, exist_ok=True)
+    subprocess.run(["umount", directory], capture_output=True)
+    mounted = subprocess.run(["mount", "-t", "tmpfs", "-o", f"size={megabytes}m", "tmpfs",
+                              directory], capture_output=True)
+    return mounted.returncode == 0
+
+
+def disk_full(args, checks):
+    """A strand at stride 1 with a flush every 100 steps (600 KB of records per rod and flush)
+    on a 2 MB file system: the disk is full after a few flushes."""
+    text = rs.read_example(args.source, "strand_vibration.nml")
+    text = rs.set_variable(text, "time", "t_end", repr(3000 * STRAND_DT))
+    text = rs.set_variable(text, "output", "stride", "1")
+    text = rs.set_variable(text, "output", "flush_every", "100")
+    text = rs.set_variable(text, "output", "xdmf", ".false.")
+    small = os.path.join(args.workdir, "small")
+    mounted = small_file_system(small, 2)
+    limit = None
+    env = dict(os.environ)
+    if not mounted:
+        # No mount allowed: a file-size limit of 2 MB instead (EFBIG rather than ENOSPC). MPI's
+        # shared-memory files must not meet it: PMIx keeps its store in memory, and the ranks
+        # talk over TCP.
+        os.makedirs(small, exist_ok=True)
+        limit = 2 * 1024 * 1024
+        env.update({"PMIX_MCA_gds": "hash", "OMPI_MCA_btl": "self,tcp"})
+    print(f"full disk: {'a 2 MB tmpfs' if mounted else 'a 2 MB file-size limit'}")
+
+    def limited():
+        if limit is not None:
+            signal.signal(signal.SIGXFSZ, signal.SIG_IGN)
+            resource.setrlimit(resource.RLIMIT_FSIZE, (limit, limit))
+
+    try:
+        for ranks, scene_text in ((1, text), (2, two_rods(text))):
+            name = f"full_{ranks}"
+            output = os.path.join(small, name + ".h5")
+            for stale in os.listdir(small):
+                os.remove(os.path.join(small, stale))
+            scene = write_scene(args, name, scene_text, output)
+            command = [args.mpiexec, "--oversubscribe", "-np", str(ranks), args.rodsolve, scene]
+            started = time.monotonic()
+            process = subprocess.Popen(command, stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
+                                       text=True, preexec_fn=limited, env=env,
+                                       start_new_session=True)
+            try:
+                log, _ = process.communicate(timeout=60)
+                hung = False
+            except subprocess.TimeoutExpired:
+                os.killpg(process.pid, signal.SIGKILL)
+                log, _ = process.communicate()
+                hung = True
+            print(log[-1500:])
+            what = f"{ranks} rank(s)"
+            checks.check(f"{what}: ended within 60 s (did not hang)", 1 if hung else 0, 0)
+            checks.check(f"{what}: exit status - 1", abs(process.returncode - 1), 0)
+            reason = "No space left on device" if mounted else "File too large"
+            checks.check(f"{what}: the message names the path and '{reason}'",
+                         0 if output in log and reason in log else 1, 0)
+            checks.check(f"{what}: the message says the status is 'failed'",
+                         0 if "with status 'failed'" in log else 1, 0)
+            print(f"{what}: {time.monotonic() - started:.1f} s")
+            # The same scene on the work directory's disk, stopped at the same step: its
+            # records are the reference for every record the full disk's file lists.
+            with h5py.File(output, "r") as f:
+                status = f.attrs.get("status", "")
+                rods = list(f["rods"])
+                records = {r: f[f"rods/{r}/time"].shape[0] for r in rods}
+                step = {r: int(f[f"checkpoint/{r}/step"][0]) for r in rods}
+                listed = {r: int(f[f"checkpoint/{r}/records"][0]) for r in rods}
+            checks.check(f"{what}: the file's status is 'failed'", 0 if status == "failed" else 1,
+                         0)
+            n = min(records.values())
+            checks.check(f"{what}: records were written before the disk was full (> 1)",
+                         0 if n > 1 else 1, 0)
+            for r in rods:
+                checks.check(f"{what}, rod {r}: checkpoint records - records in the file",
+                             abs(listed[r] - records[r]), 0)
+                checks.check(f"{what}, rod {r}: records - (checkpoint step + 1) at stride 1",
+                             abs(records[r] - (step[r] + 1)), 0)
+            # A few steps more: the last step of a run may be cut to its t_end.
+            roomy = rs.set_variable(scene_text, "time", "t_end", repr((n + 5) * STRAND_DT))
+            reference = write_scene(args, name + "_reference", roomy,
+                                    os.path.join(args.workdir, name + "_reference.h5"))
+            status_code, _ = run(args, reference)
+            checks.check(f"{what}: the reference run on a disk with room: exit status",
+                         status_code, 0)
+            with h5py.File(output, "r") as f, \
+                    h5py.File(os.path.join(args.workdir, name + "_reference.h5"), "r") as g:
+                for r in rods:
+                    for field in ("time", "position", "directors", "velocity", "stress",
+                                  "series/energy/total", "series/momentum/angular"):
+                        got = f[f"rods/{r}/{field}"][()]
+                        want = g[f"rods/{r}/{field}"][()][:got.shape[0]]
+                        same = got.shape == want.shape and np.array_equal(got, want)
+                        checks.check(f"{what}, rod {r}: {field}: its {got.shape[0]} records "
+                                     "equal the reference's", 0 if same else 1, 0)
+        # A sidecar rank 0 cannot write (a directory where its temporary file goes) stops
+        # both ranks the same way: the failure of one rank is every rank's.
+        output = os.path.join(args.workdir, "sidecar.h5")
+        for stale in (output, output + ".lock"):
+            if os.path.exists(stale):
+                os.remove(stale)
+        os.makedirs(os.path.join(args.workdir, "sidecar.xdmf.tmp"), exist_ok=True)
+        scene = write_scene(args, "sidecar", rs.set_variable(two_rods(text), "output", "xdmf",
+                                                             ".true."), output)
+        try:
+            result = subprocess.run([args.mpiexec, "--oversubscribe", "-np", "2",
+                                     args.rodsolve, scene], capture_output=True, text=True,
+                                    timeout=60)
+            code, log = result.returncode, result.stdout + result.stderr
+        except subprocess.TimeoutExpired:
+            code, log = -1, "(timed out)"
+        print(log[-800:])
+        checks.check("sidecar not writable, 2 ranks: exit status - 1", abs(code - 1), 0)
+        checks.check("... the message names the sidecar",
+                     0 if "cannot write the XDMF sidecar" in log else 1, 0)
+        with h5py.File(output, "r") as f:
+            checks.check("... the file's status is 'failed'",
+                         0 if f.attrs.get("status", "") == "failed" else 1, 0)
+    finally:
+        if mounted:
+            # Lazily: a rank that was killed may hold the file open for a moment.
+            subprocess.run(["umount", "-l", small], capture_output=True)
+
+
+def corrupt(path, dataset, offset_in_data=8):
+    """Change one byte of `dataset` in the file: at `offset_in_data` bytes into a contiguous
+    dataset, or into the first chunk of a chunked one."""
+    with h5py.File(path, "r") as f:
+        ds = f[dataset]
+        if ds.chunks is None:
+            at = ds.id.get_offset()
+        else:
+            at = ds.id.get_chunk_info(0).byte_offset
+    with open(path, "r+b") as f:
+        f.seek(at + offset_in_data)
+        byte = f.read(1)
+        f.seek(at + offset_in_data)
+        f.write(bytes([byte[0] ^ 0x10]))
+
+
+def corrupted_checkpoint(args, checks):
+    text = rs.read_example(args.source, "strand_vibration.nml")
+    text = rs.set_variable(text, "output", "stride", "10")
+    text = rs.set_variable(text, "output", "flush_every", "50")
+    text = rs.set_variable(text, "output", "xdmf", ".false.")
+    first = rs.set_variable(text, "time", "t_end", repr(100 * STRAND_DT))
+    later = rs.set_variable(text, "time", "t_end", repr(200 * STRAND_DT))
+    for ranks, scene_text in ((1, first), (2, two_rods(first))):
+        what = f"{ranks} rank(s)"
+        written = os.path.join(args.workdir, f"checked_{ranks}.h5")
+        scene = write_scene(args, f"checked_{ranks}", scene_text, written)
+        status, _ = subprocess.run([args.mpiexec, "--oversubscribe", "-np", str(ranks),
+                                    args.rodsolve, scene], capture_output=True).returncode, None
+        checks.check(f"{what}: the first run: exit status", status, 0)
+        intact = os.path.join(args.workdir, f"intact_{ranks}.h5")
+        damaged = os.path.join(args.workdir, f"damaged_{ranks}.h5")
+        shutil.copy(written, intact)
+        shutil.copy(written, damaged)
+        corrupt(damaged, "checkpoint/tube/state", 8 * 40 + 3)
+        continued = later if ranks == 1 else two_rods(later)
+        for source, fails in ((intact, False), (damaged, True)):
+            kind = "damaged" if fails else "intact"
+            restart = rs.set_variable(continued, "run", "restart_from", f"'{source}'")
+            output = os.path.join(args.workdir, f"continued_{kind}_{ranks}.h5")
+            scene = write_scene(args, f"continued_{kind}_{ranks}", restart, output)
+            result = subprocess.run([args.mpiexec, "--oversubscribe", "-np", str(ranks),
+                                     args.rodsolve, scene], capture_output=True, text=True)
+            log = result.stdout + result.stderr
+            print(log[-800:])
+            if fails:
+                checks.check(f"{what}: restart from a damaged checkpoint: exit status - 1",
+                             abs(result.returncode - 1), 0)
+                checks.check(f"{what}: ... the message says the checkpoint of 'tube' is "
+                             "corrupted", 0 if "checkpoint of rod \"tube\"" in log and
+                             "is corrupted" in log else 1, 0)
+            else:
+                checks.check(f"{what}: restart from the intact copy: exit status",
+                             result.returncode, 0)
+    # On one rank every growing dataset carries HDF5's Fletcher-32 checksum: a reader finds a
+    # changed byte in a record.
+    damaged = os.path.join(args.workdir, "damaged_records.h5")
+    shutil.copy(os.path.join(args.workdir, "checked_1.h5"), damaged)
+    corrupt(damaged, "rods/tube/position", 100)
+    with h5py.File(damaged, "r") as f:
+        checks.check("1 rank: position has the Fletcher-32 filter",
+                     0 if "fletcher32" in f["rods/tube/position"]._filters else 1, 0)
+        try:
+            f["rods/tube/position"][()]
+            detected = False
+        except OSError as error:
+            print(f"h5py: {error}")
+            detected = "Fletcher32" in str(error) or "checksum" in str(error)
+    checks.check("1 rank: a changed byte in a record's chunk is found on reading",
+                 0 if detected else 1, 0)
+
+
+def flush_every_memory(args, checks):
+    text = rs.read_example(args.source, "planar_flying_spaghetti.nml")
+    text = rs.set_variable(text, "time", "t_end", "0.5")
+    text = rs.set_variable(text, "output", "flush_every", "1000000")
+    output = os.path.join(args.workdir, "memory.h5")
+    scene = write_scene(args, "memory", text, output)
+    # rodsolve itself (one rank, no mpiexec), so that the children's peak is its own.
+    result = subprocess.run([args.rodsolve, scene], capture_output=True, text=True)
+    peak = resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss / 1024.0
+    print(result.stderr[-600:])
+    print(f"peak resident memory of the 5-step run with flush_every = 1000000: {peak:.0f} MB")
+    checks.check("exit status", result.returncode, 0)
+    # 52 MB measured (PETSc, MPI and the libraries); the 1000004 preallocated records of 11
+    # nodes took 3.2 GB.
+    checks.check("peak resident memory below 200 MB", 0 if peak < 200.0 else 1, 0)
+    with h5py.File(output, "r") as f:
+        checks.check("records - 6 (t = 0 and 5 steps)",
+                     abs(f["rods/spaghetti/time"].shape[0] - 6), 0)
+
+
+def nan_at_start(args, checks):
+    cases = (("ph_director", "flying_spaghetti.nml", "spaghetti", None),
+             ("ph_planar", "planar_flying_spaghetti.nml", "spaghetti", None),
+             ("cl_em_planar", "planar_flying_spaghetti.nml", "spaghetti", "cl_em_planar"),
+             ("se3_pg", "se3_cantilever.nml", "cantilever", None),
+             ("se3_strand", "strand_vibration.nml", "tube", None))
+    for name, example, rod, formulation in cases:
+        text = rs.read_example(args.source, example)
+        if formulation:
+            text = text.replace("formulation = 'ph_planar'", f"formulation = '{formulation}'")
+        # An end load no step survives: 1e300 overflows the work and the state.
+        planar = "planar" in example
+        force = "1e300, 1e300, 0.0" if planar else "1e300, 1e300, 1e300"
+        moment = "0.0, 0.0, 1e300" if planar else "1e300, 0.0, 1e300"
+        text += (f"\n&load\n    rod = '{rod}', where = 'end'\n    force = {force}\n"
+                 f"    moment = {moment}\n/\n")
+        output = os.path.join(args.workdir, f"nan_{name}.h5")
+        scene = write_scene(args, f"nan_{name}", text, output)
+        status, log = run(args, scene)
+        checks.check(f"{name}: exit status - 1", abs(status - 1), 0)
+        non_finite = []
+        with h5py.File(output, "r") as f:
+            def visit(path, item):
+                if isinstance(item, h5py.Dataset) and item.dtype.kind == "f":
+                    count = int((~np.isfinite(item[()])).sum())
+                    if count:
+                        non_finite.append(f"{path} ({count})")
+            f.visititems(visit)
+            state = f.attrs.get("status", "")
+            times = f[f"rods/{rod}/time"][()]
+        print(f"{name}: non-finite values in {non_finite or 'no dataset'}; records at {times}")
+        checks.check(f"{name}: the file's status is 'failed'", 0 if state == "failed" else 1, 0)
+        checks.check(f"{name}: values that are NaN or Inf, in datasets", len(non_finite), 0)
+        checks.check(f"{name}: the rod's records - 1 (its last good state, t = 0)",
+                     abs(len(times) - 1), 0)
+
+
 def main():
     parser = rs.common_arguments(__doc__)
     parser.add_argument("case", choices=["two_runs", "merge_running", "overwrite", "killed_sweep",
                                          "merge_edited", "sigterm", "scene_from_pipe",
-                                         "not_relaxed"])
+                                         "not_relaxed", "disk_full", "corrupted_checkpoint",
+                                         "flush_every_memory", "nan_at_start"])
     args = parser.parse_args()
     checks = rs.Checks()
     {"two_runs": two_runs, "merge_running": merge_running, "overwrite": overwrite,
      "killed_sweep": killed_sweep, "merge_edited": merge_edited, "sigterm": sigterm,
      "scene_from_pipe": scene_from_pipe,
-     "not_relaxed": not_relaxed}[args.case](args, checks)
+     "not_relaxed": not_relaxed, "disk_full": disk_full,
+     "corrupted_checkpoint": corrupted_checkpoint,
+     "flush_every_memory": flush_every_memory,
+     "nan_at_start": nan_at_start}[args.case](args, checks)
     checks.finish()
 
 

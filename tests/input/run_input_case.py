@@ -45,7 +45,8 @@ def main():
     scene = os.path.abspath(args.scene)
     expected = list(args.expect)
     if os.path.exists(scene):
-        with open(scene, encoding="utf-8") as f:
+        # errors="replace": a bad scene may be invalid UTF-8 on purpose (bad/non_utf8.nml).
+        with open(scene, encoding="utf-8", errors="replace") as f:
             for line in f:
                 if line.startswith("! expect:"):
                     expected.append(line[len("! expect:"):].strip())
@@ -57,7 +58,7 @@ def main():
             command.append("--check-input")
         command.append(scene)
         command += args.rodsolve_arg
-        result = subprocess.run(command, cwd=workdir, env=env, capture_output=True, text=True,
+        result = subprocess.run(command, cwd=workdir, env=env, capture_output=True, text=True, errors="replace",
                                 timeout=120)
         output = result.stdout + result.stderr
         left_behind = os.listdir(workdir)
@@ -69,7 +70,7 @@ def main():
             with open(again_path, "w", encoding="utf-8") as f:
                 f.write(resolved)
             again = subprocess.run([args.rodsolve, "--check-input", again_path], cwd=workdir,
-                                   env=env, capture_output=True, text=True, timeout=120)
+                                   env=env, capture_output=True, text=True, errors="replace", timeout=120)
             os.remove(again_path)
             if again.returncode != 0 or resolved_text(again.stdout) != resolved:
                 echo_differs = again.stdout + again.stderr

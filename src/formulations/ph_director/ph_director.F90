@@ -25,6 +25,7 @@ module rs_ph_director
     use rs_model_rod_history, only: rod_history_t
     use rs_assembly_csr_pattern, only: csr_builder_t, csr_pattern_t
     use rs_formulations_formulation, only: rod_formulation_t, state_valid, state_invalid
+    use rs_formulations_energy_sentinel, only: step_energy_t, energy_consistent, energy_unchecked
     use rs_ph_director_element, only: ph_director_basis_t, ph_director_material_t, &
         ph_director_actuation_t, ph_director_max_branches, ph_director_max_tendons, &
         ph_director_basis_init, ph_director_element_residual, ph_director_node_residual, &
@@ -96,6 +97,11 @@ module rs_ph_director
         !> The next step is the endpoint equilibrium at load time t_static (DESIGN.md §3).
         logical :: static = .false.
         real(rk) :: t_static = 0.0_rk
+        !> The endpoint equilibrium is a continuation (set_continuation_start): a step to the
+        !> pseudo-time tau solves R(Y) = (1 - tau) anchor, its rows scaled by row_scale.
+        logical :: continuing = .false.
+        real(rk) :: row_scale = 0.0_rk
+        real(rk), allocatable :: anchor(:)
         logical, allocatable :: clamped(:)
         real(rk), allocatable :: fixed_q(:, :)
         !> Reference strains eps_0 at the Gauss points, eps_ref(6, n_gauss, element).
@@ -152,10 +158,14 @@ module rs_ph_director
         procedure :: describe => ph_director_describe
         procedure :: energy => ph_director_energy
         procedure :: wants_endpoint_solve => ph_director_wants_endpoint_solve
+        procedure :: energy_scheme => ph_director_energy_scheme
         procedure :: n_internal => ph_director_n_internal
         procedure :: save_internal => ph_director_save_internal
         procedure :: restore_internal => ph_director_restore_internal
         procedure :: set_endpoint_solve => ph_director_set_endpoint_solve
+        procedure :: continues_equilibrium => ph_director_continues_equilibrium
+        procedure :: set_continuation_start => ph_director_set_continuation_start
+        procedure :: largest_rotation => ph_director_largest_rotation
         procedure :: unpack
         procedure :: element_nodes
     end type ph_director_t
@@ -808,6 +818,10 @@ contains
         status = state_valid
         if (this%condensed) then
             call condensed_step(this, t_n, h, x_n, y, f=f)
+        else if (this%continuing) then
+            ! The Newton homotopy of the continuation: t_n + h is the pseudo-time tau.
+            call uncondensed_step(this, t_n, this%row_scale, x_n, y, f=f)
+            f = f - max(0.0_rk, 1.0_rk - (t_n + h)) * this%anchor
         else
             call uncondensed_step(this, t_n, h, x_n, y, f=f)
         end if
@@ -822,6 +836,8 @@ contains
         status = state_valid
         if (this%condensed) then
             call condensed_step(this, t_n, h, x_n, y, values=values)
+        else if (this%continuing) then
+            call uncondensed_step(this, t_n, this%row_scale, x_n, y, values=values)
         else
             call uncondensed_step(this, t_n, h, x_n, y, values=values)
         end if
@@ -1024,6 +1040,9 @@ contains
         integer :: i, k
         if (.not. this%condensed) then
             y = x_n
+            ! An equilibrium solve starts from the last state itself: its velocities are those
+            ! of the load steps, not of the continuation's pseudo-time.
+            if (this%static) return
             do k = 1, this%n_nodes
                 do i = 1, 12
                     if (this%node_dof(i, k) > 0 .and. this%node_dof(12 + i, k) > 0) &
@@ -1266,8 +1285,17 @@ contains
         this%dissipated_since_record = this%dissipated_since_record + dissipated
         this%balance_since_record = this%balance_since_record + &
             ((kinetic_1 + strain_1) - (kinetic_n + strain_n) - work - actuator_work + dissipated)
+        this%step_energy = step_energy_t(reported=.true., before=kinetic_n + strain_n, &
+            after=kinetic_1 + strain_1, work=work + actuator_work, dissipated=dissipated)
         this%smallest_step = min(this%smallest_step, h)
     end subroutine ph_director_accept_step
+
+    !> The EM midpoint rule conserves energy up to the Newton tolerance (methods §5);
+    !> quasistatic runs book none.
+    pure integer function ph_director_energy_scheme(this)
+        class(ph_director_t), intent(in) :: this
+        ph_director_energy_scheme = merge(energy_unchecked, energy_consistent, this%quasistatic)
+    end function ph_director_energy_scheme
 
     !> Quasistatic runs end with the endpoint equilibrium (DESIGN.md §3).
     pure logical function ph_director_wants_endpoint_solve(this)
@@ -1283,7 +1311,48 @@ contains
         real(rk), intent(in) :: t_load
         this%static = on
         this%t_static = t_load
+        if (.not. on) this%continuing = .false.
     end subroutine ph_director_set_endpoint_solve
+
+    !> The endpoint equilibrium as a continuation (DESIGN.md §3, "Quasistatics"): the static
+    !> rows (methods §2.8 eqs. 96e-g) have the same unknowns as a step, so the Newton homotopy
+    !> R(Y) - (1 - tau) R(x_from) starts at x_from; quasistatic rods keep their stresses as
+    !> unknowns (ph_director_init), so Y has the layout of X.
+    pure logical function ph_director_continues_equilibrium(this)
+        class(ph_director_t), intent(in) :: this
+        ph_director_continues_equilibrium = this%quasistatic .and. .not. this%condensed
+    end function ph_director_continues_equilibrium
+
+    !> Anchor the continuation at x_from (call set_endpoint_solve first): the static residual
+    !> there, in the scaling of a step of length row_scale.
+    subroutine ph_director_set_continuation_start(this, x_from, row_scale)
+        class(ph_director_t), intent(inout) :: this
+        real(rk), intent(in) :: x_from(:), row_scale
+        if (.not. this%static .or. this%condensed) return
+        this%row_scale = row_scale
+        if (allocated(this%anchor)) deallocate(this%anchor)
+        allocate(this%anchor(this%n_dofs))
+        call uncondensed_step(this, 0.0_rk, row_scale, x_from, x_from, f=this%anchor)
+        this%continuing = .true.
+    end subroutine ph_director_set_continuation_start
+
+    !> The largest rotation of a node's director triad from x_from to x_to: each director
+    !> turns by 2 asin(|d_i,to - d_i,from| / 2) (unit directors, methods §2.1).
+    real(rk) function ph_director_largest_rotation(this, x_from, x_to) result(angle)
+        class(ph_director_t), intent(in) :: this
+        real(rk), intent(in) :: x_from(:), x_to(:)
+        real(rk) :: chord
+        integer :: k, i
+        angle = 0.0_rk
+        do k = 1, this%n_nodes
+            if (this%clamped(k)) cycle
+            do i = 1, 3
+                chord = norm2(x_to(this%node_dof(3 * i + 1:3 * i + 3, k)) - &
+                    x_from(this%node_dof(3 * i + 1:3 * i + 3, k)))
+                angle = max(angle, 2.0_rk * asin(min(1.0_rk, 0.5_rk * chord)))
+            end do
+        end do
+    end function ph_director_largest_rotation
 
     subroutine ph_director_init_history(this, histories, capacity)
         class(ph_director_t), intent(in) :: this

@@ -1,8 +1,10 @@
 !> What the ph_director formulation will do for one rod of a resolved, checked scene (the plan
 !> of `rodsolve --check-input`, DESIGN.md §4): the rod is built as for a run and its unknowns
 !> and the parts that run or are skipped are read off the built object, so the plan cannot
-!> drift from what runs. The bundle lines (joints, end plates, contact: issue 10) are read off
-!> the resolved scene.
+!> drift from what runs. It is built with at most 3 elements and its sizes at its own element
+!> count come from rs_formulations_rod_sizes, so the plan of a 10^6-element rod costs no more
+!> memory than that of a small one (issue 21 item 17). The bundle lines (joints, end plates,
+!> contact: issue 10) are read off the resolved scene.
 module rs_ph_director_plan
     use rs_core_kinds, only: rk
     use rs_core_error, only: error_t
@@ -11,6 +13,7 @@ module rs_ph_director_plan
     use rs_model_rod_geometry, only: rod_geometry_t, rod_geometry_of, helix_axis_point
     use rs_model_units, only: unit_in_system
     use rs_ph_director, only: ph_director_t
+    use rs_formulations_rod_sizes, only: rod_sizes_t, rod_sizes_of, single_rod_scene
     implicit none
     private
 
@@ -26,29 +29,37 @@ contains
         character(len=:), allocatable, intent(out) :: text
         type(error_t), allocatable, intent(out) :: err
         type(ph_director_t), allocatable :: rod
-        type(scene_t) :: uncondensed
+        type(scene_t) :: small
+        type(rod_sizes_t) :: sizes
         character(len=:), allocatable :: units
-        integer :: n_free, n_stress, n_pneumatic, n_tendons, nb, p, j
+        integer :: n_free, n_stress, n_pneumatic, n_tendons, nb, p, j, n_elements, n_nodes
 
         text = ''
         ! Built first without condensation, so that a request the rod cannot honour is reported
-        ! here rather than logged by init; then as the run builds it.
-        uncondensed = scene
-        uncondensed%solver%condense_stresses = .false.
+        ! here rather than logged by init; then as the run builds it. Both small: what does
+        ! not depend on the element count is read off them, the sizes come from rod_sizes_of.
+        small = single_rod_scene(scene, i, min(scene%rods(i)%n_elements, 3))
+        small%solver%condense_stresses = .false.
         allocate(rod)
-        call rod%init(uncondensed, [i], err)
+        call rod%init(small, [1], err)
         if (allocated(err)) return
         if (scene%solver%condense_stresses .and. len(condensation_obstacle()) == 0) then
             ! init does not start by freeing (STYLE.md item 8 is not met yet): a fresh object.
             deallocate(rod)
             allocate(rod)
-            call rod%init(scene, [i], err)
+            small%solver%condense_stresses = .true.
+            call rod%init(small, [1], err)
             if (allocated(err)) return
         end if
+        call rod_sizes_of(small_at_full_count(), 1, sizes, err)
+        if (allocated(err)) return
         units = trim(scene%run%units)
         p = rod%degree
         nb = rod%material%n_branches
-        n_free = count(.not. rod%clamped)
+        n_elements = int(sizes%n_elements)
+        n_nodes = n_elements * p + 1
+        ! Only the end nodes can be clamped (&bc acts at 'start' or 'end').
+        n_free = n_nodes - count(rod%clamped)
         n_stress = 6 * p * (1 + nb)
         associate (input => scene%rods(i))
             call add('geometry: ' // geometry_text(scene, i))
@@ -60,18 +71,20 @@ contains
                 call add('reference: stress-free initial geometry (its strains at the ' // &
                     str(rod%basis%n_gauss) // ' Gauss points of every element are the reference strains)')
             end if
-            call add('mesh: ' // str(rod%n_elements) // ' elements of degree ' // str(p) // ', ' // &
-                str(rod%n_nodes) // ' nodes at equal arc length, ' // str(rod%basis%n_gauss) // &
+            call add('mesh: ' // str(n_elements) // ' elements of degree ' // str(p) // ', ' // &
+                str(n_nodes) // ' nodes at equal arc length, ' // str(rod%basis%n_gauss) // &
                 ' Gauss points per element')
             call add('supports: ' // supports_text(scene, i, rod%clamped(1), rod%clamped(rod%n_nodes)))
             if (rod%condensed) then
-                call add('unknowns: ' // str(rod%n_unknown()) // ' Newton unknowns = ' // str(n_free) // &
-                    ' free nodes x 18 (q 12, multipliers 6); velocities and the ' // &
-                    str(rod%n_elements) // ' x ' // str(n_stress) // ' element stresses are ' // &
-                    'condensed (state: ' // str(rod%n_state()) // ')')
+                call add('unknowns: ' // str(int(sizes%n_unknown)) // ' Newton unknowns = ' // &
+                    str(n_free) // ' free nodes x 18 (q 12, multipliers 6); velocities ' // &
+                    'and the ' // &
+                    str(n_elements) // ' x ' // str(n_stress) // ' element stresses are ' // &
+                    'condensed (state: ' // str(int(sizes%n_state)) // ')')
             else
-                call add('unknowns: ' // str(rod%n_unknown()) // ' Newton unknowns = ' // str(n_free) // &
-                    ' free nodes x 30 (q 12, v 12, multipliers 6) + ' // str(rod%n_elements) // &
+                call add('unknowns: ' // str(int(sizes%n_unknown)) // ' Newton unknowns = ' // &
+                    str(n_free) // ' free nodes x 30 (q 12, v 12, multipliers 6) + ' // &
+                    str(n_elements) // &
                     ' elements x ' // str(n_stress) // ' stresses (6 components x ' // str(p) // &
                     ' coefficients x ' // str(1 + nb) // ' branch(es))')
             end if
@@ -79,10 +92,10 @@ contains
             select case (trim(input%constraint))
             case ('kirchhoff')
                 call add('constraint multipliers: kirchhoff: the shear stresses N1, N2 (' // &
-                    str(2 * p * rod%n_elements) // ' coefficients) are multipliers; GA1, GA2 not used')
+                    str(2 * p * n_elements) // ' coefficients) are multipliers; GA1, GA2 not used')
             case ('inextensible')
                 call add('constraint multipliers: inextensible: N1, N2, N3 (' // &
-                    str(3 * p * rod%n_elements) // ' coefficients) are multipliers; GA1, GA2, EA not used')
+                    str(3 * p * n_elements) // ' coefficients) are multipliers; GA1, GA2, EA not used')
             case default
                 call add('constraint multipliers: none (constraint = ''none'')')
             end select
@@ -127,6 +140,14 @@ contains
             character(len=*), intent(in) :: line
             text = text // '!     ' // line // new_line('a')
         end subroutine add
+
+        !> The small scene with the rod's own element count and the condensation as built.
+        function small_at_full_count() result(full)
+            type(scene_t) :: full
+            full = small
+            full%rods(1)%n_elements = scene%rods(i)%n_elements
+            full%solver%condense_stresses = rod%condensed
+        end function small_at_full_count
 
         function loads_text() result(t)
             character(len=:), allocatable :: t

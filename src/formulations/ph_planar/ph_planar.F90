@@ -35,10 +35,12 @@ module rs_ph_planar
         point_from_plane, vector_from_plane, angle_in_plane, cross
     use rs_assembly_csr_pattern, only: csr_builder_t, csr_pattern_t
     use rs_formulations_formulation, only: rod_formulation_t, state_valid, state_invalid
+    use rs_formulations_energy_sentinel, only: step_energy_t, energy_consistent, energy_unchecked
     use rs_ph_planar_element, only: ph_em_residual, ph_em_jacobian, ph_em_condensed, &
         cl_em_residual, cl_em_jacobian, ph_emi_residual, ph_emi_jacobian, ph_emi_strains, &
         element_mass, mixed_strain_energy, compatible_strain_energy, compatible_strains, &
-        ph_emi_strain_energy
+        ph_emi_strain_energy, ph_em_static, ph_em_static_condensed, ph_em_projected_strains, &
+        cl_em_static
     implicit none
     private
 
@@ -117,6 +119,13 @@ module rs_ph_planar
         logical :: wrap_theta = .false.
         !> The shift 2 pi k that the last `update` subtracted (added back in the loads' work).
         real(rk) :: theta_shift = 0.0_rk
+        !> The next steps solve the equilibrium at load time t_static (a quasistatic run's
+        !> endpoint or initial equilibrium, DESIGN.md §3): as a continuation (set_continuation_
+        !> start), a step to the pseudo-time tau solves R(Y) = (1 - tau) anchor, its strain rows
+        !> scaled as a step of length row_scale.
+        logical :: static = .false., continuing = .false.
+        real(rk) :: t_static = 0.0_rk, row_scale = 0.0_rk
+        real(rk), allocatable :: anchor(:)
     contains
         procedure :: init => planar_init
         procedure :: n_state => planar_n_state
@@ -128,6 +137,7 @@ module rs_ph_planar
         procedure :: step_residual => planar_step_residual
         procedure :: step_jacobian => planar_step_jacobian
         procedure :: accept_step => planar_accept_step
+        procedure :: energy_scheme => planar_energy_scheme
         procedure :: init_history => planar_init_history
         procedure :: record => planar_record
         procedure :: describe => planar_describe
@@ -136,6 +146,11 @@ module rs_ph_planar
         procedure :: restore_internal => planar_restore_internal
         procedure :: native_lu => planar_native_lu
         procedure :: full_newton => planar_full_newton
+        procedure :: wants_endpoint_solve => planar_wants_endpoint_solve
+        procedure :: set_endpoint_solve => planar_set_endpoint_solve
+        procedure :: continues_equilibrium => planar_continues_equilibrium
+        procedure :: set_continuation_start => planar_set_continuation_start
+        procedure :: largest_rotation => planar_largest_rotation
         !> Kinetic and strain energy of one rod in state x.
         procedure :: rod_energy
         procedure, private :: full_q, element_strains, load_vectors
@@ -612,11 +627,29 @@ contains
         integer, intent(in) :: e
         real(rk), intent(in) :: h, x_n(:), q_1(:), y(:)
         real(rk), intent(out) :: hist(:)
-        real(rk) :: q_n6(6), q_16(6), r6(6), k6(6, 6), gamma_n(2, 2), gammas(2, 2)
+        real(rk) :: q_n6(6), q_16(6), r6(6), k6(6, 6), gamma_n(2, 2), gammas(2, 2), gammas3(3, 2)
         integer :: at, p
         q_n6 = x_n(this%element_dofs(:, e))
         q_16 = q_1(this%element_dofs(:, e))
         at = 2 * this%n_q + this%n_history * (e - 1)
+        if (this%static) then
+            ! An equilibrium: the strains of the state itself (ph_em_static, cl_em_static).
+            call compatible_strains(this%element_length(e), this%n_gauss, q_16, &
+                gammas3(:, 1:this%n_gauss))
+            select case (this%scheme)
+            case (scheme_ph_em)
+                if (this%condensed) then
+                    hist = ph_em_projected_strains(this%element_length(e), this%n_gauss, q_16)
+                else
+                    hist = y(this%n_free + 3 * (e - 1) + 1:this%n_free + 3 * e)
+                end if
+            case (scheme_ph_irreducible)
+                do p = 1, this%n_gauss
+                    hist(2 * p - 1:2 * p) = gammas3(1:2, p)
+                end do
+            end select
+            return
+        end if
         select case (this%scheme)
         case (scheme_ph_em)
             if (this%condensed) then
@@ -674,6 +707,11 @@ contains
         real(rk), intent(out) :: f(n_f)
         real(rk) :: r9(9), k6(6, 6), e_1(3), q_n6(6), q_16(6), v_n6(6), gamma_n(2, 2)
         integer :: e, i, at, row, dofs(6)
+        if (this%static) then
+            call static_rows(this, t_n + h, merge(this%row_scale, h, this%continuing), x_n, y, &
+                n_f, f=f)
+            return
+        end if
         f = 0.0_rk
         call this%full_q(x_n(1:this%n_q), y, this%q_1)
         do e = 1, this%n_elements
@@ -721,6 +759,75 @@ contains
 
     !> dF/dY: the element tangents (methods §10: analytic, checked against finite differences in
     !> tests/unit/formulations/test_planar_element) plus (2 / h^2) M in the nodal block.
+    !> The equilibrium rows at load time t_static (the endpoint or initial equilibrium of a
+    !> quasistatic run, DESIGN.md §3): per free nodal unknown the internal force of the state
+    !> minus the load, per element of uncondensed PH-EM its non-rate strain rows scaled as a step
+    !> of length `scale` (ph_em_static; cl-EM and PH-EMi: cl_em_static). In a continuation the
+    !> rows at its start are subtracted with the weight 1 - tau. Either the residual f or the
+    !> Jacobian values (of the same CSR pattern as a step).
+    subroutine static_rows(this, tau, scale, x_n, y, n, f, values)
+        type(ph_planar_t), intent(inout) :: this
+        real(rk), intent(in) :: tau, scale, x_n(:), y(:)
+        integer, intent(in) :: n
+        real(rk), intent(out), optional :: f(n), values(n)
+        real(rk) :: r9(9), k9(9, 9), e_1(3)
+        integer :: e, i, j, row, n_local, dofs(6)
+        if (present(f)) f = 0.0_rk
+        if (present(values)) values = 0.0_rk
+        n_local = size(this%element_map, 1)
+        call this%full_q(x_n(1:this%n_q), y, this%q_1)
+        do e = 1, this%n_elements
+            dofs = this%element_dofs(:, e)
+            row = this%n_free + 3 * (e - 1)
+            associate (rod => this%rods(this%element_rod(e)), le => this%element_length(e))
+                select case (this%scheme)
+                case (scheme_ph_em)
+                    if (this%condensed .and. present(values)) then
+                        call ph_em_static_condensed(le, rod%stiffness, this%n_gauss, &
+                            this%q_1(dofs), r9(1:6), e_1, k9(1:6, 1:6))
+                    else if (this%condensed) then
+                        call ph_em_static_condensed(le, rod%stiffness, this%n_gauss, &
+                            this%q_1(dofs), r9(1:6), e_1)
+                    else if (present(values)) then
+                        call ph_em_static(le, rod%stiffness, this%n_gauss, scale, this%q_1(dofs), &
+                            y(row + 1:row + 3), r9, k9)
+                    else
+                        call ph_em_static(le, rod%stiffness, this%n_gauss, scale, this%q_1(dofs), &
+                            y(row + 1:row + 3), r9)
+                        f(row + 1:row + 3) = r9(7:9)
+                    end if
+                case default
+                    if (present(values)) then
+                        call cl_em_static(le, rod%stiffness, this%n_gauss, this%q_1(dofs), &
+                            r9(1:6), k9(1:6, 1:6))
+                    else
+                        call cl_em_static(le, rod%stiffness, this%n_gauss, this%q_1(dofs), r9(1:6))
+                    end if
+                end select
+            end associate
+            if (present(values)) then
+                do j = 1, n_local
+                    do i = 1, n_local
+                        if (this%element_map(i, j, e) > 0) values(this%element_map(i, j, e)) = &
+                            values(this%element_map(i, j, e)) + k9(i, j)
+                    end do
+                end do
+            else
+                do i = 1, 6
+                    if (this%unknown_of(dofs(i)) > 0) f(this%unknown_of(dofs(i))) = &
+                        f(this%unknown_of(dofs(i))) + r9(i)
+                end do
+            end if
+        end do
+        if (.not. present(f)) return
+        call this%load_vectors(this%t_static)
+        do i = 1, this%n_q
+            if (this%unknown_of(i) > 0) &
+                f(this%unknown_of(i)) = f(this%unknown_of(i)) - this%f_ext(i)
+        end do
+        if (this%continuing) f = f - max(0.0_rk, 1.0_rk - tau) * this%anchor
+    end subroutine static_rows
+
     subroutine planar_step_jacobian(this, t_n, h, x_n, y, values, status)
         class(ph_planar_t), intent(inout) :: this
         real(rk), intent(in) :: t_n, h, x_n(:), y(:)
@@ -741,6 +848,11 @@ contains
         real(rk), intent(out) :: values(n_values)
         real(rk) :: k9(9, 9), k6(6, 6), r6(6), e_1(3), q_n6(6), q_16(6), gamma_n(2, 2)
         integer :: e, i, j, at, row, n_local, dofs(6)
+        if (this%static) then
+            call static_rows(this, 1.0_rk, merge(this%row_scale, h, this%continuing), x_n, y, &
+                n_values, values=values)
+            return
+        end if
         values = 0.0_rk
         n_local = size(this%element_map, 1)
         call this%full_q(x_n(1:this%n_q), y, this%q_1)
@@ -827,7 +939,14 @@ contains
         real(rk), intent(in) :: residual_norm
         real(rk) :: kinetic_n, strain_n, kinetic_1, strain_1, work
         integer :: r
+        if (this%static) then
+            ! An equilibrium solve is not a load step: only its Newton iterations count.
+            this%iterations_since_record = this%iterations_since_record + newton_iterations
+            this%last_residual = residual_norm
+            return
+        end if
         call this%load_vectors(t_n + 0.5_rk * h)
+        this%step_energy = step_energy_t(reported=.true.)
         do r = 1, size(this%rods)
             call this%rod_energy(x_n, r, kinetic_n, strain_n)
             call this%rod_energy(x_1, r, kinetic_1, strain_1)
@@ -837,11 +956,21 @@ contains
             this%work_since_record(r) = this%work_since_record(r) + work
             this%balance_since_record = this%balance_since_record + (kinetic_1 + &
                 strain_1) - (kinetic_n + strain_n) - work
+            this%step_energy%before = this%step_energy%before + kinetic_n + strain_n
+            this%step_energy%after = this%step_energy%after + kinetic_1 + strain_1
+            this%step_energy%work = this%step_energy%work + work
         end do
         this%iterations_since_record = this%iterations_since_record + newton_iterations
         this%smallest_step = min(this%smallest_step, h)
         this%last_residual = residual_norm
     end subroutine planar_accept_step
+
+    !> All three schemes are energy-consistent: H_{n+1} - H_n = W up to the Newton tolerance
+    !> (methods §4.3, Appendix A.5); a quasistatic run has no kinetic energy to check.
+    pure integer function planar_energy_scheme(this)
+        class(ph_planar_t), intent(in) :: this
+        planar_energy_scheme = merge(energy_unchecked, energy_consistent, this%quasistatic)
+    end function planar_energy_scheme
 
     !> Kinetic energy 1/2 v^T M v with the consistent mass and the strain energy of rod r
     !> (methods §4.3 "discrete diagnostics"): of the mixed strains (PH-EM), of the compatible
@@ -1051,6 +1180,55 @@ contains
         this%last_residual = values(n + 3)
         this%iterations_since_record = nint(values(n + 4))
     end subroutine planar_restore_internal
+
+    ! ---- Quasistatics: the equilibrium solves (DESIGN.md §3) -----------------------------------
+
+    !> Quasistatic runs end with the endpoint equilibrium: the midpoint load steps (methods §4.7)
+    !> balance the loads at the mid times with rate-form strains, not at t_{n+1}.
+    pure logical function planar_wants_endpoint_solve(this)
+        class(ph_planar_t), intent(in) :: this
+        planar_wants_endpoint_solve = this%quasistatic
+    end function planar_wants_endpoint_solve
+
+    !> The next steps solve the equilibrium at load time t_load (`on`; static_rows), or are
+    !> load steps again.
+    subroutine planar_set_endpoint_solve(this, on, t_load)
+        class(ph_planar_t), intent(inout) :: this
+        logical, intent(in) :: on
+        real(rk), intent(in) :: t_load
+        this%static = on
+        this%t_static = t_load
+        if (.not. on) this%continuing = .false.
+    end subroutine planar_set_endpoint_solve
+
+    !> Every scheme continues its equilibrium (static_rows has the unknowns of a step).
+    pure logical function planar_continues_equilibrium(this)
+        class(ph_planar_t), intent(in) :: this
+        planar_continues_equilibrium = this%quasistatic
+    end function planar_continues_equilibrium
+
+    !> Anchor the continuation at x_from (after set_endpoint_solve): the equilibrium rows there,
+    !> for the unknowns of x_from itself (the predictor's Y).
+    subroutine planar_set_continuation_start(this, x_from, row_scale)
+        class(ph_planar_t), intent(inout) :: this
+        real(rk), intent(in) :: x_from(:), row_scale
+        real(rk) :: y(this%n_y)
+        if (.not. this%static) return
+        this%row_scale = row_scale
+        call this%predictor(0.0_rk, row_scale, x_from, y)
+        if (allocated(this%anchor)) deallocate(this%anchor)
+        allocate(this%anchor(this%n_y))
+        this%continuing = .false.
+        call static_rows(this, 1.0_rk, row_scale, x_from, y, this%n_y, f=this%anchor)
+        this%continuing = .true.
+    end subroutine planar_set_continuation_start
+
+    !> The largest change of a nodal angle theta from x_from to x_to.
+    real(rk) function planar_largest_rotation(this, x_from, x_to) result(angle)
+        class(ph_planar_t), intent(in) :: this
+        real(rk), intent(in) :: x_from(:), x_to(:)
+        angle = maxval(abs(x_to(this%theta_dofs) - x_from(this%theta_dofs)))
+    end function planar_largest_rotation
 
     !> PETSc's own LU is safe without pivoting when every diagonal entry is non-zero: the mass
     !> (2/h^2) M on the nodal block of a dynamic run, the stiffness of the condensed element

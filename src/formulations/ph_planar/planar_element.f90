@@ -30,6 +30,7 @@ module rs_ph_planar_element
     private
 
     public :: ph_em_residual, ph_em_jacobian, ph_em_condensed
+    public :: ph_em_static, ph_em_static_condensed, ph_em_projected_strains, cl_em_static
     public :: cl_em_residual, cl_em_jacobian
     public :: ph_emi_residual, ph_emi_jacobian, ph_emi_strains
     public :: compatible_strains, element_mass
@@ -115,6 +116,98 @@ contains
         call ph_em_forces(le, stiffness, n_gauss, w, nn, cs, q05, e_n, e_1, r, kf)
         k = kf(1:6, 1:6) + matmul(kf(1:6, 7:9), dinc / le)
     end subroutine ph_em_condensed
+
+    !> PH-EM equilibrium of one state (the endpoint equilibrium of a quasistatic run, DESIGN.md
+    !> §3; methods §4.7): nodal q and element strains e = (Gamma1, Gamma2, kappa) at the same
+    !> time, no increment, i.e. the Hu-Washizu form of methods §2.9 that the rate form (56e-f)
+    !> differentiates:
+    !>   r(1:6): the internal nodal forces of ph_em_residual with q_n = q_1 = q, e_n = e_1 = e
+    !>           (N = D_ts Gamma, M = EI kappa, G2 and V at q);
+    !>   r(7:9): le (e_P0(q) - e) / h, e_P0 the P0 projection of the compatible strains
+    !>           (ph_em_projected_strains): the strain rows in the scaling of a step h.
+    !> k(9, 9) = d r / d(q, e), analytic. The midpoint rows depend on (q_n, q_1) and (e_n, e_1)
+    !> only through their means, so d/dq = 2 d/dq_1 and d/de = 2 d/de_1 of ph_em_forces; and
+    !> d(le e_P0)/dq is the increment matrix of eq. 64 at q (inc = G2^T dr - V^T dphi is the
+    !> linearization of le e_P0, methods §4.3).
+    pure subroutine ph_em_static(le, stiffness, n_gauss, h, q, e, r, k)
+        real(rk), intent(in) :: le, stiffness(3)
+        integer, intent(in) :: n_gauss
+        real(rk), intent(in) :: h, q(6), e(3)
+        real(rk), intent(out) :: r(9)
+        real(rk), intent(out), optional :: k(9, 9)
+        real(rk) :: w(max_gauss_points), nn(2, max_gauss_points), cs(2, max_gauss_points)
+        real(rk) :: inc(3), dinc(3, 6), kf(9, 9)
+        integer :: i
+        call gauss_shapes(n_gauss, w, nn)
+        call gauss_point_angles(n_gauss, nn, q(3), q(6), cs)
+        r(7:9) = le * (ph_em_projected_strains(le, n_gauss, q) - e) / h
+        if (.not. present(k)) then
+            call ph_em_forces(le, stiffness, n_gauss, w, nn, cs, q, e, e, r(1:6))
+            return
+        end if
+        call ph_em_forces(le, stiffness, n_gauss, w, nn, cs, q, e, e, r(1:6), kf)
+        call ph_em_strain_increment(le, n_gauss, w, nn, cs, q, [(0.0_rk, i = 1, 6)], inc, dinc)
+        k = 0.0_rk
+        k(1:6, :) = 2.0_rk * kf(1:6, :)
+        k(7:9, 1:6) = dinc / h
+        do i = 7, 9
+            k(i, i) = -le / h
+        end do
+    end subroutine ph_em_static
+
+    !> ph_em_static with the strains eliminated: e = e_P0(q) (the strain rows), the nodal rows
+    !> r(6) at that e and the condensed tangent k(6, 6) = dr/dq + dr/de de/dq (optional), as
+    !> ph_em_condensed does for a step.
+    pure subroutine ph_em_static_condensed(le, stiffness, n_gauss, q, r, e, k)
+        real(rk), intent(in) :: le, stiffness(3)
+        integer, intent(in) :: n_gauss
+        real(rk), intent(in) :: q(6)
+        real(rk), intent(out) :: r(6), e(3)
+        real(rk), intent(out), optional :: k(6, 6)
+        real(rk) :: r9(9), k9(9, 9)
+        e = ph_em_projected_strains(le, n_gauss, q)
+        if (.not. present(k)) then
+            call ph_em_static(le, stiffness, n_gauss, 1.0_rk, q, e, r9)
+        else
+            call ph_em_static(le, stiffness, n_gauss, 1.0_rk, q, e, r9, k9)
+            ! de/dq = (k9 strain rows in q) / le with h = 1.
+            k = k9(1:6, 1:6) + matmul(k9(1:6, 7:9), k9(7:9, 1:6) / le)
+        end if
+        r = r9(1:6)
+    end subroutine ph_em_static_condensed
+
+    !> The P0 projection onto one element of the compatible strains of nodal q (methods §3.1,
+    !> §4.5) with the element's Gauss rule: sum_g w_g/2 (Lambda(phi_g)^T d_s r - e1), and
+    !> kappa = d_s phi. The strains the rate form (eqs. 63-64) tracks to O(h^2).
+    pure function ph_em_projected_strains(le, n_gauss, q) result(e)
+        real(rk), intent(in) :: le
+        integer, intent(in) :: n_gauss
+        real(rk), intent(in) :: q(6)
+        real(rk) :: e(3)
+        real(rk) :: gammas(3, max_gauss_points), xi(max_gauss_points), w(max_gauss_points)
+        call gauss_rule(n_gauss, xi, w)
+        call compatible_strains(le, n_gauss, q, gammas(:, 1:n_gauss))
+        e = matmul(gammas(:, 1:n_gauss), 0.5_rk * w(1:n_gauss))
+    end function ph_em_projected_strains
+
+    !> cl-EM (and PH-EMi) equilibrium of one state q: cl_em_residual with q_n = q_1 = q, i.e.
+    !> Z1 = Z2 = 1 and N_g = D_ts (Lambda(phi_g)^T d_s r - e1), the internal forces of the
+    !> compatible strains with the scheme's n_gauss rule (methods §5.1). PH-EMi has the same
+    !> equilibrium once its Gauss-point history is the compatible strain (eq. 78 with dq = 0).
+    !> k = dr/dq = 2 dr/dq_1: the midpoint residual is symmetric in (q_n, q_1) (Z1, Z2 are even
+    !> in dphi, N uses the mean of the endpoint strains), so both partial derivatives agree at
+    !> q_n = q_1.
+    pure subroutine cl_em_static(le, stiffness, n_gauss, q, r, k)
+        real(rk), intent(in) :: le, stiffness(3)
+        integer, intent(in) :: n_gauss
+        real(rk), intent(in) :: q(6)
+        real(rk), intent(out) :: r(6)
+        real(rk), intent(out), optional :: k(6, 6)
+        real(rk) :: gamma_n(2, max_gauss_points)
+        gamma_n = 0.0_rk
+        call displacement_forces(.true., le, stiffness, n_gauss, q, q, gamma_n, r, k)
+        if (present(k)) k = 2.0_rk * k
+    end subroutine cl_em_static
 
     !> cl-EM (Stander-Stein) internal nodal forces r(6) of one step (methods §5.1 eqs. 72-75):
     !>   (x, y) rows: sum_g w_g le/2 d_sN_I Z1 Lambda05_g N_g,

@@ -16,6 +16,9 @@
 !> (x_0, then the 3 x 3 matrix A_0 = [d3 d1 d2]), which moves only at a driven end.
 !>
 !> Additions to the paper (docs/theory/se3_strand.md):
+!> - the free end's half cell takes the ad^T term of its one physical segment in full, not the
+!>   paper's average with the ghost segment (an end moment of about h |f| / 2 that created
+!>   energy, issue 21 item 12);
 !> - dead loads (end and distributed, gravity) with their rotation linearized implicitly,
 !>   f_{n+1} = f_n + dt w_{n+1} x f_n (methods §7 item 3: the paper's explicit lag diverges on
 !>   the 600 N bend);
@@ -37,6 +40,7 @@ module rs_se3_strand
     use rs_math_se3, only: log_se3, pose_relative
     use rs_assembly_csr_pattern, only: csr_builder_t, csr_pattern_t
     use rs_formulations_formulation, only: rod_formulation_t, state_valid, state_invalid
+    use rs_formulations_energy_sentinel, only: step_energy_t, energy_dissipative
     use rs_se3_strand_kernels, only: cross_matrix, strand_march, strand_ad_transpose_block, &
         strand_ad_block, strand_ad_times, strand_cross, strand_row_residual, strand_row_to_csr, &
         strand_row_has_nan
@@ -78,6 +82,8 @@ module rs_se3_strand
         !> Relaxed strains per segment, -1..N (ghosts repeat their neighbours).
         real(rk), allocatable :: u_bar(:, :)
         real(rk) :: eta_external = 0.0_rk, eta_internal = 0.0_rk, tau_kv = 0.0_rk
+        !> &rod free_end = 'paper': seed 004's ghost-averaged free end instead of the balanced one.
+        logical :: paper_free_end = .false.
         !> True: P_0 prescribed (clamped or driven); the only start supported (methods §3.4).
         type(strand_drive_t), allocatable :: drives(:)
         type(strand_load_t), allocatable :: loads(:)
@@ -101,9 +107,11 @@ module rs_se3_strand
         real(rk) :: key_t = 0.0_rk, key_h = 0.0_rk
         real(rk), allocatable :: key_x(:)
         ! Workspace (no allocation in the time loop): placement at t_n and t_{n+1}, end-load
-        ! and distributed-load vectors at t_{n+1} in K components.
+        ! and distributed-load vectors at t_{n+1} in K components, the dead ones (load_f,
+        ! load_m: turned with the section, linearized) and the follower ones apart.
         real(rk), allocatable :: pose_a(:, :, :), pose_x(:, :)
         real(rk), allocatable :: load_f(:, :), load_m(:, :)
+        real(rk), allocatable :: load_f_follower(:, :), load_m_follower(:, :)
         real(rk) :: end_f(3) = 0.0_rk, end_m(3) = 0.0_rk
         real(rk) :: end_f_follower(3) = 0.0_rk, end_m_follower(3) = 0.0_rk
         ! Book-keeping since the last record.
@@ -134,6 +142,7 @@ module rs_se3_strand
         procedure :: linear_step => strand_linear_step
         procedure :: banded_unknowns => strand_banded_unknowns
         procedure :: kinetic_energy => strand_kinetic_energy
+        procedure :: energy_scheme => strand_energy_scheme
         procedure, private :: assemble, ensure_assembled, march_poses, drive_twist, end_loads
         procedure, private :: distributed_loads, energies
     end type se3_strand_t
@@ -169,6 +178,7 @@ contains
             this%eta_external = rod%external_damping
             this%eta_internal = rod%internal_damping
             this%tau_kv = rod%kelvin_voigt_time
+            this%paper_free_end = trim(rod%free_end) == 'paper'
             allocate(this%initial(this%n_state()), source=0.0_rk)
             call reference_configuration(this, rod)
             call read_supports(this, scene, err)
@@ -181,7 +191,8 @@ contains
             source=0.0_rk)
         allocate(this%key_x(this%n_state()), source=0.0_rk)
         allocate(this%pose_a(3, 3, 0:n), this%pose_x(3, 0:n), this%load_f(3, 0:n), &
-            this%load_m(3, 0:n), source=0.0_rk)
+            this%load_m(3, 0:n), this%load_f_follower(3, 0:n), this%load_m_follower(3, 0:n), &
+            source=0.0_rk)
     end subroutine strand_init
 
     !> Uniform segments; the relaxed strains are the discrete strains of the initial placement
@@ -610,8 +621,21 @@ contains
             u_prev = this%stiff_inv * s_prev + this%u_bar(:, k - 1)
             u_here = this%stiff_inv * s_here + this%u_bar(:, k)
             diag_c = 1.0_rk / this%dual(k)
-            call strand_ad_transpose_block(u_prev, 0.5_rk, diag_c, c_prev)
-            call strand_ad_transpose_block(u_here, 0.5_rk, -diag_c, c_here)
+            if (k < n .or. this%paper_free_end) then
+                call strand_ad_transpose_block(u_prev, 0.5_rk, diag_c, c_prev)
+                call strand_ad_transpose_block(u_here, 0.5_rk, -diag_c, c_here)
+            else
+                ! The free end's half cell [s_N - h/2, s_N] (eq. 15 in eq. 11, methods §3.4)
+                ! takes the ad^T term of its one physical segment in full: paired with
+                ! V_N, it is what segment N-1's compatibility row returns, so the end adds no
+                ! power but V_N . Sigma_e. The paper's average with the ghost segment instead
+                ! adds (1/2) ad^T_{U_bar} (2 Sigma_e - 2 Sigma_{N-1}): an end moment of about
+                ! h |f| / 2 (sigma_bar x f) that no row balances; it created energy and blew up
+                ! a 1 m rod under 1e6 N (issue 21 item 12, docs/theory/se3_strand.md); it is
+                ! kept as &rod free_end = 'paper' for the paper's h^2 tip table.
+                call strand_ad_transpose_block(u_prev, 1.0_rk, diag_c, c_prev)
+                call strand_ad_transpose_block(u_here, 0.0_rk, -diag_c, c_here)
+            end if
             ! P_k: dP/dt - ad_V^T P + D_ex M^-1 P.
             call strand_ad_transpose_block(v, -1.0_rk, diag_p, this%blocks(:, :, 2, b))
             this%rhs(:, b) = p / h
@@ -637,8 +661,8 @@ contains
             this%rhs(:, b) = this%rhs(:, b) + this%eta_internal * this%stiff_inv * s_here / h
             ! External loads -F_k: paper sign (-torque, force); dead ones turn with the
             ! section, linearized implicitly: f_{n+1} = f - h [f]x w_{n+1}.
-            this%rhs(1:3, b) = this%rhs(1:3, b) - this%load_m(:, k)
-            this%rhs(4:6, b) = this%rhs(4:6, b) + this%load_f(:, k)
+            this%rhs(1:3, b) = this%rhs(1:3, b) - this%load_m(:, k) - this%load_m_follower(:, k)
+            this%rhs(4:6, b) = this%rhs(4:6, b) + this%load_f(:, k) + this%load_f_follower(:, k)
             if (this%needs_pose) then
                 call dead_turn_block(this, k, h, g)
                 this%blocks(4:6, 1:3, 2, b) = this%blocks(4:6, 1:3, 2, b) + g
@@ -735,8 +759,10 @@ contains
         end do
     end subroutine march_poses
 
-    !> Distributed force and torque densities at the nodes at time t in K components (dead:
-    !> with the directors of pose_a; follower: as given). Node 0 is held, but filled alike.
+    !> Distributed force and torque densities at the nodes at time t in K components: dead ones
+    !> with the directors of pose_a (load_f, load_m), follower ones as given (load_f_follower,
+    !> load_m_follower), apart since only the dead ones turn with the section. Node 0 is held,
+    !> but filled alike.
     subroutine distributed_loads(this, t)
         class(se3_strand_t), intent(inout) :: this
         real(rk), intent(in) :: t
@@ -744,6 +770,8 @@ contains
         integer :: i, k
         this%load_f = 0.0_rk
         this%load_m = 0.0_rk
+        this%load_f_follower = 0.0_rk
+        this%load_m_follower = 0.0_rk
         do i = 1, size(this%loads)
             associate (load => this%loads(i))
                 if (load%at_end) cycle
@@ -751,8 +779,8 @@ contains
                 if (f == 0.0_rk) cycle
                 do k = 0, this%n_seg
                     if (load%follower) then
-                        this%load_f(:, k) = this%load_f(:, k) + f * load%force
-                        this%load_m(:, k) = this%load_m(:, k) + f * load%moment
+                        this%load_f_follower(:, k) = this%load_f_follower(:, k) + f * load%force
+                        this%load_m_follower(:, k) = this%load_m_follower(:, k) + f * load%moment
                     else
                         this%load_f(:, k) = this%load_f(:, k) + f * matmul(load%force, this%pose_a(:, :, k))
                         this%load_m(:, k) = this%load_m(:, k) + f * matmul(load%moment, this%pose_a(:, :, k))
@@ -794,8 +822,9 @@ contains
     !> Energy book-keeping of the step (docs/theory/se3_strand.md): the work of the loads with
     !> the velocities at t_{n+1} (the scheme's implicit level) and the loads as the step applied
     !> them, the energy dissipated by the external drag, the paper's internal law (which may be
-    !> negative) and the Kelvin-Voigt stress, and the balance H_{n+1} - H_n - W + D, which
-    !> measures the numerical dissipation of the backward-Euler-like scheme (not round-off).
+    !> negative) and the Kelvin-Voigt stress, and the balance H_{n+1} - H_n - W + D: the
+    !> scheme's own energy error (backward-Euler dissipation and the O(dt) exchange of the
+    !> frozen coefficients, either sign; not round-off), also handed to the energy sentinel.
     subroutine strand_accept_step(this, t_n, h, x_n, x_1, newton_iterations, residual_norm)
         class(se3_strand_t), intent(inout) :: this
         real(rk), intent(in) :: t_n, h, x_n(:), x_1(:)
@@ -818,9 +847,11 @@ contains
         do k = 1, n
             v = this%mass_inv * p_at(x_1, k)
             w = v(1:3)
-            ! F_k as the step applied it (dead loads turned by h w x f).
-            f(1:3) = -(this%load_m(:, k) + h * strand_cross(w, this%load_m(:, k)))
-            f(4:6) = this%load_f(:, k) + h * strand_cross(w, this%load_f(:, k))
+            ! F_k as the step applied it (dead loads turned by h w x f, follower ones as given).
+            f(1:3) = -(this%load_m(:, k) + h * strand_cross(w, this%load_m(:, k)) + &
+                this%load_m_follower(:, k))
+            f(4:6) = this%load_f(:, k) + h * strand_cross(w, this%load_f(:, k)) + &
+                this%load_f_follower(:, k)
             work = work + h * this%weight(k) * dot_product(v, f)
             dissipated = dissipated + h * this%weight(k) * this%eta_external * dot_product(v, v)
             rate = this%stiff_inv * (s_at(x_1, k) - s_at(x_n, k)) / h
@@ -832,9 +863,15 @@ contains
         se(1:3) = -(this%end_m + h * strand_cross(w, this%end_m) + this%end_m_follower)
         se(4:6) = this%end_f + h * strand_cross(w, this%end_f) + this%end_f_follower
         work = work + h * dot_product(v, se)
-        ! The driven start's power: V_0 against the stress the rod takes there.
+        ! The driven start's power: V_0 against the total stress the rod takes there (elastic
+        ! and Kelvin-Voigt, as node 1's row uses it), and the kinetic energy of the half cell at
+        ! s = 0, whose momentum P_0 = M V_0 the drive prescribes (eq. 13: no balance row moves
+        ! it, so the drive supplies its change).
         v = this%mass_inv * p_at(x_1, 0)
-        work = work - h * dot_product(v, s_at(x_1, 0))
+        work = work - h * dot_product(v, s_at(x_1, 0) + this%tau_kv * (s_at(x_1, 0) - &
+            s_at(x_n, 0)) / h)
+        work = work + 0.5_rk * this%weight(0) * (dot_product(p_at(x_1, 0), v) - &
+            dot_product(p_at(x_n, 0), this%mass_inv * p_at(x_n, 0)))
         do k = 0, n - 1
             rate = (s_at(x_1, k) - s_at(x_n, k)) / h
             dissipated = dissipated + h * this%seg_h(k) * this%tau_kv * dot_product(rate, &
@@ -846,6 +883,8 @@ contains
         this%dissipated_since_record = this%dissipated_since_record + dissipated
         this%balance_since_record = this%balance_since_record + (kin_1 + str_1) - (kin_n + str_n) &
             - work + dissipated
+        this%step_energy = step_energy_t(reported=.true., before=kin_n + str_n, &
+            after=kin_1 + str_1, work=work, dissipated=dissipated)
         this%steps_since_record = this%steps_since_record + max(1, newton_iterations)
         this%smallest_step = min(this%smallest_step, h)
         ! SNES ksponly computes no norm (residual_norm is 0): the achieved residual is res.
@@ -871,6 +910,13 @@ contains
             strain = strain + 0.5_rk * this%seg_h(k) * dot_product(s, this%stiff_inv * s)
         end do
     end subroutine energies
+
+    !> The semi-implicit scheme: backward-Euler dissipation, first-order energy exchange of the
+    !> frozen coefficients (docs/theory/se3_strand.md, "Energy book-keeping").
+    pure integer function strand_energy_scheme(this)
+        class(se3_strand_t), intent(in) :: this
+        strand_energy_scheme = energy_dissipative
+    end function strand_energy_scheme
 
     real(rk) function strand_kinetic_energy(this, x) result(kinetic)
         class(se3_strand_t), intent(in) :: this

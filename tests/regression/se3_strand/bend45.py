@@ -87,9 +87,10 @@ def main():
         checks.check("largest |tip difference| / |tip|",
                      float(np.max(np.abs(tip - other)) / np.linalg.norm(tip)), 1e-7)
     else:
-        # dt = 5 s: at the scene's 10 s this case sits on the edge of stability of the one-step
-        # linearization (methods §7 item 3): it relaxes in 45 steps or runs away depending on
-        # round-off (Release against Debug builds; N = 320). The fixed point does not depend on dt.
+        # dt = 5 s: with the paper's free end this case sat on the edge of stability at the
+        # scene's 10 s (it relaxed or ran away depending on round-off); with the free end fixed
+        # it relaxes at 10 s too (energy.py saint_venant, N = 320). The fixed point does not
+        # depend on dt.
         _, tip, steps = solve(args, "saint_venant", 600,
                               [("rod", "torsion_constant", "'saint_venant'"), ("time", "dt", "5.0")])
         print(f"info: 600 N, Saint-Venant J: tip ({tip[0]:.4f}, {tip[1]:.4f}, {tip[2]:.4f}) "

@@ -17,6 +17,10 @@ module rs_test_formulations_plan
     use rs_io_input_file, only: parse_scene
     use rs_io_scene_writer, only: resolved_scene_text
     use rs_formulations_plan, only: scene_plan_text, plan_header
+    use rs_formulations_formulation, only: rod_formulation_t
+    use rs_formulations_factory, only: create_formulation
+    use rs_formulations_rod_sizes, only: rod_sizes_t, rod_sizes_of
+    use rs_core_error, only: error_t
     implicit none
     private
 
@@ -37,6 +41,8 @@ contains
         call run_test('auto_3d_reason', test_auto_3d_reason)
         call run_test('bundle_plan', test_bundle_plan)
         call run_test('strand_step', test_strand_step)
+        call run_test('long_rod_counts', test_long_rod_counts)
+        call run_test('sizes_extend_exactly', test_sizes_extend_exactly)
     end subroutine run_all_tests
 
     !> A clamped-free rod of 4 quadratic elements (9 nodes, 8 free) with an end load.
@@ -99,6 +105,76 @@ contains
         CHECK_CONTAINS(plan, 'Newton: none, one linear solve per step', 'no Newton')
         CHECK_TRUE(index(plan, 'midpoint step') == 0, 'no midpoint steps')
     end subroutine test_strand_step
+
+    ! A rod longer than the plan's small builds (issue 21 item 17: the plan builds at most 3
+    ! elements and extends the sizes): 40 quadratic elements clamped at both ends, 81 nodes, 79
+    ! free: 79 x 30 + 40 x 12 = 2850 unknowns; condensed 79 x 18 = 1422.
+    subroutine test_long_rod_counts()
+        character(len=:), allocatable :: plan, scene, expected
+        scene = replace(cantilever('', "&bc rod = 'beam', end = 'end', kind = 'clamped' /" // nl), &
+            'n_elements = 4', 'n_elements = 40')
+        plan = plan_of(scene, 1)
+        CHECK_CONTAINS(plan, '40 elements of degree 2, 81 nodes', 'mesh')
+        CHECK_CONTAINS(plan, 'unknowns: 2850 Newton unknowns = 79 free nodes x 30', 'unknowns')
+        CHECK_CONTAINS(plan, 'orthonormality multipliers: 6 per free node (474)', 'multipliers')
+        expected = 'supports: start clamped (no unknowns at its node), end clamped'
+        CHECK_CONTAINS(plan, expected, 'supports')
+        plan = plan_of(scene // '&solver condense_stresses = .true. /' // nl, 1)
+        CHECK_CONTAINS(plan, 'unknowns: 1422 Newton unknowns = 79 free nodes x 18', 'condensed')
+        CHECK_CONTAINS(plan, '!   memory: estimated peak ', 'memory line')
+        CHECK_CONTAINS(plan, 'unknowns, state ', 'rod memory line')
+    end subroutine test_long_rod_counts
+
+    ! The sizes the plan and the memory estimate extend from builds of 3 and 4 elements equal
+    ! those of the rod built at its full size, for every formulation and for supports, loads,
+    ! constraints, branches, degrees and condensation that change the ends or the elements.
+    subroutine test_sizes_extend_exactly()
+        character(len=*), parameter :: material = ', length = 2, EA = 1e4, GA1 = 1e4, ' // &
+            'GA2 = 1e4, EI1 = 10, EI2 = 10, GJ = 10, rhoA = 1, rhoI1 = 0.1, rhoI2 = 0.1'
+        character(len=*), parameter :: clamp = "&bc rod = 'r', end = 'start', kind = 'clamped' /"
+        call check("&rod name = 'r', n_elements = 37" // material // ' /' // nl // clamp, &
+            'ph_director clamped-free')
+        call check("&rod name = 'r', n_elements = 23, degree = 1" // material // &
+            ", constraint = 'kirchhoff', maxwell_fraction = 0.2, maxwell_tau_E = 0.1 /" // nl // &
+            clamp // nl // "&bc rod = 'r', end = 'end', kind = 'clamped' /", &
+            'ph_director degree 1, kirchhoff, a branch, clamped-clamped')
+        call check("&solver condense_stresses = .true. /" // nl // "&rod name = 'r', " // &
+            "n_elements = 31" // material // ' /' // nl // clamp // nl // &
+            "&load rod = 'r', where = 'end', force = 0, 0, 1 /", 'ph_director condensed')
+        call check("&rod name = 'r', formulation = 'ph_planar', n_elements = 29" // material // &
+            ' /' // nl // clamp, 'ph_planar')
+        call check("&rod name = 'r', formulation = 'cl_em_planar', n_elements = 29" // &
+            material // ' /' // nl // clamp, 'cl_em_planar')
+        call check("&rod name = 'r', formulation = 'se3_pg', n_elements = 19" // material // &
+            ' /' // nl // clamp, 'se3_pg')
+        call check("&rod name = 'r', formulation = 'se3_strand', n_elements = 19" // &
+            material // ' /' // nl // clamp, 'se3_strand')
+    contains
+        subroutine check(groups, what)
+            character(len=*), intent(in) :: groups, what
+            type(scene_t) :: scene
+            type(error_list_t) :: errors
+            type(rod_sizes_t) :: sizes
+            type(error_t), allocatable :: err
+            class(rod_formulation_t), allocatable :: rod
+            integer, allocatable :: row_ptr(:), cols(:)
+            call parse_scene('&time t_end = 1, dt = 0.5 /' // nl // groups // nl, 'sizes.nml', &
+                scene, errors)
+            CHECK_EQUAL(errors%count, 0, what // ': scene valid: ' // errors%joined())
+            if (errors%count > 0) return
+            call rod_sizes_of(scene, 1, sizes, err)
+            CHECK_TRUE(.not. allocated(err), what // ': sized')
+            call create_formulation(trim(scene%rods(1)%formulation), rod, err)
+            if (.not. allocated(err)) call rod%init(scene, [1], err)
+            CHECK_TRUE(.not. allocated(err), what // ': built')
+            if (allocated(err)) return
+            call rod%jacobian_pattern(row_ptr, cols)
+            CHECK_EQUAL(int(sizes%n_elements), scene%rods(1)%n_elements, what // ': elements')
+            CHECK_EQUAL(int(sizes%n_unknown), rod%n_unknown(), what // ': unknowns')
+            CHECK_EQUAL(int(sizes%n_state), rod%n_state(), what // ': state')
+            CHECK_EQUAL(int(sizes%n_nonzeros), size(cols), what // ': Jacobian non-zeros')
+        end subroutine check
+    end subroutine test_sizes_extend_exactly
 
     ! Condensed: 18 unknowns per free node.
     subroutine test_condensed_counts()

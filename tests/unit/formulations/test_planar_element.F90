@@ -21,7 +21,8 @@ module rs_test_planar_element
     use rs_ph_planar_element, only: ph_em_residual, ph_em_jacobian, ph_em_condensed, &
         cl_em_residual, cl_em_jacobian, ph_emi_residual, ph_emi_jacobian, ph_emi_strains, &
         compatible_strains, element_mass, mixed_strain_energy, compatible_strain_energy, &
-        ph_emi_strain_energy, planar_max_gauss, planar_sinc
+        ph_emi_strain_energy, planar_max_gauss, planar_sinc, ph_em_static, &
+        ph_em_static_condensed, ph_em_projected_strains, cl_em_static
     implicit none
     private
 
@@ -32,9 +33,12 @@ module rs_test_planar_element
     ! Round-off tolerance of exact identities, relative to the size of their terms.
     real(rk), parameter :: exact_tol = 1.0e-12_rk
     ! Schemes of the generic residual/Jacobian drivers below.
-    integer, parameter :: ph_em = 1, ph_em_cond = 2, cl_em = 3, ph_emi = 4
-    character(len=12), parameter :: scheme_name(4) = [character(len=12) :: 'PH-EM', &
-        'PH-EM cond.', 'cl-EM', 'PH-EMi']
+    ! The equilibrium kernels of the quasistatic endpoint solve (static_*) take the state
+    ! (q, e) or q of the case's t_{n+1}.
+    integer, parameter :: ph_em = 1, ph_em_cond = 2, cl_em = 3, ph_emi = 4, static_ph_em = 5, &
+        static_ph_em_cond = 6, static_cl_em = 7
+    character(len=16), parameter :: scheme_name(7) = [character(len=16) :: 'PH-EM', &
+        'PH-EM cond.', 'cl-EM', 'PH-EMi', 'static PH-EM', 'static PH-EM cond', 'static cl-EM']
 
     !> One random element step: geometry, stiffness, endpoint states, strains and history.
     type :: planar_case_t
@@ -66,6 +70,8 @@ contains
         call run_test('internal_force_and_torque', test_internal_force_and_torque)
         call run_test('rigid_motion', test_rigid_motion)
         call run_test('objectivity', test_objectivity)
+        call run_test('static_jacobian_fd', test_static_jacobian_fd)
+        call run_test('static_equilibrium_rows', test_static_equilibrium_rows)
     end subroutine run_all_tests
 
     ! ---------------------------------------------------------------------------------------
@@ -135,7 +141,7 @@ contains
     ! Number of unknowns of a scheme's residual.
     pure integer function n_unknowns(scheme)
         integer, intent(in) :: scheme
-        n_unknowns = merge(9, 6, scheme == ph_em)
+        n_unknowns = merge(9, 6, scheme == ph_em .or. scheme == static_ph_em)
     end function n_unknowns
 
     ! Residual of `scheme` as a function of the t_{n+1} unknowns x = (q_1, e_1) or q_1.
@@ -154,6 +160,12 @@ contains
             call cl_em_residual(c%le, c%stiffness, ng, c%q_n, x(1:6), r(1:6))
         case (ph_emi)
             call ph_emi_residual(c%le, c%stiffness, ng, c%q_n, x(1:6), c%gamma_n(:, 1:ng), r(1:6))
+        case (static_ph_em)
+            call ph_em_static(c%le, c%stiffness, ng, c%h, x(1:6), x(7:9), r(1:9))
+        case (static_ph_em_cond)
+            call ph_em_static_condensed(c%le, c%stiffness, ng, x(1:6), r(1:6), e_1)
+        case (static_cl_em)
+            call cl_em_static(c%le, c%stiffness, ng, x(1:6), r(1:6))
         end select
     end subroutine scheme_residual
 
@@ -162,7 +174,7 @@ contains
         integer, intent(in) :: scheme, ng
         type(planar_case_t), intent(in) :: c
         real(rk), intent(out) :: k(9, 9)
-        real(rk) :: r(6), e_1(3), k6(6, 6)
+        real(rk) :: r(6), e_1(3), k6(6, 6), r9(9)
         k = 0.0_rk
         select case (scheme)
         case (ph_em)
@@ -173,8 +185,14 @@ contains
             call cl_em_jacobian(c%le, c%stiffness, ng, c%q_n, c%q_1, k6)
         case (ph_emi)
             call ph_emi_jacobian(c%le, c%stiffness, ng, c%q_n, c%q_1, c%gamma_n(:, 1:ng), k6)
+        case (static_ph_em)
+            call ph_em_static(c%le, c%stiffness, ng, c%h, c%q_1, c%e_1, r9, k)
+        case (static_ph_em_cond)
+            call ph_em_static_condensed(c%le, c%stiffness, ng, c%q_1, r, e_1, k6)
+        case (static_cl_em)
+            call cl_em_static(c%le, c%stiffness, ng, c%q_1, r, k6)
         end select
-        if (scheme /= ph_em) k(1:6, 1:6) = k6
+        if (scheme /= ph_em .and. scheme /= static_ph_em) k(1:6, 1:6) = k6
     end subroutine scheme_jacobian
 
     ! Largest per-row relative difference between the analytic Jacobian and central differences.
@@ -727,6 +745,44 @@ contains
             end do
         end do
     end subroutine test_objectivity
+
+    ! The equilibrium kernels of the quasistatic endpoint solve (DESIGN.md §3): their analytic
+    ! Jacobians d/d(q, e) (static PH-EM, built from the midpoint kernels' d/dq_1 times 2), the
+    ! condensed one and cl-EM's (2 d/dq_1 by the symmetry of its midpoint rows) against central
+    ! differences on the random cases.
+    subroutine test_static_jacobian_fd()
+        call check_fd_random(static_ph_em)
+        call check_fd_random(static_ph_em_cond)
+        call check_fd_random(static_cl_em)
+    end subroutine test_static_jacobian_fd
+
+    ! The equilibrium rows of a state: zero for a rigidly moved straight element with zero
+    ! strains (every scheme); the strain rows of static PH-EM vanish exactly at the projected
+    ! strains, and at those strains its force rows are the condensed kernel's and, with one
+    ! Gauss point, cl-EM's (the same compatible strain at the one point).
+    subroutine test_static_equilibrium_rows()
+        type(planar_case_t) :: c
+        real(rk) :: q(6), r9(9), r6(6), rc(6), e(3), scale
+        integer :: sample
+        q = rigid_map(straight_element([0.3_rk, -0.2_rk], 0.7_rk, 1.3_rk), 2.1_rk, &
+            [1.0_rk, 2.0_rk], [-0.5_rk, 0.4_rk])
+        call ph_em_static(1.3_rk, [1.0e4_rk, 5.0e3_rk, 50.0_rk], 2, 0.1_rk, q, [0.0_rk, 0.0_rk, &
+            0.0_rk], r9)
+        CHECK_TRUE(maxval(abs(r9)) < 1.0e-9_rk, 'static PH-EM: a rigid motion is an equilibrium')
+        call cl_em_static(1.3_rk, [1.0e4_rk, 5.0e3_rk, 50.0_rk], 2, q, r6)
+        CHECK_TRUE(maxval(abs(r6)) < 1.0e-9_rk, 'static cl-EM: a rigid motion is an equilibrium')
+        do sample = 1, 8
+            c = random_case()
+            e = ph_em_projected_strains(c%le, 1, c%q_1)
+            call ph_em_static(c%le, c%stiffness, 1, c%h, c%q_1, e, r9)
+            scale = maxval(abs(r9(1:6)))
+            CHECK_TRUE(maxval(abs(r9(7:9))) < exact_tol, 'static PH-EM: strain rows 0 at e_P0')
+            call ph_em_static_condensed(c%le, c%stiffness, 1, c%q_1, rc, e)
+            CHECK_TRUE(maxval(abs(rc - r9(1:6))) < exact_tol * scale, 'condensed = full at e_P0')
+            call cl_em_static(c%le, c%stiffness, 1, c%q_1, r6)
+            CHECK_TRUE(maxval(abs(r6 - r9(1:6))) < exact_tol * scale, 'one point: PH-EM = cl-EM')
+        end do
+    end subroutine test_static_equilibrium_rows
 
 end module rs_test_planar_element
 

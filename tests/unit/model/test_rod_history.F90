@@ -2,7 +2,8 @@
 !> Unit tests of rs_model_rod_history: `init` sizes and zero-fills every array (the Maxwell
 !> branch stresses only with n_branches > 0), `free` deallocates, `next_record` hands out
 !> 1 .. capacity and then 0, `clear` forgets the records and keeps the capacity, and re-`init`
-!> starts over.
+!> starts over; a large capacity is not allocated up front: the arrays grow with the records
+!> and keep them (issue 21 item 17).
 module rs_test_model_rod_history
     use rs_core_kinds, only: rk
     use rs_test_assert, only: run_test, assert_true, assert_close, assert_equal
@@ -23,7 +24,46 @@ contains
         call run_test('next_record_capacity', test_next_record_capacity)
         call run_test('reinit_starts_over', test_reinit_starts_over)
         call run_test('clear_keeps_capacity', test_clear_keeps_capacity)
+        call run_test('grows_with_records', test_grows_with_records)
     end subroutine run_all_tests
+
+    ! Capacity 1000000 (flush_every = 1000000 preallocated 3.2 GB for a 5-step run): room for a
+    ! few records at init, 20 records keep their values through the growth, an array the
+    ! formulation dropped stays dropped, and the capacity still ends the records.
+    subroutine test_grows_with_records()
+        type(rod_history_t) :: h
+        integer :: r, room
+        logical :: kept
+        call h%init('long', 'se3_strand', 3, 2, 1000000)
+        room = size(h%time)
+        CHECK_TRUE(room <= 8, 'room for at most 8 records at init, not the capacity')
+        CHECK_TRUE(all(shape(h%directors) == [3, 3, 3, room]), 'directors as time')
+        deallocate(h%constraint_residual)
+        do r = 1, 20
+            CHECK_EQUAL(h%next_record(), r, 'next record')
+            h%time(r) = real(r, rk)
+            h%position(:, :, r) = real(r, rk)
+            h%directors(:, :, :, r) = -real(r, rk)
+            h%linear_momentum(:, r) = 2.0_rk * real(r, rk)
+            h%newton_iterations(r) = 3 * r
+        end do
+        CHECK_TRUE(size(h%time) >= 20 .and. size(h%time) <= 64, 'grown to 20 to 64 records')
+        CHECK_TRUE(all(h%time(1:20) == [(real(r, rk), r = 1, 20)]), 'times kept')
+        CHECK_TRUE(all([(all(h%position(:, :, r) == real(r, rk)), r = 1, 20)]), 'positions kept')
+        kept = all([(all(h%directors(:, :, :, r) == -real(r, rk)), r = 1, 20)])
+        CHECK_TRUE(kept, 'directors kept')
+        kept = all(h%linear_momentum(1, 1:20) == [(2.0_rk * real(r, rk), r = 1, 20)])
+        CHECK_TRUE(kept, 'momenta kept')
+        CHECK_TRUE(all(h%newton_iterations(1:20) == [(3 * r, r = 1, 20)]), 'iterations kept')
+        CHECK_EQUAL(size(h%stress, 3), size(h%time), 'stress grown as time')
+        CHECK_TRUE(.not. allocated(h%constraint_residual), 'a dropped array stays dropped')
+        call h%init('short', 'se3_strand', 3, 2, 10)
+        do r = 1, 10
+            CHECK_EQUAL(h%next_record(), r, 'record within the capacity')
+        end do
+        CHECK_EQUAL(h%next_record(), 0, 'capacity 10 used up')
+        CHECK_EQUAL(size(h%time), 10, 'never more room than the capacity')
+    end subroutine test_grows_with_records
 
     subroutine test_init_sizes()
         type(rod_history_t) :: h
