@@ -13,6 +13,8 @@
 #ifndef RS_ROD_STEPPER_H
 #define RS_ROD_STEPPER_H
 
+#include <stdbool.h>
+
 /* Return value of rs_stepper_advance when Newton failed after all cut-backs: x holds the last
    good state. Every other non-zero value is an error (PETSc or a fatal callback). */
 #define RS_STEPPER_DIVERGED 1
@@ -32,35 +34,53 @@ typedef int (*rs_cb_update)(void *ctx, double t_n, double h, const double *x_n, 
 typedef int (*rs_cb_poststep)(void *ctx, double t_n, double h, const double *x_n,
                               const double *x_np1, int newton_its, double fnorm);
 
-/* Create a stepper. row_ptr (n_unknown + 1 entries) and cols give the CSR pattern of dF/dY,
-   0-based with strictly increasing columns in each row; the matrix is preallocated exactly
-   from it and kept, so MUMPS analyses it once per stepper (DESIGN.md §3).
+/* What a stepper is built with besides its pattern and callbacks (one struct, filled in
+   Fortran as the bind(C) type stepper_traits_t of src/solver/rod_stepper.f90, from the scene's
+   &solver values and the formulation's traits, rs_formulations_formulation):
    newton_atol, newton_rtol, max_newton and max_cutbacks are scene values: they enter the
    option database as defaults below the input's petsc_options and the command line (see
-   rs_petsc_apply_options), then TSSetFromOptions reads everything. The LU package is MUMPS,
-   or PETSc's own LU when native_lu is non-zero: for Jacobians that need no pivoting, with a
-   nested-dissection ordering (native_lu = 1) or the natural one (native_lu = 2: the unknowns
-   are numbered for a narrow band); -pc_factor_mat_solver_type overrides it. Newton uses the bt line
-   search, or full steps (basic) when full_newton is non-zero; -snes_linesearch_type overrides.
-   When linear_step is non-zero the step problem is affine in Y (seed 004's semi-implicit
-   scheme): the SNES is KSPONLY, i.e. one residual, one Jacobian and one linear solve per step,
-   no Newton loop and no norms (-snes_type overrides).
+   rs_petsc_apply_options), then TSSetFromOptions reads everything.
    jacobian_reuse: 0 for Newton's method; a ratio in (0, 1) keeps the factored Jacobian while
    each Newton iteration cuts the residual norm at least by it (-ts_rodmid_reuse_jacobian,
    include/rs_rodmid.h; ignored for a linear step).
+   The flags are the formulation's solver traits:
+   native_lu: the Jacobian needs no pivoting, so PETSc's own LU replaces the chain LU
+     (rodchain), with a nested-dissection ordering, or the natural one when banded_unknowns
+     says the unknowns are numbered for a narrow band; -pc_factor_mat_solver_type overrides;
+   full_newton: Newton takes full steps (line search basic) instead of backtracking (bt);
+     -snes_linesearch_type overrides;
+   linear_step: the step problem is affine in Y (seed 004's semi-implicit scheme): the SNES is
+     KSPONLY, i.e. one residual, one Jacobian and one linear solve per step, no Newton loop and
+     no norms (-snes_type overrides).
+   The field order is the Fortran type's: change both together. */
+struct rs_stepper_traits {
+    double newton_atol;
+    double newton_rtol;
+    double jacobian_reuse;
+    int    max_newton;
+    int    max_cutbacks;
+    bool   native_lu;
+    bool   banded_unknowns;
+    bool   full_newton;
+    bool   linear_step;
+};
+
+/* Create a stepper. row_ptr (n_unknown + 1 entries) and cols give the CSR pattern of dF/dY,
+   0-based with strictly increasing columns in each row; the matrix is preallocated exactly
+   from it and kept, so MUMPS analyses it once per stepper (DESIGN.md §3). traits (required):
+   the Newton settings and the solver flags above; the stepper keeps no pointer to it.
    owned (NULL for a system of one rank on PETSC_COMM_SELF): a system shared by all ranks on
    PETSC_COMM_WORLD (DESIGN.md §5), this rank owning the state entries [owned[0], owned[1])
-   and the unknowns [owned[2], owned[3]) (0-based). row_ptr and cols are then the whole
-   pattern on every rank; the callbacks get the whole x_n, y (gathered) and fill the owned
-   rows of f and of the values (other entries are ignored); x of advance is whole on every
-   rank. A callback status is agreed by all ranks (the largest).
+   and the unknowns [owned[2], owned[3]) (0-based); the LU package is then MUMPS. row_ptr and
+   cols are then the whole pattern on every rank; the callbacks get the whole x_n, y
+   (gathered) and fill the owned rows of f and of the values (other entries are ignored); x of
+   advance is whole on every rank. A callback status is agreed by all ranks (the largest).
    Returns 0, or non-zero with a message in errmsg (errlen bytes, NUL-terminated). */
 int rs_stepper_create(void **handle, int n_state, int n_unknown, const int *row_ptr,
                       const int *cols, rs_cb_residual residual, rs_cb_jacobian jacobian,
                       rs_cb_vec predictor, rs_cb_update update, rs_cb_poststep poststep,
-                      void *ctx, double newton_atol, double newton_rtol, int max_newton,
-                      int max_cutbacks, int native_lu, int full_newton, int linear_step,
-                      double jacobian_reuse, const int *owned, char *errmsg, int errlen);
+                      void *ctx, const struct rs_stepper_traits *traits, const int *owned,
+                      char *errmsg, int errlen);
 
 /* Advance x from t_n to exactly t_n + dt: substeps of dt - (time done), each halved by the
    TS on Newton failure, so the step grows back after a cut. Outputs: accepted substeps,

@@ -21,6 +21,7 @@ program rodsolve
     use rs_formulations_memory_estimate, only: memory_refusal
     use rs_io_input_reference, only: input_reference_markdown
     use rs_model_capability_matrix, only: capability_matrix_markdown
+    use rs_formulations_registry, only: registered_capabilities
     use rs_io_hdf5_info, only: hdf5_version
     use rs_solver_petsc_env, only: petsc_initialize, petsc_finalize, petsc_version, mumps_version
     use rs_app_run_scene, only: run_scene
@@ -58,7 +59,7 @@ program rodsolve
     case ('reference')
         call print_root(input_reference_markdown())
     case ('capabilities')
-        call print_root(capability_matrix_markdown())
+        call print_root(capability_matrix_markdown(registered_capabilities()))
     case ('check', 'run', 'merge')
         call load_scene(cli%scene_file, scene, input_errors)
         if (input_errors%count > 0) call stop_all(exit_input_error, input_errors%joined() // &

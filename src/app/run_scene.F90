@@ -28,7 +28,8 @@ module rs_app_run_scene
     use rs_solver_petsc_env, only: petsc_version
     use rs_solver_rod_stepper, only: petsc_apply_options, petsc_options_text
     use rs_solver_rod_run, only: rod_runner_t, step_count
-    use rs_model_coupling, only: coupled_systems, system_costs, is_bundle
+    use rs_model_coupling, only: coupled_systems, system_costs
+    use rs_formulations_registry, only: is_bundle
     use rs_parallel_deal, only: deal_by_cost
     implicit none
     private

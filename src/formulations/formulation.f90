@@ -21,6 +21,38 @@ module rs_formulations_formulation
     !> Residual evaluation status: the state is invalid (NaN, inverted element); the step is cut.
     integer, parameter, public :: state_invalid = 1
 
+    !> What a formulation is, as the run and the solver need to know it: constants of the
+    !> object once init has run (they follow from the scene: quasistatic or not, condensed
+    !> stresses, the scheme), given by one procedure, rod_formulation_t%traits. rod_run hands
+    !> the solver flags to the stepper with the scene's Newton settings (stepper_traits_t of
+    !> src/solver/rod_stepper.f90, one C struct). The defaults are those of a formulation that
+    !> says nothing.
+    type, public :: formulation_traits_t
+        !> The step Jacobian needs no pivoting (no multipliers, a non-zero diagonal), so
+        !> PETSc's own LU may replace the chain LU (DESIGN.md §3).
+        logical :: native_lu = .false.
+        !> The unknowns are numbered for a narrow band, so the LU keeps their order (with
+        !> native_lu); false: nested dissection.
+        logical :: banded_unknowns = .false.
+        !> The method document runs Newton undamped (full steps, no line search); false:
+        !> backtracking.
+        logical :: full_newton = .false.
+        !> F is affine in Y with a Jacobian that does not depend on Y (coefficients frozen at
+        !> t_n, seed 004's semi-implicit scheme): the step is one linear solve, no Newton loop.
+        logical :: linear_step = .false.
+        !> The run ends with an endpoint equilibrium solve (quasistatic runs, DESIGN.md §3):
+        !> rod_run calls set_endpoint_solve around the last step.
+        logical :: wants_endpoint_solve = .false.
+        !> The endpoint equilibrium is solved as a continuation from a given state
+        !> (set_continuation_start): rod_run then also solves the initial equilibrium of a
+        !> quasistatic run and bounds each increment by largest_rotation (DESIGN.md §3,
+        !> "Quasistatics"); false: one Newton solve in the last step's h.
+        logical :: continues_equilibrium = .false.
+        !> The kind of time scheme for the energy sentinel (energy_consistent,
+        !> energy_dissipative, energy_unchecked of rs_formulations_energy_sentinel).
+        integer :: energy_scheme = energy_unchecked
+    end type formulation_traits_t
+
     !> A rod formulation: one object per rod.
     type, abstract, public :: rod_formulation_t
         !> The energy terms of the last accepted (sub)step, booked by accept_step for the run's
@@ -54,17 +86,12 @@ module rs_formulations_formulation
         procedure(record_interface), deferred :: record
         !> A short description for the log ("ph_director: 10 elements, p = 2, 750 unknowns").
         procedure(describe_interface), deferred :: describe
-        !> True if the run should end with an endpoint equilibrium solve (quasistatic runs,
-        !> DESIGN.md §3); default false.
-        procedure :: wants_endpoint_solve => default_wants_endpoint_solve
+        !> The formulation's traits (formulation_traits_t: solver flags, endpoint solves,
+        !> energy scheme), constants once init has run; default: formulation_traits_t().
+        procedure :: traits => default_traits
         !> Switch the step problem to (or back from) the endpoint equilibrium at load time
         !> `t_load`: the next step solves it instead of a time step; default: nothing to switch.
         procedure :: set_endpoint_solve => default_set_endpoint_solve
-        !> True if the endpoint equilibrium is solved as a continuation from a given state
-        !> (set_continuation_start): rod_run then also solves the initial equilibrium of a
-        !> quasistatic run and bounds each increment by largest_rotation (DESIGN.md §3,
-        !> "Quasistatics"); default false (one Newton solve in the last step's h).
-        procedure :: continues_equilibrium => default_continues_equilibrium
         !> In the endpoint solve, continue from the state x_from: a step from tau_n to tau_n + h
         !> of the pseudo-time tau in [0, 1] solves R(Y) = (1 - tau_n - h) R(x_from), the residual
         !> rows in the scaling of a step of length row_scale; default: nothing.
@@ -79,25 +106,9 @@ module rs_formulations_formulation
         procedure :: save_internal => default_save_internal
         !> Restore what save_internal gave.
         procedure :: restore_internal => default_restore_internal
-        !> True if the step Jacobian needs no pivoting (no multipliers, a non-zero diagonal), so
-        !> PETSc's own LU may replace MUMPS (DESIGN.md §3); default false.
-        procedure :: native_lu => default_native_lu
-        !> True if the method document runs Newton undamped (full steps, no line search);
-        !> default false (backtracking).
-        procedure :: full_newton => default_full_newton
-        !> True if F is affine in Y with a Jacobian that does not depend on Y (coefficients frozen
-        !> at t_n, seed 004's semi-implicit scheme): the step is one linear solve, no Newton
-        !> loop; default false.
-        procedure :: linear_step => default_linear_step
-        !> True if the unknowns are numbered for a narrow band, so that the LU keeps their order
-        !> (with native_lu); default false (nested dissection).
-        procedure :: banded_unknowns => default_banded_unknowns
         !> Kinetic energy of the state X, for runs that stop when it is small (&time
         !> relaxation); default -1: not reported.
         procedure :: kinetic_energy => default_kinetic_energy
-        !> The kind of time scheme for the energy sentinel (energy_consistent,
-        !> energy_dissipative); default energy_unchecked.
-        procedure :: energy_scheme => default_energy_scheme
         !> Before each step from X_n: refresh what the step needs besides X_n (bundles: the
         !> contact candidate pairs). `repattern` is true when the Jacobian pattern changed, so
         !> the stepper must be built again; default: nothing to do.
@@ -191,21 +202,17 @@ module rs_formulations_formulation
 
 contains
 
-    pure logical function default_wants_endpoint_solve(this)
+    pure function default_traits(this) result(traits)
         class(rod_formulation_t), intent(in) :: this
-        default_wants_endpoint_solve = .false.
-    end function default_wants_endpoint_solve
+        type(formulation_traits_t) :: traits
+        traits = formulation_traits_t()
+    end function default_traits
 
     subroutine default_set_endpoint_solve(this, on, t_load)
         class(rod_formulation_t), intent(inout) :: this
         logical, intent(in) :: on
         real(rk), intent(in) :: t_load
     end subroutine default_set_endpoint_solve
-
-    pure logical function default_continues_equilibrium(this)
-        class(rod_formulation_t), intent(in) :: this
-        default_continues_equilibrium = .false.
-    end function default_continues_equilibrium
 
     subroutine default_set_continuation_start(this, x_from, row_scale)
         class(rod_formulation_t), intent(inout) :: this
@@ -218,36 +225,11 @@ contains
         default_largest_rotation = 0.0_rk
     end function default_largest_rotation
 
-    pure logical function default_native_lu(this)
-        class(rod_formulation_t), intent(in) :: this
-        default_native_lu = .false.
-    end function default_native_lu
-
-    pure logical function default_full_newton(this)
-        class(rod_formulation_t), intent(in) :: this
-        default_full_newton = .false.
-    end function default_full_newton
-
-    pure logical function default_linear_step(this)
-        class(rod_formulation_t), intent(in) :: this
-        default_linear_step = .false.
-    end function default_linear_step
-
-    pure logical function default_banded_unknowns(this)
-        class(rod_formulation_t), intent(in) :: this
-        default_banded_unknowns = .false.
-    end function default_banded_unknowns
-
     real(rk) function default_kinetic_energy(this, x)
         class(rod_formulation_t), intent(in) :: this
         real(rk), intent(in) :: x(:)
         default_kinetic_energy = -1.0_rk
     end function default_kinetic_energy
-
-    pure integer function default_energy_scheme(this)
-        class(rod_formulation_t), intent(in) :: this
-        default_energy_scheme = energy_unchecked
-    end function default_energy_scheme
 
     pure integer function default_n_internal(this)
         class(rod_formulation_t), intent(in) :: this

@@ -29,9 +29,12 @@ module rs_formulations_memory_estimate
     use rs_core_error, only: error_t
     use rs_core_strings, only: str
     use rs_model_scene, only: scene_t, step_count
-    use rs_model_coupling, only: coupled_systems, system_costs, is_bundle
+    use rs_model_coupling, only: coupled_systems, system_costs
+    use rs_formulations_registry, only: is_bundle
     use rs_parallel_deal, only: deal_by_cost
     use rs_formulations_rod_sizes, only: rod_sizes_t, rod_sizes_of
+    use rs_formulations_formulation, only: rod_formulation_t
+    use rs_formulations_factory, only: create_formulation
     implicit none
     private
 
@@ -65,6 +68,7 @@ contains
         type(memory_estimate_t) :: estimate
         type(rod_sizes_t) :: sizes
         type(error_t), allocatable :: err
+        class(rod_formulation_t), allocatable :: mold
         integer, allocatable :: system_of(:), first(:), members(:), system_rank(:)
         real(rk), allocatable :: rank_bytes(:)
         real(rk) :: bytes
@@ -73,7 +77,9 @@ contains
         system_rank = deal_by_cost(system_costs(scene, first, members), n_ranks)
         allocate(rank_bytes(0:max(n_ranks, 1) - 1), source=rank_baseline_bytes)
         do i = 1, size(scene%rods)
-            call rod_sizes_of(scene, i, sizes, err)
+            call create_formulation(trim(scene%rods(i)%formulation), mold, err)
+            if (allocated(err)) return
+            call rod_sizes_of(scene, i, sizes, err, mold)
             if (allocated(err)) return
             bytes = rod_memory_bytes(scene, sizes)
             if (bytes > estimate%largest_rod_bytes) then

@@ -2,8 +2,8 @@
 !> what is skipped, as namelist comments ('!' lines) so that the output of --check-input stays a
 !> scene that reads back to itself. Scene-wide: time steps, output, units, how the rods are
 !> dealt to the ranks; per rod: its formulation and why (for 'auto': the plane the rods lie in,
-!> or why they are 3D), and what that formulation says about it (rs_ph_director_plan,
-!> rs_ph_planar_plan). Adding a formulation adds its case here, as in the factory.
+!> or why they are 3D), and what that formulation says about it (the plan lines of its
+!> descriptor, rs_formulations_registry).
 module rs_formulations_plan
     use, intrinsic :: iso_fortran_env, only: int64
     use rs_core_kinds, only: rk
@@ -11,11 +11,11 @@ module rs_formulations_plan
     use rs_core_strings, only: str, text_buffer_t
     use rs_model_scene, only: scene_t, step_count
     use rs_model_units, only: unit_in_system
-    use rs_ph_director_plan, only: ph_director_plan_lines
-    use rs_ph_planar_plan, only: ph_planar_plan_lines
-    use rs_se3_pg_plan, only: se3_pg_plan_lines
-    use rs_se3_strand_plan, only: se3_strand_plan_lines
-    use rs_model_coupling, only: coupled_systems, system_costs, is_bundle
+    use rs_model_coupling, only: coupled_systems, system_costs
+    use rs_formulations_formulation, only: rod_formulation_t
+    use rs_formulations_descriptor, only: formulation_descriptor_t
+    use rs_formulations_registry, only: descriptor_of, is_bundle
+    use rs_formulations_factory, only: create_formulation
     use rs_parallel_deal, only: deal_by_cost
     use rs_formulations_memory_estimate, only: memory_estimate_t, run_memory_estimate, &
         bytes_text, available_memory_bytes, rod_memory_bytes
@@ -43,7 +43,9 @@ contains
         integer :: i, n_steps, n_records, rank
         type(text_buffer_t) :: buffer
         integer, allocatable :: system_of(:), first(:), members(:), system_rank(:)
-        logical :: all_strands
+        type(formulation_descriptor_t) :: d
+        class(rod_formulation_t), allocatable :: mold
+        character(len=:), allocatable :: semi_implicit_step
 
         units = trim(scene%run%units)
         n_steps = step_count(scene)
@@ -52,15 +54,14 @@ contains
         ! The plan grows in `buffer` (doubling), not by copying all of it per line: a scene
         ! of 4,000 rods has 80,000 plan lines (issue 21 item 17).
         call append(plan_header // new_line('a'))
-        ! se3_strand's step is semi-implicit, one linear solve without Newton (issue 21 item
+        ! A semi-implicit formulation's step is one linear solve without Newton (issue 21 item
         ! 15: its plan named midpoint steps and Newton).
-        all_strands = all([(trim(scene%rods(i)%formulation) == 'se3_strand', i = 1, &
-            size(scene%rods))])
-        if (all_strands) then
+        semi_implicit_step = semi_implicit_step_of_all()
+        if (len(semi_implicit_step) > 0) then
             call add('time: ' // str(n_steps) // ' semi-implicit step(s) of dt = ' // &
                 str(scene%time%dt) // ' ' // unit_in_system('s', units) // ' to t_end = ' // &
                 str(scene%time%t_end) // ' ' // unit_in_system('s', units) // &
-                ' (se3_strand, methods/se3_strands.md §3.5)')
+                ' (' // semi_implicit_step // ')')
         else if (scene%time%quasistatic) then
             call add('time: quasistatic, ' // str(n_steps) // ' midpoint load step(s) of ' // &
                 str(scene%time%dt) // ' to the load factor t_end = ' // str(scene%time%t_end) // &
@@ -72,7 +73,7 @@ contains
                 str(scene%time%t_end) // ' ' // unit_in_system('s', units) // &
                 ' (halved up to ' // str(scene%solver%max_cutbacks) // ' times on Newton failure)')
         end if
-        if (all_strands) then
+        if (len(semi_implicit_step) > 0) then
             call add('Newton: none, one linear solve per step (PETSc''s LU)')
         else
             call add('Newton: stops at the scaled residual norm ' // str(scene%solver%newton_atol) // &
@@ -131,21 +132,15 @@ contains
                     call add('rod ''' // trim(rod%name) // ''' on rank ' // str(rank) // ': ' // &
                         trim(rod%formulation) // ' (' // why // ')')
                 end if
-                select case (trim(rod%formulation))
-                case ('ph_director')
-                    call ph_director_plan_lines(scene, i, lines, err)
+                if (descriptor_of(trim(rod%formulation), d)) then
+                    call d%plan_lines(scene, i, lines, err)
                     if (allocated(err)) lines = '!     cannot be built: ' // err%describe() // new_line('a')
-                case ('ph_planar', 'cl_em_planar')
-                    call ph_planar_plan_lines(scene, i, lines)
-                case ('se3_pg')
-                    lines = se3_pg_plan_lines(scene, i)
-                case ('se3_strand')
-                    lines = se3_strand_plan_lines(scene, i)
-                case default
+                else
                     lines = '!     formulation not available in this version' // new_line('a')
-                end select
+                end if
                 call append(lines)
-                call rod_sizes_of(scene, i, sizes, err)
+                call create_formulation(trim(rod%formulation), mold, err)
+                if (.not. allocated(err)) call rod_sizes_of(scene, i, sizes, err, mold)
                 if (.not. allocated(err)) call append('!     memory: ' // &
                     bytes_text(rod_memory_bytes(scene, sizes)) // ' estimated (Jacobian ' // &
                     count_text(sizes%n_nonzeros) // ' non-zeros, ' // &
@@ -156,6 +151,21 @@ contains
         call append(sweep_plan_lines(scene))
         text = buffer%text()
     contains
+        !> '<name>, <where its step is described>' when every rod runs on the same
+        !> semi-implicit formulation, else ''.
+        function semi_implicit_step_of_all() result(text)
+            character(len=:), allocatable :: text
+            integer :: r
+            text = ''
+            do r = 1, size(scene%rods)
+                if (.not. descriptor_of(trim(scene%rods(r)%formulation), d)) return
+                if (len_trim(d%semi_implicit_step) == 0) return
+                if (scene%rods(r)%formulation /= scene%rods(1)%formulation) return
+            end do
+            if (size(scene%rods) == 0) return
+            text = trim(d%name) // ', ' // trim(d%semi_implicit_step)
+        end function semi_implicit_step_of_all
+
         subroutine add(line)
             character(len=*), intent(in) :: line
             call append('!   ' // line // new_line('a'))

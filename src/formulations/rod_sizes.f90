@@ -5,7 +5,8 @@
 !> Every element of a rod's uniform mesh is alike and only the two end nodes are special
 !> (supports, end loads), so each size is an affine function of the number of elements E once
 !> E >= 2: size(E) = size(a) + (E - a) (size(a + 1) - size(a)). The rod is built by its own
-!> formulation (rs_formulations_factory) alone, with its supports, loads and actuators, at
+!> formulation (an object of the type of `mold`, from rs_formulations_factory or the
+!> formulation's own plan, which the factory's registry depends on) alone, with its supports, loads and actuators, at
 !> a = 3 and a + 1 = 4 elements, and the sizes are read off the built objects and extended to
 !> E; a rod of at most 4 elements is built as it is. Joints, end plates and contact are left
 !> out: their multipliers and pairs are a few per rod end, not per element.
@@ -14,7 +15,6 @@ module rs_formulations_rod_sizes
     use rs_core_error, only: error_t
     use rs_model_scene, only: scene_t
     use rs_formulations_formulation, only: rod_formulation_t
-    use rs_formulations_factory, only: create_formulation
     implicit none
     private
 
@@ -35,22 +35,24 @@ module rs_formulations_rod_sizes
 
 contains
 
-    !> The sizes of rod `i` of the resolved, checked `scene`; `err` if the rod cannot be built.
-    subroutine rod_sizes_of(scene, i, sizes, err)
+    !> The sizes of rod `i` of the resolved, checked `scene`, built as objects of the dynamic
+    !> type of `mold` (its formulation); `err` if the rod cannot be built.
+    subroutine rod_sizes_of(scene, i, sizes, err, mold)
         type(scene_t), intent(in) :: scene
         integer, intent(in) :: i
         type(rod_sizes_t), intent(out) :: sizes
         type(error_t), allocatable, intent(out) :: err
+        class(rod_formulation_t), intent(in) :: mold
         type(rod_sizes_t) :: at_a, at_b
         integer(int64) :: e
         e = scene%rods(i)%n_elements
         if (e <= small_elements + 1) then
-            call built_sizes(scene, i, int(e), sizes, err)
+            call built_sizes(scene, i, int(e), mold, sizes, err)
             return
         end if
-        call built_sizes(scene, i, small_elements, at_a, err)
+        call built_sizes(scene, i, small_elements, mold, at_a, err)
         if (allocated(err)) return
-        call built_sizes(scene, i, small_elements + 1, at_b, err)
+        call built_sizes(scene, i, small_elements + 1, mold, at_b, err)
         if (allocated(err)) return
         sizes%n_elements = e
         sizes%n_unknown = extended(at_a%n_unknown, at_b%n_unknown)
@@ -64,15 +66,15 @@ contains
     end subroutine rod_sizes_of
 
     !> Build rod `i` alone with `n_elements` elements and read its sizes off the object.
-    subroutine built_sizes(scene, i, n_elements, sizes, err)
+    subroutine built_sizes(scene, i, n_elements, mold, sizes, err)
         type(scene_t), intent(in) :: scene
         integer, intent(in) :: i, n_elements
+        class(rod_formulation_t), intent(in) :: mold
         type(rod_sizes_t), intent(out) :: sizes
         type(error_t), allocatable, intent(out) :: err
         class(rod_formulation_t), allocatable :: rod
         integer, allocatable :: row_ptr(:), cols(:)
-        call create_formulation(trim(scene%rods(i)%formulation), rod, err)
-        if (allocated(err)) return
+        allocate(rod, mold=mold)
         call rod%init(single_rod_scene(scene, i, n_elements), [1], err)
         if (allocated(err)) return
         call rod%jacobian_pattern(row_ptr, cols)

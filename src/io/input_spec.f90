@@ -12,6 +12,7 @@ module rs_io_input_spec
         max_sweep_members, max_plate_rods
     use rs_model_units, only: unit_systems
     use rs_model_time_function, only: time_function_names
+    use rs_formulations_registry, only: available_formulations, default_formulation
     implicit none
     private
 
@@ -53,9 +54,6 @@ module rs_io_input_spec
         character(len=400) :: description = ''
         type(variable_spec_t), allocatable :: variables(:)
     end type group_spec_t
-
-    character(len=*), parameter :: formulations = &
-        'ph_director|ph_planar|cl_em_planar|se3_pg|se3_strand|auto'
 
 contains
 
@@ -188,6 +186,13 @@ contains
         end function bound
     end function range_description
 
+    !> The values of &run formulation_default and &rod formulation: a formulation of this build
+    !> (rs_formulations_registry) or 'auto' (DESIGN.md §4).
+    function formulation_choices() result(choices)
+        character(len=:), allocatable :: choices
+        choices = available_formulations('|') // '|auto'
+    end function formulation_choices
+
     function run_group() result(g)
         type(group_spec_t) :: g
         g%name = 'run'
@@ -195,8 +200,8 @@ contains
         g%variables = [ &
             spec_v('title', 'string', '-', "''", 'A title stored in the output.', &
                 example="'cantilever under a tip load'"), &
-            spec_v('formulation_default', 'string', '-', "'ph_director'", &
-                'Formulation of rods that do not name one (DESIGN.md §1).', allowed=formulations, &
+            spec_v('formulation_default', 'string', '-', "'" // default_formulation() // "'", &
+                'Formulation of rods that do not name one (DESIGN.md §1).', allowed=formulation_choices(), &
                 example="'auto'"), &
             spec_v('log_level', 'string', '-', "'info'", 'Most detailed messages printed.', &
                 allowed='error|warning|info|debug', example="'debug'"), &
@@ -310,7 +315,7 @@ contains
             spec_v('name', 'string', '-', "'rod<i>'", 'Name used by &bc and &load and in the output.', &
                 example="'beam'"), &
             spec_v('formulation', 'string', '-', 'formulation_default', 'Formulation of this rod.', &
-                allowed=formulations, example="'ph_director'"), &
+                allowed=formulation_choices(), example="'" // default_formulation() // "'"), &
             spec_v('n_elements', 'integer', '-', '(required)', 'Number of elements.', lower=1.0_rk, &
                 required=.true., example='16'), &
             spec_v('degree', 'integer', '-', '2', 'Polynomial degree of the elements (ph_director; the ' // &

@@ -1,9 +1,10 @@
-!> The capability matrix of docs/user/capabilities.md as Markdown, rendered from the rows of
-!> rs_model_capabilities (`rodsolve --capabilities`). The docs hold this output between their
+!> The capability matrix of docs/user/capabilities.md as Markdown, rendered from capability rows
+!> (rs_model_capabilities; `rodsolve --capabilities` passes those of the formulations'
+!> descriptors, rs_formulations_registry). The docs hold this output between their
 !> GENERATED markers and the input_capabilities_doc test compares the two, so the matrix a
 !> reader sees is the one `--check-input` enforces (issue 21 item 15).
 module rs_model_capability_matrix
-    use rs_model_capabilities, only: capability_t, capability_of, formulation_names, lists_name
+    use rs_model_capabilities, only: capability_t, lists_name
     implicit none
     private
 
@@ -13,8 +14,9 @@ module rs_model_capability_matrix
 
 contains
 
-    !> The matrix: one row per formulation of this build, one column per capability.
-    function capability_matrix_markdown() result(text)
+    !> The matrix: one row per available row of `rows`, one column per capability.
+    function capability_matrix_markdown(rows) result(text)
+        type(capability_t), intent(in) :: rows(:)
         character(len=:), allocatable :: text
         character(len=*), parameter :: nl = new_line('a')
         integer :: i
@@ -22,10 +24,8 @@ contains
             'distributed loads, gravity | curved reference | prestressed | constraints | ' // &
             'viscoelasticity | actuation | joints | end plates | contact | quasistatics | ' // &
             'relaxation | planar |' // nl // '|' // repeat('---|', 17)
-        do i = 1, size(formulation_names)
-            associate (row => capability_of(formulation_names(i)))
-                if (row%available) text = text // nl // row_markdown(row)
-            end associate
+        do i = 1, size(rows)
+            if (rows(i)%available) text = text // nl // row_markdown(rows(i))
         end do
     end function capability_matrix_markdown
 

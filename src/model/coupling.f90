@@ -9,7 +9,7 @@ module rs_model_coupling
     implicit none
     private
 
-    public :: coupled_systems, system_costs, is_bundle
+    public :: coupled_systems, system_costs
 
 contains
 
@@ -101,17 +101,6 @@ contains
             end do
         end function rod_named
     end subroutine coupled_systems
-
-    !> True if the scene's rods `rods` (one system) form a bundle (issue 10): ph_director rods
-    !> coupled by joints, plates or contact, solved by the bundle formulation, and by all ranks
-    !> together when there are several (DESIGN.md §5).
-    pure logical function is_bundle(scene, rods)
-        type(scene_t), intent(in) :: scene
-        integer, intent(in) :: rods(:)
-        is_bundle = size(rods) > 1 .or. scene%contact%given
-        if (allocated(scene%plates)) is_bundle = is_bundle .or. size(scene%plates) > 0
-        is_bundle = is_bundle .and. trim(scene%rods(rods(1))%formulation) == 'ph_director'
-    end function is_bundle
 
     !> Estimated cost of a step of each system (first, members as from coupled_systems): the
     !> nodes of its rods, n_elements * degree + 1 each, as the unknowns grow with them. Used to

@@ -43,7 +43,9 @@ module rs_model_scene
     !> &run: what the run is and its global choices.
     type, public :: run_input_t
         character(len=text_len) :: title = ''
-        character(len=name_len) :: formulation_default = 'ph_director'
+        !> Blank until resolved: then the default formulation of the registry
+        !> (rs_formulations_registry, filled by rs_io_input_check).
+        character(len=name_len) :: formulation_default = ''
         character(len=name_len) :: log_level = 'info'
         !> System of units the scene's numbers are in (rs_model_units); the solver is
         !> unit-agnostic, only the unit names shown change.

@@ -16,22 +16,25 @@ module rs_solver_rod_run
     use rs_core_timer, only: wall_time
     use rs_model_scene, only: scene_t, step_count
     use rs_model_rod_history, only: rod_history_t
-    use rs_formulations_formulation, only: rod_formulation_t, state_valid
+    use rs_formulations_formulation, only: rod_formulation_t, formulation_traits_t, state_valid
     use rs_formulations_factory, only: create_formulation
     use rs_formulations_energy_sentinel, only: energy_sentinel_t
-    use rs_solver_rod_stepper, only: rod_stepper_t
+    use rs_solver_rod_stepper, only: rod_stepper_t, stepper_traits_t
     use rs_model_scene, only: solver_input_t
     use rs_parallel_mpi_env, only: world_rank, world_size
     use rs_parallel_metis, only: partition_graph
-    use rs_model_coupling, only: is_bundle
+    use rs_formulations_registry, only: is_bundle
     implicit none
     private
 
     public :: step_count
 
-    !> What PETSc's callbacks receive: the formulation and the vector sizes.
+    !> What PETSc's callbacks receive: the formulation, its traits and the vector sizes.
     type :: callback_context_t
         class(rod_formulation_t), pointer :: formulation => null()
+        !> The formulation's traits, read once after its init (constants of the object): the
+        !> solver flags of the stepper, the endpoint solves, the energy scheme of the sentinel.
+        type(formulation_traits_t) :: traits
         integer :: n_state = 0
         integer :: n_unknown = 0
         integer :: n_values = 0
@@ -151,9 +154,10 @@ contains
 
         allocate(this%context)
         this%context%formulation => this%formulation
+        this%context%traits = this%formulation%traits()
         call build_stepper(this, err)
         RS_RETURN_IF_ERROR(err)
-        if (.not. restarting .and. this%formulation%continues_equilibrium() .and. &
+        if (.not. restarting .and. this%context%traits%continues_equilibrium .and. &
                 scene%time%equilibrium_solves) then
             ! Quasistatics (DESIGN.md §3): the midpoint load steps need a start in equilibrium
             ! with the loads at t = 0 (an unramped load, gravity on a shape that does not hang
@@ -295,22 +299,28 @@ contains
             call this%stepper%create(this%context%n_state, this%context%n_unknown, row_ptr, cols, &
                 c_funloc(residual_callback), c_funloc(jacobian_callback), &
                 c_funloc(predictor_callback), c_funloc(update_callback), c_funloc(poststep_callback), &
-                c_loc(this%context), this%solver%newton_atol, this%solver%newton_rtol, &
-                this%solver%max_newton, this%solver%max_cutbacks, err, &
-                native_lu=this%formulation%native_lu(), full_newton=this%formulation%full_newton(), &
-                linear_step=this%formulation%linear_step(), banded=this%formulation%banded_unknowns(), &
-                owned=owned, jacobian_reuse=this%solver%jacobian_reuse)
+                c_loc(this%context), stepper_traits(this%solver, this%context%traits), err, &
+                owned=owned)
         else
             call this%stepper%create(this%context%n_state, this%context%n_unknown, row_ptr, cols, &
                 c_funloc(residual_callback), c_funloc(jacobian_callback), &
                 c_funloc(predictor_callback), c_funloc(update_callback), c_funloc(poststep_callback), &
-                c_loc(this%context), this%solver%newton_atol, this%solver%newton_rtol, &
-                this%solver%max_newton, this%solver%max_cutbacks, err, &
-                native_lu=this%formulation%native_lu(), full_newton=this%formulation%full_newton(), &
-                linear_step=this%formulation%linear_step(), banded=this%formulation%banded_unknowns(), &
-                jacobian_reuse=this%solver%jacobian_reuse)
+                c_loc(this%context), stepper_traits(this%solver, this%context%traits), err)
         end if
     end subroutine build_stepper
+
+    !> What the stepper is built with: the scene's Newton settings (&solver) and the
+    !> formulation's solver flags, as the one C struct of include/rs_rod_stepper.h.
+    pure function stepper_traits(solver, traits) result(stepper)
+        type(solver_input_t), intent(in) :: solver
+        type(formulation_traits_t), intent(in) :: traits
+        type(stepper_traits_t) :: stepper
+        stepper = stepper_traits_t(newton_atol=solver%newton_atol, &
+            newton_rtol=solver%newton_rtol, jacobian_reuse=solver%jacobian_reuse, &
+            max_newton=solver%max_newton, max_cutbacks=solver%max_cutbacks, &
+            native_lu=traits%native_lu, banded_unknowns=traits%banded_unknowns, &
+            full_newton=traits%full_newton, linear_step=traits%linear_step)
+    end function stepper_traits
 
     !> Before a step from x: the formulation refreshes what the step needs (contact pairs) and
     !> the stepper is built again if the Jacobian pattern changed.
@@ -385,7 +395,7 @@ contains
         end if
         ! &time equilibrium_solves = .false.: the midpoint load path alone (seed 001).
         last_step = n == n_steps .and. scene%time%equilibrium_solves
-        if (last_step .and. this%formulation%continues_equilibrium()) then
+        if (last_step .and. this%context%traits%continues_equilibrium) then
             ! Quasistatics (DESIGN.md §3): the midpoint steps are equilibria at the mid loads;
             ! the last record is the equilibrium at the final load itself, continued from the
             ! last step's state.
@@ -395,7 +405,7 @@ contains
                 call this%stop_here()
                 return
             end if
-        else if (last_step .and. this%formulation%wants_endpoint_solve()) then
+        else if (last_step .and. this%context%traits%wants_endpoint_solve) then
             call this%formulation%set_endpoint_solve(.true., scene%time%t_end)
             started = wall_time()
             call prepare(this, t_n, h)
@@ -612,7 +622,7 @@ contains
         context%formulation%step_energy%reported = .false.
         call context%formulation%accept_step(t_n, h, x_n_, x_1_, int(newton_iterations), fnorm)
         context%t_reached = t_n + h
-        call context%sentinel%check(context%formulation%energy_scheme(), &
+        call context%sentinel%check(context%traits%energy_scheme, &
             context%formulation%step_energy, t_n + h)
         status = state_valid
     end function poststep_callback

@@ -341,8 +341,8 @@ static PetscErrorCode step_update(PetscReal t_n, PetscReal h, Vec X_n, Vec Y, Ve
 /* Problems of the arguments, as a message; 0 if none. */
 static int check_arguments(int n_state, int n_unknown, const int *row_ptr, const int *cols,
                            rs_cb_residual residual, rs_cb_jacobian jacobian, rs_cb_vec predictor,
-                           rs_cb_update update, double newton_atol, double newton_rtol,
-                           int max_newton, int max_cutbacks, char *errmsg, int errlen)
+                           rs_cb_update update, const struct rs_stepper_traits *traits,
+                           char *errmsg, int errlen)
 {
     if (n_state < 1 || n_unknown < 1) {
         set_message(errmsg, errlen, "rod stepper: n_state = %d and n_unknown = %d must be >= 1",
@@ -362,12 +362,17 @@ static int check_arguments(int n_state, int n_unknown, const int *row_ptr, const
             n_unknown, n_state);
         return 1;
     }
-    if (!(newton_atol >= 0.0) || !(newton_rtol >= 0.0) || max_newton < 0 || max_cutbacks < 0) {
+    if (!traits) {
+        set_message(errmsg, errlen, "rod stepper: no traits (Newton settings, solver flags)");
+        return 1;
+    }
+    if (!(traits->newton_atol >= 0.0) || !(traits->newton_rtol >= 0.0) ||
+        traits->max_newton < 0 || traits->max_cutbacks < 0) {
         set_message(
             errmsg, errlen,
             "rod stepper: newton_atol = %g and newton_rtol = %g must be >= 0, max_newton = %d and "
             "max_cutbacks = %d >= 0",
-            newton_atol, newton_rtol, max_newton, max_cutbacks);
+            traits->newton_atol, traits->newton_rtol, traits->max_newton, traits->max_cutbacks);
         return 1;
     }
     if (!row_ptr || !cols || row_ptr[0] != 0) {
@@ -435,9 +440,7 @@ static PetscErrorCode distributed_setup(RsStepper *s, const int *row_ptr, const 
 }
 
 static PetscErrorCode stepper_setup(RsStepper *s, const int *row_ptr, const int *cols,
-                                    double newton_atol, double newton_rtol, int max_newton,
-                                    int max_cutbacks, int native_lu, int full_newton,
-                                    int linear_step, double jacobian_reuse)
+                                    const struct rs_stepper_traits *traits)
 {
     char      defaults[768], mumps[160], message[1024];
     Vec       Y_template = NULL;
@@ -481,8 +484,9 @@ static PetscErrorCode stepper_setup(RsStepper *s, const int *row_ptr, const int 
              "-snes_type %s -snes_atol %.17g -snes_rtol %.17g "
              "-snes_stol 0 -snes_max_it %d -ksp_type preonly -pc_type lu %s "
              "-ts_rodmid_max_cutbacks %d -ts_rodmid_reuse_jacobian %.17g",
-             linear_step ? "ksponly" : "newtonls", newton_atol, newton_rtol, max_newton, mumps,
-             max_cutbacks, linear_step ? 0.0 : jacobian_reuse);
+             traits->linear_step ? "ksponly" : "newtonls", traits->newton_atol,
+             traits->newton_rtol, traits->max_newton, mumps, traits->max_cutbacks,
+             traits->linear_step ? 0.0 : traits->jacobian_reuse);
     PetscCheck(rs_petsc_apply_options(defaults, NULL, message, (int)sizeof(message)) == 0,
                PETSC_COMM_SELF, PETSC_ERR_LIB, "%s", message);
 
@@ -529,23 +533,24 @@ static PetscErrorCode stepper_setup(RsStepper *s, const int *row_ptr, const int 
     PetscCall(KSPGetPC(ksp, &pc));
     PetscCall(PCSetType(pc, PCLU));
     PetscCall(PCFactorSetMatSolverType(pc, s->distributed ? MATSOLVERMUMPS
-                                           : native_lu    ? MATSOLVERPETSC
-                                                          : MATSOLVERRODCHAIN));
-    /* native_lu = 2: the formulation numbered its unknowns for a narrow band (se3_strand's
+                                           : traits->native_lu ? MATSOLVERPETSC
+                                                               : MATSOLVERRODCHAIN));
+    /* banded_unknowns: the formulation numbered its unknowns for a narrow band (se3_strand's
        block-tridiagonal interleaving), which the natural ordering keeps: no fill at all, and
        0.6 to 0.9 of the time of nested dissection (docs/performance.md). */
-    if (native_lu) PetscCall(PCFactorSetMatOrderingType(pc, native_lu == 2 ? MATORDERINGNATURAL
+    if (traits->native_lu)
+        PetscCall(PCFactorSetMatOrderingType(pc, traits->banded_unknowns ? MATORDERINGNATURAL
                                                                          : MATORDERINGND));
     /* The line search: backtracking (bt), or the full Newton step where the formulation's
        method document says Newton is run undamped (seed 001's schemes: the bt search cuts the
        first steps of the displacement schemes and multiplies their iterations,
        docs/performance.md). -snes_linesearch_type overrides either. */
     PetscCall(SNESGetLineSearch(snes, &line_search));
-    PetscCall(SNESLineSearchSetType(line_search, full_newton ? SNESLINESEARCHBASIC
-                                                             : SNESLINESEARCHBT));
+    PetscCall(SNESLineSearchSetType(line_search, traits->full_newton ? SNESLINESEARCHBASIC
+                                                                     : SNESLINESEARCHBT));
     /* An undamped first step may raise a badly scaled residual (forces and moments of a
        slender rod) far above the start before Newton converges: no divergence test then. */
-    if (full_newton) PetscCall(SNESSetDivergenceTolerance(snes, -1.0));
+    if (traits->full_newton) PetscCall(SNESSetDivergenceTolerance(snes, -1.0));
     PetscCall(TSSetFromOptions(s->ts));
     PetscCall(PetscObjectTypeCompare((PetscObject)s->ts, TSRODMID, &is_rodmid));
     PetscCall(TSGetType(s->ts, &type));
@@ -580,9 +585,8 @@ static void stepper_free(RsStepper *s)
 int rs_stepper_create(void **handle, int n_state, int n_unknown, const int *row_ptr,
                       const int *cols, rs_cb_residual residual, rs_cb_jacobian jacobian,
                       rs_cb_vec predictor, rs_cb_update update, rs_cb_poststep poststep, void *ctx,
-                      double newton_atol, double newton_rtol, int max_newton, int max_cutbacks,
-                      int native_lu, int full_newton, int linear_step, double jacobian_reuse,
-                      const int *owned, char *errmsg, int errlen)
+                      const struct rs_stepper_traits *traits, const int *owned, char *errmsg,
+                      int errlen)
 {
     RsErrorCapture capture = {"", 0};
     RsStepper     *s;
@@ -595,7 +599,7 @@ int rs_stepper_create(void **handle, int n_state, int n_unknown, const int *row_
     }
     *handle = NULL;
     if (check_arguments(n_state, n_unknown, row_ptr, cols, residual, jacobian, predictor, update,
-                        newton_atol, newton_rtol, max_newton, max_cutbacks, errmsg, errlen))
+                        traits, errmsg, errlen))
         return RS_STEPPER_BAD_ARGUMENT;
     s = calloc(1, sizeof(*s));
     if (!s) {
@@ -622,8 +626,7 @@ int rs_stepper_create(void **handle, int n_state, int n_unknown, const int *row_
 
     enter_petsc(s);
     PetscPushErrorHandler(capture_error, &capture);
-    ierr = stepper_setup(s, row_ptr, cols, newton_atol, newton_rtol, max_newton, max_cutbacks,
-                         native_lu, full_newton, linear_step, jacobian_reuse);
+    ierr = stepper_setup(s, row_ptr, cols, traits);
     PetscPopErrorHandler();
     leave_petsc(s);
     if (ierr) {

@@ -13,10 +13,11 @@
 !> Options precedence (DESIGN.md §3): scene values < the input's `petsc_options` < the
 !> command line. The command line is captured when PETSc starts; `petsc_apply_options` sets the
 !> `petsc_options` layer (once, at start-up) and scene values; `rod_stepper_t%create` inserts
-!> its own scene values (newton_atol, newton_rtol, max_newton, max_cutbacks, MUMPS LU) in the
-!> scene layer, so a name set by a higher layer keeps the higher layer's value.
+!> its own scene values (newton_atol, newton_rtol, max_newton, max_cutbacks of its
+!> stepper_traits_t, the LU package) in the scene layer, so a name set by a higher layer keeps
+!> the higher layer's value.
 module rs_solver_rod_stepper
-    use, intrinsic :: iso_c_binding, only: c_int, c_double, c_char, c_ptr, c_funptr, &
+    use, intrinsic :: iso_c_binding, only: c_int, c_double, c_bool, c_char, c_ptr, c_funptr, &
         c_null_ptr, c_null_char, c_loc, c_associated
     use rs_core_kinds, only: rk
     use rs_core_error, only: error_t, set_error, set_petsc_error
@@ -24,7 +25,7 @@ module rs_solver_rod_stepper
     implicit none
     private
 
-    public :: rod_stepper_t
+    public :: rod_stepper_t, stepper_traits_t
     public :: petsc_apply_options, petsc_options_text, petsc_log_begin, petsc_event_count, &
         petsc_unused_options
     public :: residual_callback, jacobian_callback, predictor_callback, update_callback, &
@@ -34,6 +35,30 @@ module rs_solver_rod_stepper
     integer(c_int), parameter, public :: callback_ok = 0
     !> Callback status of a residual or Jacobian: invalid state, cut the step.
     integer(c_int), parameter, public :: callback_invalid_state = 1
+
+    !> What a stepper is built with besides its pattern and callbacks: the scene's Newton
+    !> settings (&solver) and the formulation's solver traits (rs_formulations_formulation's
+    !> formulation_traits_t). It is `struct rs_stepper_traits` of include/rs_rod_stepper.h,
+    !> which documents each field: the components and their order must match it.
+    type, bind(C) :: stepper_traits_t
+        !> Newton's absolute and relative residual tests (scene values, DESIGN.md §3).
+        real(c_double) :: newton_atol = 0.0_c_double
+        real(c_double) :: newton_rtol = 0.0_c_double
+        !> Keep the factored Jacobian while each Newton iteration cuts the residual norm at
+        !> least by this ratio (&solver jacobian_reuse); 0: Newton's method.
+        real(c_double) :: jacobian_reuse = 0.0_c_double
+        integer(c_int) :: max_newton = 0
+        !> Halvings of a failing substep before the advance gives up.
+        integer(c_int) :: max_cutbacks = 0
+        !> PETSc's own LU instead of the chain LU: the Jacobian needs no pivoting.
+        logical(c_bool) :: native_lu = .false.
+        !> With native_lu: the unknowns are numbered for a narrow band, the LU keeps their order.
+        logical(c_bool) :: banded_unknowns = .false.
+        !> Full Newton steps instead of backtracking.
+        logical(c_bool) :: full_newton = .false.
+        !> The step problem is affine in y: one linear solve per step, no Newton loop.
+        logical(c_bool) :: linear_step = .false.
+    end type stepper_traits_t
 
     !> One rod's stepper: a handle to the C object and the state length it expects.
     type :: rod_stepper_t
@@ -100,18 +125,15 @@ module rs_solver_rod_stepper
 
     interface
         integer(c_int) function rs_stepper_create(handle, n_state, n_unknown, row_ptr, cols, &
-                residual, jacobian, predictor, update, poststep, ctx, newton_atol, newton_rtol, &
-                max_newton, max_cutbacks, native_lu, full_newton, linear_step, jacobian_reuse, &
-                owned, errmsg, errlen) bind(C)
-            import :: c_int, c_double, c_char, c_ptr, c_funptr
+                residual, jacobian, predictor, update, poststep, ctx, traits, owned, errmsg, &
+                errlen) bind(C)
+            import :: c_int, c_char, c_ptr, c_funptr, stepper_traits_t
             type(c_ptr), intent(out) :: handle
             integer(c_int), value :: n_state, n_unknown
             integer(c_int), intent(in) :: row_ptr(*), cols(*)
             type(c_funptr), value :: residual, jacobian, predictor, update, poststep
             type(c_ptr), value :: ctx
-            real(c_double), value :: newton_atol, newton_rtol
-            integer(c_int), value :: max_newton, max_cutbacks, native_lu, full_newton, linear_step
-            real(c_double), value :: jacobian_reuse
+            type(stepper_traits_t), intent(in) :: traits
             type(c_ptr), value :: owned
             character(kind=c_char), intent(out) :: errmsg(*)
             integer(c_int), value :: errlen
@@ -188,16 +210,12 @@ contains
     !> Newton unknowns. `row_ptr` (n_unknown + 1 entries) and `cols` are the 0-based CSR pattern
     !> of dF/dy, columns strictly increasing in each row. `predictor`, `update` and `poststep`
     !> may be `c_null_funptr` (defaults y = x_n and x_{n+1} = y, which need n_unknown =
-    !> n_state). The scene values newton_atol, newton_rtol, max_newton and max_cutbacks are
-    !> defaults that `petsc_options` and the command line override. The LU package is MUMPS,
-    !> or PETSc's own LU when `native_lu` (default false) says the Jacobian needs no pivoting;
-    !> Newton takes full steps when `full_newton` (default false), else it backtracks (bt).
-    !> `linear_step` (default false): the step problem is affine in y, so a step is one linear
-    !> solve (SNES KSPONLY), no Newton loop. `banded` (default false, with native_lu): the
-    !> unknowns are numbered for a narrow band, so the LU keeps their order.
+    !> n_state). `traits`: the Newton settings, defaults that `petsc_options` and the command
+    !> line override, and the solver flags (stepper_traits_t; the LU package is the chain LU, or
+    !> PETSc's own with `native_lu`; Newton backtracks unless `full_newton`; one linear solve per
+    !> step with `linear_step`).
     subroutine rod_stepper_create(this, n_state, n_unknown, row_ptr, cols, residual, jacobian, &
-            predictor, update, poststep, ctx, newton_atol, newton_rtol, max_newton, max_cutbacks, &
-            err, native_lu, full_newton, linear_step, banded, owned, jacobian_reuse)
+            predictor, update, poststep, ctx, traits, err, owned)
         class(rod_stepper_t), intent(inout) :: this
         integer, intent(in) :: n_state, n_unknown
         integer, intent(in) :: row_ptr(:), cols(:)
@@ -205,35 +223,17 @@ contains
         ! absolute relocation (gfortran), i.e. a text relocation in PIE executables.
         type(c_funptr), value :: residual, jacobian, predictor, update, poststep
         type(c_ptr), value :: ctx
-        real(rk), intent(in) :: newton_atol, newton_rtol
-        integer, intent(in) :: max_newton, max_cutbacks
+        type(stepper_traits_t), intent(in) :: traits
         type(error_t), allocatable, intent(out) :: err
-        logical, intent(in), optional :: native_lu, full_newton, linear_step, banded
         !> A system shared by all ranks (rs_stepper_create): this rank's 0-based ranges
         !> [state_lo, state_hi, unknown_lo, unknown_hi).
         integer, intent(in), optional :: owned(4)
-        !> Keep the factored Jacobian while each Newton iteration cuts the residual norm at
-        !> least by this ratio (&solver jacobian_reuse; default 0: Newton's method).
-        real(rk), intent(in), optional :: jacobian_reuse
-        real(rk) :: reuse
         integer(c_int), target :: owned_c(4)
         type(c_ptr) :: owned_ptr
         character(kind=c_char) :: message(message_length)
         character(len=:), allocatable :: problem
         integer(c_int) :: ierr
-        logical :: native, full, linear, narrow
-        integer(c_int) :: lu_kind
 
-        native = .false.
-        if (present(native_lu)) native = native_lu
-        full = .false.
-        if (present(full_newton)) full = full_newton
-        linear = .false.
-        if (present(linear_step)) linear = linear_step
-        narrow = .false.
-        if (present(banded)) narrow = banded
-        lu_kind = 0
-        if (native) lu_kind = merge(2_c_int, 1_c_int, narrow)
         call this%destroy()
         ! C cannot see the array lengths: check them here, the pattern itself is checked in C.
         if (n_unknown < 1 .or. size(row_ptr) /= n_unknown + 1) then
@@ -249,8 +249,6 @@ contains
             return
         end if
         message = c_null_char
-        reuse = 0.0_rk
-        if (present(jacobian_reuse)) reuse = jacobian_reuse
         owned_ptr = c_null_ptr
         if (present(owned)) then
             owned_c = int(owned, c_int)
@@ -258,11 +256,7 @@ contains
         end if
         ierr = rs_stepper_create(this%handle, int(n_state, c_int), int(n_unknown, c_int), &
             int(row_ptr, c_int), int(cols, c_int), residual, jacobian, predictor, update, &
-            poststep, ctx, real(newton_atol, c_double), real(newton_rtol, c_double), &
-            int(max_newton, c_int), int(max_cutbacks, c_int), lu_kind, &
-            merge(1_c_int, 0_c_int, full), merge(1_c_int, 0_c_int, linear), &
-            real(reuse, c_double), owned_ptr, &
-            message, int(message_length, c_int))
+            poststep, ctx, traits, owned_ptr, message, int(message_length, c_int))
         if (ierr /= 0) then
             this%handle = c_null_ptr
             RS_SET_ERROR(err, 'rod_stepper_create', from_c_string(message))

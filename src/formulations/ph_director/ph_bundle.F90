@@ -42,7 +42,8 @@ module rs_ph_bundle
     use rs_model_rod_history, only: rod_history_t
     use rs_model_time_function, only: time_function_t, time_function_from_plate
     use rs_assembly_csr_pattern, only: csr_builder_t, csr_pattern_t
-    use rs_formulations_formulation, only: rod_formulation_t, state_valid, state_invalid
+    use rs_formulations_formulation, only: rod_formulation_t, formulation_traits_t, state_valid, &
+        state_invalid
     use rs_ph_director, only: ph_director_t
     use rs_ph_director_tie, only: ph_director_tie_t, ph_director_joint_tie, ph_director_plate_tie, &
         ph_director_tie_value, ph_director_tie_gradient, ph_director_tie_hessian
@@ -162,7 +163,7 @@ module rs_ph_bundle
         procedure :: init_history => bundle_init_history
         procedure :: record => bundle_record
         procedure :: describe => bundle_describe
-        procedure :: wants_endpoint_solve => bundle_wants_endpoint_solve
+        procedure :: traits => bundle_traits
         procedure :: set_endpoint_solve => bundle_set_endpoint_solve
         procedure :: n_internal => bundle_n_internal
         procedure :: save_internal => bundle_save_internal
@@ -171,7 +172,6 @@ module rs_ph_bundle
         procedure :: coupling_graph => bundle_coupling_graph
         procedure :: distribute => bundle_distribute
         procedure :: owned_range => bundle_owned_range
-        procedure :: full_newton => bundle_full_newton
         procedure :: canonical_state => bundle_canonical_state
         procedure :: from_canonical => bundle_from_canonical
         procedure :: partition_summary
@@ -1445,19 +1445,19 @@ contains
         end do
     end function partition_summary
 
-    !> Full Newton steps: the tie rows (positions, in m) and the momentum rows (h times forces)
-    !> have different scales, and backtracking on their joint norm takes tiny steps where the
-    !> full step converges quadratically (measured on the strand scenes, docs/theory/bundles.md);
-    !> a failed step is still halved by the stepper.
-    pure logical function bundle_full_newton(this)
+    !> The traits of a bundle (the energy scheme stays unchecked: the bundle books no step
+    !> energy for the sentinel; the LU pivots, for the tie multipliers):
+    !> - full Newton steps: the tie rows (positions, in m) and the momentum rows (h times
+    !>   forces) have different scales, and backtracking on their joint norm takes tiny steps
+    !>   where the full step converges quadratically (measured on the strand scenes,
+    !>   docs/theory/bundles.md); a failed step is still halved by the stepper;
+    !> - quasistatic runs end with the endpoint equilibrium, one Newton solve (no continuation).
+    pure function bundle_traits(this) result(traits)
         class(ph_bundle_t), intent(in) :: this
-        bundle_full_newton = .true.
-    end function bundle_full_newton
-
-    pure logical function bundle_wants_endpoint_solve(this)
-        class(ph_bundle_t), intent(in) :: this
-        bundle_wants_endpoint_solve = this%quasistatic
-    end function bundle_wants_endpoint_solve
+        type(formulation_traits_t) :: traits
+        traits%full_newton = .true.
+        traits%wants_endpoint_solve = this%quasistatic
+    end function bundle_traits
 
     subroutine bundle_set_endpoint_solve(this, on, t_load)
         class(ph_bundle_t), intent(inout) :: this

@@ -24,7 +24,8 @@ module rs_ph_director
         time_function_from_actuator
     use rs_model_rod_history, only: rod_history_t
     use rs_assembly_csr_pattern, only: csr_builder_t, csr_pattern_t
-    use rs_formulations_formulation, only: rod_formulation_t, state_valid, state_invalid
+    use rs_formulations_formulation, only: rod_formulation_t, formulation_traits_t, state_valid, &
+        state_invalid
     use rs_formulations_energy_sentinel, only: step_energy_t, energy_consistent, energy_unchecked
     use rs_ph_director_element, only: ph_director_basis_t, ph_director_material_t, &
         ph_director_actuation_t, ph_director_max_branches, ph_director_max_tendons, &
@@ -157,13 +158,11 @@ module rs_ph_director
         procedure :: record => ph_director_record
         procedure :: describe => ph_director_describe
         procedure :: energy => ph_director_energy
-        procedure :: wants_endpoint_solve => ph_director_wants_endpoint_solve
-        procedure :: energy_scheme => ph_director_energy_scheme
+        procedure :: traits => ph_director_traits
         procedure :: n_internal => ph_director_n_internal
         procedure :: save_internal => ph_director_save_internal
         procedure :: restore_internal => ph_director_restore_internal
         procedure :: set_endpoint_solve => ph_director_set_endpoint_solve
-        procedure :: continues_equilibrium => ph_director_continues_equilibrium
         procedure :: set_continuation_start => ph_director_set_continuation_start
         procedure :: largest_rotation => ph_director_largest_rotation
         procedure :: unpack
@@ -1290,18 +1289,22 @@ contains
         this%smallest_step = min(this%smallest_step, h)
     end subroutine ph_director_accept_step
 
-    !> The EM midpoint rule conserves energy up to the Newton tolerance (methods §5);
-    !> quasistatic runs book none.
-    pure integer function ph_director_energy_scheme(this)
+    !> The traits of a ph_director rod (the solver flags keep their defaults: the chain LU
+    !> pivots the saddle point of the director constraints, Newton backtracks):
+    !> - energy: the EM midpoint rule conserves energy up to the Newton tolerance (methods §5);
+    !>   quasistatic runs book none;
+    !> - quasistatic runs end with the endpoint equilibrium (DESIGN.md §3), solved as a
+    !>   continuation (DESIGN.md §3, "Quasistatics"): the static rows (methods §2.8 eqs. 96e-g)
+    !>   have the same unknowns as a step, so the Newton homotopy R(Y) - (1 - tau) R(x_from)
+    !>   starts at x_from; quasistatic rods keep their stresses as unknowns (ph_director_init),
+    !>   so Y has the layout of X; a condensed rod does not.
+    pure function ph_director_traits(this) result(traits)
         class(ph_director_t), intent(in) :: this
-        ph_director_energy_scheme = merge(energy_unchecked, energy_consistent, this%quasistatic)
-    end function ph_director_energy_scheme
-
-    !> Quasistatic runs end with the endpoint equilibrium (DESIGN.md §3).
-    pure logical function ph_director_wants_endpoint_solve(this)
-        class(ph_director_t), intent(in) :: this
-        ph_director_wants_endpoint_solve = this%quasistatic
-    end function ph_director_wants_endpoint_solve
+        type(formulation_traits_t) :: traits
+        traits%energy_scheme = merge(energy_unchecked, energy_consistent, this%quasistatic)
+        traits%wants_endpoint_solve = this%quasistatic
+        traits%continues_equilibrium = this%quasistatic .and. .not. this%condensed
+    end function ph_director_traits
 
     !> Make the next steps the endpoint equilibrium at load time t_load (`on`), or time steps:
     !> the kernels' `static` variant, methods §2.8 eqs. 96e-g with the reference strains.
@@ -1313,15 +1316,6 @@ contains
         this%t_static = t_load
         if (.not. on) this%continuing = .false.
     end subroutine ph_director_set_endpoint_solve
-
-    !> The endpoint equilibrium as a continuation (DESIGN.md §3, "Quasistatics"): the static
-    !> rows (methods §2.8 eqs. 96e-g) have the same unknowns as a step, so the Newton homotopy
-    !> R(Y) - (1 - tau) R(x_from) starts at x_from; quasistatic rods keep their stresses as
-    !> unknowns (ph_director_init), so Y has the layout of X.
-    pure logical function ph_director_continues_equilibrium(this)
-        class(ph_director_t), intent(in) :: this
-        ph_director_continues_equilibrium = this%quasistatic .and. .not. this%condensed
-    end function ph_director_continues_equilibrium
 
     !> Anchor the continuation at x_from (call set_endpoint_solve first): the static residual
     !> there, in the scaling of a step of length row_scale.

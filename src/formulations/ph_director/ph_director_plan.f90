@@ -29,6 +29,8 @@ contains
         character(len=:), allocatable, intent(out) :: text
         type(error_t), allocatable, intent(out) :: err
         type(ph_director_t), allocatable :: rod
+        ! The type the sizes are built with (rs_formulations_rod_sizes).
+        type(ph_director_t) :: mold
         type(scene_t) :: small
         type(rod_sizes_t) :: sizes
         character(len=:), allocatable :: units
@@ -51,7 +53,7 @@ contains
             call rod%init(small, [1], err)
             if (allocated(err)) return
         end if
-        call rod_sizes_of(small_at_full_count(), 1, sizes, err)
+        call rod_sizes_of(small_at_full_count(), 1, sizes, err, mold)
         if (allocated(err)) return
         units = trim(scene%run%units)
         p = rod%degree

@@ -34,7 +34,8 @@ module rs_ph_planar
     use rs_model_planarity, only: plane_t, plane_of_rods, point_in_plane, vector_in_plane, &
         point_from_plane, vector_from_plane, angle_in_plane, cross
     use rs_assembly_csr_pattern, only: csr_builder_t, csr_pattern_t
-    use rs_formulations_formulation, only: rod_formulation_t, state_valid, state_invalid
+    use rs_formulations_formulation, only: rod_formulation_t, formulation_traits_t, state_valid, &
+        state_invalid
     use rs_formulations_energy_sentinel, only: step_energy_t, energy_consistent, energy_unchecked
     use rs_ph_planar_element, only: ph_em_residual, ph_em_jacobian, ph_em_condensed, &
         cl_em_residual, cl_em_jacobian, ph_emi_residual, ph_emi_jacobian, ph_emi_strains, &
@@ -137,18 +138,14 @@ module rs_ph_planar
         procedure :: step_residual => planar_step_residual
         procedure :: step_jacobian => planar_step_jacobian
         procedure :: accept_step => planar_accept_step
-        procedure :: energy_scheme => planar_energy_scheme
         procedure :: init_history => planar_init_history
         procedure :: record => planar_record
         procedure :: describe => planar_describe
         procedure :: n_internal => planar_n_internal
         procedure :: save_internal => planar_save_internal
         procedure :: restore_internal => planar_restore_internal
-        procedure :: native_lu => planar_native_lu
-        procedure :: full_newton => planar_full_newton
-        procedure :: wants_endpoint_solve => planar_wants_endpoint_solve
+        procedure :: traits => planar_traits
         procedure :: set_endpoint_solve => planar_set_endpoint_solve
-        procedure :: continues_equilibrium => planar_continues_equilibrium
         procedure :: set_continuation_start => planar_set_continuation_start
         procedure :: largest_rotation => planar_largest_rotation
         !> Kinetic and strain energy of one rod in state x.
@@ -965,13 +962,6 @@ contains
         this%last_residual = residual_norm
     end subroutine planar_accept_step
 
-    !> All three schemes are energy-consistent: H_{n+1} - H_n = W up to the Newton tolerance
-    !> (methods §4.3, Appendix A.5); a quasistatic run has no kinetic energy to check.
-    pure integer function planar_energy_scheme(this)
-        class(ph_planar_t), intent(in) :: this
-        planar_energy_scheme = merge(energy_unchecked, energy_consistent, this%quasistatic)
-    end function planar_energy_scheme
-
     !> Kinetic energy 1/2 v^T M v with the consistent mass and the strain energy of rod r
     !> (methods §4.3 "discrete diagnostics"): of the mixed strains (PH-EM), of the compatible
     !> strains with the scheme's quadrature (cl-EM) or of the Gauss-point strains (PH-EMi).
@@ -1183,12 +1173,31 @@ contains
 
     ! ---- Quasistatics: the equilibrium solves (DESIGN.md §3) -----------------------------------
 
-    !> Quasistatic runs end with the endpoint equilibrium: the midpoint load steps (methods §4.7)
-    !> balance the loads at the mid times with rate-form strains, not at t_{n+1}.
-    pure logical function planar_wants_endpoint_solve(this)
+    !> The traits of the planar schemes:
+    !> - energy: all three schemes are energy-consistent, H_{n+1} - H_n = W up to the Newton
+    !>   tolerance (methods §4.3, Appendix A.5); a quasistatic run has no kinetic energy to
+    !>   check;
+    !> - quasistatic runs end with the endpoint equilibrium: the midpoint load steps (methods
+    !>   §4.7) balance the loads at the mid times with rate-form strains, not at t_{n+1}; every
+    !>   scheme continues it (static_rows has the unknowns of a step);
+    !> - native LU: PETSc's own LU is safe without pivoting when every diagonal entry is
+    !>   non-zero: the mass (2/h^2) M on the nodal block of a dynamic run, the stiffness of the
+    !>   condensed element tangent. An uncondensed quasistatic Jacobian has zero (x, y)
+    !>   diagonals (the nodal forces of PH-EM depend on the positions only through the
+    !>   strains): the chain LU pivots there;
+    !> - plain Newton, as the authors (methods §4.6): the paper's iteration counts are for the
+    !>   full step, and backtracking multiplies the displacement schemes' iterations tenfold on
+    !>   the four-bar (docs/performance.md).
+    pure function planar_traits(this) result(traits)
         class(ph_planar_t), intent(in) :: this
-        planar_wants_endpoint_solve = this%quasistatic
-    end function planar_wants_endpoint_solve
+        type(formulation_traits_t) :: traits
+        traits%energy_scheme = merge(energy_unchecked, energy_consistent, this%quasistatic)
+        traits%wants_endpoint_solve = this%quasistatic
+        traits%continues_equilibrium = this%quasistatic
+        traits%native_lu = .not. this%quasistatic .or. this%condensed .or. &
+            this%scheme /= scheme_ph_em
+        traits%full_newton = .true.
+    end function planar_traits
 
     !> The next steps solve the equilibrium at load time t_load (`on`; static_rows), or are
     !> load steps again.
@@ -1200,12 +1209,6 @@ contains
         this%t_static = t_load
         if (.not. on) this%continuing = .false.
     end subroutine planar_set_endpoint_solve
-
-    !> Every scheme continues its equilibrium (static_rows has the unknowns of a step).
-    pure logical function planar_continues_equilibrium(this)
-        class(ph_planar_t), intent(in) :: this
-        planar_continues_equilibrium = this%quasistatic
-    end function planar_continues_equilibrium
 
     !> Anchor the continuation at x_from (after set_endpoint_solve): the equilibrium rows there,
     !> for the unknowns of x_from itself (the predictor's Y).
@@ -1229,24 +1232,6 @@ contains
         real(rk), intent(in) :: x_from(:), x_to(:)
         angle = maxval(abs(x_to(this%theta_dofs) - x_from(this%theta_dofs)))
     end function planar_largest_rotation
-
-    !> PETSc's own LU is safe without pivoting when every diagonal entry is non-zero: the mass
-    !> (2/h^2) M on the nodal block of a dynamic run, the stiffness of the condensed element
-    !> tangent. An uncondensed quasistatic Jacobian has zero (x, y) diagonals (the nodal forces
-    !> of PH-EM depend on the positions only through the strains): the chain LU pivots there.
-    pure logical function planar_native_lu(this)
-        class(ph_planar_t), intent(in) :: this
-        planar_native_lu = .not. this%quasistatic .or. this%condensed .or. &
-            this%scheme /= scheme_ph_em
-    end function planar_native_lu
-
-    !> Plain Newton, as the authors (methods §4.6): the paper's iteration counts are for the full
-    !> step, and backtracking multiplies the displacement schemes' iterations tenfold on the
-    !> four-bar (docs/performance.md).
-    pure logical function planar_full_newton(this)
-        class(ph_planar_t), intent(in) :: this
-        planar_full_newton = .true.
-    end function planar_full_newton
 
     ! ---- Small helpers ----------------------------------------------------------------------
 

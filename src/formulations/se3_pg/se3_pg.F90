@@ -38,7 +38,8 @@ module rs_se3_pg
         complement_rotation_vector
     use rs_math_se3, only: log_se3, pose_relative
     use rs_assembly_csr_pattern, only: csr_builder_t, csr_pattern_t
-    use rs_formulations_formulation, only: rod_formulation_t, state_valid, state_invalid
+    use rs_formulations_formulation, only: rod_formulation_t, formulation_traits_t, state_valid, &
+        state_invalid
     use rs_se3_pg_element, only: se3_strains, se3_internal_force, se3_internal_tangent, &
         se3_element_mass, se3_gyroscopic, follower_force, dead_moment, se3_strain_energy
     implicit none
@@ -111,7 +112,7 @@ module rs_se3_pg
         procedure :: n_internal => se3_n_internal
         procedure :: save_internal => se3_save_internal
         procedure :: restore_internal => se3_restore_internal
-        procedure :: full_newton => se3_full_newton
+        procedure :: traits => se3_traits
         procedure, private :: full_q, nodal_loads, energies, midpoint_velocity, set_drives
     end type se3_pg_t
 
@@ -833,12 +834,15 @@ contains
         this%iterations_since_record = nint(values(5))
     end subroutine se3_restore_internal
 
-    !> Plain Newton-Raphson, as the paper (methods §7.2): the stiffness ratios of slender rods
-    !> (shear l GA against bending EI / l) make PETSc's backtracking cut nearly every step.
-    pure logical function se3_full_newton(this)
+    !> The traits of se3_pg: plain Newton-Raphson, as the paper (methods §7.2): the stiffness
+    !> ratios of slender rods (shear l GA against bending EI / l) make PETSc's backtracking cut
+    !> nearly every step. Everything else keeps its default (no endpoint solve, energy
+    !> unchecked, the chain LU).
+    pure function se3_traits(this) result(traits)
         class(se3_pg_t), intent(in) :: this
-        se3_full_newton = .true.
-    end function se3_full_newton
+        type(formulation_traits_t) :: traits
+        traits%full_newton = .true.
+    end function se3_traits
 
     ! ---- Small helpers ----------------------------------------------------------------------
 

@@ -39,7 +39,8 @@ module rs_se3_strand
     use rs_math_so3, only: exp_so3, hat
     use rs_math_se3, only: log_se3, pose_relative
     use rs_assembly_csr_pattern, only: csr_builder_t, csr_pattern_t
-    use rs_formulations_formulation, only: rod_formulation_t, state_valid, state_invalid
+    use rs_formulations_formulation, only: rod_formulation_t, formulation_traits_t, state_valid, &
+        state_invalid
     use rs_formulations_energy_sentinel, only: step_energy_t, energy_dissipative
     use rs_se3_strand_kernels, only: cross_matrix, strand_march, strand_ad_transpose_block, &
         strand_ad_block, strand_ad_times, strand_cross, strand_row_residual, strand_row_to_csr, &
@@ -138,11 +139,8 @@ module rs_se3_strand
         procedure :: n_internal => strand_n_internal
         procedure :: save_internal => strand_save_internal
         procedure :: restore_internal => strand_restore_internal
-        procedure :: native_lu => strand_native_lu
-        procedure :: linear_step => strand_linear_step
-        procedure :: banded_unknowns => strand_banded_unknowns
+        procedure :: traits => strand_traits
         procedure :: kinetic_energy => strand_kinetic_energy
-        procedure :: energy_scheme => strand_energy_scheme
         procedure, private :: assemble, ensure_assembled, march_poses, drive_twist, end_loads
         procedure, private :: distributed_loads, energies
     end type se3_strand_t
@@ -911,13 +909,6 @@ contains
         end do
     end subroutine energies
 
-    !> The semi-implicit scheme: backward-Euler dissipation, first-order energy exchange of the
-    !> frozen coefficients (docs/theory/se3_strand.md, "Energy book-keeping").
-    pure integer function strand_energy_scheme(this)
-        class(se3_strand_t), intent(in) :: this
-        strand_energy_scheme = energy_dissipative
-    end function strand_energy_scheme
-
     real(rk) function strand_kinetic_energy(this, x) result(kinetic)
         class(se3_strand_t), intent(in) :: this
         real(rk), intent(in) :: x(:)
@@ -1036,24 +1027,23 @@ contains
         this%steps_since_record = nint(values(6))
     end subroutine strand_restore_internal
 
-    !> Every diagonal block starts from I/dt and the LU needs no pivoting on every benchmark
-    !> (5 times faster than MUMPS at N = 80, docs/performance.md); MUMPS through
-    !> -pc_factor_mat_solver_type mumps where it would.
-    pure logical function strand_native_lu(this)
+    !> The traits of the SE(3) strand:
+    !> - native LU: every diagonal block starts from I/dt and the LU needs no pivoting on every
+    !>   benchmark (5 times faster than MUMPS at N = 80, docs/performance.md); MUMPS through
+    !>   -pc_factor_mat_solver_type mumps where it would;
+    !> - banded: the interleaved unknowns are block tridiagonal, the LU keeps their order;
+    !> - linear step: the step problem is linear in Y (coefficients frozen at t_n), one solve,
+    !>   no Newton loop;
+    !> - energy: the semi-implicit scheme has backward-Euler dissipation and a first-order
+    !>   energy exchange of the frozen coefficients (docs/theory/se3_strand.md, "Energy
+    !>   book-keeping").
+    pure function strand_traits(this) result(traits)
         class(se3_strand_t), intent(in) :: this
-        strand_native_lu = .true.
-    end function strand_native_lu
-
-    !> The interleaved unknowns are block tridiagonal: the LU keeps their order.
-    pure logical function strand_banded_unknowns(this)
-        class(se3_strand_t), intent(in) :: this
-        strand_banded_unknowns = .true.
-    end function strand_banded_unknowns
-
-    !> The step problem is linear in Y (coefficients frozen at t_n): one solve, no Newton loop.
-    pure logical function strand_linear_step(this)
-        class(se3_strand_t), intent(in) :: this
-        strand_linear_step = .true.
-    end function strand_linear_step
+        type(formulation_traits_t) :: traits
+        traits%native_lu = .true.
+        traits%banded_unknowns = .true.
+        traits%linear_step = .true.
+        traits%energy_scheme = energy_dissipative
+    end function strand_traits
 
 end module rs_se3_strand

@@ -15,7 +15,8 @@ module rs_test_formulations_conformance
     use rs_core_error, only: error_t, error_list_t
     use rs_test_assert, only: run_test, assert_true, assert_equal
     use rs_model_scene, only: scene_t
-    use rs_model_capabilities, only: capability_t, capability_of
+    use rs_model_capabilities, only: capability_t
+    use rs_formulations_registry, only: capability_of
     use rs_io_input_file, only: parse_scene
     use rs_formulations_formulation, only: rod_formulation_t, state_valid
     use rs_formulations_factory, only: create_formulation, available_formulations
@@ -61,7 +62,7 @@ contains
     !> The formulations checked above are the ones the factory lists: a new one must be added.
     subroutine test_every_formulation_listed()
         character(len=*), parameter :: checked = 'ph_director, ph_planar, cl_em_planar, se3_pg, se3_strand'
-        CHECK_EQUAL(available_formulations, checked, 'the factory lists the formulations checked')
+        CHECK_EQUAL(available_formulations(), checked, 'the factory lists the formulations checked')
     end subroutine test_every_formulation_listed
 
     !> A cantilever along x in the x-z plane (planar formulations take it as it is): 4

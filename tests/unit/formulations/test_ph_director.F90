@@ -13,7 +13,7 @@ module rs_test_ph_director
     use rs_test_assert, only: run_test, assert_true, assert_close, assert_equal
     use rs_test_random, only: set_random_seed
     use rs_model_scene, only: scene_t, rod_input_t, bc_input_t, load_input_t, actuator_input_t
-    use rs_formulations_formulation, only: state_valid
+    use rs_formulations_formulation, only: state_valid, formulation_traits_t
     use rs_ph_director, only: ph_director_t
     implicit none
     private
@@ -341,9 +341,11 @@ contains
 
     subroutine test_jacobian_endpoint_p2()
         type(ph_director_t) :: rod
+        type(formulation_traits_t) :: traits
         call set_random_seed(20261123, 2)
         call build_scene(quasistatic_scene(3, 2), rod)
-        CHECK_TRUE(rod%wants_endpoint_solve(), 'a quasistatic rod wants the endpoint solve')
+        traits = rod%traits()
+        CHECK_TRUE(traits%wants_endpoint_solve, 'a quasistatic rod wants the endpoint solve')
         call check_jacobian_of(rod, 'quasistatic endpoint equilibrium, p = 2', .true.)
     end subroutine test_jacobian_endpoint_p2
 

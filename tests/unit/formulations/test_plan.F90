@@ -162,9 +162,9 @@ contains
                 scene, errors)
             CHECK_EQUAL(errors%count, 0, what // ': scene valid: ' // errors%joined())
             if (errors%count > 0) return
-            call rod_sizes_of(scene, 1, sizes, err)
-            CHECK_TRUE(.not. allocated(err), what // ': sized')
             call create_formulation(trim(scene%rods(1)%formulation), rod, err)
+            if (.not. allocated(err)) call rod_sizes_of(scene, 1, sizes, err, rod)
+            CHECK_TRUE(.not. allocated(err), what // ': sized')
             if (.not. allocated(err)) call rod%init(scene, [1], err)
             CHECK_TRUE(.not. allocated(err), what // ': built')
             if (allocated(err)) return

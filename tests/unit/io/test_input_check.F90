@@ -21,7 +21,8 @@ module rs_test_io_input_check
     use rs_core_error, only: error_list_t
     use rs_test_assert, only: run_test, assert_true, assert_equal, assert_contains, assert_close
     use rs_model_scene, only: scene_t, unset_real, unset_int, max_branches
-    use rs_model_capabilities, only: capability_t, capability_of
+    use rs_model_capabilities, only: capability_t
+    use rs_formulations_registry, only: capability_of
     use rs_io_input_file, only: parse_scene
     use rs_io_input_check, only: check_capabilities, check_rod_capabilities
     use rs_model_coupling, only: coupled_systems

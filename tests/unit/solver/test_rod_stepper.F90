@@ -21,15 +21,18 @@
 !> - options precedence: scene values < petsc_options < command line. The command line is
 !>   real: the program passes `-snes_max_funcs 3000` (and its own arguments) to PetscInitialize;
 !> - TSView's rodmid line, argument checks, a fatal callback status, and PETSc's native LU
-!>   failing on the saddle point where MUMPS succeeds (the error text reaches Fortran).
+!>   failing on the saddle point where MUMPS succeeds (the error text reaches Fortran);
+!> - the traits struct (stepper_traits_t = struct rs_stepper_traits): every field, each set to
+!>   a value no other field has, is found in the SNES, the line search, the LU package and
+!>   ordering and the rodmid line that PETSc reports back.
 module rs_test_solver_rod_stepper
     use, intrinsic :: iso_c_binding, only: c_int, c_double, c_ptr, c_funptr, c_null_funptr, &
         c_funloc, c_loc, c_f_pointer
     use rs_core_kinds, only: rk
     use rs_core_error, only: error_t
     use rs_test_assert, only: run_test, assert_true, assert_close, assert_equal, assert_contains
-    use rs_solver_rod_stepper, only: rod_stepper_t, petsc_apply_options, petsc_options_text, &
-        petsc_event_count
+    use rs_solver_rod_stepper, only: rod_stepper_t, stepper_traits_t, petsc_apply_options, &
+        petsc_options_text, petsc_event_count
     implicit none
     private
 
@@ -76,6 +79,7 @@ contains
         call run_test('cutback_exhausted_keeps_last_good_state', test_cutback_fails)
         call run_test('options_precedence', test_options_precedence)
         call run_test('view_names_rodmid', test_view)
+        call run_test('traits_reach_the_solver', test_traits_reach_the_solver)
         call run_test('bad_pattern_rejected', test_bad_pattern)
         ! Last: these end in PETSc errors (printed with PETSc's trace).
         call run_test('fatal_callback_status', test_fatal_callback)
@@ -113,6 +117,7 @@ contains
         real(rk), intent(in), optional :: jacobian_reuse
         integer, allocatable :: row_ptr(:), cols(:)
         type(c_funptr) :: residual, jacobian, predictor, update
+        type(stepper_traits_t) :: traits
         integer :: its
         its = 25
         if (present(max_newton)) its = max_newton
@@ -140,9 +145,11 @@ contains
             predictor = c_funloc(pendulum_predictor)
             update = c_funloc(pendulum_update)
         end select
+        traits = stepper_traits_t(newton_atol=atol, newton_rtol=0.0_rk, max_newton=its, &
+            max_cutbacks=max_cutbacks)
+        if (present(jacobian_reuse)) traits%jacobian_reuse = jacobian_reuse
         call stepper%create(problem%n_state, problem%n_unknown, row_ptr, cols, residual, &
-            jacobian, predictor, update, c_funloc(record_poststep), c_loc(problem), atol, &
-            0.0_rk, its, max_cutbacks, err, jacobian_reuse=jacobian_reuse)
+            jacobian, predictor, update, c_funloc(record_poststep), c_loc(problem), traits, err)
     end subroutine create_stepper
 
     !> Midpoint rule for q' = v, v' = -omega^2 q: F = (q1 - q0 - h vm, v1 - v0 + h omega^2 qm).
@@ -764,6 +771,101 @@ contains
         call stepper%destroy()
     end subroutine test_view
 
+    !> Each field of the traits struct reaches the solver: atol, rtol, the iteration and cut-back
+    !> limits and the reuse ratio with values no other field has (a field read at another
+    !> offset would show another value), and the four flags in three combinations such that any
+    !> two flags differ in one of them (PETSc's own LU with the natural or the
+    !> nested-dissection ordering or the chain LU, full or backtracking Newton, KSPONLY or
+    !> newtonls).
+    subroutine test_traits_reach_the_solver()
+        type(problem_t), target :: problem
+        type(rod_stepper_t) :: stepper
+        type(error_t), allocatable :: err
+        type(stepper_traits_t) :: traits
+        real(rk) :: a, r, s
+        integer :: max_it, max_funcs, max_cutbacks
+        character(len=:), allocatable :: types
+        problem = new_problem(oscillator)
+        traits = stepper_traits_t(newton_atol=3.0e-11_rk, newton_rtol=7.0e-9_rk, &
+            jacobian_reuse=0.25_rk, max_newton=17, max_cutbacks=4)
+        call create_with(traits, native_lu=.true., banded_unknowns=.true., full_newton=.false., &
+            linear_step=.false., types='snes newtonls linesearch bt ksp preonly pc lu solver petsc', &
+            view_has=['matrix ordering: natural                   ', &
+                      'max cutbacks 4, Jacobian reuse ratio 0.25  '])
+        call stepper%solver_settings(a, r, s, max_it, max_funcs, max_cutbacks, types, err)
+        CHECK_TRUE(.not. allocated(err), 'settings')
+        CHECK_CLOSE(a, 3.0e-11_rk, 0.0_rk, 0.0_rk, 'newton_atol')
+        CHECK_CLOSE(r, 7.0e-9_rk, 0.0_rk, 0.0_rk, 'newton_rtol')
+        CHECK_EQUAL(max_it, 17, 'max_newton')
+        CHECK_EQUAL(max_cutbacks, 4, 'max_cutbacks')
+        call create_with(traits, native_lu=.true., banded_unknowns=.false., full_newton=.true., &
+            linear_step=.true., types='snes ksponly linesearch basic ksp preonly pc lu solver petsc', &
+            view_has=['matrix ordering: nd                        ', &
+                      'max cutbacks 4                             '])
+        call create_with(traits, native_lu=.false., banded_unknowns=.false., full_newton=.true., &
+            linear_step=.false., &
+            types='snes newtonls linesearch basic ksp preonly pc lu solver rodchain', &
+            view_has=['package used to perform factorization: rodchain', &
+                      'Jacobian reuse ratio 0.25                      '])
+        call stepper%destroy()
+
+    contains
+
+        !> Create the oscillator's stepper with `traits` and these flags, take one step and
+        !> check the solver types and lines of the view.
+        subroutine create_with(traits, native_lu, banded_unknowns, full_newton, linear_step, &
+                types, view_has)
+            type(stepper_traits_t), intent(inout) :: traits
+            logical, intent(in) :: native_lu, banded_unknowns, full_newton, linear_step
+            character(len=*), intent(in) :: types, view_has(:)
+            character(len=:), allocatable :: actual, text
+            real(rk) :: x(2), fnorm
+            integer :: i, substeps, cutbacks, its
+            traits%native_lu = native_lu
+            traits%banded_unknowns = banded_unknowns
+            traits%full_newton = full_newton
+            traits%linear_step = linear_step
+            call stepper%create(2, 2, [0, 2, 4], [0, 1, 0, 1], c_funloc(oscillator_residual), &
+                c_funloc(oscillator_jacobian), c_null_funptr, c_null_funptr, c_null_funptr, &
+                c_loc(problem), traits, err)
+            if (allocated(err)) then
+                CHECK_TRUE(.false., 'create: ' // err%message)
+                return
+            end if
+            call stepper%solver_settings(a, r, s, max_it, max_funcs, max_cutbacks, actual, err)
+            CHECK_EQUAL(actual, types, 'solver types of the flags')
+            x = [1.0_rk, 0.0_rk]
+            call stepper%advance(0.0_rk, 0.1_rk, x, substeps, cutbacks, its, fnorm, err)
+            CHECK_TRUE(.not. allocated(err), 'advance')
+            text = view_text(stepper)
+            do i = 1, size(view_has)
+                CHECK_CONTAINS(text, trim(view_has(i)), 'the view')
+            end do
+        end subroutine create_with
+    end subroutine test_traits_reach_the_solver
+
+    !> The stepper's TSView as text.
+    function view_text(stepper) result(text)
+        type(rod_stepper_t), intent(in) :: stepper
+        character(len=:), allocatable :: text
+        character(len=*), parameter :: path = 'test_rod_stepper_traits_view.txt'
+        character(len=256) :: line
+        type(error_t), allocatable :: err
+        integer :: unit, ios
+        text = ''
+        call stepper%view(path, err)
+        CHECK_TRUE(.not. allocated(err), 'view')
+        open(newunit=unit, file=path, status='old', action='read', iostat=ios)
+        CHECK_EQUAL(ios, 0, 'view file exists')
+        if (ios /= 0) return
+        do
+            read(unit, '(a)', iostat=ios) line
+            if (ios /= 0) exit
+            text = text // trim(line) // new_line('a')
+        end do
+        close(unit, status='delete')
+    end function view_text
+
     !> Unsorted columns and wrong array sizes are reported with what is wrong.
     subroutine test_bad_pattern()
         type(problem_t), target :: problem
@@ -772,18 +874,18 @@ contains
         problem = new_problem(oscillator)
         call stepper%create(2, 2, [0, 2, 4], [1, 0, 0, 1], c_funloc(oscillator_residual), &
             c_funloc(oscillator_jacobian), c_null_funptr, c_null_funptr, c_null_funptr, &
-            c_loc(problem), atol, 0.0_rk, 25, 6, err)
+            c_loc(problem), stepper_traits_t(newton_atol=atol, max_newton=25, max_cutbacks=6), err)
         CHECK_TRUE(allocated(err), 'unsorted columns rejected')
         if (allocated(err)) CHECK_CONTAINS(err%message, 'columns of row 0 (0-based) are not strictly increasing', 'message')
         CHECK_TRUE(.not. stepper%is_created(), 'nothing created')
         call stepper%create(2, 2, [0, 2, 4], [0, 1, 0], c_funloc(oscillator_residual), &
             c_funloc(oscillator_jacobian), c_null_funptr, c_null_funptr, c_null_funptr, &
-            c_loc(problem), atol, 0.0_rk, 25, 6, err)
+            c_loc(problem), stepper_traits_t(newton_atol=atol, max_newton=25, max_cutbacks=6), err)
         CHECK_TRUE(allocated(err), 'short cols rejected')
         if (allocated(err)) CHECK_CONTAINS(err%message, 'cols has 3 entries; the pattern (row_ptr) has 4', 'message')
         call stepper%create(2, 1, [0, 1], [0], c_funloc(reduced_residual), &
             c_funloc(reduced_jacobian), c_null_funptr, c_null_funptr, c_null_funptr, &
-            c_loc(problem), atol, 0.0_rk, 25, 6, err)
+            c_loc(problem), stepper_traits_t(newton_atol=atol, max_newton=25, max_cutbacks=6), err)
         CHECK_TRUE(allocated(err), 'Y smaller than X without predictor and update rejected')
         if (allocated(err)) CHECK_CONTAINS(err%message, 'a predictor and an update callback are required', 'message')
     end subroutine test_bad_pattern

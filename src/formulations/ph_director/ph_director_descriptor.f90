@@ -1,0 +1,51 @@
+!> ph_director as the rest of rodsolve sees it (rs_formulations_descriptor): its capability row,
+!> its role as the default (and 3D 'auto') formulation, its bundle of coupled rods, its plan.
+module rs_ph_director_descriptor
+    use rs_formulations_formulation, only: rod_formulation_t
+    use rs_formulations_descriptor, only: formulation_descriptor_t
+    use rs_model_capabilities, only: capability_t
+    use rs_ph_director, only: ph_director_t
+    use rs_ph_bundle, only: ph_bundle_t
+    use rs_ph_director_plan, only: ph_director_plan_lines
+    implicit none
+    private
+
+    public :: ph_director_descriptor
+
+contains
+
+    !> The descriptor of formulation 'ph_director'.
+    function ph_director_descriptor() result(d)
+        type(formulation_descriptor_t) :: d
+        d%name = 'ph_director'
+        ! seed 000 §2.9 and §6.1: clamped (Dirichlet) and free (Neumann) ends; dead end
+        ! loads, distributed loads and gravity. The extensions of seed 000 §5
+        ! (methods/ph_director_3d.md §2.3, §3, §6.3): shear-rigid and inextensible
+        ! constraints, quasistatics, Maxwell branches, actuators; and a curved stress-free
+        ! reference (the reference strains at the Gauss points, docs/theory/ph_director.md).
+        ! Bundles (issue 10, DESIGN.md §5): rigid, spherical and revolute joints and end
+        ! plates as constraints with multipliers on the end nodes (rs_ph_director_tie), and
+        ! rod-rod and self contact by an energy-consistent penalty (rs_contact_potential).
+        d%capability = capability_t(formulation=d%name, available=.true., &
+            end_kinds='clamped|free', load_places='start|end|distributed|gravity', &
+            load_frames='spatial', constraints='none|kirchhoff|inextensible', quasistatic=.true., &
+            viscoelastic=.true., actuation=.true., curved_reference=.true., prestressed=.true., &
+            joints='rigid|spherical|revolute', end_plates=.true., contact=.true.)
+        d%default_choice = .true.
+        d%shared_bundle = .true.
+        d%create => create
+        d%plan_lines => ph_director_plan_lines
+    end function ph_director_descriptor
+
+    !> A single rod, or the bundle of a coupled system (rs_ph_bundle).
+    subroutine create(formulation, bundle)
+        class(rod_formulation_t), allocatable, intent(out) :: formulation
+        logical, intent(in) :: bundle
+        if (bundle) then
+            allocate(ph_bundle_t :: formulation)
+        else
+            allocate(ph_director_t :: formulation)
+        end if
+    end subroutine create
+
+end module rs_ph_director_descriptor

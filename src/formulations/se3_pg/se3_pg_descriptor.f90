@@ -1,0 +1,50 @@
+!> se3_pg (seed 002) as the rest of rodsolve sees it (rs_formulations_descriptor).
+module rs_se3_pg_descriptor
+    use rs_core_error, only: error_t
+    use rs_model_scene, only: scene_t
+    use rs_model_capabilities, only: capability_t
+    use rs_formulations_formulation, only: rod_formulation_t
+    use rs_formulations_descriptor, only: formulation_descriptor_t
+    use rs_se3_pg, only: se3_pg_t
+    use rs_se3_pg_plan, only: se3_pg_plan_lines
+    implicit none
+    private
+
+    public :: se3_pg_descriptor
+
+contains
+
+    !> The descriptor of formulation 'se3_pg'.
+    function se3_pg_descriptor() result(d)
+        type(formulation_descriptor_t) :: d
+        d%name = 'se3_pg'
+        ! seed 002 (methods/se3_petrov_galerkin.md §3.4, §7, §10): clamped and pinned ends
+        ! by elimination, dead and follower end loads, dead distributed loads and gravity,
+        ! statics (&time quasistatic) and midpoint dynamics; any reference the SE(3)
+        ! interpolation represents.
+        d%capability = capability_t(formulation=d%name, available=.true., &
+            end_kinds='clamped|pinned|free|driven', &
+            load_places='start|end|distributed|gravity', load_frames='spatial|follower', &
+            constraints='none', quasistatic=.true., viscoelastic=.false., actuation=.false., &
+            curved_reference=.true., joints='', planar=.false., drive='pose')
+        d%create => create
+        d%plan_lines => plan_lines
+    end function se3_pg_descriptor
+
+    !> One rod (the factory is not asked for a bundle: se3_pg has no couplings yet).
+    subroutine create(formulation, bundle)
+        class(rod_formulation_t), allocatable, intent(out) :: formulation
+        logical, intent(in) :: bundle
+        allocate(se3_pg_t :: formulation)
+    end subroutine create
+
+    !> Its plan never fails (it reads scene data only): `err` stays unallocated.
+    subroutine plan_lines(scene, i, lines, err)
+        type(scene_t), intent(in) :: scene
+        integer, intent(in) :: i
+        character(len=:), allocatable, intent(out) :: lines
+        type(error_t), allocatable, intent(out) :: err
+        lines = se3_pg_plan_lines(scene, i)
+    end subroutine plan_lines
+
+end module rs_se3_pg_descriptor

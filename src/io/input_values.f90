@@ -1,0 +1,440 @@
+!> Checks of one group's values and the defaults derived from them (DESIGN.md §6), for a scene
+!> that was read without errors: dt against t_end and the number of steps, relaxation against
+!> quasistatics, output and restart, and each &rod resolved on its own (name, formulation
+!> origin, the centreline's start, direction and length, directors, the centre of the
+!> initial rotation, Maxwell branches and their shear relaxation times, stiffnesses from
+!> section and material, inertia; a helix length that contradicts its turns, a polyline that
+!> doubles back). Every problem is added to `errors`, naming the file, line, group and
+!> variable.
+module rs_io_input_values
+    use rs_core_kinds, only: rk
+    use rs_core_error, only: error_list_t
+    use rs_core_strings, only: str, vector_text, str_significant
+    use rs_model_scene, only: scene_t, rod_input_t, time_input_t, unset_real, section_derived_names
+    use rs_model_rod_geometry, only: rod_geometry_t, straight_geometry, helix_geometry, &
+        polyline_geometry, centreline_tangent, default_normal
+    use rs_model_section, only: section_properties_t, circle_section, tube_section, &
+        rectangle_section
+    use rs_io_result_file, only: unknown_fields, selectable_fields
+    use rs_io_input_check_common, only: at, leading_count
+    implicit none
+    private
+
+    public :: check_step_count, check_relaxation, check_output_and_restart, resolve_rod, &
+        default_output_path
+
+    !> Deviation from unit length or orthogonality that counts as round-off.
+    real(rk), parameter :: round_off = 4.0_rk * epsilon(1.0_rk)
+    !> Relative difference below which a given length agrees with a derived one.
+    real(rk), parameter :: length_tolerance = 1.0e-9_rk
+    !> Largest |t_j + t_{j+1}| of consecutive polyline tangents that counts as a reversal.
+    real(rk), parameter :: reversal_tolerance = 1.0e-8_rk
+
+contains
+
+
+    !> t_end / dt steps, counted in 64-bit reals (a 32-bit count of 2.2e9 steps wrapped to one
+    !> step, reported as a success: issue 21 item 6), must fit the step numbers of the result
+    !> file's checkpoint (32-bit integers, docs/user/output.md): at most 2147483647 per run.
+    subroutine check_step_count(scene, errors)
+        type(scene_t), intent(in) :: scene
+        type(error_list_t), intent(inout) :: errors
+        real(rk) :: steps
+        if (scene%time%dt <= 0.0_rk) return
+        steps = scene%time%t_end / scene%time%dt
+        if (steps <= real(huge(1), rk)) return
+        call errors%add(at(scene, 0) // '&time dt: t_end / dt = ' // str(scene%time%t_end) // &
+            ' / ' // str(scene%time%dt) // ' = ' // str_significant(steps, 3) // ' steps, more ' // &
+            'than the ' // str(huge(1)) // ' steps one run can number; give a larger dt or a ' // &
+            'shorter t_end')
+    end subroutine check_step_count
+
+
+    !> &time relaxation (statics by damped dynamics) needs inertia, so not with quasistatic;
+    !> kinetic_energy_tol only means something with relaxation, and equilibrium_solves with
+    !> quasistatic, so a value other than the default without it would be silently ignored.
+    subroutine check_relaxation(scene, errors)
+        type(scene_t), intent(in) :: scene
+        type(error_list_t), intent(inout) :: errors
+        type(time_input_t) :: defaults
+        if (scene%time%relaxation .and. scene%time%quasistatic) call errors%add(at(scene, 0) // &
+            '&time relaxation: statics by damped dynamics needs the inertia that quasistatic = ' // &
+            '.true. drops; choose one of relaxation and quasistatic')
+        if (.not. scene%time%relaxation .and. &
+                scene%time%kinetic_energy_tol /= defaults%kinetic_energy_tol) call errors%add( &
+            at(scene, 0) // '&time kinetic_energy_tol: ' // str(scene%time%kinetic_energy_tol) // &
+            ' given, but it is only used with relaxation = .true.; remove it or set relaxation')
+        if (.not. scene%time%quasistatic .and. .not. scene%time%equilibrium_solves) &
+            call errors%add(at(scene, 0) // '&time equilibrium_solves: .false. given, but ' // &
+            'a dynamic run solves no equilibrium; it is only used with quasistatic = .true.')
+    end subroutine check_relaxation
+
+
+    !> 'out/<scene name>.h5' for scene file '<dir>/<scene name>.nml'.
+    pure function default_output_path(source_file) result(path)
+        character(len=*), intent(in) :: source_file
+        character(len=:), allocatable :: path
+        integer :: slash, dot
+        slash = index(source_file, '/', back=.true.)
+        path = source_file(slash + 1:)
+        dot = index(path, '.', back=.true.)
+        if (dot > 1) path = path(1:dot - 1)
+        path = 'out/' // path // '.h5'
+    end function default_output_path
+
+
+    !> Resolve rod `i`: name, formulation origin, geometry, d1, rotation centre, Maxwell
+    !> branches and stiffnesses; `geometry_ok` is false if its reference geometry cannot be built.
+    subroutine resolve_rod(scene, i, geometry_ok, errors)
+        type(scene_t), intent(inout) :: scene
+        integer, intent(in) :: i
+        logical, intent(out) :: geometry_ok
+        type(error_list_t), intent(inout) :: errors
+        character(len=:), allocatable :: here
+        type(rod_geometry_t) :: geometry
+        real(rk) :: t(3), d1(3)
+        logical :: ok
+
+        geometry_ok = .false.
+        associate (rod => scene%rods(i))
+            if (len_trim(rod%name) == 0) rod%name = 'rod' // str(i)
+            here = at(scene, rod%input_line) // '&rod ''' // trim(rod%name) // ''' '
+            if (len_trim(rod%formulation) == 0) then
+                rod%formulation = scene%run%formulation_default
+                rod%formulation_origin = 'default'
+            else
+                rod%formulation_origin = 'rod'
+            end if
+            ! 'auto' is chosen per system of joined rods once the whole scene is resolved
+            ! (resolve_auto_formulations).
+            if (rod%formulation == 'auto') rod%formulation_origin = 'auto'
+            call resolve_geometry(rod, here, geometry, ok, errors)
+            if (.not. ok) return
+            t = centreline_tangent(geometry, 0.0_rk)
+            if (rod%d1(1) == unset_real) then
+                rod%d1 = default_normal(t)
+            else
+                ! Keep the given d1's orientation about the centreline, made orthonormal.
+                d1 = rod%d1
+                if (abs(dot_product(d1, t)) > round_off) d1 = d1 - dot_product(d1, t) * t
+                if (norm2(d1) <= 1.0e-8_rk * max(norm2(rod%d1), tiny(1.0_rk))) then
+                    if (trim(rod%geometry) == 'straight') then
+                        call errors%add(here // 'd1: must not be parallel to direction')
+                    else
+                        call errors%add(here // 'd1: (' // vector_text(rod%d1) // ') must not be ' // &
+                            'parallel to the tangent of the ' // trim(rod%geometry) // ' at s = 0, (' // &
+                            vector_text(t) // ')')
+                    end if
+                    return
+                end if
+                if (abs(norm2(d1) - 1.0_rk) > round_off) d1 = d1 / norm2(d1)
+                rod%d1 = d1
+            end if
+            geometry_ok = .true.
+            where (rod%rotation_center == unset_real) rod%rotation_center = rod%start
+            if (scene%time%quasistatic) then
+                if (any(rod%velocity /= 0.0_rk)) call errors%add(here // 'velocity: (' // &
+                    vector_text(rod%velocity) // ') given, but a quasistatic run (&time ' // &
+                    'quasistatic) has no inertia; allowed: 0, 0, 0')
+                if (any(rod%angular_velocity /= 0.0_rk)) call errors%add(here // &
+                    'angular_velocity: (' // vector_text(rod%angular_velocity) // ') given, ' // &
+                    'but a quasistatic run (&time quasistatic) has no inertia; allowed: 0, 0, 0')
+            end if
+            call resolve_maxwell(rod, here, errors)
+            call resolve_stiffness(rod, here, errors)
+            if (.not. scene%time%quasistatic) call check_inertia(rod, here, errors)
+        end associate
+    end subroutine resolve_rod
+
+
+    !> A dynamic run needs mass and rotary inertia: with rhoA or rhoI = 0 the step's equations
+    !> have no acceleration for that motion, and the scheme alternates between 0 and twice the
+    !> static answer instead of converging to a motion (issue 21 item 13). Statics is
+    !> &time quasistatic or relaxation.
+    subroutine check_inertia(rod, here, errors)
+        type(rod_input_t), intent(in) :: rod
+        character(len=*), intent(in) :: here
+        type(error_list_t), intent(inout) :: errors
+        character(len=:), allocatable :: zero
+        zero = ''
+        if (rod%rhoA == 0.0_rk) zero = zero // ' rhoA'
+        if (rod%rhoI1 == 0.0_rk) zero = zero // ' rhoI1'
+        if (rod%rhoI2 == 0.0_rk) zero = zero // ' rhoI2'
+        if (len(zero) == 0) return
+        if (trim(rod%section) /= 'none') zero = zero // ' (density = 0)'
+        call errors%add(here // 'inertia: zero' // zero // ' in a dynamic run, which needs ' // &
+            'mass and rotary inertia; give them, or run statics (&time quasistatic = .true.)')
+    end subroutine check_inertia
+
+
+    !> The reference centreline of `rod` (rs_model_rod_geometry): start and direction default
+    !> to the origin and e_x (a polyline derives both from its points and checks given ones), a
+    !> direction is normalized (kept bit for bit when unit to round-off, so that resolving a
+    !> resolved scene changes nothing), a helix or polyline derives its length and checks a
+    !> given one. `ok` is false if the geometry cannot be built.
+    subroutine resolve_geometry(rod, here, geometry, ok, errors)
+        type(rod_input_t), intent(inout) :: rod
+        character(len=*), intent(in) :: here
+        type(rod_geometry_t), intent(out) :: geometry
+        logical, intent(out) :: ok
+        type(error_list_t), intent(inout) :: errors
+        real(rk), allocatable :: points(:, :)
+        real(rk), parameter :: e_x(3) = [1.0_rk, 0.0_rk, 0.0_rk]
+        real(rk) :: t(3)
+        character(len=:), allocatable :: formula
+        integer :: n_values, n_points, j
+        logical :: start_given, direction_given
+
+        ok = .false.
+        ! Component by component, so that start(2) = 5 alone keeps the other defaults.
+        start_given = any(rod%start /= unset_real)
+        direction_given = any(rod%direction /= unset_real)
+        where (rod%start == unset_real) rod%start = 0.0_rk
+        where (rod%direction == unset_real) rod%direction = e_x
+        if (trim(rod%geometry) == 'polyline') then
+            n_values = leading_count(rod%points)
+            if (any(rod%points(n_values + 1:) /= unset_real)) then
+                call errors%add(here // 'points: entry ' // str(n_values + 1) // ' is not ' // &
+                    'given but a later one is; give the points from the first on without gaps')
+                return
+            end if
+            if (mod(n_values, 3) /= 0) then
+                call errors%add(here // 'points: ' // str(n_values) // ' values given; each ' // &
+                    'point takes 3 (x, y, z)')
+                return
+            end if
+            n_points = n_values / 3
+            if (n_points < 2) then
+                call errors%add(here // 'points: a polyline needs at least 2 points (' // &
+                    str(n_points) // ' given)')
+                return
+            end if
+            points = reshape(rod%points(1:n_values), [3, n_points])
+            do j = 1, n_points - 1
+                if (all(points(:, j + 1) == points(:, j))) then
+                    call errors%add(here // 'points: points ' // str(j) // ' and ' // str(j + 1) // &
+                        ' coincide at (' // vector_text(points(:, j)) // '); consecutive points ' // &
+                        'must be distinct')
+                    return
+                end if
+            end do
+            geometry = polyline_geometry(points)
+            do j = 1, n_points - 2
+                if (norm2(geometry%tangents(:, j) + geometry%tangents(:, j + 1)) < reversal_tolerance) then
+                    call errors%add(here // 'points: the segment from point ' // str(j + 1) // &
+                        ' to ' // str(j + 2) // ' reverses the one before it (a 180-degree turn ' // &
+                        'has no tangent or frame); allowed: turns of less than 180 degrees')
+                    return
+                end if
+            end do
+            if (start_given .and. any(rod%start /= points(:, 1))) then
+                call errors%add(here // 'start: (' // vector_text(rod%start) // ') given, but a ' // &
+                    'polyline starts at its first point (' // vector_text(points(:, 1)) // &
+                    '); leave start out or give that point')
+                return
+            end if
+            rod%start = points(:, 1)
+            if (direction_given) then
+                t = 0.0_rk
+                if (norm2(rod%direction) > 0.0_rk) t = rod%direction / norm2(rod%direction)
+                if (norm2(t - geometry%axis) > 1.0e-12_rk) then
+                    call errors%add(here // 'direction: (' // vector_text(rod%direction) // &
+                        ') given, but a polyline''s direction is that of its first segment, (' // &
+                        vector_text(geometry%axis) // '); leave direction out or give that')
+                    return
+                end if
+            end if
+            rod%direction = geometry%axis
+        else
+            if (norm2(rod%direction) == 0.0_rk) then
+                call errors%add(here // 'direction: must not be the zero vector')
+                return
+            end if
+            t = rod%direction
+            if (abs(norm2(t) - 1.0_rk) > round_off) t = t / norm2(t)
+            rod%direction = t
+            if (trim(rod%geometry) == 'helix') then
+                ! The reader reports missing helix variables; nothing to resolve without them.
+                if (any([rod%helix_radius, rod%helix_pitch, rod%helix_turns] == unset_real)) return
+                geometry = helix_geometry(rod%start, rod%direction, rod%helix_radius, &
+                    rod%helix_pitch, rod%helix_turns, rod%helix_phase)
+            else
+                if (rod%length == unset_real) return
+                geometry = straight_geometry(rod%start, rod%direction, rod%length)
+            end if
+        end if
+        if (trim(rod%geometry) /= 'straight') then
+            if (rod%length /= unset_real .and. abs(rod%length - geometry%length) > &
+                    length_tolerance * geometry%length) then
+                if (trim(rod%geometry) == 'helix') then
+                    formula = 'helix_turns sqrt((2 pi helix_radius)^2 + helix_pitch^2)'
+                else
+                    formula = 'the sum of its segments'
+                end if
+                call errors%add(here // 'length: ' // str(rod%length) // ' given, but the ' // &
+                    trim(rod%geometry) // ' is ' // str(geometry%length) // ' long (' // formula // &
+                    '); leave length out or give that value')
+                return
+            end if
+            rod%length = geometry%length
+        end if
+        ok = .true.
+    end subroutine resolve_geometry
+
+
+    !> Maxwell branches (methods/ph_director_3d.md §3.1): m = the number of leading given
+    !> maxwell_fraction entries, with no gaps; one maxwell_tau_E per branch; maxwell_tau_G
+    !> defaults to maxwell_tau_E of the same branch; the fractions leave the elastic branch a
+    !> positive share 1 - sum.
+    subroutine resolve_maxwell(rod, here, errors)
+        type(rod_input_t), intent(inout) :: rod
+        character(len=*), intent(in) :: here
+        type(error_list_t), intent(inout) :: errors
+        integer :: m
+        logical :: ok
+        m = leading_count(rod%maxwell_fraction)
+        ok = no_gap(rod%maxwell_fraction, 'maxwell_fraction')
+        ok = no_gap(rod%maxwell_tau_E, 'maxwell_tau_E') .and. ok
+        if (.not. ok) return
+        if (count(rod%maxwell_tau_E /= unset_real) /= m) then
+            call errors%add(here // 'maxwell_tau_E: one relaxation time per Maxwell branch; ' // &
+                str(m) // ' maxwell_fraction and ' // str(count(rod%maxwell_tau_E /= unset_real)) // &
+                ' maxwell_tau_E given')
+            ok = .false.
+        end if
+        if (any(rod%maxwell_tau_G(m + 1:) /= unset_real)) then
+            call errors%add(here // 'maxwell_tau_G: given for branch ' // &
+                str(findloc(rod%maxwell_tau_G /= unset_real, .true., dim=1, back=.true.)) // &
+                ', but there are ' // str(m) // ' branches (one per maxwell_fraction)')
+            ok = .false.
+        end if
+        if (m > 0) then
+            if (sum(rod%maxwell_fraction(1:m)) >= 1.0_rk) then
+                call errors%add(here // 'maxwell_fraction: the fractions sum to ' // &
+                    str(sum(rod%maxwell_fraction(1:m))) // '; the sum must be < 1 so that the ' // &
+                    'elastic branch keeps a positive fraction 1 - sum')
+                ok = .false.
+            end if
+        end if
+        if (.not. ok) return
+        where (rod%maxwell_tau_G(1:m) == unset_real) rod%maxwell_tau_G(1:m) = rod%maxwell_tau_E(1:m)
+    contains
+        !> True if the given entries of `values` are leading (no unset entry before a given one).
+        logical function no_gap(values, name)
+            real(rk), intent(in) :: values(:)
+            character(len=*), intent(in) :: name
+            integer :: n
+            n = leading_count(values)
+            no_gap = all(values(n + 1:) == unset_real)
+            if (.not. no_gap) call errors%add(here // name // ': entry ' // str(n + 1) // &
+                ' is not given but a later one is; Maxwell branches are numbered from 1 without gaps')
+        end function no_gap
+    end subroutine resolve_maxwell
+
+    !> Stiffnesses and inertias: given directly (section = 'none'), or from section and material.
+    subroutine resolve_stiffness(rod, here, errors)
+        type(rod_input_t), intent(inout) :: rod
+        character(len=*), intent(in) :: here
+        type(error_list_t), intent(inout) :: errors
+        real(rk) :: direct(9), torsion
+        type(section_properties_t) :: s
+        character(len=:), allocatable :: missing
+        integer :: k
+
+        direct = [rod%EA, rod%GA1, rod%GA2, rod%EI1, rod%EI2, rod%GJ, rod%rhoA, rod%rhoI1, rod%rhoI2]
+        if (trim(rod%section) == 'none') then
+            missing = ''
+            do k = 1, size(direct)
+                if (direct(k) == unset_real) missing = missing // ' ' // trim(section_derived_names(k))
+            end do
+            if (len(missing) > 0) call errors%add(here // 'section: with section = ''none'' the ' // &
+                'stiffnesses and inertias must be given; missing:' // missing // &
+                ' (or give section, its dimensions, E and density)')
+            ! Both derive stiffnesses from a section: without one they would be ignored.
+            if (rod%shear_factor /= unset_real) call errors%add(here // 'shear_factor: ' // &
+                str(rod%shear_factor) // ' given with section = ''none'', where GA1 and GA2 are ' // &
+                'given directly; remove it (it scales GA = k G A of a section)')
+            if (rod%torsion_constant /= '') call errors%add(here // 'torsion_constant: ''' // &
+                trim(rod%torsion_constant) // ''' given with section = ''none'', where GJ is ' // &
+                'given directly; remove it (it chooses the J of a section)')
+            return
+        end if
+        if (any(direct /= unset_real)) then
+            call errors%add(here // 'section: give either section with E and density, or the ' // &
+                'stiffnesses EA ... rhoI2 with section = ''none'', not both')
+            return
+        end if
+        select case (trim(rod%section))
+        case ('circle')
+            if (.not. need(rod%radius, 'radius')) return
+            s = circle_section(rod%radius)
+        case ('tube')
+            if (.not. need(rod%radius, 'radius')) return
+            if (.not. need(rod%inner_radius, 'inner_radius')) return
+            if (rod%inner_radius >= rod%radius) then
+                call errors%add(here // 'inner_radius: ' // str(rod%inner_radius) // &
+                    ' must be smaller than radius = ' // str(rod%radius))
+                return
+            end if
+            s = tube_section(rod%radius, rod%inner_radius)
+        case ('rectangle')
+            if (.not. need(rod%width, 'width')) return
+            if (.not. need(rod%height, 'height')) return
+            if (rod%torsion_constant == '') then
+                call errors%add(here // 'torsion_constant: required for a rectangle (''polar'' or ' // &
+                    '''saint_venant''; the two differ for non-circular sections)')
+                return
+            end if
+            s = rectangle_section(rod%width, rod%height)
+        end select
+        if (rod%torsion_constant == '') rod%torsion_constant = 'polar'
+        if (.not. need(rod%E, 'E')) return
+        if (.not. need(rod%density, 'density')) return
+        if (rod%G == unset_real) then
+            if (rod%nu == unset_real) then
+                call errors%add(here // 'G: give G or nu with a section')
+                return
+            end if
+            rod%G = rod%E / (2.0_rk * (1.0_rk + rod%nu))
+        end if
+        if (rod%shear_factor == unset_real) rod%shear_factor = 1.0_rk
+        torsion = s%polar
+        if (trim(rod%torsion_constant) == 'saint_venant') torsion = s%saint_venant
+        rod%EA = rod%E * s%area
+        rod%GA1 = rod%shear_factor * rod%G * s%area
+        rod%GA2 = rod%GA1
+        rod%EI1 = rod%E * s%i1
+        rod%EI2 = rod%E * s%i2
+        rod%GJ = rod%G * torsion
+        rod%rhoA = rod%density * s%area
+        rod%rhoI1 = rod%density * s%i1
+        rod%rhoI2 = rod%density * s%i2
+    contains
+        logical function need(value, name)
+            real(rk), intent(in) :: value
+            character(len=*), intent(in) :: name
+            need = value /= unset_real
+            if (.not. need) call errors%add(here // name // ': required with section = ''' // &
+                trim(rod%section) // '''')
+        end function need
+    end subroutine resolve_stiffness
+
+
+    !> &output fields names only selectable fields (DESIGN.md §7); &run restart_from names an
+    !> existing file.
+    subroutine check_output_and_restart(scene, errors)
+        type(scene_t), intent(in) :: scene
+        type(error_list_t), intent(inout) :: errors
+        character(len=:), allocatable :: unknown
+        logical :: exists
+        unknown = unknown_fields(trim(scene%output%fields))
+        if (len(unknown) > 0) call errors%add(at(scene, 0) // '&output fields: ' // unknown // &
+            ' given; allowed are ''all'' or a comma-separated list of ' // selectable_fields)
+        if (len_trim(scene%run%restart_from) > 0) then
+            inquire(file=trim(scene%run%restart_from), exist=exists)
+            if (.not. exists) call errors%add(at(scene, 0) // '&run restart_from: the file ''' // &
+                trim(scene%run%restart_from) // ''' does not exist')
+        end if
+    end subroutine check_output_and_restart
+
+end module rs_io_input_values
