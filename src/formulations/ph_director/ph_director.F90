@@ -439,8 +439,12 @@ contains
         type(error_t), allocatable, intent(out) :: err
         character(len=:), allocatable :: message
         type(rod_load_t) :: load
-        integer :: i
-        allocate(this%loads(0))
+        integer :: i, n
+        ! Sized once (appending one load at a time copies all before it: quadratic in a scene
+        ! of thousands of &load groups, issue 21 item 17).
+        allocate(this%loads(count([(load_applies_to(scene%loads(i), this%name), &
+            i = 1, size(scene%loads))])))
+        n = 0
         do i = 1, size(scene%loads)
             associate (input => scene%loads(i))
                 if (.not. load_applies_to(input, this%name)) cycle
@@ -469,7 +473,8 @@ contains
                     load%force = input%force
                     load%moment = input%moment
                 end if
-                this%loads = [this%loads, load]
+                n = n + 1
+                this%loads(n) = load
             end associate
         end do
     end subroutine read_loads
