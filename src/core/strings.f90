@@ -8,7 +8,7 @@ module rs_core_strings
     private
 
     public :: str_significant, to_lower, str, edit_distance, closest_name, vector_text, did_you_mean
-    public :: to_c_string, from_c_string
+    public :: to_c_string, from_c_string, split_list
 
     !> Text built by appending pieces, grown by doubling: appending n pieces costs time linear
     !> in the total length (appending to a deferred-length string copies all of it each time,
@@ -222,6 +222,26 @@ contains
             text(i:i) = chars(i)
         end do
     end function from_c_string
+
+    !> The names of a '|'-separated list ('a|b|c'; an empty list gives one blank name).
+    pure function split_list(list) result(names)
+        character(len=*), intent(in) :: list
+        character(len=32), allocatable :: names(:)
+        integer :: start, bar, k
+        ! Counted first and filled in place: growing a character array by
+        ! constructor trips gfortran's length check (-fcheck=all).
+        allocate(names(count([(list(k:k) == '|', k = 1, len_trim(list))]) + 1))
+        start = 1
+        do k = 1, size(names)
+            bar = index(list(start:), '|')
+            if (bar == 0) then
+                names(k) = list(start:len_trim(list))
+            else
+                names(k) = list(start:start + bar - 2)
+                start = start + bar
+            end if
+        end do
+    end function split_list
 
     subroutine text_buffer_append(this, piece)
         class(text_buffer_t), intent(inout) :: this

@@ -8,7 +8,7 @@
 module rs_io_input_capability_check
     use rs_core_kinds, only: rk
     use rs_core_error, only: error_list_t
-    use rs_core_strings, only: str
+    use rs_core_strings, only: str, split_list
     use rs_model_scene, only: scene_t, rod_input_t, bc_input_t, unset_real, unset_int
     use rs_model_capabilities, only: capability_t, lists_name, end_kinds_at
     use rs_model_planarity, only: plane_t, plane_of_rods, plane_text
@@ -282,7 +282,8 @@ contains
         character(len=:), allocatable :: here, variable
         type(formulation_descriptor_t), allocatable :: list(:)
         type(formulation_descriptor_t) :: own
-        integer :: k, start, bar
+        character(len=32), allocatable :: variables(:)
+        integer :: k, v
         associate (rod => scene%rods(i))
             here = at(scene, rod%input_line) // '&rod ''' // trim(rod%name) // ''' '
             if (descriptor_of(trim(row%formulation), own)) then
@@ -291,16 +292,10 @@ contains
             list = formulation_descriptors()
             do k = 1, size(list)
                 if (trim(list(k)%name) == trim(row%formulation)) cycle
-                start = 1
-                do while (start <= len_trim(list(k)%own_rod_variables))
-                    bar = index(list(k)%own_rod_variables(start:), '|')
-                    if (bar == 0) then
-                        variable = trim(list(k)%own_rod_variables(start:))
-                        start = len_trim(list(k)%own_rod_variables) + 1
-                    else
-                        variable = list(k)%own_rod_variables(start:start + bar - 2)
-                        start = start + bar
-                    end if
+                if (len_trim(list(k)%own_rod_variables) == 0) cycle
+                variables = split_list(list(k)%own_rod_variables)
+                do v = 1, size(variables)
+                    variable = trim(variables(v))
                     if (lists_name(own%own_rod_variables, variable)) cycle
                     if (rod_variable_given(rod, variable)) call errors%add(here // variable // &
                         ': only used with formulation ''' // trim(list(k)%name) // ''' (this ' // &

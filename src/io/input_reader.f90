@@ -6,7 +6,7 @@
 module rs_io_input_reader
     use rs_core_kinds, only: rk
     use rs_core_error, only: error_list_t
-    use rs_core_strings, only: to_lower, str, closest_name, did_you_mean
+    use rs_core_strings, only: to_lower, str, closest_name, did_you_mean, split_list
     use rs_model_scene, only: scene_t, run_input_t, time_input_t, solver_input_t, output_input_t, &
         rod_input_t, bc_input_t, load_input_t, actuator_input_t, joint_input_t, plate_input_t, &
         contact_input_t, sweep_input_t
@@ -295,7 +295,7 @@ contains
                 text = to_lower(unquote(a%value))
                 if (.not. is_allowed(text, spec%allowed)) then
                     message = '"' // unquote(a%value) // '" is not allowed; allowed: ' // &
-                        allowed_list(spec%allowed) // did_you_mean(text, split_allowed(spec%allowed))
+                        allowed_list(spec%allowed) // did_you_mean(text, split_list(spec%allowed))
                     return
                 end if
                 value = "'" // text // "'"
@@ -525,31 +525,12 @@ contains
         is_allowed = index('|' // trim(allowed) // '|', '|' // trim(text) // '|') > 0
     end function is_allowed
 
-    pure function split_allowed(allowed) result(names)
-        character(len=*), intent(in) :: allowed
-        character(len=32), allocatable :: names(:)
-        integer :: start, bar, k
-        ! Counted first and filled in place: growing a character array by
-        ! constructor trips gfortran's length check (-fcheck=all).
-        allocate(names(count([(allowed(k:k) == '|', k = 1, len_trim(allowed))]) + 1))
-        start = 1
-        do k = 1, size(names)
-            bar = index(allowed(start:), '|')
-            if (bar == 0) then
-                names(k) = allowed(start:len_trim(allowed))
-            else
-                names(k) = allowed(start:start + bar - 2)
-                start = start + bar
-            end if
-        end do
-    end function split_allowed
-
     pure function allowed_list(allowed) result(text)
         character(len=*), intent(in) :: allowed
         character(len=:), allocatable :: text
         character(len=32), allocatable :: names(:)
         integer :: i
-        names = split_allowed(allowed)
+        names = split_list(allowed)
         text = ''
         do i = 1, size(names)
             if (i > 1) text = text // ', '

@@ -4,6 +4,7 @@
 !> GENERATED markers and the input_capabilities_doc test compares the two, so the matrix a
 !> reader sees is the one `--check-input` enforces (issue 21 item 15).
 module rs_model_capability_matrix
+    use rs_core_strings, only: split_list
     use rs_model_capabilities, only: capability_t, lists_name
     implicit none
     private
@@ -56,18 +57,16 @@ contains
     function listed(list) result(text)
         character(len=*), intent(in) :: list
         character(len=:), allocatable :: text
+        character(len=32), allocatable :: names(:)
         integer :: i
         if (len_trim(list) == 0) then
             text = none
             return
         end if
-        text = ''
-        do i = 1, len_trim(list)
-            if (list(i:i) == '|') then
-                text = text // ', '
-            else
-                text = text // list(i:i)
-            end if
+        names = split_list(list)
+        text = trim(names(1))
+        do i = 2, size(names)
+            text = text // ', ' // trim(names(i))
         end do
     end function listed
 

@@ -5,7 +5,7 @@
 module rs_test_core_strings
     use rs_core_kinds, only: rk
     use rs_test_assert, only: run_test, assert_true, assert_equal
-    use rs_core_strings, only: to_lower, str, edit_distance, closest_name
+    use rs_core_strings, only: to_lower, str, edit_distance, closest_name, split_list, text_buffer_t
     implicit none
     private
 
@@ -25,6 +25,8 @@ contains
         call run_test('edit_distance_metric_properties', test_edit_distance_metric_properties)
         call run_test('closest_name_threshold', test_closest_name_threshold)
         call run_test('str_real_near_huge', test_str_real_near_huge)
+        call run_test('split_list', test_split_list)
+        call run_test('text_buffer_grows', test_text_buffer_grows)
     end subroutine run_all_tests
 
     subroutine test_to_lower_ascii_only()
@@ -227,6 +229,35 @@ contains
         CHECK_EQUAL(closest_name('rod', two), 'rod', 'exact match')
         CHECK_EQUAL(closest_name('rod', none), '', 'empty list')
     end subroutine test_closest_name_threshold
+
+    !> '|'-separated lists as the capability rows and allowed values write them.
+    subroutine test_split_list()
+        character(len=32), allocatable :: names(:)
+        character(len=:), allocatable :: joined
+        names = split_list('clamped|pinned|free')
+        CHECK_EQUAL(size(names), 3, 'three names')
+        joined = trim(names(1)) // ',' // trim(names(2)) // ',' // trim(names(3))
+        CHECK_EQUAL(joined, 'clamped,pinned,free', 'in order')
+        names = split_list('one')
+        CHECK_EQUAL(size(names), 1, 'a single name')
+        CHECK_EQUAL(trim(names(1)), 'one', 'the name itself')
+    end subroutine test_split_list
+
+    !> Appending 10000 pieces past the initial size keeps every byte in order.
+    subroutine test_text_buffer_grows()
+        type(text_buffer_t) :: buffer
+        character(len=:), allocatable :: text
+        integer :: i
+        CHECK_EQUAL(len(buffer%text()), 0, 'empty before any append')
+        do i = 1, 10000
+            call buffer%append(achar(iachar('a') + mod(i, 26)))
+        end do
+        text = buffer%text()
+        CHECK_EQUAL(len(text), 10000, 'every piece kept')
+        text = text(1:3) // text(9998:10000)
+        ! Piece i is letter mod(i, 26): 1, 2, 3 -> b, c, d; 9998, 9999, 10000 -> 14, 15, 16 -> o, p, q.
+        CHECK_EQUAL(text, 'bcdopq', 'first and last pieces in order')
+    end subroutine test_text_buffer_grows
 
 end module rs_test_core_strings
 

@@ -12,21 +12,19 @@
 !> one, or a redesign of the contract, is checked the same day.
 module rs_test_formulations_conformance
     use rs_core_kinds, only: rk
-    use rs_core_error, only: error_t, error_list_t
+    use rs_core_error, only: error_t
     use rs_test_assert, only: run_test, assert_true, assert_equal
-    use rs_model_scene, only: scene_t
     use rs_model_capabilities, only: capability_t
     use rs_formulations_registry, only: capability_of
-    use rs_io_input_file, only: parse_scene
-    use rs_formulations_formulation, only: rod_formulation_t, state_valid
+    use rs_formulations_formulation, only: rod_formulation_t
     use rs_formulations_factory, only: create_formulation, available_formulations
     use rs_test_random, only: set_random_seed
+    use rs_test_formulation_fixture, only: init_cantilever, jacobian_at, central_differences, &
+        dense_jacobian, fixture_t_n, fixture_h
     implicit none
     private
 
     public :: run_all_tests
-
-    character(len=*), parameter :: nl = new_line('a')
 
 contains
 
@@ -65,49 +63,21 @@ contains
         CHECK_EQUAL(available_formulations(), checked, 'the factory lists the formulations checked')
     end subroutine test_every_formulation_listed
 
-    !> A cantilever along x in the x-z plane (planar formulations take it as it is): 4
-    !> elements, clamped at s = 0, an end force and a moment about y at s = L, gravity and a
-    !> load per length along -z, so that every load term enters the step residual (the inertia
-    !> enters through the unknown, which check_jacobian moves off the prediction).
-    function cantilever_text(name) result(text)
-        character(len=*), intent(in) :: name
-        character(len=:), allocatable :: text
-        character(len=:), allocatable :: start_end
-        start_end = 'start'
-        if (trim(name) == 'se3_strand') start_end = 'end'
-        text = '&time t_end = 1, dt = 0.05 /' // nl // &
-            "&rod name = 'beam', formulation = '" // trim(name) // "', n_elements = 4, length = 2," // nl // &
-            '     EA = 1e3, GA1 = 5e2, GA2 = 5e2, EI1 = 2, EI2 = 3, GJ = 1.5,' // nl // &
-            '     rhoA = 1, rhoI1 = 0.1, rhoI2 = 0.15 /' // nl // &
-            "&bc rod = 'beam', end = 'start', kind = 'clamped' /" // nl // &
-            "&load rod = 'beam', where = 'end', force = 0.5, 0, -1, moment = 0, 0.4, 0 /" // nl // &
-            "&load rod = 'beam', where = 'distributed', force = 0, 0, -0.2 /" // nl // &
-            "&load where = 'gravity', acceleration = 0, 0, -9.81 /" // nl
-        if (trim(name) == 'se3_strand') text = text // "&bc rod = 'beam', end = 'end', kind = 'free' /" // nl
-    end function cantilever_text
-
+    !> The contract on the fixture's cantilever of 4 elements (rs_test_formulation_fixture).
     subroutine check_formulation(name)
         character(len=*), intent(in) :: name
-        type(scene_t) :: scene
-        type(error_list_t) :: errors
         class(rod_formulation_t), allocatable :: rod
         type(error_t), allocatable :: err
         type(capability_t) :: row
+        logical :: ok
         row = capability_of(name)
         if (.not. row%available) return
         call set_random_seed(20261126, len_trim(name))
-        call parse_scene(cantilever_text(name), 'conformance.nml', scene, errors)
-        CHECK_EQUAL(errors%count, 0, name // ': the scene parses: ' // errors%joined())
-        if (errors%count > 0) return
         call create_formulation(name, rod, err)
         CHECK_TRUE(.not. allocated(err), name // ': the factory creates it')
         if (allocated(err)) return
-        call rod%init(scene, [1], err)
-        CHECK_TRUE(.not. allocated(err), name // ': init')
-        if (allocated(err)) then
-            write(*, '(a)') '  ' // err%describe()
-            return
-        end if
+        call init_cantilever(rod, name, 4, ok)
+        if (.not. ok) return
         call check_pattern(rod, name)
         call check_jacobian(rod, name)
         call check_checkpoint_round_trip(rod, name)
@@ -146,37 +116,14 @@ contains
     subroutine check_jacobian(rod, name)
         class(rod_formulation_t), intent(inout) :: rod
         character(len=*), intent(in) :: name
-        real(rk), allocatable :: x_n(:), y(:), f_plus(:), f_minus(:), values(:), dense(:, :)
-        real(rk), allocatable :: difference(:, :), noise(:)
+        real(rk), allocatable :: x_n(:), y(:), values(:), dense(:, :), difference(:, :)
         integer, allocatable :: row_ptr(:), cols(:)
-        real(rk), parameter :: t_n = 0.3_rk, h = 0.05_rk, step = 1.0e-6_rk
         real(rk) :: scale, worst, outside
-        integer :: n, j, k, row, status
+        integer :: n, j, row
         n = rod%n_unknown()
-        allocate(x_n(rod%n_state()), y(n), f_plus(n), f_minus(n), dense(n, n), &
-            difference(n, n), noise(n))
-        call rod%initial_state(x_n)
-        call rod%predictor(t_n, h, x_n, y)
-        call random_number(noise)
-        y = y + 0.01_rk * (noise - 0.5_rk)
-        call rod%jacobian_pattern(row_ptr, cols)
-        allocate(values(size(cols)))
-        call rod%step_jacobian(t_n, h, x_n, y, values, status)
-        CHECK_EQUAL(status, state_valid, name // ': Jacobian status')
-        dense = 0.0_rk
-        do row = 1, n
-            do k = row_ptr(row) + 1, row_ptr(row + 1)
-                dense(row, cols(k) + 1) = values(k)
-            end do
-        end do
-        do j = 1, n
-            y(j) = y(j) + step
-            call rod%step_residual(t_n, h, x_n, y, f_plus, status)
-            y(j) = y(j) - 2.0_rk * step
-            call rod%step_residual(t_n, h, x_n, y, f_minus, status)
-            y(j) = y(j) + step
-            difference(:, j) = (f_plus - f_minus) / (2.0_rk * step)
-        end do
+        call jacobian_at(rod, x_n, y, row_ptr, cols, values)
+        dense = dense_jacobian(row_ptr, cols, values)
+        difference = central_differences(rod, fixture_t_n, fixture_h, x_n, y, 1.0e-6_rk)
         scale = maxval(abs(difference))
         worst = maxval(abs(difference - dense)) / scale
         outside = 0.0_rk

@@ -12,6 +12,7 @@ module rs_test_ph_director
     use rs_core_error, only: error_t
     use rs_test_assert, only: run_test, assert_true, assert_close, assert_equal
     use rs_test_random, only: set_random_seed
+    use rs_test_formulation_fixture, only: central_differences
     use rs_model_scene, only: scene_t, rod_input_t, bc_input_t, load_input_t, actuator_input_t
     use rs_formulations_formulation, only: state_valid, formulation_traits_t
     use rs_ph_director, only: ph_director_t
@@ -199,15 +200,14 @@ contains
         type(ph_director_t), intent(inout) :: rod
         character(len=*), intent(in) :: label
         logical, intent(in) :: endpoint
-        real(rk), allocatable :: x_n(:), y(:), f_plus(:), f_minus(:), values(:), dense(:, :)
-        real(rk), allocatable :: difference(:, :)
+        real(rk), allocatable :: x_n(:), y(:), values(:), dense(:, :), difference(:, :)
         integer, allocatable :: row_ptr(:), cols(:)
         logical, allocatable :: rigid_branch(:)
         real(rk) :: t_n, h, step, scale, worst, outside, worst_rigid, outside_rigid, entry
         integer :: n, j, k, row, status, e, m
         if (endpoint) call rod%set_endpoint_solve(.true., 0.8_rk)
         n = rod%n_unknown()
-        allocate(x_n(rod%n_state()), y(n), f_plus(n), f_minus(n), dense(n, n), difference(n, n))
+        allocate(x_n(rod%n_state()), y(n), dense(n, n))
         call perturbed_state(rod, x_n, 0.1_rk)
         call rod%predictor(0.3_rk, 0.05_rk, x_n, y)
         block
@@ -239,14 +239,7 @@ contains
             end do
         end do
         step = 1.0e-6_rk
-        do j = 1, n
-            y(j) = y(j) + step
-            call rod%step_residual(t_n, h, x_n, y, f_plus, status)
-            y(j) = y(j) - 2.0_rk * step
-            call rod%step_residual(t_n, h, x_n, y, f_minus, status)
-            y(j) = y(j) + step
-            difference(:, j) = (f_plus - f_minus) / (2.0_rk * step)
-        end do
+        difference = central_differences(rod, t_n, h, x_n, y, step)
         scale = maxval(abs(difference))
         worst = 0.0_rk
         worst_rigid = 0.0_rk

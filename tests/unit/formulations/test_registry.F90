@@ -9,6 +9,7 @@
 module rs_test_formulations_registry
     use rs_test_assert, only: run_test, assert_true, assert_equal
     use rs_core_error, only: error_t
+    use rs_core_strings, only: split_list
     use rs_model_scene, only: scene_t
     use rs_model_capabilities, only: capability_t
     use rs_formulations_formulation, only: rod_formulation_t
@@ -98,7 +99,8 @@ contains
         character(len=:), allocatable :: claimed, variable, what
         type(scene_t) :: scene
         logical :: known, given
-        integer :: k, rod_group, start, bar
+        character(len=32), allocatable :: variables(:)
+        integer :: k, v, rod_group
         groups = input_groups()
         rod_group = find_group(groups, 'rod')
         CHECK_TRUE(rod_group > 0, '&rod in the spec')
@@ -108,16 +110,10 @@ contains
         claimed = '|'
         CHECK_TRUE(any(len_trim(list%own_rod_variables) > 0), 'some formulation owns variables')
         do k = 1, size(list)
-            start = 1
-            do while (start <= len_trim(list(k)%own_rod_variables))
-                bar = index(list(k)%own_rod_variables(start:), '|')
-                if (bar == 0) then
-                    variable = trim(list(k)%own_rod_variables(start:))
-                    start = len_trim(list(k)%own_rod_variables) + 1
-                else
-                    variable = list(k)%own_rod_variables(start:start + bar - 2)
-                    start = start + bar
-                end if
+            if (len_trim(list(k)%own_rod_variables) == 0) cycle
+            variables = split_list(list(k)%own_rod_variables)
+            do v = 1, size(variables)
+                variable = trim(variables(v))
                 what = variable // ' (' // trim(list(k)%name) // ')'
                 CHECK_TRUE(find_variable(groups(rod_group), variable) > 0, what // ' is a &rod variable')
                 given = rod_variable_given(scene%rods(1), variable, known)

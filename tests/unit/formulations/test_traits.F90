@@ -14,11 +14,8 @@
 !>     formulation's method document says (DESIGN.md §3, "Quasistatics"; the energy sentinel).
 module rs_test_formulation_traits
     use rs_core_kinds, only: rk
-    use rs_core_error, only: error_t, error_list_t
     use rs_test_assert, only: run_test, assert_true, assert_equal
-    use rs_model_scene, only: scene_t
-    use rs_io_input_file, only: parse_scene
-    use rs_formulations_formulation, only: rod_formulation_t, formulation_traits_t, state_valid
+    use rs_formulations_formulation, only: rod_formulation_t, formulation_traits_t
     use rs_formulations_energy_sentinel, only: energy_consistent, energy_dissipative, &
         energy_unchecked
     use rs_ph_director, only: ph_director_t
@@ -26,12 +23,11 @@ module rs_test_formulation_traits
     use rs_se3_pg, only: se3_pg_t
     use rs_se3_strand, only: se3_strand_t
     use rs_test_random, only: set_random_seed
+    use rs_test_formulation_fixture, only: init_cantilever, jacobian_at, fixture_t_n, fixture_h
     implicit none
     private
 
     public :: run_all_tests
-
-    character(len=*), parameter :: nl = new_line('a')
 
 contains
 
@@ -203,9 +199,9 @@ contains
         allocate(noise(n), f1(n), f2(n), jd(n), values2(size(values1)))
         call random_number(noise)
         y2 = y1 + 0.05_rk * (noise - 0.5_rk)
-        call rod%step_residual(0.3_rk, 0.05_rk, x_n, y1, f1, status)
-        call rod%step_residual(0.3_rk, 0.05_rk, x_n, y2, f2, status)
-        call rod%step_jacobian(0.3_rk, 0.05_rk, x_n, y2, values2, status)
+        call rod%step_residual(fixture_t_n, fixture_h, x_n, y1, f1, status)
+        call rod%step_residual(fixture_t_n, fixture_h, x_n, y2, f2, status)
+        call rod%step_jacobian(fixture_t_n, fixture_h, x_n, y2, values2, status)
         jd = 0.0_rk
         do row = 1, n
             do k = row_ptr(row) + 1, row_ptr(row + 1)
@@ -229,63 +225,21 @@ contains
         end do
     end function half_bandwidth
 
-    !> The step Jacobian at t_n = 0.3, h = 0.05 from the initial state, at the prediction moved
-    !> by a random 0.01 (so that no entry vanishes by symmetry of the start).
-    subroutine jacobian_at(rod, x_n, y, row_ptr, cols, values)
-        class(rod_formulation_t), intent(inout) :: rod
-        real(rk), allocatable, intent(out) :: x_n(:), y(:), values(:)
-        integer, allocatable, intent(out) :: row_ptr(:), cols(:)
-        real(rk), allocatable :: noise(:)
-        integer :: status
-        allocate(x_n(rod%n_state()), y(rod%n_unknown()), noise(rod%n_unknown()))
-        call rod%initial_state(x_n)
-        call rod%predictor(0.3_rk, 0.05_rk, x_n, y)
-        call random_number(noise)
-        y = y + 0.01_rk * (noise - 0.5_rk)
-        call rod%jacobian_pattern(row_ptr, cols)
-        allocate(values(size(cols)))
-        call rod%step_jacobian(0.3_rk, 0.05_rk, x_n, y, values, status)
-        CHECK_EQUAL(status, state_valid, 'Jacobian status')
-    end subroutine jacobian_at
 
     ! ---- Scenes --------------------------------------------------------------------------------
 
-    !> Init `rod` on a cantilever along x in the x-z plane (as test_formulations_conformance):
-    !> clamped at s = 0, an end force and moment, gravity; quasistatic or dynamic.
+    !> Init `rod` on the fixture's cantilever (rs_test_formulation_fixture), quasistatic or
+    !> dynamic; a scene that does not build stops the test.
     subroutine build(rod, name, n_elements, quasistatic, condense)
         class(rod_formulation_t), intent(inout) :: rod
         character(len=*), intent(in) :: name
         integer, intent(in) :: n_elements
         logical, intent(in) :: quasistatic
         logical, intent(in), optional :: condense
-        type(scene_t) :: scene
-        type(error_list_t) :: errors
-        type(error_t), allocatable :: err
-        character(len=:), allocatable :: text
+        logical :: ok
         call set_random_seed(20261126, n_elements + len_trim(name))
-        text = '&time t_end = 1, dt = 0.05'
-        if (quasistatic) text = text // ', quasistatic = .true.'
-        text = text // ' /' // nl
-        if (present(condense)) then
-            if (condense) text = text // '&solver condense_stresses = .true. /' // nl
-        end if
-        text = text // &
-            "&rod name = 'beam', formulation = '" // name // "', n_elements = " // &
-            char(ichar('0') + n_elements) // ", length = 2," // nl // &
-            '     EA = 1e3, GA1 = 5e2, GA2 = 5e2, EI1 = 2, EI2 = 3, GJ = 1.5,' // nl // &
-            '     rhoA = 1, rhoI1 = 0.1, rhoI2 = 0.15 /' // nl // &
-            "&bc rod = 'beam', end = 'start', kind = 'clamped' /" // nl // &
-            "&load rod = 'beam', where = 'end', force = 0.5, 0, -1, moment = 0, 0.4, 0 /" // nl // &
-            "&load where = 'gravity', acceleration = 0, 0, -9.81 /" // nl
-        if (name == 'se3_strand') text = text // "&bc rod = 'beam', end = 'end', kind = 'free' /" // nl
-        call parse_scene(text, 'traits.nml', scene, errors)
-        CHECK_EQUAL(errors%count, 0, name // ': the scene parses: ' // errors%joined())
-        if (errors%count > 0) error stop 'scene'
-        call rod%init(scene, [1], err)
-        if (allocated(err)) then
-            write(*, '(a)') '  ' // err%describe()
-            error stop 'init'
-        end if
+        call init_cantilever(rod, name, n_elements, ok, quasistatic, condense)
+        if (.not. ok) error stop 'the cantilever of ' // name // ' does not build'
     end subroutine build
 
 end module rs_test_formulation_traits
