@@ -27,6 +27,7 @@ LAYERS = [
     ("formulations", ["rs_formulation_base", "rs_formulations_ph_director",
                       "rs_formulations_ph_planar", "rs_formulations_se3_pg",
                       "rs_formulations_se3_strand", "rs_formulations"]),
+    ("system", ["rs_system"]),
     ("io, solver", ["rs_io", "rs_solver"]),
     ("app", ["rodsolve"]),
 ]

@@ -1,4 +1,4 @@
-"""Read rodsolve result files (HDF5, schema version 1; docs/user/output.md).
+"""Read rodsolve result files (HDF5, schema versions 1 and 2; docs/user/output.md).
 
 Everything is looked up by dataset name, never by position, so files with more or fewer
 fields read the same way. Needs only h5py and numpy.
@@ -24,7 +24,7 @@ import h5py
 import numpy as np
 
 #: Schema versions this module reads.
-SUPPORTED_SCHEMA_VERSIONS = (1,)
+SUPPORTED_SCHEMA_VERSIONS = (1, 2)
 
 
 class ResultError(Exception):

@@ -186,7 +186,7 @@ contains
                 unrelaxed = .true.
                 call log_warning('rodsolve: ' // runners(i)%name() // ' did not relax by t_end = ' // &
                     str(scene%time%t_end) // ': kinetic energy ' // str_significant( &
-                    runners(i)%formulation%kinetic_energy(runners(i)%x), 3) // ' >= ' // &
+                    runners(i)%kinetic_energy(), 3) // ' >= ' // &
                     str_significant(scene%time%kinetic_energy_tol, 3) // ' (raise t_end or the damping)')
             end do
         end if
@@ -270,7 +270,7 @@ contains
                 associate (runner => runners(rod_system(i)))
                     if (rod_slot(i) == 1) then
                         layouts(i) = layout_of(runner%histories(1), size(runner%x), &
-                            runner%formulation%n_internal())
+                            runner%system%n_ledger())
                     else
                         layouts(i) = layout_of(runner%histories(rod_slot(i)), 0, 0)
                         layouts(i)%checkpoint_rod = system_members(system_first(rod_system(i)))
@@ -320,7 +320,7 @@ contains
         integer, intent(inout) :: records(:)
         integer, intent(out) :: first_step
         type(error_t), allocatable, intent(out) :: err
-        real(rk), allocatable :: state(:), internal(:)
+        real(rk), allocatable :: state(:), ledger(:)
         integer :: i, step, steps(2)
         real(rk) :: time
         character(len=:), allocatable :: message
@@ -334,7 +334,7 @@ contains
                 cycle
             end if
             call read_checkpoint(trim(scene%run%restart_from), trim(scene%rods(i)%name), state, &
-                internal, step, records(i), time, err)
+                ledger, step, records(i), time, err)
             ! The run goes on at step * dt: a checkpoint at another time (a last step cut
             ! short at the old t_end) cannot be continued on this grid.
             if (.not. allocated(err) .and. abs(time - real(step, rk) * scene%time%dt) > &
@@ -347,7 +347,7 @@ contains
                 RS_SET_ERROR(err, 'run_scene', message)
             end if
             if (.not. allocated(err)) call runners(rod_system(i))%restore(scene, step, state, &
-                internal, err)
+                ledger, err)
             if (allocated(err)) exit
             ! Largest and (negated) smallest step over this rank's rods.
             steps = max(steps, [step, -step])
@@ -443,7 +443,7 @@ contains
             if (failed(i) == 1) cycle
             if (rod_owner(i) == world_rank() .and. rod_slot(i) == 1) then
                 call writer%write_checkpoint(i, n, t, one_err, &
-                    runners(rod_system(i))%checkpoint_state(), runners(rod_system(i))%internal())
+                    runners(rod_system(i))%checkpoint_state(), runners(rod_system(i))%ledger())
             else if (rod_owner(i) == world_rank()) then
                 ! Coupled to the system's first rod, which holds the checkpoint.
                 call writer%write_checkpoint(i, n, t, one_err, no_values, no_values)

@@ -13,12 +13,10 @@ module rs_formulations_descriptor
     private
 
     abstract interface
-        !> Allocate the formulation object; `bundle`: the rod is one of a coupled system
-        !> (joints, plates, contact) that the formulation solves as one bundle.
-        subroutine create_interface(formulation, bundle)
+        !> Allocate the formulation object (its init follows).
+        subroutine create_interface(formulation)
             import :: rod_formulation_t
             class(rod_formulation_t), allocatable, intent(out) :: formulation
-            logical, intent(in) :: bundle
         end subroutine create_interface
 
         !> The plan lines of rod `i` of `scene` ('!     ' lines, each ending in a new line); an
@@ -60,9 +58,11 @@ module rs_formulations_descriptor
         logical :: default_choice = .false.
         !> What 'auto' chooses for systems that lie in one plane (if it can run them).
         logical :: auto_planar_choice = .false.
-        !> Rods coupled by joints, plates or contact form one bundle object, solved by all ranks
-        !> together (DESIGN.md §5).
-        logical :: shared_bundle = .false.
+        !> Its rods are coupled by the system layer (src/system/: joints, plates and contact
+        !> through node access, one object per rod), and a coupled system is solved by all ranks
+        !> together (DESIGN.md §5); false: one object for the rods its joints join (shared
+        !> unknowns, ph_planar).
+        logical :: system_couplings = .false.
         !> Set for a semi-implicit formulation (one linear solve per step, no Newton): where its
         !> time step is described, for the plan.
         character(len=64) :: semi_implicit_step = ''

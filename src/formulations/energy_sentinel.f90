@@ -38,11 +38,24 @@ module rs_formulations_energy_sentinel
     !> and 0.02 on the driven spin-up; a blown-up run creates 1e5 and more.
     real(rk), parameter, public :: dissipative_allowance = 10.0_rk
 
-    !> The energy terms of one accepted (sub)step, as the formulation booked them.
+    !> The terms of one accepted (sub)step of one rod, as its formulation's accept_step gives
+    !> them (rs_formulations_formulation): the energy terms for the sentinel and the record
+    !> ledger (rs_system_ledger), and how the step counts in the ledger's statistics.
     type, public :: step_energy_t
-        !> False: the step booked no energy (statics, an unchecked scheme).
+        !> False: the step has no energy terms (an endpoint equilibrium, statics of a
+        !> formulation that books none).
         logical :: reported = .false.
-        real(rk) :: before = 0.0_rk, after = 0.0_rk, work = 0.0_rk, dissipated = 0.0_rk
+        !> H_n and H_{n+1} (kinetic plus stored energy), the work of the loads and of the
+        !> actuators, and the energy dissipated over the step.
+        real(rk) :: before = 0.0_rk, after = 0.0_rk, work = 0.0_rk, actuator_work = 0.0_rk
+        real(rk) :: dissipated = 0.0_rk
+        !> The step is one of the time (or load) grid, so its h counts for the smallest step
+        !> of the record; false: an endpoint equilibrium solve (only its Newton iterations
+        !> count).
+        logical :: grid_step = .true.
+        !> The step's achieved residual when the formulation measures it itself (a linear step,
+        !> whose solver reports none); negative: the Newton residual the solver reports.
+        real(rk) :: residual = -1.0_rk
     end type step_energy_t
 
     !> One rod's (system's) sentinel: the sums of the dissipative test and what tripped it.
@@ -72,14 +85,14 @@ contains
         real(rk), intent(in) :: t
         real(rk) :: balance, scale
         if (this%tripped .or. kind == energy_unchecked .or. .not. step%reported) return
-        balance = step%after - step%before - step%work + step%dissipated
+        balance = step%after - step%before - (step%work + step%actuator_work) + step%dissipated
         if (ieee_is_nan(balance)) then
             call trip(balance, 0.0_rk)
             return
         end if
         select case (kind)
         case (energy_consistent)
-            scale = max(abs(step%before), abs(step%after)) + abs(step%work) + &
+            scale = max(abs(step%before), abs(step%after)) + abs(step%work + step%actuator_work) + &
                 abs(step%dissipated)
             if (abs(balance) > consistent_allowance * scale) &
                 call trip(balance, consistent_allowance * scale)
@@ -87,7 +100,7 @@ contains
             if (.not. this%started) this%entered = abs(step%before)
             this%started = .true.
             this%created = this%created + balance
-            this%entered = this%entered + abs(step%work) + abs(step%dissipated)
+            this%entered = this%entered + abs(step%work + step%actuator_work) + abs(step%dissipated)
             if (this%created > dissipative_allowance * this%entered) &
                 call trip(this%created, dissipative_allowance * this%entered)
         end select

@@ -16,21 +16,15 @@ contains
 
     !> Allocate the formulation called `name`; an unknown or not yet available name is an
     !> error that lists the available ones.
-    subroutine create_formulation(name, formulation, err, bundle)
+    subroutine create_formulation(name, formulation, err)
         character(len=*), intent(in) :: name
         class(rod_formulation_t), allocatable, intent(out) :: formulation
         type(error_t), allocatable, intent(out) :: err
-        !> The system couples rods (joints, plates, contact): the bundle of the formulation,
-        !> where its descriptor builds one (issue 10). Default false.
-        logical, intent(in), optional :: bundle
         type(formulation_descriptor_t) :: d
         character(len=:), allocatable :: message
-        logical :: coupled
-        coupled = .false.
-        if (present(bundle)) coupled = bundle
         if (descriptor_of(trim(name), d)) then
             if (d%capability%available .and. associated(d%create)) then
-                call d%create(formulation, coupled)
+                call d%create(formulation)
                 return
             end if
         end if

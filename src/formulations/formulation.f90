@@ -1,7 +1,11 @@
-!> The interface every rod formulation implements (DESIGN.md §2): its unknowns, initial state,
-!> the residual and Jacobian of one time step, what it does after an accepted step and what it
-!> records for the output. Implementations live in src/formulations/<name>/ and are created by
-!> rs_formulations_factory; nothing here knows PETSc or MPI.
+!> The one-rod contract every rod formulation implements (DESIGN.md §2, issue 22): its unknowns,
+!> initial state, the residual and Jacobian of one time step, the energy terms of an accepted
+!> step, what it records, and the few node-access procedures that couplings need. A formulation
+!> object is one rod, or the rods it joins itself through shared unknowns (ph_planar); systems of
+!> rods (joints, end plates, contact, the rank partition, the record ledger, checkpoints) are the
+!> system layer's (src/system/, rs_system_rod_system), which drives every run, a single rod
+!> included. Implementations live in src/formulations/<name>/ and are created from their
+!> descriptor (rs_formulations_registry); nothing here knows PETSc or MPI.
 !>
 !> The time step is a *step problem* (src/solver/rodmid.c): given the state X_n at t_n and the
 !> step h, find the unknown Y with F(Y; X_n, t_n, h) = 0, then X_{n+1} = update(Y, X_n). The
@@ -16,10 +20,14 @@ module rs_formulations_formulation
     implicit none
     private
 
+    public :: step_energy_t
+
     !> Residual evaluation status: the state is fine.
     integer, parameter, public :: state_valid = 0
     !> Residual evaluation status: the state is invalid (NaN, inverted element); the step is cut.
     integer, parameter, public :: state_invalid = 1
+    !> Largest number of coordinates of a node (ph_director: position and three directors).
+    integer, parameter, public :: max_node_coordinates = 12
 
     !> What a formulation is, as the run and the solver need to know it: constants of the
     !> object once init has run (they follow from the scene: quasistatic or not, condensed
@@ -41,26 +49,110 @@ module rs_formulations_formulation
         !> t_n, seed 004's semi-implicit scheme): the step is one linear solve, no Newton loop.
         logical :: linear_step = .false.
         !> The run ends with an endpoint equilibrium solve (quasistatic runs, DESIGN.md §3):
-        !> rod_run calls set_endpoint_solve around the last step.
+        !> rod_run calls set_step_problem around the last step.
         logical :: wants_endpoint_solve = .false.
         !> The endpoint equilibrium is solved as a continuation from a given state
-        !> (set_continuation_start): rod_run then also solves the initial equilibrium of a
-        !> quasistatic run and bounds each increment by largest_rotation (DESIGN.md §3,
-        !> "Quasistatics"); false: one Newton solve in the last step's h.
+        !> (set_step_problem with continue_from): rod_run then also solves the initial
+        !> equilibrium of a quasistatic run and bounds each increment by the largest rotation
+        !> (state_measures; DESIGN.md §3, "Quasistatics"); false: one Newton solve in the last
+        !> step's h.
         logical :: continues_equilibrium = .false.
         !> The kind of time scheme for the energy sentinel (energy_consistent,
         !> energy_dissipative, energy_unchecked of rs_formulations_energy_sentinel).
         integer :: energy_scheme = energy_unchecked
+        !> Every step solves an equilibrium at t_{n+1} (se3_pg's statics): couplings act at
+        !> X_{n+1} with the loads of t_{n+1}, as the rod's own forces.
+        logical :: equilibrium_steps = .false.
+        !> The object's rods share unknowns (joints by master and slave nodes, ph_planar), so
+        !> the work between them is not separable: the record ledger books their summed energy
+        !> balance on the first rod and zero on the others (docs/developer/architecture.md).
+        logical :: shared_balance = .false.
     end type formulation_traits_t
 
-    !> A rod formulation: one object per rod.
+    !> Two measures of a state that the run's control uses (state_measures).
+    type, public :: state_measures_t
+        !> Kinetic energy of the state, for runs that stop when it is small (&time
+        !> relaxation); -1: not reported.
+        real(rk) :: kinetic_energy = -1.0_rk
+        !> The largest rotation (radians) of a cross-section from the reference state passed
+        !> in to the state: the size of a continuation increment; 0: not measured.
+        real(rk) :: largest_rotation = 0.0_rk
+    end type state_measures_t
+
+    !> Where the coordinates of the rod's nodes are: what couplings (ties, contact) need, and
+    !> all they may read of a formulation (rod_formulation_t%nodes). The first three
+    !> coordinates of every node are its centreline position; the others are the
+    !> formulation's own (ph_director: the directors d1, d2, d3; se3_pg: the rotation vector).
+    !> A table of n_nodes = 0 means the formulation offers no node access (no couplings).
+    type, public :: rod_nodes_t
+        !> Coordinates per node.
+        integer :: n_coordinates = 0
+        !> The rows carry h^force_h_power times a generalized force (ph_director: 1, its
+        !> momentum rows are scaled by h, methods/ph_director_3d.md §5.2; se3_pg: 0, force
+        !> rows).
+        integer :: force_h_power = 1
+        !> Coordinates rotation_vector_at .. rotation_vector_at + 2 are a rotation vector psi
+        !> whose rows are virtual rotations in the body basis (se3_pg: 4; methods/
+        !> se3_petrov_galerkin.md eqs. 42-45), so a step turns them by T(psi_mid) dpsi; 0: every
+        !> row is that of its coordinate.
+        integer :: rotation_vector_at = 0
+        !> Some held coordinates move in time (driven ends): the held values above are those
+        !> of the reference only, so couplings are refused on such a rod.
+        logical :: held_moves = .false.
+        integer :: n_nodes = 0
+        !> Centreline elements: the nodes of element e are (e - 1) degree + 1 .. e degree + 1.
+        integer :: n_elements = 0
+        integer :: degree = 1
+        !> Gauss points per element of the formulation's own quadrature (the fewest contact
+        !> points of an element).
+        integer :: n_gauss = 1
+        !> Reference length of each element (n_elements).
+        real(rk), allocatable :: element_length(:)
+        !> state(i, k): 1-based index of coordinate i of node k in the state X; unknown(i, k):
+        !> in the step unknowns Y, and momentum(i, k): the row of Y's equations that a
+        !> generalized force on that coordinate enters (h times the force, like the internal
+        !> forces; methods/ph_director_3d.md §5.2). 0: the coordinate is held (a support),
+        !> with the value held(i, k).
+        integer, allocatable :: state(:, :), unknown(:, :), momentum(:, :)
+        !> The values of held coordinates; for every node its reference coordinates, from
+        !> which ties are built (a joint holds in the reference).
+        real(rk), allocatable :: held(:, :)
+    end type rod_nodes_t
+
+    !> A tie: n <= 6 holonomic constraint rows g(z) on the coordinates z = [q_a; q_b] of one
+    !> or two nodes (a joint, or a rod end tied to a rigid end plate, DESIGN.md §5), written
+    !> by the formulation for its own coordinates (rod_formulation_t%new_tie). The tie
+    !> coupling of the system layer (rs_system_tie_coupling) adds h^p F(z_t)^T lambda to the
+    !> momentum rows of the nodes (p = rod_nodes_t%force_h_power; F = dg/dz where the rows are
+    !> those of the coordinates, as ph_director's; the rows' own basis otherwise, e.g. body
+    !> rotations) and g(z_{n+1}) = 0 as the tie's own rows.
+    type, abstract, public :: node_tie_t
+        !> Number of constraint rows.
+        integer :: n = 0
+        !> Coordinates per node (the size of q_a and q_b).
+        integer :: n_coordinates = 0
+    contains
+        !> Move a plate tie to the plate's pose: turned by R = exp(rotation) about `centre` and
+        !> moved by `displacement` from its reference (a joint ignores it).
+        procedure(tie_place_interface), deferred :: place
+        !> g(z) (n values).
+        procedure(tie_value_interface), deferred :: value
+        !> G(z) = dg/dz (n x 2 n_coordinates).
+        procedure(tie_gradient_interface), deferred :: gradient
+        !> F(z): the rows' generalized forces per unit lambda (n x 2 n_coordinates); default
+        !> G(z), for rows in the basis of the coordinates.
+        procedure :: force_gradient => default_force_gradient
+        !> d(F(z)^T lambda)/dz at z (2 n_coordinates squared; sum_k lambda_k d^2 g_k / dz^2
+        !> where F = G).
+        procedure(tie_hessian_interface), deferred :: force_hessian
+    end type node_tie_t
+
+    !> A rod formulation: one object per rod (or per set of rods joined by shared unknowns).
     type, abstract, public :: rod_formulation_t
-        !> The energy terms of the last accepted (sub)step, booked by accept_step for the run's
-        !> energy sentinel (rs_formulations_energy_sentinel); not reported by default.
-        type(step_energy_t) :: step_energy
     contains
         !> Build the rods `rods` of the scene (indices into scene%rods): one rod, or the rods a
-        !> set of joints couples into one system (the first leads): mesh, unknowns, loads.
+        !> set of joints couples into one object when the formulation joins them itself
+        !> (ph_planar; the first leads): mesh, unknowns, loads.
         procedure(init_interface), deferred :: init
         !> Length of the state vector X.
         procedure(size_interface), deferred :: n_state
@@ -70,63 +162,44 @@ module rs_formulations_formulation
         procedure(pattern_interface), deferred :: jacobian_pattern
         !> X at the start time.
         procedure(state_interface), deferred :: initial_state
-        !> F(Y; X_n, t_n, h).
-        procedure(residual_interface), deferred :: step_residual
-        !> dF/dY in the values of the CSR pattern.
-        procedure(jacobian_interface), deferred :: step_jacobian
         !> First Newton iterate (default: Y = X_n, for formulations with Y = X).
         procedure :: predictor => default_predictor
         !> X_{n+1} from the converged Y (default: X_{n+1} = Y).
         procedure :: update => default_update
-        !> Book-keeping after an accepted (sub)step: work of the loads, Newton statistics.
+        !> F(Y; X_n, t_n, h).
+        procedure(residual_interface), deferred :: step_residual
+        !> dF/dY in the values of the CSR pattern.
+        procedure(jacobian_interface), deferred :: step_jacobian
+        !> The energy terms of an accepted (sub)step, one record per rod of the object: the
+        !> record ledger (rs_system_ledger) sums them until the next record and the energy
+        !> sentinel checks them; the formulation keeps no book-keeping of its own.
         procedure(accept_interface), deferred :: accept_step
         !> Size the output records of the rods (one history per rod, in the order of `rods`).
         procedure(history_init_interface), deferred :: init_history
-        !> Append the state X at time t to the rods' histories.
+        !> Append the state X at time t to the rods' histories: the fields of the state (the
+        !> ledger's sums are written by the system layer).
         procedure(record_interface), deferred :: record
         !> A short description for the log ("ph_director: 10 elements, p = 2, 750 unknowns").
         procedure(describe_interface), deferred :: describe
         !> The formulation's traits (formulation_traits_t: solver flags, endpoint solves,
         !> energy scheme), constants once init has run; default: formulation_traits_t().
         procedure :: traits => default_traits
-        !> Switch the step problem to (or back from) the endpoint equilibrium at load time
-        !> `t_load`: the next step solves it instead of a time step; default: nothing to switch.
-        procedure :: set_endpoint_solve => default_set_endpoint_solve
-        !> In the endpoint solve, continue from the state x_from: a step from tau_n to tau_n + h
-        !> of the pseudo-time tau in [0, 1] solves R(Y) = (1 - tau_n - h) R(x_from), the residual
-        !> rows in the scaling of a step of length row_scale; default: nothing.
-        procedure :: set_continuation_start => default_set_continuation_start
-        !> The largest rotation (radians) of a cross-section from state x_from to x_to: the size
-        !> of a continuation increment; default 0 (not measured).
-        procedure :: largest_rotation => default_largest_rotation
-        !> Length of the book-keeping a restart needs besides the state X (sums since the last
-        !> record, Newton statistics; DESIGN.md §7 /checkpoint); default 0.
-        procedure :: n_internal => default_n_internal
-        !> That book-keeping as reals (`values` has n_internal entries).
-        procedure :: save_internal => default_save_internal
-        !> Restore what save_internal gave.
-        procedure :: restore_internal => default_restore_internal
-        !> Kinetic energy of the state X, for runs that stop when it is small (&time
-        !> relaxation); default -1: not reported.
-        procedure :: kinetic_energy => default_kinetic_energy
-        !> Before each step from X_n: refresh what the step needs besides X_n (bundles: the
-        !> contact candidate pairs). `repattern` is true when the Jacobian pattern changed, so
-        !> the stepper must be built again; default: nothing to do.
-        procedure :: prepare_step => default_prepare_step
-        !> A system solved on all ranks together (DESIGN.md §5: bundles on PETSC_COMM_WORLD):
-        !> the rods as the vertices of the coupling graph, in CSR form (0-based adjncy), with
-        !> their unknowns as weights; default: no graph (a system of one rank).
-        procedure :: coupling_graph => default_coupling_graph
-        !> Give the system's rods to ranks (part(i) = rank of rod i of the graph) and say which
-        !> rank this is; the unknowns are renumbered so that each rank owns a contiguous range.
-        procedure :: distribute => default_distribute
-        !> The 0-based half-open ranges [lo, hi) of the state and the unknowns this rank owns;
-        !> default: everything.
-        procedure :: owned_range => default_owned_range
-        !> The state X in a layout that does not depend on the ranks (checkpoints, DESIGN.md
-        !> §7: a run may continue on another number of ranks), and back; default: X itself.
-        procedure :: canonical_state => default_canonical_state
-        procedure :: from_canonical => default_from_canonical
+        !> Switch the step problem to (endpoint true) or back from the endpoint equilibrium at
+        !> load time `t_load`: the next steps solve it instead of a time step. With
+        !> continue_from, a step from tau_n to tau_n + h of the pseudo-time tau in [0, 1]
+        !> solves R(Y) = (1 - tau_n - h) R(continue_from) (the continuation of DESIGN.md §3);
+        !> default: nothing to switch.
+        procedure :: set_step_problem => default_set_step_problem
+        !> Kinetic energy of x and, with `from`, the largest rotation of a cross-section from
+        !> `from` to x (state_measures_t); default: neither reported.
+        procedure :: state_measures => default_state_measures
+        !> Where the coordinates of the nodes are (rod_nodes_t), for couplings; default: no
+        !> node access.
+        procedure :: nodes => default_nodes
+        !> A tie of `kind` ('rigid', 'spherical', 'revolute' between two nodes of reference
+        !> coordinates q_a, q_b; 'plate' on one node of reference coordinates q_a) in the
+        !> formulation's coordinates; `tie` is not allocated when the formulation has none.
+        procedure :: new_tie => default_new_tie
     end type rod_formulation_t
 
     abstract interface
@@ -171,12 +244,12 @@ module rs_formulations_formulation
             integer, intent(out) :: status
         end subroutine jacobian_interface
 
-        subroutine accept_interface(this, t_n, h, x_n, x_1, newton_iterations, residual_norm)
-            import :: rod_formulation_t, rk
+        subroutine accept_interface(this, t_n, h, x_n, x_1, terms)
+            import :: rod_formulation_t, rk, step_energy_t
             class(rod_formulation_t), intent(inout) :: this
             real(rk), intent(in) :: t_n, h, x_n(:), x_1(:)
-            integer, intent(in) :: newton_iterations
-            real(rk), intent(in) :: residual_norm
+            !> One per rod of the object (in the order of init's `rods`).
+            type(step_energy_t), intent(out) :: terms(:)
         end subroutine accept_interface
 
         subroutine history_init_interface(this, histories, capacity)
@@ -198,9 +271,43 @@ module rs_formulations_formulation
             class(rod_formulation_t), intent(in) :: this
             character(len=:), allocatable :: text
         end function describe_interface
+
+        pure subroutine tie_place_interface(this, centre, displacement, rotation)
+            import :: node_tie_t, rk
+            class(node_tie_t), intent(inout) :: this
+            real(rk), intent(in) :: centre(3), displacement(3), rotation(3)
+        end subroutine tie_place_interface
+
+        pure subroutine tie_value_interface(this, z, g)
+            import :: node_tie_t, rk
+            class(node_tie_t), intent(in) :: this
+            real(rk), intent(in) :: z(:)
+            real(rk), intent(out) :: g(:)
+        end subroutine tie_value_interface
+
+        pure subroutine tie_gradient_interface(this, z, gradient)
+            import :: node_tie_t, rk
+            class(node_tie_t), intent(in) :: this
+            real(rk), intent(in) :: z(:)
+            real(rk), intent(out) :: gradient(:, :)
+        end subroutine tie_gradient_interface
+
+        pure subroutine tie_hessian_interface(this, z, lambda, hessian)
+            import :: node_tie_t, rk
+            class(node_tie_t), intent(in) :: this
+            real(rk), intent(in) :: z(:), lambda(:)
+            real(rk), intent(out) :: hessian(:, :)
+        end subroutine tie_hessian_interface
     end interface
 
 contains
+
+    pure subroutine default_force_gradient(this, z, gradient)
+        class(node_tie_t), intent(in) :: this
+        real(rk), intent(in) :: z(:)
+        real(rk), intent(out) :: gradient(:, :)
+        call this%gradient(z, gradient)
+    end subroutine default_force_gradient
 
     pure function default_traits(this) result(traits)
         class(rod_formulation_t), intent(in) :: this
@@ -208,84 +315,33 @@ contains
         traits = formulation_traits_t()
     end function default_traits
 
-    subroutine default_set_endpoint_solve(this, on, t_load)
+    subroutine default_set_step_problem(this, endpoint, t_load, continue_from)
         class(rod_formulation_t), intent(inout) :: this
-        logical, intent(in) :: on
+        logical, intent(in) :: endpoint
         real(rk), intent(in) :: t_load
-    end subroutine default_set_endpoint_solve
+        real(rk), intent(in), optional :: continue_from(:)
+    end subroutine default_set_step_problem
 
-    subroutine default_set_continuation_start(this, x_from, row_scale)
-        class(rod_formulation_t), intent(inout) :: this
-        real(rk), intent(in) :: x_from(:), row_scale
-    end subroutine default_set_continuation_start
-
-    real(rk) function default_largest_rotation(this, x_from, x_to)
-        class(rod_formulation_t), intent(in) :: this
-        real(rk), intent(in) :: x_from(:), x_to(:)
-        default_largest_rotation = 0.0_rk
-    end function default_largest_rotation
-
-    real(rk) function default_kinetic_energy(this, x)
+    function default_state_measures(this, x, from) result(measures)
         class(rod_formulation_t), intent(in) :: this
         real(rk), intent(in) :: x(:)
-        default_kinetic_energy = -1.0_rk
-    end function default_kinetic_energy
+        real(rk), intent(in), optional :: from(:)
+        type(state_measures_t) :: measures
+        measures = state_measures_t()
+    end function default_state_measures
 
-    pure integer function default_n_internal(this)
+    function default_nodes(this) result(nodes)
         class(rod_formulation_t), intent(in) :: this
-        default_n_internal = 0
-    end function default_n_internal
+        type(rod_nodes_t) :: nodes
+        nodes = rod_nodes_t()
+    end function default_nodes
 
-    subroutine default_save_internal(this, values)
+    subroutine default_new_tie(this, kind, q_a, q_b, axis, tie)
         class(rod_formulation_t), intent(in) :: this
-        real(rk), intent(out) :: values(:)
-    end subroutine default_save_internal
-
-    subroutine default_restore_internal(this, values)
-        class(rod_formulation_t), intent(inout) :: this
-        real(rk), intent(in) :: values(:)
-    end subroutine default_restore_internal
-
-    subroutine default_prepare_step(this, t_n, h, x_n, repattern)
-        class(rod_formulation_t), intent(inout) :: this
-        real(rk), intent(in) :: t_n, h, x_n(:)
-        logical, intent(out) :: repattern
-        repattern = .false.
-    end subroutine default_prepare_step
-
-    subroutine default_coupling_graph(this, xadj, adjncy, weights)
-        class(rod_formulation_t), intent(in) :: this
-        integer, allocatable, intent(out) :: xadj(:), adjncy(:), weights(:)
-        allocate(xadj(0), adjncy(0), weights(0))
-    end subroutine default_coupling_graph
-
-    subroutine default_distribute(this, part, rank)
-        class(rod_formulation_t), intent(inout) :: this
-        integer, intent(in) :: part(:), rank
-    end subroutine default_distribute
-
-    subroutine default_owned_range(this, state_lo, state_hi, unknown_lo, unknown_hi)
-        class(rod_formulation_t), intent(in) :: this
-        integer, intent(out) :: state_lo, state_hi, unknown_lo, unknown_hi
-        state_lo = 0
-        state_hi = this%n_state()
-        unknown_lo = 0
-        unknown_hi = this%n_unknown()
-    end subroutine default_owned_range
-
-    subroutine default_canonical_state(this, x, canonical)
-        class(rod_formulation_t), intent(in) :: this
-        real(rk), intent(in) :: x(:)
-        real(rk), intent(out) :: canonical(:)
-        canonical = x
-    end subroutine default_canonical_state
-
-    subroutine default_from_canonical(this, canonical, x)
-        class(rod_formulation_t), intent(in) :: this
-        real(rk), intent(in) :: canonical(:)
-        real(rk), intent(out) :: x(:)
-        x = canonical
-    end subroutine default_from_canonical
+        character(len=*), intent(in) :: kind
+        real(rk), intent(in) :: q_a(:), q_b(:), axis(3)
+        class(node_tie_t), allocatable, intent(out) :: tie
+    end subroutine default_new_tie
 
     subroutine default_predictor(this, t_n, h, x_n, y)
         class(rod_formulation_t), intent(inout) :: this

@@ -118,7 +118,7 @@ contains
         if (allocated(scene%plates)) is_bundle = is_bundle .or. size(scene%plates) > 0
         if (.not. is_bundle) return
         is_bundle = descriptor_of(trim(scene%rods(rods(1))%formulation), d)
-        if (is_bundle) is_bundle = d%shared_bundle
+        if (is_bundle) is_bundle = d%system_couplings
     end function is_bundle
 
     !> The first formulation with the role asked for.

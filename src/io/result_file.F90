@@ -1,4 +1,4 @@
-!> The result file of a run (DESIGN.md §7, schema version 1); docs/user/output.md documents it
+!> The result file of a run (DESIGN.md §7, schema version 2); docs/user/output.md documents it
 !> field by field.
 !>
 !>     /                       attributes schema_version, creator, created, command_line,
@@ -13,7 +13,7 @@
 !>                             center_of_mass, constraint_residual, newton/{iterations,residual},
 !>                             dt; rods of a bundle: contact/{energy,force,penetration},
 !>                             ties/force
-!>     /checkpoint/<name>/     state, internal, step, records, time: what a restart needs;
+!>     /checkpoint/<name>/     state, ledger, step, records, time: what a restart needs;
 !>                             checksum (rs_io_checksum), verified by read_checkpoint
 !>     /series/                time, energy/..., momentum/... summed over all rods (at the end)
 !>
@@ -39,6 +39,7 @@ module rs_io_result_file
     use rs_io_hdf5_file, only: hdf5_file_t, series_chunk_records
     use rs_io_hdf5_info, only: hdf5_version
     use rs_io_checksum, only: checkpoint_checksum
+    use rs_system_ledger, only: ledger_entries, ledger_entry_names
     use rs_model_units, only: unit_in_system
     implicit none
     private
@@ -48,7 +49,7 @@ module rs_io_result_file
     public :: selectable_fields, unknown_fields, prepare_sweep_file
 
     !> Version of the layout written by this module; readers check it.
-    integer, parameter, public :: result_schema_version = 1
+    integer, parameter, public :: result_schema_version = 2
 
     !> What a result file records about the run besides the rods. Unallocated strings are
     !> written as empty strings. The HDF5 version is the writer's own (rs_io_hdf5_info).
@@ -75,7 +76,7 @@ module rs_io_result_file
 
     !> What the result file needs to know of a rod before its first record: the sizes that fix
     !> its datasets, the reference meshes, and the sizes of its checkpoint (the state vector and
-    !> the formulation's internal book-keeping).
+    !> the record ledger's sums, rs_system_ledger).
     type, public :: rod_layout_t
         character(len=:), allocatable :: name
         character(len=:), allocatable :: formulation
@@ -83,7 +84,7 @@ module rs_io_result_file
         integer :: n_stress_points = 0
         integer :: n_branches = 0
         integer :: n_state = 0
-        integer :: n_internal = 0
+        integer :: n_ledger = 0
         !> The rod whose checkpoint holds this rod's state (its index among the layouts), for the
         !> rods a joint couples to a system's first rod; 0: its own checkpoint.
         integer :: checkpoint_rod = 0
@@ -198,9 +199,9 @@ contains
     end subroutine write_result_file
 
     !> The layout of a rod from its (initialized) history and its checkpoint sizes.
-    function layout_of(h, n_state, n_internal) result(layout)
+    function layout_of(h, n_state, n_ledger) result(layout)
         type(rod_history_t), intent(in) :: h
-        integer, intent(in) :: n_state, n_internal
+        integer, intent(in) :: n_state, n_ledger
         type(rod_layout_t) :: layout
         layout%name = h%name
         layout%formulation = h%formulation
@@ -208,7 +209,7 @@ contains
         layout%n_stress_points = h%n_stress_points
         layout%n_branches = h%n_branches
         layout%n_state = n_state
-        layout%n_internal = n_internal
+        layout%n_ledger = n_ledger
         layout%mesh = h%mesh
         layout%stress_mesh = h%stress_mesh
         layout%recorded = ','
@@ -254,7 +255,7 @@ contains
         real(rk), allocatable, intent(out) :: values(:)
         integer :: i
         header = [layout%n_nodes, layout%n_stress_points, layout%n_branches, layout%n_state, &
-            layout%n_internal, len(layout%name), len(layout%formulation), size(layout%mesh), &
+            layout%n_ledger, len(layout%name), len(layout%formulation), size(layout%mesh), &
             size(layout%stress_mesh), (ichar(layout%name(i:i)), i = 1, len(layout%name)), &
             (ichar(layout%formulation(i:i)), i = 1, len(layout%formulation)), &
             len(layout%recorded), (ichar(layout%recorded(i:i)), i = 1, len(layout%recorded)), &
@@ -271,7 +272,7 @@ contains
         layout%n_stress_points = header(2)
         layout%n_branches = header(3)
         layout%n_state = header(4)
-        layout%n_internal = header(5)
+        layout%n_ledger = header(5)
         allocate(character(len=header(6)) :: layout%name)
         allocate(character(len=header(7)) :: layout%formulation)
         at = 9
@@ -569,10 +570,15 @@ contains
         call file%write_dataset(checkpoint // '/state', [(0.0_rk, k = 1, layout%n_state)], &
             'mixed', 'state vector X of the formulation at the checkpoint step', err)
         if (allocated(err)) return
-        if (layout%n_internal > 0) call file%write_dataset(checkpoint // '/internal', &
-            [(0.0_rk, k = 1, layout%n_internal)], 'mixed', 'the formulation''s book-keeping ' // &
-            'since the last record (work, balance, dissipation sums, Newton statistics)', err)
-        if (allocated(err)) return
+        if (layout%n_ledger > 0) then
+            call file%write_dataset(checkpoint // '/ledger', [(0.0_rk, k = 1, layout%n_ledger)], &
+                'mixed', 'the record ledger''s sums since the last record, ' // &
+                str(ledger_entries) // ' entries per rod of the system in rod order (attribute ' // &
+                'entries)', err)
+            if (allocated(err)) return
+            call put_attribute(file, checkpoint // '/ledger', 'entries', ledger_entry_names(), err)
+            if (allocated(err)) return
+        end if
         call file%write_dataset(checkpoint // '/step', [-1], '1', &
             'time step the checkpoint holds the state after (-1: none yet)', err)
         if (allocated(err)) return
@@ -583,8 +589,8 @@ contains
             'time of the checkpoint', err)
         if (allocated(err)) return
         call file%write_dataset(checkpoint // '/checksum', checkpoint_checksum([(0.0_rk, k = 1, &
-            layout%n_state)], [(0.0_rk, k = 1, layout%n_internal)], -1, 0, 0.0_rk), '1', &
-            'Fletcher checksum of state, internal, step, records and time (reals as their ' // &
+            layout%n_state)], [(0.0_rk, k = 1, layout%n_ledger)], -1, 0, 0.0_rk), '1', &
+            'Fletcher checksum of state, ledger, step, records and time (reals as their ' // &
             'IEEE bytes, 32-bit words, sums modulo 2^32 - 1; docs/user/output.md), verified ' // &
             'by a restart', err)
     end subroutine create_rod
@@ -696,9 +702,10 @@ contains
     end subroutine restart_in_place
 
     !> Read the checkpoint of rod `name` from `path` (rank that owns the rod; serial driver).
-    subroutine read_checkpoint(path, name, state, internal, step, records, time, err)
+    subroutine read_checkpoint(path, name, state, ledger, step, records, time, err)
         character(len=*), intent(in) :: path, name
-        real(rk), allocatable, intent(out) :: state(:), internal(:)
+        !> The state and the record ledger's sums (rs_system_ledger).
+        real(rk), allocatable, intent(out) :: state(:), ledger(:)
         integer, intent(out) :: step, records
         real(rk), intent(out) :: time
         type(error_t), allocatable, intent(out) :: err
@@ -723,8 +730,17 @@ contains
             end if
             call file%read(group // '/state', state, err)
             if (allocated(err)) exit body
-            allocate(internal(0))
-            if (file%exists(group // '/internal')) call file%read(group // '/internal', internal, err)
+            if (file%exists(group // '/internal')) then
+                ! Schema 1 kept each formulation's own book-keeping in its own layout.
+                call set_error(err, 'the checkpoint of rod "' // name // '" in "' // path // &
+                    '" was written by an older rodsolve (schema 1: /internal, the ' // &
+                    'formulation''s own book-keeping); this version reads schema ' // &
+                    str(result_schema_version) // ' (/ledger): run the scene again from the ' // &
+                    'start', 'read_checkpoint', __FILE__, __LINE__)
+                exit body
+            end if
+            allocate(ledger(0))
+            if (file%exists(group // '/ledger')) call file%read(group // '/ledger', ledger, err)
             if (allocated(err)) exit body
             call file%read(group // '/step', values, err)
             if (allocated(err)) exit body
@@ -750,7 +766,7 @@ contains
             end if
             call file%read(group // '/checksum', values, err)
             if (allocated(err)) exit body
-            sums = checkpoint_checksum(state, internal, step, records, time)
+            sums = checkpoint_checksum(state, ledger, step, records, time)
             if (size(values) /= 2) then
                 mismatch = .true.
             else
@@ -977,31 +993,31 @@ contains
         end do
     end subroutine writer_write_records
 
-    !> Collective: rod i's checkpoint, its state and the formulation's book-keeping after
+    !> Collective: rod i's checkpoint, its state and the record ledger's sums after
     !> `step`, at `time`, with their checksum; the rod's owner passes them, every other rank
     !> neither. After a failure the owner takes part in the remaining writes with nothing (the
     !> first error is returned).
-    subroutine writer_write_checkpoint(this, i, step, time, err, state, internal)
+    subroutine writer_write_checkpoint(this, i, step, time, err, state, ledger)
         class(result_writer_t), intent(inout) :: this
         integer, intent(in) :: i, step
         real(rk), intent(in) :: time
         type(error_t), allocatable, intent(out) :: err
-        real(rk), intent(in), optional :: state(:), internal(:)
+        real(rk), intent(in), optional :: state(:), ledger(:)
         character(len=:), allocatable :: group
         ! A rod coupled to another has its state in that rod's checkpoint.
         if (this%layouts(i)%checkpoint_rod > 0) return
         group = '/checkpoint/' // this%layouts(i)%name
         if (present(state)) then
             call put_records(group // '/state', state)
-            if (this%layouts(i)%n_internal > 0) call put_records(group // '/internal', internal)
+            if (this%layouts(i)%n_ledger > 0) call put_records(group // '/ledger', ledger)
             call put_integers(group // '/step', [step])
             call put_integers(group // '/records', [this%n_records(i)])
             call put_records(group // '/time', [time])
-            call put_integers(group // '/checksum', checkpoint_checksum(state, internal, step, &
+            call put_integers(group // '/checksum', checkpoint_checksum(state, ledger, step, &
                 this%n_records(i), time))
         else
             call put_nothing(group // '/state')
-            if (this%layouts(i)%n_internal > 0) call put_nothing(group // '/internal')
+            if (this%layouts(i)%n_ledger > 0) call put_nothing(group // '/ledger')
             call put_nothing(group // '/step')
             call put_nothing(group // '/records')
             call put_nothing(group // '/time')

@@ -33,7 +33,7 @@ module rs_math_so3
     public :: tangent_so3, tangent_inverse_so3
     public :: exp_so3_derivative, tangent_so3_derivative, tangent_inverse_so3_derivative
     public :: tangent_so3_directional, tangent_inverse_so3_directional
-    public :: complement_rotation_vector
+    public :: complement_rotation_vector, unit_vector
 
     !> Angle (radians) below which the scalar coefficients use their Taylor series.
     real(rk), parameter, public :: so3_series_angle = 0.5_rk
@@ -406,6 +406,7 @@ contains
         end do
     end function outer
 
+    !> The k-th unit vector e_k.
     pure function unit_vector(k) result(e)
         integer, intent(in) :: k
         real(rk) :: e(3)

@@ -1,12 +1,12 @@
 #include "rs_macros.h"
 !> Runs one system of a scene through time (DESIGN.md §3 and §5): one rod, or the rods that
-!> joints couple (rs_model_coupling). It builds the system's formulation, solves it with its own
-!> sequential rodmid stepper on PETSC_COMM_SELF (no communication in the time loop), and keeps
-!> each rod's records until the caller writes them.
+!> joints, plates or contact couple (rs_model_coupling). It builds the system
+!> (rs_system_rod_system: its members, couplings and record ledger), solves it with its own
+!> rodmid stepper (on PETSC_COMM_SELF, or on all ranks for a shared system), and keeps each
+!> rod's records until the caller writes them.
 !>
-!> PETSc calls back into the formulation through `bind(C)` procedures that receive a plain,
-!> non-polymorphic context holding a pointer to the formulation (DESIGN.md §3: a polymorphic
-!> dummy cannot pass through PETSc); they wrap the raw arrays and call the type-bound kernels.
+!> PETSc calls back into the system through `bind(C)` procedures that receive a plain context
+!> holding a pointer to the system (DESIGN.md §3); they wrap the raw arrays and call it.
 module rs_solver_rod_run
     use, intrinsic :: iso_c_binding, only: c_int, c_double, c_ptr, c_funloc, c_loc, c_f_pointer
     use rs_core_kinds, only: rk
@@ -16,9 +16,9 @@ module rs_solver_rod_run
     use rs_core_timer, only: wall_time
     use rs_model_scene, only: scene_t, step_count
     use rs_model_rod_history, only: rod_history_t
-    use rs_formulations_formulation, only: rod_formulation_t, formulation_traits_t, state_valid
-    use rs_formulations_factory, only: create_formulation
+    use rs_formulations_formulation, only: formulation_traits_t, state_measures_t, state_valid
     use rs_formulations_energy_sentinel, only: energy_sentinel_t
+    use rs_system_rod_system, only: rod_system_t
     use rs_solver_rod_stepper, only: rod_stepper_t, stepper_traits_t
     use rs_model_scene, only: solver_input_t
     use rs_parallel_mpi_env, only: world_rank, world_size
@@ -29,10 +29,10 @@ module rs_solver_rod_run
 
     public :: step_count
 
-    !> What PETSc's callbacks receive: the formulation, its traits and the vector sizes.
+    !> What PETSc's callbacks receive: the system, its traits and the vector sizes.
     type :: callback_context_t
-        class(rod_formulation_t), pointer :: formulation => null()
-        !> The formulation's traits, read once after its init (constants of the object): the
+        type(rod_system_t), pointer :: system => null()
+        !> The system's traits, read once after its init (constants of the object): the
         !> solver flags of the stepper, the endpoint solves, the energy scheme of the sentinel.
         type(formulation_traits_t) :: traits
         integer :: n_state = 0
@@ -55,7 +55,7 @@ module rs_solver_rod_run
         !> The system's rods (indices into scene%rods; the first leads) and their records.
         integer, allocatable :: rods(:)
         type(rod_history_t), allocatable :: histories(:)
-        class(rod_formulation_t), pointer :: formulation => null()
+        type(rod_system_t), pointer :: system => null()
         type(callback_context_t), pointer :: context => null()
         type(rod_stepper_t) :: stepper
         !> The system is solved by all ranks together (DESIGN.md §5: a bundle on
@@ -93,22 +93,23 @@ module rs_solver_rod_run
         real(rk) :: max_balance = 0.0_rk
         real(rk) :: max_energy = 0.0_rk
     contains
-        !> Build the formulation and the stepper; record the initial state unless restarting.
+        !> Build the system and the stepper; record the initial state unless restarting.
         procedure :: start => runner_start
-        !> Continue from a checkpoint: the state after step `step` and the formulation's
-        !> book-keeping.
+        !> Continue from a checkpoint: the state after step `step` and the record ledger's sums.
         procedure :: restore => runner_restore
         !> Take step n of the scene's time grid (and the endpoint solve after the last one of a
         !> quasistatic run); record at the output stride. A failure records the last good state
         !> and stops the rod.
         procedure :: advance => runner_advance
-        !> The formulation's book-keeping for a checkpoint.
-        procedure :: internal => runner_internal
+        !> The record ledger's sums for a checkpoint (rs_system_ledger).
+        procedure :: ledger => runner_ledger
         !> The state X for a checkpoint (rank-independent layout).
         procedure :: checkpoint_state => runner_checkpoint_state
+        !> Kinetic energy of the state (-1: not reported).
+        procedure :: kinetic_energy => runner_kinetic_energy
         !> Wall time spent assembling residuals and Jacobians.
         procedure :: assembly_seconds => runner_assembly_seconds
-        !> Destroy the stepper and the formulation and print the rod's summary line.
+        !> Destroy the stepper and the system and print the rod's summary line.
         procedure :: finish => runner_finish
         !> The system's name: its rods' names joined by '+'.
         procedure :: name => runner_name
@@ -127,34 +128,28 @@ contains
         type(error_t), allocatable, intent(out) :: err
         !> Solve the system on all ranks together (default false: on this rank alone).
         logical, intent(in), optional :: shared
-        class(rod_formulation_t), allocatable :: built
-        logical :: bundle
-
         this%rods = rods
         this%solver = scene%solver
         this%shared = .false.
         if (present(shared)) this%shared = shared .and. world_size() > 1
-        bundle = is_bundle(scene, rods)
-        this%bundle = bundle
-        call create_formulation(scene%rods(rods(1))%formulation, built, err, bundle=bundle)
-        RS_RETURN_IF_ERROR(err)
-        allocate(this%formulation, source=built)
-        call this%formulation%init(scene, rods, err)
+        this%bundle = is_bundle(scene, rods)
+        allocate(this%system)
+        call this%system%init(scene, rods, err)
         RS_RETURN_IF_ERROR(err)
         if (this%shared) then
             call distribute_system(this, err)
             RS_RETURN_IF_ERROR(err)
         end if
-        call log_info(this%formulation%describe())
+        call log_info(this%system%describe())
 
         allocate(this%histories(size(rods)))
-        call this%formulation%init_history(this%histories, capacity)
-        allocate(this%x(this%formulation%n_state()))
-        call this%formulation%initial_state(this%x)
+        call this%system%init_history(this%histories, capacity)
+        allocate(this%x(this%system%n_state()))
+        call this%system%initial_state(this%x)
 
         allocate(this%context)
-        this%context%formulation => this%formulation
-        this%context%traits = this%formulation%traits()
+        this%context%system => this%system
+        this%context%traits = this%system%traits()
         call build_stepper(this, err)
         RS_RETURN_IF_ERROR(err)
         if (.not. restarting .and. this%context%traits%continues_equilibrium .and. &
@@ -165,7 +160,7 @@ contains
             call continue_equilibrium(this, 0.0_rk, 'initial equilibrium at t = 0')
             if (allocated(this%err)) this%failed = .true.
         end if
-        if (.not. restarting) call this%formulation%record(this%histories, 0.0_rk, this%x)
+        if (.not. restarting) call this%system%record(this%histories, 0.0_rk, this%x)
         call this%note_record()
     end subroutine runner_start
 
@@ -198,11 +193,11 @@ contains
         real(rk), allocatable :: trial(:)
         character(len=:), allocatable :: message
         real(rk) :: tau, dtau, rest, fnorm, rotation, t_reached, started
+        type(state_measures_t) :: measures
         integer :: substeps, cutbacks, iterations, total, increments
         t_reached = this%context%t_reached
         started = wall_time()
-        call this%formulation%set_endpoint_solve(.true., t_load)
-        call this%formulation%set_continuation_start(this%x, 1.0_rk)
+        call this%system%set_step_problem(.true., t_load, continue_from=this%x)
         tau = 0.0_rk
         dtau = 1.0_rk
         total = 0
@@ -229,7 +224,8 @@ contains
                 dtau = 0.5_rk * dtau
                 cycle
             end if
-            rotation = this%formulation%largest_rotation(this%x, trial)
+            measures = this%system%state_measures(trial, from=this%x)
+            rotation = measures%largest_rotation
             if (rotation > max_increment_rotation) then
                 this%total_cutbacks = this%total_cutbacks + 1
                 if (0.5_rk * dtau < smallest_increment) then
@@ -250,7 +246,7 @@ contains
             tau = tau + dtau
             dtau = 2.0_rk * dtau
         end do
-        call this%formulation%set_endpoint_solve(.false., t_load)
+        call this%system%set_step_problem(.false., t_load)
         this%context%t_reached = t_reached
         this%total_iterations = this%total_iterations + total
         this%solve_seconds = this%solve_seconds + (wall_time() - started)
@@ -269,7 +265,7 @@ contains
         type(error_t), allocatable, intent(out) :: err
         integer, allocatable :: xadj(:), adjncy(:), weights(:), part(:)
         integer :: i
-        call this%formulation%coupling_graph(xadj, adjncy, weights)
+        call this%system%coupling_graph(xadj, adjncy, weights)
         allocate(part(size(weights)))
         if (size(weights) <= world_size()) then
             part = [(i - 1, i = 1, size(weights))]
@@ -277,7 +273,7 @@ contains
             call partition_graph(xadj, adjncy, weights, world_size(), part, err)
             RS_RETURN_IF_ERROR(err)
         end if
-        call this%formulation%distribute(part, world_rank())
+        call this%system%distribute(part, world_rank())
     end subroutine distribute_system
 
     !> The stepper of the formulation's current pattern (again after a pattern change).
@@ -287,15 +283,15 @@ contains
         integer, allocatable :: row_ptr(:), cols(:)
         integer :: owned(4)
         integer :: jacobians, floor_steps
-        call this%formulation%jacobian_pattern(row_ptr, cols)
+        call this%system%jacobian_pattern(row_ptr, cols)
         call this%stepper%run_stats(jacobians, floor_steps)
         this%jacobians_before = this%jacobians_before + jacobians
         this%floor_steps_before = this%floor_steps_before + floor_steps
-        this%context%n_state = this%formulation%n_state()
-        this%context%n_unknown = this%formulation%n_unknown()
+        this%context%n_state = this%system%n_state()
+        this%context%n_unknown = this%system%n_unknown()
         this%context%n_values = size(cols)
         if (this%shared) then
-            call this%formulation%owned_range(owned(1), owned(2), owned(3), owned(4))
+            call this%system%owned_range(owned(1), owned(2), owned(3), owned(4))
             call this%stepper%create(this%context%n_state, this%context%n_unknown, row_ptr, cols, &
                 c_funloc(residual_callback), c_funloc(jacobian_callback), &
                 c_funloc(predictor_callback), c_funloc(update_callback), c_funloc(poststep_callback), &
@@ -330,7 +326,7 @@ contains
         logical :: repattern
         real(rk) :: started
         started = wall_time()
-        call this%formulation%prepare_step(t_n, h, this%x, repattern)
+        call this%system%prepare_step(t_n, h, this%x, repattern)
         if (repattern) then
             this%repatterns = this%repatterns + 1
             call build_stepper(this, this%err)
@@ -338,23 +334,24 @@ contains
         this%prepare_seconds = this%prepare_seconds + (wall_time() - started)
     end subroutine prepare
 
-    subroutine runner_restore(this, scene, step, state, internal, err)
+    subroutine runner_restore(this, scene, step, state, ledger, err)
         class(rod_runner_t), intent(inout) :: this
         type(scene_t), intent(in) :: scene
         integer, intent(in) :: step
-        real(rk), intent(in) :: state(:), internal(:)
+        !> The state and the record ledger's sums (rs_system_ledger) of the checkpoint.
+        real(rk), intent(in) :: state(:), ledger(:)
         type(error_t), allocatable, intent(out) :: err
         character(len=:), allocatable :: message
-        if (size(state) /= size(this%x) .or. size(internal) /= this%formulation%n_internal()) then
+        if (size(state) /= size(this%x) .or. size(ledger) /= this%system%n_ledger()) then
             message = 'the checkpoint of rod "' // this%histories(1)%name // '" holds ' // &
-                str(size(state)) // ' state and ' // str(size(internal)) // ' internal ' // &
+                str(size(state)) // ' state and ' // str(size(ledger)) // ' ledger ' // &
                 'values; the scene builds ' // str(size(this%x)) // ' and ' // &
-                str(this%formulation%n_internal()) // ' (a different discretization?)'
+                str(this%system%n_ledger()) // ' (a different discretization?)'
             RS_SET_ERROR(err, 'rod_runner%restore', message)
             return
         end if
-        call this%formulation%from_canonical(state, this%x)
-        call this%formulation%restore_internal(internal)
+        call this%system%from_canonical(state, this%x)
+        call this%system%restore_ledger(ledger)
         this%step = step
         this%t_recorded = min(real(step, rk) * scene%time%dt, scene%time%t_end)
         this%context%t_reached = this%t_recorded
@@ -365,6 +362,7 @@ contains
         type(scene_t), intent(in) :: scene
         integer, intent(in) :: n
         real(rk) :: t_n, h, fnorm, started, kinetic
+        type(state_measures_t) :: measures
         integer :: n_steps, substeps, cutbacks, iterations
         logical :: last_step
         substeps = 0
@@ -406,13 +404,13 @@ contains
                 return
             end if
         else if (last_step .and. this%context%traits%wants_endpoint_solve) then
-            call this%formulation%set_endpoint_solve(.true., scene%time%t_end)
+            call this%system%set_step_problem(.true., scene%time%t_end)
             started = wall_time()
             call prepare(this, t_n, h)
             if (.not. allocated(this%err)) call this%stepper%advance(t_n, h, this%x, substeps, &
                 cutbacks, iterations, fnorm, this%err)
             this%solve_seconds = this%solve_seconds + (wall_time() - started)
-            call this%formulation%set_endpoint_solve(.false., scene%time%t_end)
+            call this%system%set_step_problem(.false., scene%time%t_end)
             this%total_iterations = this%total_iterations + iterations
             this%total_cutbacks = this%total_cutbacks + cutbacks
             if (allocated(this%err)) then
@@ -429,17 +427,18 @@ contains
         if (mod(n, scene%output%stride) == 0 .or. n == n_steps) then
             ! n dt rather than t_n + h, so that stored times are the grid's own values.
             this%t_recorded = min(real(n, rk) * scene%time%dt, scene%time%t_end)
-            call this%formulation%record(this%histories, this%t_recorded, this%x)
+            call this%system%record(this%histories, this%t_recorded, this%x)
             call this%note_record()
         end if
         if (.not. scene%time%relaxation) return
         ! Statics by damped dynamics (seed 004 §2.4): stop once the motion has died out.
-        kinetic = this%formulation%kinetic_energy(this%x)
+        measures = this%system%state_measures(this%x)
+        kinetic = measures%kinetic_energy
         if (kinetic < 0.0_rk .or. kinetic >= scene%time%kinetic_energy_tol) return
         this%relaxed = .true.
         if (this%t_recorded < min(real(n, rk) * scene%time%dt, scene%time%t_end)) then
             this%t_recorded = min(real(n, rk) * scene%time%dt, scene%time%t_end)
-            call this%formulation%record(this%histories, this%t_recorded, this%x)
+            call this%system%record(this%histories, this%t_recorded, this%x)
             call this%note_record()
         end if
         call log_info('  ' // this%name() // ': relaxed after ' // str(this%steps_done) // &
@@ -452,7 +451,7 @@ contains
         class(rod_runner_t), intent(inout) :: this
         this%failed = .true.
         if (this%context%t_reached > this%t_recorded) then
-            call this%formulation%record(this%histories, this%context%t_reached, this%x)
+            call this%system%record(this%histories, this%context%t_reached, this%x)
             call this%note_record()
         end if
     end subroutine stop_here
@@ -493,15 +492,22 @@ contains
         class(rod_runner_t), intent(in) :: this
         real(rk), allocatable :: values(:)
         allocate(values(size(this%x)))
-        call this%formulation%canonical_state(this%x, values)
+        call this%system%canonical_state(this%x, values)
     end function runner_checkpoint_state
 
-    function runner_internal(this) result(values)
+    function runner_ledger(this) result(values)
         class(rod_runner_t), intent(in) :: this
         real(rk), allocatable :: values(:)
-        allocate(values(this%formulation%n_internal()))
-        call this%formulation%save_internal(values)
-    end function runner_internal
+        allocate(values(this%system%n_ledger()))
+        call this%system%save_ledger(values)
+    end function runner_ledger
+
+    real(rk) function runner_kinetic_energy(this)
+        class(rod_runner_t), intent(in) :: this
+        type(state_measures_t) :: measures
+        measures = this%system%state_measures(this%x)
+        runner_kinetic_energy = measures%kinetic_energy
+    end function runner_kinetic_energy
 
     real(rk) function runner_assembly_seconds(this)
         class(rod_runner_t), intent(in) :: this
@@ -521,7 +527,7 @@ contains
         floor_steps = this%floor_steps_before + floor_steps
         call this%stepper%destroy()
         if (associated(this%context)) deallocate(this%context)
-        if (associated(this%formulation)) deallocate(this%formulation)
+        if (associated(this%system)) deallocate(this%system)
         if (present(quiet)) then
             if (quiet) return
         end if
@@ -558,7 +564,7 @@ contains
         call c_f_pointer(y, y_, [context%n_unknown])
         call c_f_pointer(f, f_, [context%n_unknown])
         started = wall_time()
-        call context%formulation%step_residual(t_n, h, x_n_, y_, f_, state)
+        call context%system%step_residual(t_n, h, x_n_, y_, f_, state)
         context%assembly_seconds = context%assembly_seconds + (wall_time() - started)
         status = int(state, c_int)
     end function residual_callback
@@ -576,7 +582,7 @@ contains
         call c_f_pointer(y, y_, [context%n_unknown])
         call c_f_pointer(values, values_, [context%n_values])
         started = wall_time()
-        call context%formulation%step_jacobian(t_n, h, x_n_, y_, values_, state)
+        call context%system%step_jacobian(t_n, h, x_n_, y_, values_, state)
         context%assembly_seconds = context%assembly_seconds + (wall_time() - started)
         status = int(state, c_int)
     end function jacobian_callback
@@ -590,7 +596,7 @@ contains
         call c_f_pointer(ctx, context)
         call c_f_pointer(x_n, x_n_, [context%n_state])
         call c_f_pointer(y, y_, [context%n_unknown])
-        call context%formulation%predictor(t_n, h, x_n_, y_)
+        call context%system%predictor(t_n, h, x_n_, y_)
         status = state_valid
     end function predictor_callback
 
@@ -604,7 +610,7 @@ contains
         call c_f_pointer(x_n, x_n_, [context%n_state])
         call c_f_pointer(y, y_, [context%n_unknown])
         call c_f_pointer(x_1, x_1_, [context%n_state])
-        call context%formulation%update(t_n, h, x_n_, y_, x_1_)
+        call context%system%update(t_n, h, x_n_, y_, x_1_)
         status = state_valid
     end function update_callback
 
@@ -619,11 +625,10 @@ contains
         call c_f_pointer(ctx, context)
         call c_f_pointer(x_n, x_n_, [context%n_state])
         call c_f_pointer(x_1, x_1_, [context%n_state])
-        context%formulation%step_energy%reported = .false.
-        call context%formulation%accept_step(t_n, h, x_n_, x_1_, int(newton_iterations), fnorm)
+        call context%system%accept_step(t_n, h, x_n_, x_1_, int(newton_iterations), fnorm)
         context%t_reached = t_n + h
         call context%sentinel%check(context%traits%energy_scheme, &
-            context%formulation%step_energy, t_n + h)
+            context%system%step_energy, t_n + h)
         status = state_valid
     end function poststep_callback
 

@@ -43,7 +43,8 @@ failed on the code before the fix.
     faults.py corrupted_checkpoint
                               a byte changed on disk in a checkpoint's state (1 and 2 ranks)
                               makes restart_from stop with a message that says the checkpoint
-                              is corrupted; the intact file restarts; on 1 rank a changed byte in
+                              is corrupted; the intact file restarts; a checkpoint of schema 1
+                              (/internal) is refused with its reason; on 1 rank a changed byte in
                               a record's chunk is found by any reader (Fletcher-32) (item 21)
     faults.py flush_every_memory
                               a 5-step run with flush_every = 1000000 stays under 200 MB peak
@@ -654,6 +655,23 @@ def corrupted_checkpoint(args, checks):
             else:
                 checks.check(f"{what}: restart from the intact copy: exit status",
                              result.returncode, 0)
+    # A checkpoint of schema 1 (each formulation's own book-keeping in /internal, before the
+    # record ledger of issue 22) is refused with its reason, not read in the wrong layout.
+    old = os.path.join(args.workdir, "schema_1.h5")
+    shutil.copy(os.path.join(args.workdir, "intact_1.h5"), old)
+    with h5py.File(old, "r+") as f:
+        f.move("checkpoint/tube/ledger", "checkpoint/tube/internal")
+        f.attrs["schema_version"] = 1
+    restart = rs.set_variable(later, "run", "restart_from", f"'{old}'")
+    output = os.path.join(args.workdir, "continued_schema_1.h5")
+    scene = write_scene(args, "continued_schema_1", restart, output)
+    result = subprocess.run([args.mpiexec, "--oversubscribe", "-np", "1", args.rodsolve, scene],
+                            capture_output=True, text=True)
+    log = result.stdout + result.stderr
+    print(log[-600:])
+    checks.check("restart from a schema-1 checkpoint: exit status - 1", abs(result.returncode - 1), 0)
+    checks.check("... the message names the older schema and what to do",
+                 0 if "schema 1" in log and "run the scene again from the start" in log else 1, 0)
     # On one rank every growing dataset carries HDF5's Fletcher-32 checksum: a reader finds a
     # changed byte in a record.
     damaged = os.path.join(args.workdir, "damaged_records.h5")

@@ -12,6 +12,12 @@
 !>
 !> Dofs are numbered node by node along the rod with each element's stresses after its
 !> interior nodes, so the Jacobian is banded before any reordering.
+!>
+!> One object is one rod (issue 22): joints, end plates and contact between rods are couplings
+!> of the system layer (src/system/), which reads the rod only through `nodes` (where each
+!> node's q is in X and Y, and which rows its generalized forces enter) and `new_tie` (the
+!> constraint rows of rs_ph_director_tie); the record ledger of the system layer sums the
+!> energy terms that accept_step returns.
 module rs_ph_director
     use rs_core_kinds, only: rk
     use rs_core_error, only: error_t, set_error
@@ -25,7 +31,7 @@ module rs_ph_director
     use rs_model_rod_history, only: rod_history_t
     use rs_assembly_csr_pattern, only: csr_builder_t, csr_pattern_t
     use rs_formulations_formulation, only: rod_formulation_t, formulation_traits_t, state_valid, &
-        state_invalid
+        state_invalid, state_measures_t, rod_nodes_t, node_tie_t
     use rs_formulations_energy_sentinel, only: step_energy_t, energy_consistent, energy_unchecked
     use rs_ph_director_element, only: ph_director_basis_t, ph_director_material_t, &
         ph_director_actuation_t, ph_director_max_branches, ph_director_max_tendons, &
@@ -37,6 +43,7 @@ module rs_ph_director
         ph_director_element_dissipation, ph_director_element_actuator_work, &
         ph_director_local_size, ph_director_element_reference_strains, &
         ph_director_element_initial_stress, ph_director_straight_strain
+    use rs_ph_director_node_tie, only: ph_director_node_tie
     implicit none
     private
 
@@ -98,8 +105,9 @@ module rs_ph_director
         !> The next step is the endpoint equilibrium at load time t_static (DESIGN.md §3).
         logical :: static = .false.
         real(rk) :: t_static = 0.0_rk
-        !> The endpoint equilibrium is a continuation (set_continuation_start): a step to the
-        !> pseudo-time tau solves R(Y) = (1 - tau) anchor, its rows scaled by row_scale.
+        !> The endpoint equilibrium is a continuation (set_step_problem with continue_from): a
+        !> step to the pseudo-time tau solves R(Y) = (1 - tau) anchor, its rows scaled by
+        !> row_scale (always 1: the rows of a step of length 1).
         logical :: continuing = .false.
         real(rk) :: row_scale = 0.0_rk
         real(rk), allocatable :: anchor(:)
@@ -133,14 +141,6 @@ module rs_ph_director
         real(rk), allocatable :: q_n(:, :), q_1(:, :), v_n(:, :), v_1(:, :), lambda(:, :)
         !> Stress coefficients s(6, p, 0:n_branches, element) (0: elastic branch).
         real(rk), allocatable :: s_n(:, :, :, :), s_1(:, :, :, :)
-        ! Book-keeping since the last record.
-        real(rk) :: work_since_record = 0.0_rk
-        real(rk) :: balance_since_record = 0.0_rk
-        real(rk) :: dissipated_since_record = 0.0_rk
-        real(rk) :: actuator_work_since_record = 0.0_rk
-        real(rk) :: smallest_step = huge(1.0_rk)
-        real(rk) :: last_residual = 0.0_rk
-        integer :: iterations_since_record = 0
         !> The mesh-resolution warning of `record` was given.
         logical :: warned_coarse = .false.
     contains
@@ -159,19 +159,17 @@ module rs_ph_director
         procedure :: describe => ph_director_describe
         procedure :: energy => ph_director_energy
         procedure :: traits => ph_director_traits
-        procedure :: n_internal => ph_director_n_internal
-        procedure :: save_internal => ph_director_save_internal
-        procedure :: restore_internal => ph_director_restore_internal
-        procedure :: set_endpoint_solve => ph_director_set_endpoint_solve
-        procedure :: set_continuation_start => ph_director_set_continuation_start
-        procedure :: largest_rotation => ph_director_largest_rotation
+        procedure :: set_step_problem => ph_director_set_step_problem
+        procedure :: state_measures => ph_director_state_measures
+        procedure :: nodes => ph_director_nodes
+        procedure :: new_tie => ph_director_new_tie
         procedure :: unpack
         procedure :: element_nodes
     end type ph_director_t
 
 contains
 
-    !> Build the rod rods(1) of a validated scene (ph_director rods are not joined yet).
+    !> Build the rod rods(1) of a validated scene (an object is one rod: module header).
     subroutine ph_director_init(this, scene, rods, err)
         class(ph_director_t), intent(inout) :: this
         type(scene_t), intent(in) :: scene
@@ -180,8 +178,8 @@ contains
         character(len=:), allocatable :: message
         logical :: ok
         integer :: e, k, rod_index
-        ! Joints between ph_director rods (one coupled system) arrive with the bundles
-        ! (DESIGN.md §5); the input check rejects them before this.
+        ! Joints between ph_director rods are ties of the system layer (DESIGN.md §5), never
+        ! shared unknowns of one object.
         if (size(rods) /= 1) then
             RS_SET_ERROR(err, 'ph_director%init', 'ph_director rods cannot be joined yet')
             return
@@ -1237,22 +1235,22 @@ contains
         end do
     end subroutine ph_director_energy
 
-    !> Work of the loads and actuators and the dissipation over the accepted step, and the
-    !> energy-balance error H_{n+1} - H_n - W_n - W_act,n + D_n (methods §5.3 item 1, §3.1,
-    !> §9 item 7), accumulated until the next record. The endpoint equilibrium of a
-    !> quasistatic run is not a time step: it only counts its Newton iterations.
-    subroutine ph_director_accept_step(this, t_n, h, x_n, x_1, newton_iterations, residual_norm)
+    !> The energy terms of the accepted step: H_n and H_{n+1}, the work of the loads and of the
+    !> actuators and the dissipation, whose balance H_{n+1} - H_n - W_n - W_act,n + D_n is the
+    !> scheme's energy error (methods §5.3 item 1, §3.1, §9 item 7). The endpoint equilibrium
+    !> of a quasistatic run is not a time step: no terms, and its h is not a step of the grid.
+    subroutine ph_director_accept_step(this, t_n, h, x_n, x_1, terms)
         class(ph_director_t), intent(inout) :: this
         real(rk), intent(in) :: t_n, h, x_n(:), x_1(:)
-        integer, intent(in) :: newton_iterations
-        real(rk), intent(in) :: residual_norm
+        type(step_energy_t), intent(out) :: terms(:)
         real(rk) :: work, actuator_work, dissipated, nbar(3), mbar(3), force(3), moment(3), t_mid
         real(rk) :: kinetic_n, strain_n, kinetic_1, strain_1
         type(ph_director_actuation_t) :: actuation
         integer :: e, k, nodes(2)
-        this%iterations_since_record = this%iterations_since_record + newton_iterations
-        this%last_residual = residual_norm
-        if (this%static) return
+        if (this%static) then
+            terms(1) = step_energy_t(reported=.false., grid_step=.false.)
+            return
+        end if
         call this%energy(x_n, kinetic_n, strain_n)
         call this%energy(x_1, kinetic_1, strain_1)
         call this%unpack(x_n, this%q_n, this%v_n, this%lambda, this%s_n)
@@ -1284,14 +1282,9 @@ contains
             work = work + ph_director_node_external_work(h, this%q_n(:, k), this%q_1(:, k), &
                 this%v_n(:, k), this%v_1(:, k), force, moment)
         end do
-        this%work_since_record = this%work_since_record + work
-        this%actuator_work_since_record = this%actuator_work_since_record + actuator_work
-        this%dissipated_since_record = this%dissipated_since_record + dissipated
-        this%balance_since_record = this%balance_since_record + &
-            ((kinetic_1 + strain_1) - (kinetic_n + strain_n) - work - actuator_work + dissipated)
-        this%step_energy = step_energy_t(reported=.true., before=kinetic_n + strain_n, &
-            after=kinetic_1 + strain_1, work=work + actuator_work, dissipated=dissipated)
-        this%smallest_step = min(this%smallest_step, h)
+        terms(1) = step_energy_t(reported=.true., before=kinetic_n + strain_n, &
+            after=kinetic_1 + strain_1, work=work, actuator_work=actuator_work, &
+            dissipated=dissipated)
     end subroutine ph_director_accept_step
 
     !> The traits of a ph_director rod (the solver flags keep their defaults: the chain LU
@@ -1311,47 +1304,92 @@ contains
         traits%continues_equilibrium = this%quasistatic .and. .not. this%condensed
     end function ph_director_traits
 
-    !> Make the next steps the endpoint equilibrium at load time t_load (`on`), or time steps:
-    !> the kernels' `static` variant, methods §2.8 eqs. 96e-g with the reference strains.
-    subroutine ph_director_set_endpoint_solve(this, on, t_load)
+    !> Make the next steps the endpoint equilibrium at load time t_load (`endpoint`), or time
+    !> steps: the kernels' `static` variant, methods §2.8 eqs. 96e-g with the reference strains.
+    !> With continue_from (an uncondensed rod only), the equilibrium is the continuation
+    !> anchored there: the static residual at continue_from, in the scaling of a step of
+    !> length row_scale = 1. Back to time steps ends the continuation; an endpoint solve without
+    !> continue_from leaves it as it was.
+    subroutine ph_director_set_step_problem(this, endpoint, t_load, continue_from)
         class(ph_director_t), intent(inout) :: this
-        logical, intent(in) :: on
+        logical, intent(in) :: endpoint
         real(rk), intent(in) :: t_load
-        this%static = on
+        real(rk), intent(in), optional :: continue_from(:)
+        this%static = endpoint
         this%t_static = t_load
-        if (.not. on) this%continuing = .false.
-    end subroutine ph_director_set_endpoint_solve
-
-    !> Anchor the continuation at x_from (call set_endpoint_solve first): the static residual
-    !> there, in the scaling of a step of length row_scale.
-    subroutine ph_director_set_continuation_start(this, x_from, row_scale)
-        class(ph_director_t), intent(inout) :: this
-        real(rk), intent(in) :: x_from(:), row_scale
-        if (.not. this%static .or. this%condensed) return
-        this%row_scale = row_scale
+        if (.not. endpoint) this%continuing = .false.
+        if (.not. endpoint .or. .not. present(continue_from) .or. this%condensed) return
+        this%row_scale = 1.0_rk
         if (allocated(this%anchor)) deallocate(this%anchor)
         allocate(this%anchor(this%n_dofs))
-        call uncondensed_step(this, 0.0_rk, row_scale, x_from, x_from, f=this%anchor)
+        call uncondensed_step(this, 0.0_rk, this%row_scale, continue_from, continue_from, &
+            f=this%anchor)
         this%continuing = .true.
-    end subroutine ph_director_set_continuation_start
+    end subroutine ph_director_set_step_problem
 
-    !> The largest rotation of a node's director triad from x_from to x_to: each director
-    !> turns by 2 asin(|d_i,to - d_i,from| / 2) (unit directors, methods §2.1).
-    real(rk) function ph_director_largest_rotation(this, x_from, x_to) result(angle)
+    !> No kinetic energy is reported (-1); with `from`, the largest rotation of a node's
+    !> director triad from `from` to x: each director turns by 2 asin(|d_i,x - d_i,from| / 2)
+    !> (unit directors, methods §2.1).
+    function ph_director_state_measures(this, x, from) result(measures)
         class(ph_director_t), intent(in) :: this
-        real(rk), intent(in) :: x_from(:), x_to(:)
-        real(rk) :: chord
+        real(rk), intent(in) :: x(:)
+        real(rk), intent(in), optional :: from(:)
+        type(state_measures_t) :: measures
+        real(rk) :: chord, angle
         integer :: k, i
+        measures = state_measures_t()
+        if (.not. present(from)) return
         angle = 0.0_rk
         do k = 1, this%n_nodes
             if (this%clamped(k)) cycle
             do i = 1, 3
-                chord = norm2(x_to(this%node_dof(3 * i + 1:3 * i + 3, k)) - &
-                    x_from(this%node_dof(3 * i + 1:3 * i + 3, k)))
+                chord = norm2(x(this%node_dof(3 * i + 1:3 * i + 3, k)) - &
+                    from(this%node_dof(3 * i + 1:3 * i + 3, k)))
                 angle = max(angle, 2.0_rk * asin(min(1.0_rk, 0.5_rk * chord)))
             end do
         end do
-    end function ph_director_largest_rotation
+        measures%largest_rotation = angle
+    end function ph_director_state_measures
+
+    !> The node table of the rod (rod_nodes_t): q = (phi, d1, d2, d3) of node k is at
+    !> node_dof(1:12, k) in X, and in Y at the same place or, condensed, at node_unknown(1:12,
+    !> k); its generalized forces enter the momentum rows, the rows of v (node_dof(13:24, k))
+    !> or, condensed, those of q (methods §5.5: the condensed rows of q are the momentum
+    !> rows). A clamped node has none: its q is held at the reference.
+    function ph_director_nodes(this) result(nodes)
+        class(ph_director_t), intent(in) :: this
+        type(rod_nodes_t) :: nodes
+        integer :: k
+        nodes%n_coordinates = 12
+        nodes%n_nodes = this%n_nodes
+        nodes%n_elements = this%n_elements
+        nodes%degree = this%degree
+        nodes%n_gauss = this%basis%n_gauss
+        allocate(nodes%element_length, source=this%element_length)
+        allocate(nodes%state(12, this%n_nodes), nodes%unknown(12, this%n_nodes), &
+            nodes%momentum(12, this%n_nodes), source=0)
+        allocate(nodes%held, source=this%fixed_q)
+        do k = 1, this%n_nodes
+            if (this%clamped(k)) cycle
+            nodes%state(:, k) = this%node_dof(1:12, k)
+            if (this%condensed) then
+                nodes%unknown(:, k) = this%node_unknown(1:12, k)
+                nodes%momentum(:, k) = this%node_unknown(1:12, k)
+            else
+                nodes%unknown(:, k) = this%node_dof(1:12, k)
+                nodes%momentum(:, k) = this%node_dof(13:24, k)
+            end if
+        end do
+    end function ph_director_nodes
+
+    !> A joint or plate tie in ph_director's nodal coordinates (rs_ph_director_node_tie).
+    subroutine ph_director_new_tie(this, kind, q_a, q_b, axis, tie)
+        class(ph_director_t), intent(in) :: this
+        character(len=*), intent(in) :: kind
+        real(rk), intent(in) :: q_a(:), q_b(:), axis(3)
+        class(node_tie_t), allocatable, intent(out) :: tie
+        call ph_director_node_tie(kind, q_a, q_b, axis, tie)
+    end subroutine ph_director_new_tie
 
     subroutine ph_director_init_history(this, histories, capacity)
         class(ph_director_t), intent(in) :: this
@@ -1372,8 +1410,8 @@ contains
         end do
     end subroutine ph_director_init_history
 
-    !> Append the state at time t: fields, energies, momenta, centre of mass, constraint
-    !> residual, and the step statistics accumulated since the previous record.
+    !> Append the state at time t: fields, energies, momenta, centre of mass and constraint
+    !> residual (the system layer's ledger writes the sums since the previous record).
     subroutine ph_director_record(this, histories, t, x)
         class(ph_director_t), intent(inout) :: this
         type(rod_history_t), intent(inout), target :: histories(:)
@@ -1432,20 +1470,6 @@ contains
             history%strains(1:3, first:last, r) = gamma
             history%strains(4:6, first:last, r) = kappa
         end do
-        history%external_work(r) = this%work_since_record
-        history%actuator_work(r) = this%actuator_work_since_record
-        history%dissipated(r) = this%dissipated_since_record
-        history%balance_error(r) = this%balance_since_record
-        history%newton_iterations(r) = this%iterations_since_record
-        history%newton_residual(r) = this%last_residual
-        history%dt(r) = merge(0.0_rk, this%smallest_step, this%smallest_step == huge(1.0_rk))
-        this%work_since_record = 0.0_rk
-        this%actuator_work_since_record = 0.0_rk
-        this%dissipated_since_record = 0.0_rk
-        this%balance_since_record = 0.0_rk
-        this%iterations_since_record = 0
-        this%smallest_step = huge(1.0_rk)
-        this%last_residual = 0.0_rk
     end subroutine ph_director_record
 
     !> Once per rod: the directors are interpolated by Lagrange polynomials, so when the end
@@ -1474,32 +1498,5 @@ contains
             trim(merge('stresses condensed', 'uncondensed       ', this%condensed)) // '), ' // &
             str(this%pattern%nnz()) // ' Jacobian non-zeros'
     end function ph_director_describe
-
-    ! ---- Checkpoint (DESIGN.md §7): the sums since the last record --------------------------
-
-    pure integer function ph_director_n_internal(this)
-        class(ph_director_t), intent(in) :: this
-        ph_director_n_internal = 7
-    end function ph_director_n_internal
-
-    subroutine ph_director_save_internal(this, values)
-        class(ph_director_t), intent(in) :: this
-        real(rk), intent(out) :: values(:)
-        values(1:7) = [this%work_since_record, this%balance_since_record, &
-            this%dissipated_since_record, this%actuator_work_since_record, this%smallest_step, &
-            this%last_residual, real(this%iterations_since_record, rk)]
-    end subroutine ph_director_save_internal
-
-    subroutine ph_director_restore_internal(this, values)
-        class(ph_director_t), intent(inout) :: this
-        real(rk), intent(in) :: values(:)
-        this%work_since_record = values(1)
-        this%balance_since_record = values(2)
-        this%dissipated_since_record = values(3)
-        this%actuator_work_since_record = values(4)
-        this%smallest_step = values(5)
-        this%last_residual = values(6)
-        this%iterations_since_record = nint(values(7))
-    end subroutine ph_director_restore_internal
 
 end module rs_ph_director

@@ -1,11 +1,10 @@
 !> ph_director as the rest of rodsolve sees it (rs_formulations_descriptor): its capability row,
-!> its role as the default (and 3D 'auto') formulation, its bundle of coupled rods, its plan.
+!> its role as the default (and 3D 'auto') formulation, its rods coupled by the system layer, its plan.
 module rs_ph_director_descriptor
     use rs_formulations_formulation, only: rod_formulation_t
     use rs_formulations_descriptor, only: formulation_descriptor_t
     use rs_model_capabilities, only: capability_t
     use rs_ph_director, only: ph_director_t
-    use rs_ph_bundle, only: ph_bundle_t
     use rs_ph_director_plan, only: ph_director_plan_lines
     implicit none
     private
@@ -32,20 +31,14 @@ contains
             viscoelastic=.true., actuation=.true., curved_reference=.true., prestressed=.true., &
             joints='rigid|spherical|revolute', end_plates=.true., contact=.true.)
         d%default_choice = .true.
-        d%shared_bundle = .true.
+        d%system_couplings = .true.
         d%create => create
         d%plan_lines => ph_director_plan_lines
     end function ph_director_descriptor
 
-    !> A single rod, or the bundle of a coupled system (rs_ph_bundle).
-    subroutine create(formulation, bundle)
+    subroutine create(formulation)
         class(rod_formulation_t), allocatable, intent(out) :: formulation
-        logical, intent(in) :: bundle
-        if (bundle) then
-            allocate(ph_bundle_t :: formulation)
-        else
-            allocate(ph_director_t :: formulation)
-        end if
+        allocate(ph_director_t :: formulation)
     end subroutine create
 
 end module rs_ph_director_descriptor

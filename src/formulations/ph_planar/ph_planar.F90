@@ -34,8 +34,8 @@ module rs_ph_planar
     use rs_model_planarity, only: plane_t, plane_of_rods, point_in_plane, vector_in_plane, &
         point_from_plane, vector_from_plane, angle_in_plane, cross
     use rs_assembly_csr_pattern, only: csr_builder_t, csr_pattern_t
-    use rs_formulations_formulation, only: rod_formulation_t, formulation_traits_t, state_valid, &
-        state_invalid
+    use rs_formulations_formulation, only: rod_formulation_t, formulation_traits_t, &
+        state_measures_t, state_valid, state_invalid
     use rs_formulations_energy_sentinel, only: step_energy_t, energy_consistent, energy_unchecked
     use rs_ph_planar_element, only: ph_em_residual, ph_em_jacobian, ph_em_condensed, &
         cl_em_residual, cl_em_jacobian, ph_emi_residual, ph_emi_jacobian, ph_emi_strains, &
@@ -105,12 +105,6 @@ module rs_ph_planar
         real(rk), allocatable :: initial(:)
         ! Workspace, sized at init (no allocation in the time loop).
         real(rk), allocatable :: q_1(:), f_ext(:), f_rod(:, :)
-        ! Book-keeping since the last record (per rod: work of its loads; the system's balance).
-        real(rk), allocatable :: work_since_record(:)
-        real(rk) :: balance_since_record = 0.0_rk
-        real(rk) :: smallest_step = huge(1.0_rk)
-        real(rk) :: last_residual = 0.0_rk
-        integer :: iterations_since_record = 0
         !> The nodal angles (their q indices, each once) and whether `update` keeps them near
         !> zero: theta is not wrapped by the scheme, and the round-off of the inertia rows grows
         !> as eps |theta| / h^2, so a spinning rod's Newton residual could not reach newton_atol
@@ -121,9 +115,10 @@ module rs_ph_planar
         !> The shift 2 pi k that the last `update` subtracted (added back in the loads' work).
         real(rk) :: theta_shift = 0.0_rk
         !> The next steps solve the equilibrium at load time t_static (a quasistatic run's
-        !> endpoint or initial equilibrium, DESIGN.md §3): as a continuation (set_continuation_
-        !> start), a step to the pseudo-time tau solves R(Y) = (1 - tau) anchor, its strain rows
-        !> scaled as a step of length row_scale.
+        !> endpoint or initial equilibrium, DESIGN.md §3): as a continuation (set_step_problem
+        !> with continue_from), a step to the pseudo-time tau solves R(Y) = (1 - tau) anchor,
+        !> its strain rows scaled as a step of length row_scale (always 1: the pseudo-time
+        !> runs over [0, 1]).
         logical :: static = .false., continuing = .false.
         real(rk) :: t_static = 0.0_rk, row_scale = 0.0_rk
         real(rk), allocatable :: anchor(:)
@@ -141,13 +136,9 @@ module rs_ph_planar
         procedure :: init_history => planar_init_history
         procedure :: record => planar_record
         procedure :: describe => planar_describe
-        procedure :: n_internal => planar_n_internal
-        procedure :: save_internal => planar_save_internal
-        procedure :: restore_internal => planar_restore_internal
         procedure :: traits => planar_traits
-        procedure :: set_endpoint_solve => planar_set_endpoint_solve
-        procedure :: set_continuation_start => planar_set_continuation_start
-        procedure :: largest_rotation => planar_largest_rotation
+        procedure :: set_step_problem => planar_set_step_problem
+        procedure :: state_measures => planar_state_measures
         !> Kinetic and strain energy of one rod in state x.
         procedure :: rod_energy
         procedure, private :: full_q, element_strains, load_vectors
@@ -234,7 +225,6 @@ contains
         call build_pattern(this)
         call find_angles(this)
         allocate(this%q_1(this%n_q), this%f_ext(this%n_q), this%f_rod(this%n_q, size(this%rods)))
-        allocate(this%work_since_record(size(this%rods)), source=0.0_rk)
         call set_initial_state(this, scene, rods)
     end subroutine planar_init
 
@@ -929,37 +919,30 @@ contains
 
     ! ---- After a step: energy balance (methods §4.1, eq. 55) -------------------------------
 
-    subroutine planar_accept_step(this, t_n, h, x_n, x_1, newton_iterations, residual_norm)
+    !> The energy terms of each rod over an accepted step: H_n, H_{n+1} and the work of its
+    !> own loads at t_{n+1/2}. The rods share unknowns at their joints, so only their sum
+    !> balances (traits%shared_balance: the ledger books it on the first rod). An equilibrium
+    !> solve is not a load step: no energy terms, and its h is not a step of the grid.
+    subroutine planar_accept_step(this, t_n, h, x_n, x_1, terms)
         class(ph_planar_t), intent(inout) :: this
         real(rk), intent(in) :: t_n, h, x_n(:), x_1(:)
-        integer, intent(in) :: newton_iterations
-        real(rk), intent(in) :: residual_norm
+        type(step_energy_t), intent(out) :: terms(:)
         real(rk) :: kinetic_n, strain_n, kinetic_1, strain_1, work
         integer :: r
         if (this%static) then
-            ! An equilibrium solve is not a load step: only its Newton iterations count.
-            this%iterations_since_record = this%iterations_since_record + newton_iterations
-            this%last_residual = residual_norm
+            terms = step_energy_t(reported=.false., grid_step=.false.)
             return
         end if
         call this%load_vectors(t_n + 0.5_rk * h)
-        this%step_energy = step_energy_t(reported=.true.)
         do r = 1, size(this%rods)
             call this%rod_energy(x_n, r, kinetic_n, strain_n)
             call this%rod_energy(x_1, r, kinetic_1, strain_1)
             ! The angles moved by x_1 - x_n plus the shift that update took away.
             work = dot_product(this%f_rod(:, r), x_1(1:this%n_q) - x_n(1:this%n_q)) + &
                 this%theta_shift * sum(this%f_rod(this%theta_dofs, r))
-            this%work_since_record(r) = this%work_since_record(r) + work
-            this%balance_since_record = this%balance_since_record + (kinetic_1 + &
-                strain_1) - (kinetic_n + strain_n) - work
-            this%step_energy%before = this%step_energy%before + kinetic_n + strain_n
-            this%step_energy%after = this%step_energy%after + kinetic_1 + strain_1
-            this%step_energy%work = this%step_energy%work + work
+            terms(r) = step_energy_t(reported=.true., before=kinetic_n + strain_n, &
+                after=kinetic_1 + strain_1, work=work)
         end do
-        this%iterations_since_record = this%iterations_since_record + newton_iterations
-        this%smallest_step = min(this%smallest_step, h)
-        this%last_residual = residual_norm
     end subroutine planar_accept_step
 
     !> Kinetic energy 1/2 v^T M v with the consistent mass and the strain energy of rod r
@@ -1027,9 +1010,8 @@ contains
     end subroutine planar_init_history
 
     !> Append the state at time t to every rod's history: 3D fields from the plane, stresses at
-    !> the element midpoints (the P0 values), energies, momenta about the origin. The system's
-    !> energy-balance error is reported with its first rod (joints exchange energy between the
-    !> rods, so only the sum balances); /series sums the rods.
+    !> the element midpoints (the P0 values), energies, momenta about the origin. The work,
+    !> balance and Newton statistics are the record ledger's (rs_system_ledger).
     subroutine planar_record(this, histories, t, x)
         class(ph_planar_t), intent(inout) :: this
         type(rod_history_t), intent(inout), target :: histories(:)
@@ -1098,21 +1080,11 @@ contains
                 histories(r)%kinetic(rec) = kinetic
                 histories(r)%strain(rec) = strain
                 histories(r)%total(rec) = kinetic + strain
-                histories(r)%external_work(rec) = this%work_since_record(r)
-                histories(r)%balance_error(rec) = merge(this%balance_since_record, 0.0_rk, r == 1)
                 histories(r)%linear_momentum(:, rec) = linear
                 histories(r)%angular_momentum(:, rec) = angular
                 histories(r)%center_of_mass(:, rec) = centre / rod%length
-                histories(r)%newton_iterations(rec) = this%iterations_since_record
-                histories(r)%newton_residual(rec) = this%last_residual
-                histories(r)%dt(rec) = merge(0.0_rk, this%smallest_step, &
-                    this%smallest_step == huge(1.0_rk))
             end associate
         end do
-        this%work_since_record = 0.0_rk
-        this%balance_since_record = 0.0_rk
-        this%iterations_since_record = 0
-        this%smallest_step = huge(1.0_rk)
     end subroutine planar_record
 
     function planar_describe(this) result(text)
@@ -1142,35 +1114,6 @@ contains
             ' Jacobian non-zeros'
     end function planar_describe
 
-    ! ---- Checkpoint (DESIGN.md §7): the sums since the last record ----------------------------
-
-    pure integer function planar_n_internal(this)
-        class(ph_planar_t), intent(in) :: this
-        planar_n_internal = size(this%rods) + 4
-    end function planar_n_internal
-
-    subroutine planar_save_internal(this, values)
-        class(ph_planar_t), intent(in) :: this
-        real(rk), intent(out) :: values(:)
-        integer :: n
-        n = size(this%rods)
-        values(1:n) = this%work_since_record
-        values(n + 1:n + 4) = [this%balance_since_record, this%smallest_step, this%last_residual, &
-            real(this%iterations_since_record, rk)]
-    end subroutine planar_save_internal
-
-    subroutine planar_restore_internal(this, values)
-        class(ph_planar_t), intent(inout) :: this
-        real(rk), intent(in) :: values(:)
-        integer :: n
-        n = size(this%rods)
-        this%work_since_record = values(1:n)
-        this%balance_since_record = values(n + 1)
-        this%smallest_step = values(n + 2)
-        this%last_residual = values(n + 3)
-        this%iterations_since_record = nint(values(n + 4))
-    end subroutine planar_restore_internal
-
     ! ---- Quasistatics: the equilibrium solves (DESIGN.md §3) -----------------------------------
 
     !> The traits of the planar schemes:
@@ -1187,10 +1130,13 @@ contains
     !>   strains): the chain LU pivots there;
     !> - plain Newton, as the authors (methods §4.6): the paper's iteration counts are for the
     !>   full step, and backtracking multiplies the displacement schemes' iterations tenfold on
-    !>   the four-bar (docs/performance.md).
+    !>   the four-bar (docs/performance.md);
+    !> - shared balance: joined rods share the unknowns of their joints, so the joint forces
+    !>   are not separable and only the sum of the rods' balances closes (one rod: the same).
     pure function planar_traits(this) result(traits)
         class(ph_planar_t), intent(in) :: this
         type(formulation_traits_t) :: traits
+        traits%shared_balance = .true.
         traits%energy_scheme = merge(energy_unchecked, energy_consistent, this%quasistatic)
         traits%wants_endpoint_solve = this%quasistatic
         traits%continues_equilibrium = this%quasistatic
@@ -1199,39 +1145,42 @@ contains
         traits%full_newton = .true.
     end function planar_traits
 
-    !> The next steps solve the equilibrium at load time t_load (`on`; static_rows), or are
-    !> load steps again.
-    subroutine planar_set_endpoint_solve(this, on, t_load)
+    !> The next steps solve the equilibrium at load time t_load (`endpoint`; static_rows), or
+    !> are load steps again. With continue_from, the equilibrium is a continuation anchored
+    !> there: the equilibrium rows of continue_from, for its own unknowns (the predictor's Y),
+    !> are removed with the weight 1 - tau.
+    subroutine planar_set_step_problem(this, endpoint, t_load, continue_from)
         class(ph_planar_t), intent(inout) :: this
-        logical, intent(in) :: on
+        logical, intent(in) :: endpoint
         real(rk), intent(in) :: t_load
-        this%static = on
-        this%t_static = t_load
-        if (.not. on) this%continuing = .false.
-    end subroutine planar_set_endpoint_solve
-
-    !> Anchor the continuation at x_from (after set_endpoint_solve): the equilibrium rows there,
-    !> for the unknowns of x_from itself (the predictor's Y).
-    subroutine planar_set_continuation_start(this, x_from, row_scale)
-        class(ph_planar_t), intent(inout) :: this
-        real(rk), intent(in) :: x_from(:), row_scale
+        real(rk), intent(in), optional :: continue_from(:)
         real(rk) :: y(this%n_y)
-        if (.not. this%static) return
-        this%row_scale = row_scale
-        call this%predictor(0.0_rk, row_scale, x_from, y)
+        this%static = endpoint
+        this%t_static = t_load
+        if (.not. endpoint) then
+            this%continuing = .false.
+            return
+        end if
+        if (.not. present(continue_from)) return
+        this%row_scale = 1.0_rk
+        call this%predictor(0.0_rk, this%row_scale, continue_from, y)
         if (allocated(this%anchor)) deallocate(this%anchor)
         allocate(this%anchor(this%n_y))
         this%continuing = .false.
-        call static_rows(this, 1.0_rk, row_scale, x_from, y, this%n_y, f=this%anchor)
+        call static_rows(this, 1.0_rk, this%row_scale, continue_from, y, this%n_y, f=this%anchor)
         this%continuing = .true.
-    end subroutine planar_set_continuation_start
+    end subroutine planar_set_step_problem
 
-    !> The largest change of a nodal angle theta from x_from to x_to.
-    real(rk) function planar_largest_rotation(this, x_from, x_to) result(angle)
+    !> No kinetic energy is reported (no &time relaxation for the planar schemes); with
+    !> `from`, the largest change of a nodal angle theta from `from` to x.
+    function planar_state_measures(this, x, from) result(measures)
         class(ph_planar_t), intent(in) :: this
-        real(rk), intent(in) :: x_from(:), x_to(:)
-        angle = maxval(abs(x_to(this%theta_dofs) - x_from(this%theta_dofs)))
-    end function planar_largest_rotation
+        real(rk), intent(in) :: x(:)
+        real(rk), intent(in), optional :: from(:)
+        type(state_measures_t) :: measures
+        if (present(from)) &
+            measures%largest_rotation = maxval(abs(x(this%theta_dofs) - from(this%theta_dofs)))
+    end function planar_state_measures
 
     ! ---- Small helpers ----------------------------------------------------------------------
 

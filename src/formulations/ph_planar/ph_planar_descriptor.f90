@@ -54,10 +54,9 @@ contains
     end function planar_descriptor
 
     !> One object for both names; a jointed planar system is one object already (its joints
-    !> share nodal unknowns, methods/ph_planar.md §6.3), so `bundle` changes nothing.
-    subroutine create(formulation, bundle)
+    !> share nodal unknowns, methods/ph_planar.md §6.3; descriptor system_couplings false).
+    subroutine create(formulation)
         class(rod_formulation_t), allocatable, intent(out) :: formulation
-        logical, intent(in) :: bundle
         allocate(ph_planar_t :: formulation)
     end subroutine create
 

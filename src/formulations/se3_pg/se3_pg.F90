@@ -39,7 +39,7 @@ module rs_se3_pg
     use rs_math_se3, only: log_se3, pose_relative
     use rs_assembly_csr_pattern, only: csr_builder_t, csr_pattern_t
     use rs_formulations_formulation, only: rod_formulation_t, formulation_traits_t, state_valid, &
-        state_invalid
+        state_invalid, step_energy_t
     use rs_se3_pg_element, only: se3_strains, se3_internal_force, se3_internal_tangent, &
         se3_element_mass, se3_gyroscopic, follower_force, dead_moment, se3_strain_energy
     implicit none
@@ -89,12 +89,6 @@ module rs_se3_pg
         real(rk), allocatable :: initial(:)
         ! Workspace (no allocation in the time loop).
         real(rk), allocatable :: q_1(:, :), f_ext(:, :), k_ext(:, :, :)
-        ! Book-keeping since the last record.
-        real(rk) :: work_since_record = 0.0_rk
-        real(rk) :: balance_since_record = 0.0_rk
-        real(rk) :: smallest_step = huge(1.0_rk)
-        real(rk) :: last_residual = 0.0_rk
-        integer :: iterations_since_record = 0
     contains
         procedure :: init => se3_init
         procedure :: n_state => se3_n_state
@@ -109,9 +103,6 @@ module rs_se3_pg
         procedure :: init_history => se3_init_history
         procedure :: record => se3_record
         procedure :: describe => se3_describe
-        procedure :: n_internal => se3_n_internal
-        procedure :: save_internal => se3_save_internal
-        procedure :: restore_internal => se3_restore_internal
         procedure :: traits => se3_traits
         procedure, private :: full_q, nodal_loads, energies, midpoint_velocity, set_drives
     end type se3_pg_t
@@ -649,15 +640,15 @@ contains
 
     ! ---- After a step -------------------------------------------------------------------------
 
-    !> The work of the loads over the step, f_ext(q_mid, t_mid) . (dr, T(psi_mid) dpsi) per node
-    !> (statics: at t_{n+1} and q_{n+1}), and the energy balance H_{n+1} - H_n - W. The
-    !> midpoint rule does not make it vanish for this element (methods §7.4); it measures the
-    !> scheme's energy error.
-    subroutine se3_accept_step(this, t_n, h, x_n, x_1, newton_iterations, residual_norm)
+    !> The energy terms of the step (terms(1)): the work of the loads over the step,
+    !> f_ext(q_mid, t_mid) . (dr, T(psi_mid) dpsi) per node (statics: at t_{n+1} and q_{n+1}),
+    !> and H_n, H_{n+1}, whose balance H_{n+1} - H_n - W the record ledger sums. The midpoint
+    !> rule does not make it vanish for this element (methods §7.4); it measures the scheme's
+    !> energy error.
+    subroutine se3_accept_step(this, t_n, h, x_n, x_1, terms)
         class(se3_pg_t), intent(inout) :: this
         real(rk), intent(in) :: t_n, h, x_n(:), x_1(:)
-        integer, intent(in) :: newton_iterations
-        real(rk), intent(in) :: residual_norm
+        type(step_energy_t), intent(out) :: terms(:)
         real(rk) :: q_n(6, this%n_nodes), q_1(6, this%n_nodes), q_at(6, this%n_nodes), ds(6)
         real(rk) :: work, kinetic_n, strain_n, kinetic_1, strain_1
         integer :: k
@@ -678,12 +669,8 @@ contains
         end do
         call this%energies(x_n, kinetic_n, strain_n)
         call this%energies(x_1, kinetic_1, strain_1)
-        this%work_since_record = this%work_since_record + work
-        this%balance_since_record = this%balance_since_record + (kinetic_1 + strain_1) - &
-            (kinetic_n + strain_n) - work
-        this%iterations_since_record = this%iterations_since_record + newton_iterations
-        this%smallest_step = min(this%smallest_step, h)
-        this%last_residual = residual_norm
+        terms(1) = step_energy_t(reported=.true., before=kinetic_n + strain_n, &
+            after=kinetic_1 + strain_1, work=work)
     end subroutine se3_accept_step
 
     !> Of the rotation vectors psi and its complements psi (1 - 2 pi k / |psi|), the one nearest
@@ -739,7 +726,7 @@ contains
     !> Positions, directors (d1, d2, d3) = (A e_y, A e_z, A e_x), velocities, director rates
     !> A (omega x e), the constant element strains and stresses in director components
     !> (Gamma1, Gamma2, Gamma3) = (gamma_y, gamma_z, gamma_x), likewise K, N and M; energies;
-    !> momenta with the consistent mass.
+    !> momenta with the consistent mass. The sums since the last record are the ledger's.
     subroutine se3_record(this, histories, t, x)
         class(se3_pg_t), intent(inout) :: this
         type(rod_history_t), intent(inout), target :: histories(:)
@@ -788,19 +775,10 @@ contains
             h%kinetic(rec) = kinetic
             h%strain(rec) = strain
             h%total(rec) = kinetic + strain
-            h%external_work(rec) = this%work_since_record
-            h%balance_error(rec) = this%balance_since_record
             h%linear_momentum(:, rec) = linear
             h%angular_momentum(:, rec) = angular
             h%center_of_mass(:, rec) = centre / sum(this%element_length)
-            h%newton_iterations(rec) = this%iterations_since_record
-            h%newton_residual(rec) = this%last_residual
-            h%dt(rec) = merge(0.0_rk, this%smallest_step, this%smallest_step == huge(1.0_rk))
         end associate
-        this%work_since_record = 0.0_rk
-        this%balance_since_record = 0.0_rk
-        this%iterations_since_record = 0
-        this%smallest_step = huge(1.0_rk)
     end subroutine se3_record
 
     function se3_describe(this) result(text)
@@ -811,28 +789,6 @@ contains
             str(this%n_y) // ' Newton unknowns, ' // str(this%pattern%nnz()) // &
             ' Jacobian non-zeros'
     end function se3_describe
-
-    pure integer function se3_n_internal(this)
-        class(se3_pg_t), intent(in) :: this
-        se3_n_internal = 5
-    end function se3_n_internal
-
-    subroutine se3_save_internal(this, values)
-        class(se3_pg_t), intent(in) :: this
-        real(rk), intent(out) :: values(:)
-        values(1:5) = [this%work_since_record, this%balance_since_record, this%smallest_step, &
-            this%last_residual, real(this%iterations_since_record, rk)]
-    end subroutine se3_save_internal
-
-    subroutine se3_restore_internal(this, values)
-        class(se3_pg_t), intent(inout) :: this
-        real(rk), intent(in) :: values(:)
-        this%work_since_record = values(1)
-        this%balance_since_record = values(2)
-        this%smallest_step = values(3)
-        this%last_residual = values(4)
-        this%iterations_since_record = nint(values(5))
-    end subroutine se3_restore_internal
 
     !> The traits of se3_pg: plain Newton-Raphson, as the paper (methods §7.2): the stiffness
     !> ratios of slender rods (shear l GA against bending EI / l) make PETSc's backtracking cut

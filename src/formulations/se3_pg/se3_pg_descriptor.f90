@@ -31,10 +31,9 @@ contains
         d%plan_lines => plan_lines
     end function se3_pg_descriptor
 
-    !> One rod (the factory is not asked for a bundle: se3_pg has no couplings yet).
-    subroutine create(formulation, bundle)
+    !> One rod (se3_pg has no couplings yet).
+    subroutine create(formulation)
         class(rod_formulation_t), allocatable, intent(out) :: formulation
-        logical, intent(in) :: bundle
         allocate(se3_pg_t :: formulation)
     end subroutine create
 

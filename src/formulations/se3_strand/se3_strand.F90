@@ -40,7 +40,7 @@ module rs_se3_strand
     use rs_math_se3, only: log_se3, pose_relative
     use rs_assembly_csr_pattern, only: csr_builder_t, csr_pattern_t
     use rs_formulations_formulation, only: rod_formulation_t, formulation_traits_t, state_valid, &
-        state_invalid
+        state_invalid, state_measures_t
     use rs_formulations_energy_sentinel, only: step_energy_t, energy_dissipative
     use rs_se3_strand_kernels, only: cross_matrix, strand_march, strand_ad_transpose_block, &
         strand_ad_block, strand_ad_times, strand_cross, strand_row_residual, strand_row_to_csr, &
@@ -115,13 +115,6 @@ module rs_se3_strand
         real(rk), allocatable :: load_f_follower(:, :), load_m_follower(:, :)
         real(rk) :: end_f(3) = 0.0_rk, end_m(3) = 0.0_rk
         real(rk) :: end_f_follower(3) = 0.0_rk, end_m_follower(3) = 0.0_rk
-        ! Book-keeping since the last record.
-        real(rk) :: work_since_record = 0.0_rk
-        real(rk) :: dissipated_since_record = 0.0_rk
-        real(rk) :: balance_since_record = 0.0_rk
-        real(rk) :: smallest_step = huge(1.0_rk)
-        real(rk) :: last_residual = 0.0_rk
-        integer :: steps_since_record = 0
     contains
         procedure :: init => strand_init
         procedure :: n_state => strand_n_state
@@ -136,11 +129,8 @@ module rs_se3_strand
         procedure :: init_history => strand_init_history
         procedure :: record => strand_record
         procedure :: describe => strand_describe
-        procedure :: n_internal => strand_n_internal
-        procedure :: save_internal => strand_save_internal
-        procedure :: restore_internal => strand_restore_internal
         procedure :: traits => strand_traits
-        procedure :: kinetic_energy => strand_kinetic_energy
+        procedure :: state_measures => strand_state_measures
         procedure, private :: assemble, ensure_assembled, march_poses, drive_twist, end_loads
         procedure, private :: distributed_loads, energies
     end type se3_strand_t
@@ -817,17 +807,17 @@ contains
 
     ! ---- After a step -------------------------------------------------------------------------
 
-    !> Energy book-keeping of the step (docs/theory/se3_strand.md): the work of the loads with
-    !> the velocities at t_{n+1} (the scheme's implicit level) and the loads as the step applied
-    !> them, the energy dissipated by the external drag, the paper's internal law (which may be
-    !> negative) and the Kelvin-Voigt stress, and the balance H_{n+1} - H_n - W + D: the
-    !> scheme's own energy error (backward-Euler dissipation and the O(dt) exchange of the
-    !> frozen coefficients, either sign; not round-off), also handed to the energy sentinel.
-    subroutine strand_accept_step(this, t_n, h, x_n, x_1, newton_iterations, residual_norm)
+    !> The energy terms of the step (terms(1), docs/theory/se3_strand.md): the work of the loads
+    !> with the velocities at t_{n+1} (the scheme's implicit level) and the loads as the step
+    !> applied them, the energy dissipated by the external drag, the paper's internal law (which
+    !> may be negative) and the Kelvin-Voigt stress, and H_n, H_{n+1}, whose balance
+    !> H_{n+1} - H_n - W + D (the scheme's own energy error: backward-Euler dissipation and the
+    !> O(dt) exchange of the frozen coefficients, either sign; not round-off) the record ledger
+    !> sums and the energy sentinel checks; and the achieved residual of the linear solve.
+    subroutine strand_accept_step(this, t_n, h, x_n, x_1, terms)
         class(se3_strand_t), intent(inout) :: this
         real(rk), intent(in) :: t_n, h, x_n(:), x_1(:)
-        integer, intent(in) :: newton_iterations
-        real(rk), intent(in) :: residual_norm
+        type(step_energy_t), intent(out) :: terms(:)
         real(rk) :: work, dissipated, kin_n, str_n, kin_1, str_1, v(6), rate(6), f(6), r(6)
         real(rk) :: w(3), se(6), res
         integer :: k, n, b, status
@@ -877,16 +867,9 @@ contains
         end do
         call this%energies(x_n, kin_n, str_n)
         call this%energies(x_1, kin_1, str_1)
-        this%work_since_record = this%work_since_record + work
-        this%dissipated_since_record = this%dissipated_since_record + dissipated
-        this%balance_since_record = this%balance_since_record + (kin_1 + str_1) - (kin_n + str_n) &
-            - work + dissipated
-        this%step_energy = step_energy_t(reported=.true., before=kin_n + str_n, &
-            after=kin_1 + str_1, work=work, dissipated=dissipated)
-        this%steps_since_record = this%steps_since_record + max(1, newton_iterations)
-        this%smallest_step = min(this%smallest_step, h)
-        ! SNES ksponly computes no norm (residual_norm is 0): the achieved residual is res.
-        this%last_residual = res
+        ! SNES ksponly computes no norm (the solver reports 0): the achieved residual is res.
+        terms(1) = step_energy_t(reported=.true., before=kin_n + str_n, after=kin_1 + str_1, &
+            work=work, dissipated=dissipated, residual=res)
     end subroutine strand_accept_step
 
     !> Kinetic energy sum_k w_k P.M^-1 P / 2 (trapezoidal nodal weights) and strain energy
@@ -909,12 +892,15 @@ contains
         end do
     end subroutine energies
 
-    real(rk) function strand_kinetic_energy(this, x) result(kinetic)
+    !> The kinetic energy of x (energies); no rotation measure (no continuation).
+    function strand_state_measures(this, x, from) result(measures)
         class(se3_strand_t), intent(in) :: this
         real(rk), intent(in) :: x(:)
+        real(rk), intent(in), optional :: from(:)
+        type(state_measures_t) :: measures
         real(rk) :: strain
-        call this%energies(x, kinetic, strain)
-    end function strand_kinetic_energy
+        call this%energies(x, measures%kinetic_energy, strain)
+    end function strand_state_measures
 
     ! ---- Output (DESIGN.md §7) ---------------------------------------------------------------
 
@@ -934,7 +920,7 @@ contains
     !> (standard signs: omega = -A w); stresses and strains at the segment midpoints in director
     !> components with the standard signs (N1, N2, N3, M1, M2, M3) = (S5, S6, S4, -S2, -S3, -S1),
     !> strains (Gamma1, Gamma2, Gamma3, K1, K2, K3) = (U5, U6, U4, -U2, -U3, -U1) (Gamma3 = 1
-    !> unstretched); energies; momenta.
+    !> unstretched); energies; momenta. The sums since the last record are the ledger's.
     subroutine strand_record(this, histories, t, x)
         class(se3_strand_t), intent(inout) :: this
         type(rod_history_t), intent(inout), target :: histories(:)
@@ -978,21 +964,10 @@ contains
             hs%kinetic(rec) = kinetic
             hs%strain(rec) = strain
             hs%total(rec) = kinetic + strain
-            hs%external_work(rec) = this%work_since_record
-            hs%dissipated(rec) = this%dissipated_since_record
-            hs%balance_error(rec) = this%balance_since_record
             hs%linear_momentum(:, rec) = linear
             hs%angular_momentum(:, rec) = angular
             hs%center_of_mass(:, rec) = centre / this%length
-            hs%newton_iterations(rec) = this%steps_since_record
-            hs%newton_residual(rec) = this%last_residual
-            hs%dt(rec) = merge(0.0_rk, this%smallest_step, this%smallest_step == huge(1.0_rk))
         end associate
-        this%work_since_record = 0.0_rk
-        this%dissipated_since_record = 0.0_rk
-        this%balance_since_record = 0.0_rk
-        this%steps_since_record = 0
-        this%smallest_step = huge(1.0_rk)
     end subroutine strand_record
 
     function strand_describe(this) result(text)
@@ -1002,30 +977,6 @@ contains
             ' segments on a staggered grid, ' // str(this%n_unknown()) // ' unknowns, ' // &
             str(this%pattern%nnz()) // ' matrix non-zeros, one linear solve per step'
     end function strand_describe
-
-    pure integer function strand_n_internal(this)
-        class(se3_strand_t), intent(in) :: this
-        strand_n_internal = 6
-    end function strand_n_internal
-
-    subroutine strand_save_internal(this, values)
-        class(se3_strand_t), intent(in) :: this
-        real(rk), intent(out) :: values(:)
-        values(1:6) = [this%work_since_record, this%dissipated_since_record, &
-            this%balance_since_record, this%smallest_step, this%last_residual, &
-            real(this%steps_since_record, rk)]
-    end subroutine strand_save_internal
-
-    subroutine strand_restore_internal(this, values)
-        class(se3_strand_t), intent(inout) :: this
-        real(rk), intent(in) :: values(:)
-        this%work_since_record = values(1)
-        this%dissipated_since_record = values(2)
-        this%balance_since_record = values(3)
-        this%smallest_step = values(4)
-        this%last_residual = values(5)
-        this%steps_since_record = nint(values(6))
-    end subroutine strand_restore_internal
 
     !> The traits of the SE(3) strand:
     !> - native LU: every diagonal block starts from I/dt and the LU needs no pivoting on every

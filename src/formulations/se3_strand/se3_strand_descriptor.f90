@@ -42,10 +42,9 @@ contains
         d%resolve_rod => resolve_rod
     end function se3_strand_descriptor
 
-    !> One rod (the factory is not asked for a bundle: se3_strand has no couplings).
-    subroutine create(formulation, bundle)
+    !> One rod (se3_strand has no couplings).
+    subroutine create(formulation)
         class(rod_formulation_t), allocatable, intent(out) :: formulation
-        logical, intent(in) :: bundle
         allocate(se3_strand_t :: formulation)
     end subroutine create
 

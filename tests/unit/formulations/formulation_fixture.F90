@@ -10,10 +10,12 @@ module rs_test_formulation_fixture
     use rs_model_scene, only: scene_t
     use rs_io_input_file, only: parse_scene
     use rs_formulations_formulation, only: rod_formulation_t, state_valid
+    use rs_system_rod_system, only: rod_system_t
     implicit none
     private
 
-    public :: cantilever_text, init_cantilever, jacobian_at, central_differences, dense_jacobian
+    public :: cantilever_text, init_cantilever, init_cantilever_system, jacobian_at, &
+        central_differences, dense_jacobian
 
     !> The step the Jacobians are taken on.
     real(rk), parameter, public :: fixture_t_n = 0.3_rk, fixture_h = 0.05_rk
@@ -75,6 +77,26 @@ contains
         ok = .not. allocated(err)
         if (.not. ok) write(*, '(a)') '  ' // err%describe()
     end subroutine init_cantilever
+
+    !> The system layer's system (rs_system_rod_system) of the same cantilever.
+    subroutine init_cantilever_system(system, name, n_elements, ok)
+        type(rod_system_t), intent(inout) :: system
+        character(len=*), intent(in) :: name
+        integer, intent(in) :: n_elements
+        logical, intent(out) :: ok
+        type(scene_t) :: scene
+        type(error_list_t) :: errors
+        type(error_t), allocatable :: err
+        call parse_scene(cantilever_text(name, n_elements, .false., .false.), 'cantilever.nml', &
+            scene, errors)
+        CHECK_EQUAL(errors%count, 0, name // ': the scene parses: ' // errors%joined())
+        ok = errors%count == 0
+        if (.not. ok) return
+        call system%init(scene, [1], err)
+        CHECK_TRUE(.not. allocated(err), name // ': system init')
+        ok = .not. allocated(err)
+        if (.not. ok) write(*, '(a)') '  ' // err%describe()
+    end subroutine init_cantilever_system
 
     !> The step Jacobian (CSR) on the fixture's step from the initial state x_n, at the
     !> prediction y moved by a random 0.01 (no entry vanishes by the symmetry of the start,

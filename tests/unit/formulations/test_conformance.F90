@@ -5,8 +5,12 @@
 !>   - the assembled CSR step Jacobian equals central differences of the step residual, and
 !>     nothing lies outside the preallocated pattern (exact preallocation, STYLE.md);
 !>   - the pattern is sorted, in range and square (what PETSc's MatSeqAIJ takes);
-!>   - the state round-trips through the checkpoint layout (canonical_state, from_canonical)
-!>     and the internal variables through save_internal and restore_internal, bitwise.
+!>   - through the system layer (rs_system_rod_system, what every run steps): the state
+!>     round-trips through the checkpoint layout (canonical_state, from_canonical) bitwise, and
+!>     the record ledger (rs_system_ledger) writes into a record exactly the sums of the terms
+!>     the formulation's accept_step gave for the steps since the last record (work, balance,
+!>     Newton statistics, smallest step), starts again after it, and round-trips through its
+!>     checkpoint entries.
 !> ph_director's own test (test_ph_director) covers its variants (p = 1, 2, condensed, Maxwell,
 !> actuators, endpoint); this one holds every formulation to the same contract, so that a new
 !> one, or a redesign of the contract, is checked the same day.
@@ -16,11 +20,14 @@ module rs_test_formulations_conformance
     use rs_test_assert, only: run_test, assert_true, assert_equal
     use rs_model_capabilities, only: capability_t
     use rs_formulations_registry, only: capability_of
-    use rs_formulations_formulation, only: rod_formulation_t
+    use rs_formulations_formulation, only: rod_formulation_t, formulation_traits_t
+    use rs_formulations_energy_sentinel, only: step_energy_t
+    use rs_model_rod_history, only: rod_history_t
+    use rs_system_rod_system, only: rod_system_t
     use rs_formulations_factory, only: create_formulation, available_formulations
     use rs_test_random, only: set_random_seed
-    use rs_test_formulation_fixture, only: init_cantilever, jacobian_at, central_differences, &
-        dense_jacobian, fixture_t_n, fixture_h
+    use rs_test_formulation_fixture, only: init_cantilever, init_cantilever_system, jacobian_at, &
+        central_differences, dense_jacobian, fixture_t_n, fixture_h
     implicit none
     private
 
@@ -80,7 +87,7 @@ contains
         if (.not. ok) return
         call check_pattern(rod, name)
         call check_jacobian(rod, name)
-        call check_checkpoint_round_trip(rod, name)
+        call check_system_records(rod, name)
     end subroutine check_formulation
 
     !> CSR rows sorted, columns in range, one entry per (row, column).
@@ -140,26 +147,79 @@ contains
         CHECK_TRUE(outside <= 1.0e-9_rk, name // ': no non-zero outside the pattern')
     end subroutine check_jacobian
 
-    !> A checkpoint stores canonical_state and save_internal; a restart reads them back with
-    !> from_canonical and restore_internal. Both must be exact (DESIGN.md §7: a restart
-    !> continues bitwise).
-    subroutine check_checkpoint_round_trip(rod, name)
+    !> The system of the same cantilever: the checkpoint layout and the record ledger. Two
+    !> steps from perturbed states are accepted (they need not solve the step: the ledger books
+    !> what it is given), with Newton statistics made up here; the record must hold the sums of
+    !> the terms `rod`, a separate object of the same formulation, gives for the same steps,
+    !> and the balance error of each step recomputed here from its terms. The ledger's
+    !> checkpoint entries restore it exactly.
+    subroutine check_system_records(rod, name)
         class(rod_formulation_t), intent(inout) :: rod
         character(len=*), intent(in) :: name
-        real(rk), allocatable :: x(:), canonical(:), back(:), internal(:), internal_back(:), noise(:)
-        allocate(x(rod%n_state()), canonical(rod%n_state()), back(rod%n_state()), noise(rod%n_state()))
-        call rod%initial_state(x)
-        call random_number(noise)
-        x = x + 1.0e-3_rk * noise
-        call rod%canonical_state(x, canonical)
-        call rod%from_canonical(canonical, back)
-        CHECK_TRUE(all(back == x), name // ': state = from_canonical(canonical_state(state))')
-        allocate(internal(rod%n_internal()), internal_back(rod%n_internal()))
-        call rod%save_internal(internal)
-        call rod%restore_internal(internal)
-        call rod%save_internal(internal_back)
-        CHECK_TRUE(all(internal_back == internal), name // ': internal variables round-trip')
-    end subroutine check_checkpoint_round_trip
+        type(rod_system_t) :: system
+        type(rod_history_t) :: histories(1)
+        type(step_energy_t) :: terms(1, 2)
+        type(formulation_traits_t) :: traits
+        real(rk), allocatable :: x(:, :), canonical(:), back(:), noise(:), saved(:), again(:)
+        real(rk) :: work, balance, h(2), residual(2), expected_residual
+        integer :: iterations(2), expected_iterations, k, r
+        logical :: ok, balance_ok
+        call init_cantilever_system(system, name, 4, ok)
+        if (.not. ok) return
+        CHECK_EQUAL(system%n_state(), rod%n_state(), name // ': a one-rod system has its rod''s state')
+        allocate(x(rod%n_state(), 0:2), canonical(rod%n_state()), back(rod%n_state()), &
+            noise(rod%n_state()))
+        call rod%initial_state(x(:, 0))
+        do k = 1, 2
+            call random_number(noise)
+            x(:, k) = x(:, k - 1) + 1.0e-3_rk * noise
+        end do
+        call system%canonical_state(x(:, 2), canonical)
+        call system%from_canonical(canonical, back)
+        CHECK_TRUE(all(back == x(:, 2)), name // ': state = from_canonical(canonical_state(state))')
+        call system%init_history(histories, 10)
+        call system%record(histories, 0.0_rk, x(:, 0))
+        h = [0.05_rk, 0.03_rk]
+        iterations = [3, 0]
+        residual = [1.0e-9_rk, 2.0e-11_rk]
+        traits = rod%traits()
+        work = 0.0_rk
+        balance = 0.0_rk
+        do k = 1, 2
+            call rod%accept_step(0.05_rk * (k - 1), h(k), x(:, k - 1), x(:, k), terms(:, k))
+            call system%accept_step(0.05_rk * (k - 1), h(k), x(:, k - 1), x(:, k), &
+                iterations(k), residual(k))
+            if (.not. terms(1, k)%reported) cycle
+            work = work + terms(1, k)%work
+            balance = balance + (terms(1, k)%after - terms(1, k)%before - terms(1, k)%work - &
+                terms(1, k)%actuator_work + terms(1, k)%dissipated)
+        end do
+        ! A restart between the steps and the record continues the same sums.
+        allocate(saved(system%n_ledger()), again(system%n_ledger()))
+        call system%save_ledger(saved)
+        call system%restore_ledger(saved)
+        call system%save_ledger(again)
+        CHECK_TRUE(all(again == saved), name // ': the ledger round-trips through a checkpoint')
+        call system%record(histories, 0.1_rk, x(:, 2))
+        r = histories(1)%n_stored
+        CHECK_EQUAL(r, 2, name // ': two records')
+        expected_iterations = merge(3 + 1, 3 + 0, traits%linear_step)
+        expected_residual = merge(terms(1, 2)%residual, residual(2), terms(1, 2)%residual >= 0.0_rk)
+        CHECK_EQUAL(histories(1)%newton_iterations(r), expected_iterations, name // ': iterations summed')
+        CHECK_TRUE(histories(1)%newton_residual(r) == expected_residual, name // ': last residual')
+        CHECK_TRUE(histories(1)%dt(r) == minval(h), name // ': smallest step')
+        CHECK_TRUE(histories(1)%external_work(r) == work, name // ': work summed')
+        ! Summed in the ledger's order; the bound is round-off of the energies summed.
+        balance_ok = abs(histories(1)%balance_error(r) - balance) <= &
+            1.0e-14_rk * max(1.0_rk, abs(terms(1, 1)%before))
+        CHECK_TRUE(balance_ok, name // ': balance = sum of H_1 - H_0 - W - W_act + D')
+        ! The next record starts from zero.
+        call system%record(histories, 0.2_rk, x(:, 2))
+        r = histories(1)%n_stored
+        CHECK_EQUAL(histories(1)%newton_iterations(r), 0, name // ': iterations start again')
+        CHECK_TRUE(histories(1)%external_work(r) == 0.0_rk, name // ': work starts again')
+        CHECK_TRUE(histories(1)%dt(r) == 0.0_rk, name // ': no step since the record')
+    end subroutine check_system_records
 
 end module rs_test_formulations_conformance
 

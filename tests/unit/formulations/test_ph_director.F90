@@ -6,7 +6,11 @@
 !> follow from the mesh, and one assembled step conserves energy when solved by Newton here.
 !> The same checks run on an inextensible rod with a generalized-Maxwell branch, a tendon and
 !> a pressure chamber (energy balance with dissipation and actuator work), and on a
-!> quasistatic rod in endpoint-equilibrium mode (no mass terms, the static kernels).
+!> quasistatic rod in endpoint-equilibrium mode (no mass terms, the static kernels). What the
+!> system layer reads of the rod (issue 22): the node table (its momentum rows are where an end
+!> load enters), the continuation anchor of set_step_problem, the largest rotation of
+!> state_measures, and the tie wrapper of new_tie (equal to the kernels of rs_ph_director_tie,
+!> its gradient to central differences of its value).
 module rs_test_ph_director
     use rs_core_kinds, only: rk
     use rs_core_error, only: error_t
@@ -14,8 +18,13 @@ module rs_test_ph_director
     use rs_test_random, only: set_random_seed
     use rs_test_formulation_fixture, only: central_differences
     use rs_model_scene, only: scene_t, rod_input_t, bc_input_t, load_input_t, actuator_input_t
-    use rs_formulations_formulation, only: state_valid, formulation_traits_t
+    use rs_formulations_formulation, only: state_valid, formulation_traits_t, step_energy_t, &
+        rod_nodes_t, state_measures_t, node_tie_t
+    use rs_math_so3, only: exp_so3
     use rs_ph_director, only: ph_director_t
+    use rs_ph_director_tie, only: ph_director_tie_t, ph_director_joint_tie, &
+        ph_director_plate_tie, ph_director_tie_value, ph_director_tie_gradient, &
+        ph_director_tie_hessian
     implicit none
     private
 
@@ -41,6 +50,11 @@ contains
         call run_test('newton_step_balances_energy_actuated', test_newton_step_energy_actuated)
         call run_test('newton_endpoint_equilibrium', test_newton_endpoint)
         call run_test('chamber_and_tendon_agree_on_straight_rod', test_chamber_equals_tendon)
+        call run_test('node_table', test_node_table)
+        call run_test('node_table_condensed', test_node_table_condensed)
+        call run_test('continuation_starts_at_its_anchor', test_continuation_anchor)
+        call run_test('state_measures', test_state_measures)
+        call run_test('tie_wrapper_equals_kernels', test_tie_wrapper)
     end subroutine run_all_tests
 
     !> A rod along (1, 2, 2)/3 with a clamped start, an end load and gravity.
@@ -205,7 +219,7 @@ contains
         logical, allocatable :: rigid_branch(:)
         real(rk) :: t_n, h, step, scale, worst, outside, worst_rigid, outside_rigid, entry
         integer :: n, j, k, row, status, e, m
-        if (endpoint) call rod%set_endpoint_solve(.true., 0.8_rk)
+        if (endpoint) call rod%set_step_problem(.true., 0.8_rk)
         n = rod%n_unknown()
         allocate(x_n(rod%n_state()), y(n), dense(n, n))
         call perturbed_state(rod, x_n, 0.1_rk)
@@ -278,7 +292,7 @@ contains
             CHECK_TRUE(worst_rigid <= 1.0e-6_rk, label // ': rigid branch columns = differences')
             CHECK_TRUE(outside_rigid <= 1.0e-9_rk, label // ': rigid branch columns in the pattern')
         end if
-        if (endpoint) call rod%set_endpoint_solve(.false., 0.8_rk)
+        if (endpoint) call rod%set_step_problem(.false., 0.8_rk)
     contains
         logical function in_pattern(i, jj)
             integer, intent(in) :: i, jj
@@ -367,25 +381,40 @@ contains
     subroutine test_newton_step_energy_actuated()
         type(ph_director_t) :: rod
         real(rk), allocatable :: x_n(:), x_1(:)
-        real(rk) :: energy_1, kinetic, strain, tol
+        type(step_energy_t) :: terms(1)
+        real(rk) :: energy_1, kinetic, strain, tol, balance
         call build_scene(actuated_scene(3, 2), rod)
-        call newton_solve(rod, 0.5_rk, 0.01_rk, x_n, x_1)
+        call newton_solve(rod, 0.5_rk, 0.01_rk, x_n, x_1, terms)
         call rod%energy(x_1, kinetic, strain)
         energy_1 = kinetic + strain
-        CHECK_TRUE(rod%dissipated_since_record > 0.0_rk, 'the Maxwell branch dissipates')
-        CHECK_TRUE(abs(rod%actuator_work_since_record) > 1.0e-6_rk * energy_1, 'the actuators work')
+        CHECK_TRUE(terms(1)%reported, 'a time step reports its energy terms')
+        CHECK_CLOSE(terms(1)%after, energy_1, 0.0_rk, 0.0_rk, 'H_{n+1} of the terms')
+        CHECK_TRUE(terms(1)%dissipated > 0.0_rk, 'the Maxwell branch dissipates')
+        CHECK_TRUE(abs(terms(1)%actuator_work) > 1.0e-6_rk * energy_1, 'the actuators work')
         tol = 1.0e-9_rk * energy_1
-        CHECK_CLOSE(rod%balance_since_record, 0.0_rk, tol, 0.0_rk, 'H_1 - H_0 - W - W_act + D = 0')
+        balance = step_balance(terms(1))
+        CHECK_CLOSE(balance, 0.0_rk, tol, 0.0_rk, 'H_1 - H_0 - W - W_act + D = 0')
     end subroutine test_newton_step_energy_actuated
 
-    !> Newton converges on the endpoint equilibrium of the quasistatic rod (load time 0.3).
+    !> The balance of a step's terms, as the record ledger books it.
+    pure real(rk) function step_balance(step)
+        type(step_energy_t), intent(in) :: step
+        step_balance = step%after - step%before - step%work - step%actuator_work + step%dissipated
+    end function step_balance
+
+    !> Newton converges on the endpoint equilibrium of the quasistatic rod (load time 0.3); the
+    !> step books no energy and is not a step of the time grid.
     subroutine test_newton_endpoint()
         type(ph_director_t) :: rod
         real(rk), allocatable :: x_n(:), x_1(:)
+        type(step_energy_t) :: terms(1)
         call build_scene(quasistatic_scene(3, 2), rod)
-        call rod%set_endpoint_solve(.true., 0.3_rk)
-        call newton_solve(rod, 0.0_rk, 0.3_rk, x_n, x_1)
-        call rod%set_endpoint_solve(.false., 0.3_rk)
+        call rod%set_step_problem(.true., 0.3_rk)
+        call newton_solve(rod, 0.0_rk, 0.3_rk, x_n, x_1, terms)
+        CHECK_TRUE(.not. terms(1)%reported, 'the endpoint equilibrium reports no energy')
+        CHECK_TRUE(.not. terms(1)%grid_step, 'the endpoint equilibrium is not a grid step')
+        CHECK_TRUE(terms(1)%residual < 0.0_rk, 'the solver reports the residual')
+        call rod%set_step_problem(.false., 0.3_rk)
     end subroutine test_newton_endpoint
 
     !> On the straight reference a tendon runs along d3, so (methods §3.2) its stress is
@@ -478,24 +507,31 @@ contains
         type(ph_director_t), intent(inout) :: rod
         logical, intent(in) :: condensed
         real(rk), allocatable, intent(out) :: x_n(:), x_1(:)
-        real(rk) :: kinetic, strain, energy_n, energy_1
+        type(step_energy_t) :: terms(1)
+        real(rk) :: kinetic, strain, energy_n, energy_1, balance, tol
         call build(3, 2, rod, condensed)
-        call newton_solve(rod, 0.5_rk, 0.01_rk, x_n, x_1)
+        call newton_solve(rod, 0.5_rk, 0.01_rk, x_n, x_1, terms)
         call rod%energy(x_n, kinetic, strain)
         energy_n = kinetic + strain
         call rod%energy(x_1, kinetic, strain)
         energy_1 = kinetic + strain
         CHECK_TRUE(energy_1 > 0.0_rk, 'the loads put energy in')
-        CHECK_CLOSE(rod%balance_since_record, 0.0_rk, 1.0e-9_rk * energy_1, 0.0_rk, 'H_1 - H_0 - W = 0')
-        CHECK_CLOSE(rod%work_since_record, energy_1 - energy_n, 1.0e-9_rk * energy_1, 0.0_rk, 'W = H_1 - H_0')
+        CHECK_TRUE(terms(1)%reported .and. terms(1)%grid_step, 'a time step of the grid')
+        CHECK_CLOSE(terms(1)%before, energy_n, 0.0_rk, 0.0_rk, 'H_n of the terms')
+        CHECK_CLOSE(terms(1)%after, energy_1, 0.0_rk, 0.0_rk, 'H_{n+1} of the terms')
+        balance = step_balance(terms(1))
+        tol = 1.0e-9_rk * energy_1
+        CHECK_CLOSE(balance, 0.0_rk, tol, 0.0_rk, 'H_1 - H_0 - W = 0')
+        CHECK_CLOSE(terms(1)%work, energy_1 - energy_n, tol, 0.0_rk, 'W = H_1 - H_0')
     end subroutine newton_step
 
     !> One step (t_n, h) of a built rod from its initial state, solved by Newton with a dense
-    !> LU to |F| < 1e-12 and accepted.
-    subroutine newton_solve(rod, t_n, h, x_n, x_1)
+    !> LU to |F| < 1e-12 and accepted (with the step's energy terms in `terms`).
+    subroutine newton_solve(rod, t_n, h, x_n, x_1, terms)
         type(ph_director_t), intent(inout) :: rod
         real(rk), intent(in) :: t_n, h
         real(rk), allocatable, intent(out) :: x_n(:), x_1(:)
+        type(step_energy_t), intent(out) :: terms(1)
         real(rk), allocatable :: y(:), f(:), values(:), dense(:, :), delta(:)
         integer, allocatable :: row_ptr(:), cols(:), pivots(:)
         integer :: n, k, row, it, status, info
@@ -524,8 +560,212 @@ contains
         write(*, '(a,i0,a,es10.3)') '  Newton iterations ', it, ', |F| ', norm2(f)
         CHECK_TRUE(norm2(f) < 1.0e-12_rk, 'Newton converged')
         call rod%update(t_n, h, x_n, y, x_1)
-        call rod%accept_step(t_n, h, x_n, x_1, it, norm2(f))
+        call rod%accept_step(t_n, h, x_n, x_1, terms)
     end subroutine newton_solve
+
+    !> The node table (rod_nodes_t) of the uncondensed cantilever: the sizes of the mesh, q of
+    !> a free node where the state holds it and, in Y = X, at the same place; the clamped node
+    !> held at its reference. Its momentum rows are where an end load enters: with the tip load
+    !> the residual changes in the tip's momentum rows only, by -h F f(t_mid) in its position
+    !> rows (methods §5.2; the ramp is t at the mid time 0.325).
+    subroutine test_node_table()
+        call check_node_table(.false.)
+    end subroutine test_node_table
+
+    !> The same for the condensed rod: q and the momentum rows are the condensed unknowns.
+    subroutine test_node_table_condensed()
+        call check_node_table(.true.)
+    end subroutine test_node_table_condensed
+
+    subroutine check_node_table(condensed)
+        logical, intent(in) :: condensed
+        type(ph_director_t) :: rod, bare
+        type(scene_t) :: scene
+        type(rod_nodes_t) :: nodes
+        real(rk), allocatable :: x(:), y(:), f(:), f_bare(:), change(:)
+        logical, allocatable :: tip_rows(:)
+        real(rk) :: expected(3), scale, q(12)
+        logical :: elsewhere
+        integer :: k, status, tip
+        scene = cantilever_scene(3, 2, condensed)
+        call build_scene(scene, rod)
+        scene%loads = scene%loads(2:2)
+        call build_scene(scene, bare)
+        nodes = rod%nodes()
+        tip = rod%n_nodes
+        CHECK_EQUAL(nodes%n_coordinates, 12, 'q = (phi, d1, d2, d3)')
+        CHECK_EQUAL(nodes%n_nodes, 7, 'nodes of 3 quadratic elements')
+        CHECK_EQUAL(nodes%n_elements, 3, 'elements')
+        CHECK_EQUAL(nodes%degree, 2, 'degree')
+        CHECK_EQUAL(nodes%n_gauss, 2, 'Gauss points')
+        CHECK_CLOSE(nodes%element_length, rod%element_length, 0.0_rk, 0.0_rk, 'element lengths')
+        CHECK_TRUE(all(nodes%state(:, 1) == 0), 'clamped start: not in the state')
+        CHECK_TRUE(all(nodes%unknown(:, 1) == 0), 'clamped start: not in the unknowns')
+        CHECK_TRUE(all(nodes%momentum(:, 1) == 0), 'clamped start: no momentum rows')
+        CHECK_CLOSE(nodes%held(:, 1), rod%fixed_q(:, 1), 0.0_rk, 0.0_rk, 'held at the reference')
+        allocate(x(rod%n_state()), y(rod%n_unknown()), f(rod%n_unknown()), &
+            f_bare(rod%n_unknown()), change(rod%n_unknown()))
+        call perturbed_state(rod, x, 0.1_rk)
+        call rod%predictor(0.3_rk, 0.05_rk, x, y)
+        do k = 2, nodes%n_nodes
+            CHECK_TRUE(all(nodes%state(:, k) > 0), 'a free node is in the state')
+            ! The predictor moves q on by h v (uncondensed) or keeps it (condensed).
+            q = x(nodes%state(:, k))
+            if (.not. condensed) q = q + 0.05_rk * x(rod%node_dof(13:24, k))
+            CHECK_CLOSE(y(nodes%unknown(:, k)), q, 0.0_rk, 0.0_rk, 'q of Y')
+        end do
+        call rod%step_residual(0.3_rk, 0.05_rk, x, y, f, status)
+        call bare%step_residual(0.3_rk, 0.05_rk, x, y, f_bare, status)
+        change = f - f_bare
+        allocate(tip_rows(size(f)), source=.false.)
+        tip_rows(nodes%momentum(:, tip)) = .true.
+        elsewhere = any(pack(change, .not. tip_rows) /= 0.0_rk)
+        CHECK_TRUE(.not. elsewhere, 'the load enters no other row')
+        expected = -0.05_rk * 0.325_rk * scene_tip_force()
+        scale = 1.0e-13_rk * maxval(abs(expected))
+        CHECK_CLOSE(change(nodes%momentum(1:3, tip)), expected, scale, 0.0_rk, 'h F f(t_mid)')
+    end subroutine check_node_table
+
+    !> The tip force of cantilever_scene.
+    pure function scene_tip_force() result(force)
+        real(rk) :: force(3)
+        force = [10.0_rk, -20.0_rk, 5.0_rk]
+    end function scene_tip_force
+
+    !> The continuation anchored at x (set_step_problem with continue_from) starts there: at
+    !> the pseudo-time 0 its residual vanishes exactly at Y = x; back to time steps it is the
+    !> midpoint residual again.
+    subroutine test_continuation_anchor()
+        type(ph_director_t) :: rod, reference
+        real(rk), allocatable :: x(:), f(:), f_reference(:)
+        integer :: status
+        call set_random_seed(20261127, 1)
+        call build_scene(quasistatic_scene(3, 2), rod)
+        call build_scene(quasistatic_scene(3, 2), reference)
+        allocate(x(rod%n_state()), f(rod%n_unknown()), f_reference(rod%n_unknown()))
+        call perturbed_state(rod, x, 0.1_rk)
+        call rod%set_step_problem(.true., 0.6_rk, x)
+        CHECK_TRUE(rod%continuing, 'a continuation')
+        CHECK_CLOSE(rod%row_scale, 1.0_rk, 0.0_rk, 0.0_rk, 'rows of a step of length 1')
+        call rod%step_residual(0.0_rk, 0.0_rk, x, x, f, status)
+        CHECK_TRUE(all(f == 0.0_rk), 'R(x) - anchor = 0 at tau = 0')
+        call rod%set_step_problem(.false., 0.6_rk)
+        CHECK_TRUE(.not. rod%continuing, 'time steps end the continuation')
+        call rod%step_residual(0.3_rk, 0.05_rk, x, x, f, status)
+        call reference%step_residual(0.3_rk, 0.05_rk, x, x, f_reference, status)
+        CHECK_CLOSE(f, f_reference, 0.0_rk, 0.0_rk, 'the midpoint residual again')
+    end subroutine test_continuation_anchor
+
+    !> state_measures: no kinetic energy; the largest rotation of the cross-sections is the
+    !> angle by which the directors of the free nodes were turned (0.3 rad, one node 0.7).
+    subroutine test_state_measures()
+        type(ph_director_t) :: rod
+        type(state_measures_t) :: measures
+        real(rk), allocatable :: x(:), turned(:)
+        real(rk) :: r(3, 3), angle
+        integer :: k, i
+        call build(3, 2, rod, .false.)
+        allocate(x(rod%n_state()))
+        call rod%initial_state(x)
+        turned = x
+        do k = 2, rod%n_nodes
+            ! About d1: d2 and d3 turn by the whole angle.
+            angle = merge(0.7_rk, 0.3_rk, k == 4)
+            r = exp_so3(angle * x(rod%node_dof(4:6, k)))
+            do i = 1, 3
+                turned(rod%node_dof(3 * i + 1:3 * i + 3, k)) = &
+                    matmul(r, x(rod%node_dof(3 * i + 1:3 * i + 3, k)))
+            end do
+        end do
+        measures = rod%state_measures(turned)
+        CHECK_CLOSE(measures%kinetic_energy, -1.0_rk, 0.0_rk, 0.0_rk, 'no kinetic energy')
+        CHECK_CLOSE(measures%largest_rotation, 0.0_rk, 0.0_rk, 0.0_rk, 'no rotation measured')
+        measures = rod%state_measures(turned, x)
+        CHECK_CLOSE(measures%largest_rotation, 0.7_rk, 1.0e-12_rk, 0.0_rk, 'largest rotation')
+    end subroutine test_state_measures
+
+    !> The tie of new_tie (rs_ph_director_node_tie) on two nodes of the cantilever's reference:
+    !> a rigid joint, and a plate tie placed in a moved pose, give the value, gradient and
+    !> Hessian of the kernels of rs_ph_director_tie bitwise; the gradient equals central
+    !> differences of the value (the rows are quadratic: exact up to round-off). A kind that is
+    !> not a tie of ph_director gives no tie.
+    subroutine test_tie_wrapper()
+        type(ph_director_t) :: rod
+        class(node_tie_t), allocatable :: tie
+        type(ph_director_tie_t) :: kernel
+        real(rk) :: q_a(12), q_b(12), axis(3), centre(3), displacement(3), rotation(3)
+        real(rk) :: none(0), zero(3)
+        call set_random_seed(20261128, 1)
+        call build(3, 2, rod, .false.)
+        q_a = rod%fixed_q(:, rod%n_nodes)
+        q_b = rod%fixed_q(:, 2)
+        axis = [0.0_rk, 0.0_rk, 1.0_rk]
+        call rod%new_tie('rigid', q_a, q_b, axis, tie)
+        CHECK_TRUE(allocated(tie), 'a rigid joint')
+        kernel = ph_director_joint_tie('rigid', q_a, q_b, axis)
+        call check_tie(tie, kernel, q_a, q_b, 'rigid joint')
+        deallocate(tie)
+        call rod%new_tie('plate', q_a, none, axis, tie)
+        CHECK_TRUE(allocated(tie), 'a plate tie')
+        centre = [0.2_rk, -0.1_rk, 0.4_rk]
+        displacement = [0.05_rk, 0.02_rk, -0.03_rk]
+        rotation = [0.1_rk, -0.2_rk, 0.15_rk]
+        zero = 0.0_rk
+        kernel = ph_director_plate_tie(q_a, zero, zero, zero)
+        call check_tie(tie, kernel, q_a, zero12(), 'plate in its reference pose')
+        call tie%place(centre, displacement, rotation)
+        kernel = ph_director_plate_tie(q_a, centre, displacement, rotation)
+        call check_tie(tie, kernel, q_a, zero12(), 'placed plate')
+        deallocate(tie)
+        call rod%new_tie('weld', q_a, q_b, axis, tie)
+        CHECK_TRUE(.not. allocated(tie), 'no tie of an unknown kind')
+    end subroutine test_tie_wrapper
+
+    pure function zero12() result(q)
+        real(rk) :: q(12)
+        q = 0.0_rk
+    end function zero12
+
+    !> The tie against its kernel at z near [q_a; q_b] (q_b = 0 for a one-node tie: the b-part
+    !> of z stays zero, as the system passes it).
+    subroutine check_tie(tie, kernel, q_a, q_b, label)
+        class(node_tie_t), intent(in) :: tie
+        type(ph_director_tie_t), intent(in) :: kernel
+        real(rk), intent(in) :: q_a(12), q_b(12)
+        character(len=*), intent(in) :: label
+        real(rk) :: z(24), lambda(6), g(6), gradient(6, 24), hessian(24, 24), noise(24)
+        real(rk) :: g_plus(6), g_minus(6), difference(6, 24), step, scale
+        logical :: same
+        integer :: j, n
+        CHECK_EQUAL(tie%n, kernel%n, label // ': rows')
+        CHECK_EQUAL(tie%n_coordinates, 12, label // ': coordinates per node')
+        n = tie%n
+        call random_number(noise)
+        z(1:12) = q_a + 0.1_rk * (noise(1:12) - 0.5_rk)
+        z(13:24) = 0.0_rk
+        if (any(q_b /= 0.0_rk)) z(13:24) = q_b + 0.1_rk * (noise(13:24) - 0.5_rk)
+        call random_number(lambda)
+        call tie%value(z, g)
+        same = all(g(1:n) == ph_director_tie_value(kernel, z))
+        CHECK_TRUE(same, label // ': value = kernel')
+        call tie%gradient(z, gradient)
+        same = all(gradient(1:n, :) == ph_director_tie_gradient(kernel, z))
+        CHECK_TRUE(same, label // ': gradient = kernel')
+        call tie%force_hessian(z, lambda(1:n), hessian)
+        same = all(hessian == ph_director_tie_hessian(kernel, lambda(1:n)))
+        CHECK_TRUE(same, label // ': Hessian = kernel')
+        step = 1.0e-6_rk
+        do j = 1, 24
+            z(j) = z(j) + step
+            call tie%value(z, g_plus)
+            z(j) = z(j) - 2.0_rk * step
+            call tie%value(z, g_minus)
+            z(j) = z(j) + step
+            difference(1:n, j) = (g_plus(1:n) - g_minus(1:n)) / (2.0_rk * step)
+        end do
+        scale = 1.0e-8_rk * max(1.0_rk, maxval(abs(gradient(1:n, :))))
+        CHECK_CLOSE(gradient(1:n, :), difference(1:n, :), scale, 0.0_rk, label // ': differences')
+    end subroutine check_tie
 
 end module rs_test_ph_director
 

@@ -65,7 +65,7 @@ contains
             row = capability_of(name)
             CHECK_EQUAL(trim(row%formulation), name, 'capability_of: ' // name)
             if (associated(list(k)%create)) then
-                call list(k)%create(rod, .false.)
+                call list(k)%create(rod)
                 CHECK_TRUE(allocated(rod), 'constructor builds: ' // name)
                 if (allocated(rod)) deallocate(rod)
             end if
@@ -149,25 +149,20 @@ contains
         CHECK_TRUE(index(err%describe(), listing) > 0, 'the error lists the names: ' // err%describe())
     end subroutine test_factory_through_descriptors
 
-    !> Two rods are one bundle object exactly for a formulation whose descriptor builds shared
-    !> bundles, and then the factory's bundle differs from its single rod; one rod never is.
+    !> Two rods form a shared system (solved by all ranks, its couplings in the system layer)
+    !> exactly for a formulation whose descriptor couples through the system layer; one rod
+    !> never does.
     subroutine test_bundle_where_described()
         type(formulation_descriptor_t), allocatable :: list(:)
-        class(rod_formulation_t), allocatable :: single, bundle
-        type(error_t), allocatable :: err
         type(scene_t) :: scene
         integer :: k
         list = formulation_descriptors()
-        CHECK_TRUE(any(list%shared_bundle), 'some formulation builds bundles')
+        CHECK_TRUE(any(list%system_couplings), 'some formulation couples through the system layer')
         allocate(scene%rods(2))
         do k = 1, size(list)
             scene%rods%formulation = list(k)%name
-            CHECK_EQUAL(is_bundle(scene, [1, 2]), list(k)%shared_bundle, 'two rods: ' // trim(list(k)%name))
+            CHECK_EQUAL(is_bundle(scene, [1, 2]), list(k)%system_couplings, 'two rods: ' // trim(list(k)%name))
             CHECK_TRUE(.not. is_bundle(scene, [1]), 'one rod: ' // trim(list(k)%name))
-            if (.not. list(k)%shared_bundle) cycle
-            call create_formulation(trim(list(k)%name), single, err)
-            call create_formulation(trim(list(k)%name), bundle, err, bundle=.true.)
-            CHECK_TRUE(.not. same_type_as(single, bundle), 'bundle object: ' // trim(list(k)%name))
         end do
     end subroutine test_bundle_where_described
 

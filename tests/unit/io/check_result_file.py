@@ -168,7 +168,7 @@ def check_result(path):
         for name in ("schema_version", "creator", "created", "command_line", "n_ranks",
                      "petsc_version", "hdf5_version", "mpi_version", "title"):
             check(name in attrs, "root attribute %s missing" % name)
-        check(attrs.get("schema_version") == 1, "schema_version is 1")
+        check(attrs.get("schema_version") == 2, "schema_version is 2")
         check(re.fullmatch(r"rodsolve \S+ \(git \S+\)", str(attrs.get("creator", ""))),
               "creator 'rodsolve <version> (git <commit>)': %r" % attrs.get("creator"))
         try:
@@ -293,7 +293,7 @@ def check_result(path):
 def check_reader(path):
     """scripts/rodresults.py reads by name."""
     with rodresults.open_result(path) as res:
-        check(res.schema_version == 1, "rodresults schema_version")
+        check(res.schema_version == 2, "rodresults schema_version")
         check(res.rods() == ["arm", "tail"], "rodresults rods: %s" % res.rods())
         check(res.title == META["title"], "rodresults title")
         check(res.input_text() == INPUT_TEXT, "rodresults input_text")

@@ -176,7 +176,7 @@ contains
         if (allocated(err)) print '(a)', err%describe()
         inquire(file=result_path, exist=exists)
         CHECK_TRUE(exists, 'the file and its missing directories are created')
-        CHECK_EQUAL(result_schema_version, 1, 'schema version')
+        CHECK_EQUAL(result_schema_version, 2, 'schema version')
     end subroutine test_two_rods
 
     !> A path under a regular file cannot be created, not even by root; /proc takes no files.

@@ -1,0 +1,970 @@
+#include "rs_macros.h"
+!> A system of rods (issue 22; DESIGN.md §2, §5): what every run steps through time, a single
+!> rod included. It owns its members (formulation objects: one per rod, or one for the rods a
+!> formulation joins itself through shared unknowns, ph_planar), their offsets and owned ranges
+!> (rs_system_layout), the couplings between them (rs_system_coupling: ties and contact, for
+!> every formulation that offers node access), the Jacobian pattern, the record ledger
+!> (rs_system_ledger) and the checkpoint layout; it assembles the step residual and Jacobian
+!> from the members' and the couplings' terms. Pure Fortran: no PETSc, no MPI (the solver,
+!> src/solver/rod_run.F90, drives it and gathers X_n and Y on every rank).
+!>
+!> A system of one member without couplings passes every call straight to the member (offsets
+!> 0, the member's own pattern): a single rod pays nothing for the layer.
+!>
+!> What is kept exactly (docs/theory/bundles.md): with joints, fixed plates and contact the
+!> discrete energy H + E_contact is conserved to the Newton tolerance without loads (every
+!> coupling force is an exact discrete gradient); joints and contact exert no net force or
+!> torque, so linear and angular momentum are kept without supports; ties hold to round-off.
+!> The per-rod energy balance books the work of the coupling forces on the rod as external
+!> work, so each rod's balance_error stays at the Newton tolerance.
+module rs_system_rod_system
+    use rs_core_kinds, only: rk
+    use rs_core_error, only: error_t, set_error
+    use rs_core_strings, only: str
+    use rs_model_scene, only: scene_t, unset_real
+    use rs_model_rod_history, only: rod_history_t
+    use rs_assembly_csr_pattern, only: csr_builder_t, csr_pattern_t
+    use rs_formulations_formulation, only: rod_formulation_t, formulation_traits_t, &
+        state_measures_t, node_tie_t, state_valid, state_invalid, max_node_coordinates
+    use rs_math_so3, only: tangent_so3
+    use rs_formulations_energy_sentinel, only: step_energy_t
+    use rs_formulations_descriptor, only: formulation_descriptor_t
+    use rs_formulations_registry, only: descriptor_of
+    use rs_formulations_factory, only: create_formulation
+    use rs_system_layout, only: system_layout_t
+    use rs_system_ledger, only: record_ledger_t, ledger_entries
+    use rs_system_coupling, only: coupling_t, coupling_slot_t, coupling_record_t
+    use rs_system_tie_coupling, only: tie_coupling_t, tie_coupling_init
+    use rs_system_contact_coupling, only: contact_coupling_t, contact_coupling_init
+    implicit none
+    private
+
+    !> A member: its formulation object and where its Jacobian entries go.
+    type :: member_t
+        class(rod_formulation_t), allocatable :: rod
+        character(len=:), allocatable :: name
+        !> Global CSR position of each entry of the member's own Jacobian pattern.
+        integer, allocatable :: value_map(:)
+        real(rk), allocatable :: values(:)
+        !> The member's own pattern (0-based).
+        integer, allocatable :: row_ptr(:), cols(:)
+    end type member_t
+
+    type, public :: rod_system_t
+        type(member_t), allocatable :: members(:)
+        type(coupling_slot_t), allocatable :: couplings(:)
+        type(system_layout_t) :: layout
+        type(record_ledger_t) :: ledger
+        type(csr_pattern_t) :: pattern
+        !> One member without couplings: every call goes straight to it.
+        logical :: direct = .true.
+        !> In the endpoint equilibrium solve.
+        logical :: static = .false.
+        integer :: n_rods = 0
+        character(len=:), allocatable :: formulation
+        !> The energy terms of the last accepted step summed over the rods (the sentinel's).
+        type(step_energy_t) :: step_energy
+        !> Coupling results of the members for the records.
+        type(coupling_record_t), allocatable :: coupling_records(:)
+        !> Work arrays of the book-keeping (kept between steps: no allocation in the time loop).
+        real(rk), allocatable :: work_y(:), work_force(:)
+        type(step_energy_t), allocatable :: terms(:)
+    contains
+        procedure :: init => system_init
+        procedure :: n_state => system_n_state
+        procedure :: n_unknown => system_n_unknown
+        procedure :: jacobian_pattern => system_jacobian_pattern
+        procedure :: initial_state => system_initial_state
+        procedure :: predictor => system_predictor
+        procedure :: update => system_update
+        procedure :: step_residual => system_step_residual
+        procedure :: step_jacobian => system_step_jacobian
+        !> Book an accepted step: the members' energy terms and the Newton statistics in the
+        !> ledger, the work of the couplings on each rod; step_energy for the sentinel.
+        procedure :: accept_step => system_accept_step
+        procedure :: init_history => system_init_history
+        procedure :: record => system_record
+        procedure :: describe => system_describe
+        procedure :: traits => system_traits
+        procedure :: set_step_problem => system_set_step_problem
+        procedure :: state_measures => system_state_measures
+        !> Before each step from X_n: the couplings refresh what the step needs (contact
+        !> pairs); `repattern` when the Jacobian pattern changed.
+        procedure :: prepare_step => system_prepare_step
+        !> The members as the vertices of the coupling graph in CSR form (0-based adjncy),
+        !> weighted by their unknowns; empty for a system without couplings.
+        procedure :: coupling_graph => system_coupling_graph
+        !> Give the members to ranks (part(m) = rank of member m) and say which rank this is.
+        procedure :: distribute => system_distribute
+        !> The 0-based half-open ranges [lo, hi) of the state and the unknowns this rank owns.
+        procedure :: owned_range => system_owned_range
+        !> The state in the layout of one rank (checkpoints, DESIGN.md §7), and back.
+        procedure :: canonical_state => system_canonical_state
+        procedure :: from_canonical => system_from_canonical
+        !> The ledger's checkpoint entries (ledger_entries per rod) and back.
+        procedure :: n_ledger => system_n_ledger
+        procedure :: save_ledger => system_save_ledger
+        procedure :: restore_ledger => system_restore_ledger
+        procedure :: has_couplings
+    end type rod_system_t
+
+contains
+
+    ! ---- Construction ---------------------------------------------------------------------
+
+    !> Build the system of the scene's rods `rods` (a coupled set, rs_model_coupling; the first
+    !> leads): its members from the formulation's descriptor, their layout on one rank, the
+    !> couplings the scene declares among them.
+    subroutine system_init(this, scene, rods, err)
+        class(rod_system_t), intent(inout) :: this
+        type(scene_t), intent(in) :: scene
+        integer, intent(in) :: rods(:)
+        type(error_t), allocatable, intent(out) :: err
+        type(formulation_descriptor_t) :: d
+        integer :: m, n_members, first
+        this%formulation = trim(scene%rods(rods(1))%formulation)
+        d = formulation_descriptor_t()
+        if (descriptor_of(this%formulation, d)) continue
+        ! One member per rod where the couplings are the system's; one member for the rods a
+        ! formulation joins itself.
+        n_members = merge(size(rods), 1, d%system_couplings)
+        allocate(this%members(n_members))
+        allocate(this%layout%members(n_members))
+        first = 1
+        do m = 1, n_members
+            call create_formulation(this%formulation, this%members(m)%rod, err)
+            RS_RETURN_IF_ERROR(err)
+            if (d%system_couplings) then
+                call this%members(m)%rod%init(scene, [rods(m)], err)
+                this%layout%members(m)%n_rods = 1
+                this%members(m)%name = trim(scene%rods(rods(m))%name)
+            else
+                call this%members(m)%rod%init(scene, rods, err)
+                this%layout%members(m)%n_rods = size(rods)
+                this%members(m)%name = trim(scene%rods(rods(1))%name)
+            end if
+            RS_RETURN_IF_ERROR(err)
+            associate (member => this%members(m), place => this%layout%members(m))
+                place%first_rod = first
+                first = first + place%n_rods
+                place%n_state = member%rod%n_state()
+                place%n_unknown = member%rod%n_unknown()
+                place%nodes = member%rod%nodes()
+                place%contact_radius = scene%rods(rods(m))%contact_radius
+                if (place%contact_radius == unset_real) place%contact_radius = scene%rods(rods(m))%radius
+                call member%rod%jacobian_pattern(member%row_ptr, member%cols)
+                allocate(member%values(size(member%cols)))
+            end associate
+        end do
+        this%n_rods = first - 1
+        call this%ledger%init(this%n_rods)
+        allocate(this%terms(this%n_rods))
+        allocate(this%couplings(0))
+        if (d%system_couplings) call read_couplings(this, scene, err)
+        RS_RETURN_IF_ERROR(err)
+        this%direct = n_members == 1 .and. size(this%couplings) == 0
+        allocate(this%coupling_records(n_members))
+        call this%distribute([(0, m = 1, n_members)], 0)
+    end subroutine system_init
+
+    !> The ties (joints, plates) and contact the scene declares among the members.
+    subroutine read_couplings(this, scene, err)
+        type(rod_system_t), intent(inout) :: this
+        type(scene_t), intent(in) :: scene
+        type(error_t), allocatable, intent(out) :: err
+        type(tie_coupling_t), allocatable :: ties
+        type(contact_coupling_t), allocatable :: contact
+        character(len=64) :: names(size(this%members))
+        integer, allocatable :: joint_ends(:, :)
+        type(coupling_slot_t), allocatable :: list(:)
+        type(formulation_traits_t) :: traits
+        character(len=:), allocatable :: message
+        integer :: m, n
+        do m = 1, size(this%members)
+            names(m) = this%members(m)%name
+        end do
+        allocate(list(2))
+        n = 0
+        allocate(joint_ends(4, 0))
+        if (any_ties(scene)) then
+            allocate(ties)
+            call tie_coupling_init(ties, scene, names, this%layout, new_member_tie, err)
+            RS_RETURN_IF_ERROR(err)
+            if (ties%count_ties() > 0) then
+                joint_ends = ties%joint_ends()
+                n = n + 1
+                call move_alloc(ties, list(n)%coupling)
+            end if
+        end if
+        if (scene%contact%given) then
+            allocate(contact)
+            call contact_coupling_init(contact, scene, this%layout, joint_ends, err)
+            RS_RETURN_IF_ERROR(err)
+            n = n + 1
+            call move_alloc(contact, list(n)%coupling)
+        end if
+        deallocate(this%couplings)
+        allocate(this%couplings(n))
+        traits = this%members(1)%rod%traits()
+        do m = 1, n
+            call move_alloc(list(m)%coupling, this%couplings(m)%coupling)
+            this%couplings(m)%coupling%equilibrium_steps = traits%equilibrium_steps
+        end do
+        if (n == 0) return
+        do m = 1, size(this%members)
+            if (this%layout%members(m)%nodes%n_nodes > 0 .and. &
+                .not. this%layout%members(m)%nodes%held_moves) cycle
+            if (this%layout%members(m)%nodes%n_nodes == 0) then
+                message = 'rod ''' // this%members(m)%name // ''': its formulation (' // &
+                    this%formulation // ') offers no node access, so it cannot be coupled ' // &
+                    '(joints, plates, contact; docs/user/capabilities.md)'
+            else
+                message = 'rod ''' // this%members(m)%name // ''': an end driven in time ' // &
+                    'cannot be coupled yet (joints, plates, contact) in ' // this%formulation
+            end if
+            RS_SET_ERROR(err, 'rod_system%init', message)
+            return
+        end do
+    contains
+        subroutine new_member_tie(member, kind, q_a, q_b, axis, tie)
+            integer, intent(in) :: member
+            character(len=*), intent(in) :: kind
+            real(rk), intent(in) :: q_a(:), q_b(:), axis(3)
+            class(node_tie_t), allocatable, intent(out) :: tie
+            call this%members(member)%rod%new_tie(kind, q_a, q_b, axis, tie)
+        end subroutine new_member_tie
+    end subroutine read_couplings
+
+    pure logical function any_ties(scene)
+        type(scene_t), intent(in) :: scene
+        any_ties = .false.
+        if (allocated(scene%joints)) any_ties = size(scene%joints) > 0
+        if (allocated(scene%plates)) any_ties = any_ties .or. size(scene%plates) > 0
+    end function any_ties
+
+    pure logical function has_couplings(this)
+        class(rod_system_t), intent(in) :: this
+        has_couplings = size(this%couplings) > 0
+    end function has_couplings
+
+    ! ---- Layout and pattern ---------------------------------------------------------------
+
+    !> Members to ranks: lay out the state and the unknowns rank by rank, let the couplings
+    !> start from the initial state in that layout and build the Jacobian pattern.
+    subroutine system_distribute(this, part, rank)
+        class(rod_system_t), intent(inout) :: this
+        integer, intent(in) :: part(:), rank
+        real(rk), allocatable :: x(:)
+        integer :: p, m, c, b, so, uo
+        associate (layout => this%layout)
+            ! The canonical layout: every member on one rank, in scene order.
+            so = 0
+            do m = 1, size(layout%members)
+                layout%members(m)%canonical_offset = so
+                so = so + layout%members(m)%n_state
+                do c = 1, size(this%couplings)
+                    associate (blocks => this%couplings(c)%coupling%blocks)
+                        do b = 1, size(blocks)
+                            if (blocks(b)%owner /= m) cycle
+                            blocks(b)%canonical_offset = so
+                            so = so + blocks(b)%size
+                        end do
+                    end associate
+                end do
+            end do
+            layout%rank = rank
+            layout%n_ranks = maxval(part) + 1
+            layout%members%part = part
+            so = 0
+            uo = 0
+            layout%state_lo = -1
+            do p = 0, layout%n_ranks - 1
+                if (p == rank) then
+                    layout%state_lo = so
+                    layout%unknown_lo = uo
+                end if
+                do m = 1, size(layout%members)
+                    if (part(m) /= p) cycle
+                    layout%members(m)%state_offset = so
+                    layout%members(m)%unknown_offset = uo
+                    so = so + layout%members(m)%n_state
+                    uo = uo + layout%members(m)%n_unknown
+                    do c = 1, size(this%couplings)
+                        associate (blocks => this%couplings(c)%coupling%blocks)
+                            do b = 1, size(blocks)
+                                if (blocks(b)%owner /= m) cycle
+                                blocks(b)%state_offset = so
+                                blocks(b)%unknown_offset = uo
+                                so = so + blocks(b)%size
+                                uo = uo + blocks(b)%size
+                            end do
+                        end associate
+                    end do
+                end do
+                if (p == rank) then
+                    layout%state_hi = so
+                    layout%unknown_hi = uo
+                end if
+            end do
+            if (layout%state_lo < 0) then
+                ! A rank without members owns an empty range.
+                layout%state_lo = so
+                layout%state_hi = so
+                layout%unknown_lo = uo
+                layout%unknown_hi = uo
+            end if
+            layout%n_state = so
+            layout%n_unknown = uo
+        end associate
+        if (this%direct) return
+        allocate(x(this%layout%n_state))
+        call this%initial_state(x)
+        do c = 1, size(this%couplings)
+            call this%couplings(c)%coupling%start(this%layout, x)
+        end do
+        call build_pattern(this)
+    end subroutine system_distribute
+
+    !> The global pattern: each member's own pattern as a diagonal block, then the couplings'
+    !> blocks; the maps from the pieces into it.
+    subroutine build_pattern(this)
+        type(rod_system_t), intent(inout) :: this
+        type(csr_builder_t) :: builder
+        integer :: m, i, p, uo, c, n_expected
+        n_expected = 0
+        do m = 1, size(this%members)
+            n_expected = n_expected + size(this%members(m)%cols)
+        end do
+        call builder%init(this%layout%n_unknown, n_expected + 1024 * coupling_blocks(this) + &
+            400 * contact_pairs(this))
+        do m = 1, size(this%members)
+            associate (member => this%members(m))
+                uo = this%layout%members(m)%unknown_offset
+                do i = 1, size(member%row_ptr) - 1
+                    p = member%row_ptr(i) + 1
+                    call builder%add_block([uo + i], uo + 1 + member%cols(p:member%row_ptr(i + 1)))
+                end do
+            end associate
+        end do
+        do c = 1, size(this%couplings)
+            call this%couplings(c)%coupling%add_pattern(this%layout, builder)
+        end do
+        call builder%build(this%pattern)
+        do m = 1, size(this%members)
+            associate (member => this%members(m))
+                uo = this%layout%members(m)%unknown_offset
+                if (allocated(member%value_map)) deallocate(member%value_map)
+                allocate(member%value_map(size(member%cols)))
+                do i = 1, size(member%row_ptr) - 1
+                    do p = member%row_ptr(i) + 1, member%row_ptr(i + 1)
+                        member%value_map(p) = this%pattern%position(uo + i, uo + 1 + member%cols(p))
+                    end do
+                end do
+            end associate
+        end do
+        do c = 1, size(this%couplings)
+            call this%couplings(c)%coupling%map_pattern(this%layout, this%pattern)
+        end do
+    end subroutine build_pattern
+
+    pure integer function coupling_blocks(this)
+        type(rod_system_t), intent(in) :: this
+        integer :: c
+        coupling_blocks = 0
+        do c = 1, size(this%couplings)
+            coupling_blocks = coupling_blocks + size(this%couplings(c)%coupling%blocks)
+        end do
+    end function coupling_blocks
+
+    integer function contact_pairs(this)
+        type(rod_system_t), intent(in) :: this
+        integer :: c
+        contact_pairs = 0
+        do c = 1, size(this%couplings)
+            select type (contact => this%couplings(c)%coupling)
+            type is (contact_coupling_t)
+                contact_pairs = contact_pairs + size(contact%pattern_pairs, 2)
+            end select
+        end do
+    end function contact_pairs
+
+    ! ---- Sizes and states -----------------------------------------------------------------
+
+    pure integer function system_n_state(this)
+        class(rod_system_t), intent(in) :: this
+        system_n_state = this%layout%n_state
+    end function system_n_state
+
+    pure integer function system_n_unknown(this)
+        class(rod_system_t), intent(in) :: this
+        system_n_unknown = this%layout%n_unknown
+    end function system_n_unknown
+
+    subroutine system_owned_range(this, state_lo, state_hi, unknown_lo, unknown_hi)
+        class(rod_system_t), intent(in) :: this
+        integer, intent(out) :: state_lo, state_hi, unknown_lo, unknown_hi
+        state_lo = this%layout%state_lo
+        state_hi = this%layout%state_hi
+        unknown_lo = this%layout%unknown_lo
+        unknown_hi = this%layout%unknown_hi
+    end subroutine system_owned_range
+
+    subroutine system_jacobian_pattern(this, row_ptr, cols)
+        class(rod_system_t), intent(in) :: this
+        integer, allocatable, intent(out) :: row_ptr(:), cols(:)
+        if (this%direct) then
+            row_ptr = this%members(1)%row_ptr
+            cols = this%members(1)%cols
+        else
+            call this%pattern%zero_based(row_ptr, cols)
+        end if
+    end subroutine system_jacobian_pattern
+
+    !> Each member's initial state; coupling unknowns (multipliers) start at zero.
+    subroutine system_initial_state(this, x)
+        class(rod_system_t), intent(in) :: this
+        real(rk), intent(out) :: x(:)
+        integer :: m
+        if (this%direct) then
+            call this%members(1)%rod%initial_state(x)
+            return
+        end if
+        x = 0.0_rk
+        do m = 1, size(this%members)
+            associate (place => this%layout%members(m))
+                call this%members(m)%rod%initial_state(x(place%state_offset + 1:place%state_offset + &
+                    place%n_state))
+            end associate
+        end do
+    end subroutine system_initial_state
+
+    subroutine system_predictor(this, t_n, h, x_n, y)
+        class(rod_system_t), intent(inout) :: this
+        real(rk), intent(in) :: t_n, h, x_n(:)
+        real(rk), intent(out) :: y(:)
+        integer :: m
+        if (this%direct) then
+            call this%members(1)%rod%predictor(t_n, h, x_n, y)
+            return
+        end if
+        y = 0.0_rk
+        do m = 1, size(this%members)
+            if (.not. this%layout%owns_member(m)) cycle
+            associate (place => this%layout%members(m))
+                call this%members(m)%rod%predictor(t_n, h, &
+                    x_n(place%state_offset + 1:place%state_offset + place%n_state), &
+                    y(place%unknown_offset + 1:place%unknown_offset + place%n_unknown))
+            end associate
+        end do
+        call unknown_blocks_from_state(this, x_n, y, owned_only=.true.)
+    end subroutine system_predictor
+
+    subroutine system_update(this, t_n, h, x_n, y, x_1)
+        class(rod_system_t), intent(inout) :: this
+        real(rk), intent(in) :: t_n, h, x_n(:), y(:)
+        real(rk), intent(out) :: x_1(:)
+        integer :: m, c, b
+        if (this%direct) then
+            call this%members(1)%rod%update(t_n, h, x_n, y, x_1)
+            return
+        end if
+        x_1 = 0.0_rk
+        do m = 1, size(this%members)
+            if (.not. this%layout%owns_member(m)) cycle
+            associate (place => this%layout%members(m))
+                call this%members(m)%rod%update(t_n, h, &
+                    x_n(place%state_offset + 1:place%state_offset + place%n_state), &
+                    y(place%unknown_offset + 1:place%unknown_offset + place%n_unknown), &
+                    x_1(place%state_offset + 1:place%state_offset + place%n_state))
+            end associate
+        end do
+        do c = 1, size(this%couplings)
+            associate (blocks => this%couplings(c)%coupling%blocks)
+                do b = 1, size(blocks)
+                    if (.not. this%layout%owns_member(blocks(b)%owner)) cycle
+                    x_1(blocks(b)%state_offset + 1:blocks(b)%state_offset + blocks(b)%size) = &
+                        y(blocks(b)%unknown_offset + 1:blocks(b)%unknown_offset + blocks(b)%size)
+                end do
+            end associate
+        end do
+    end subroutine system_update
+
+    !> The couplings' unknowns (multipliers) of y from their state in x (all, or this rank's).
+    subroutine unknown_blocks_from_state(this, x, y, owned_only)
+        type(rod_system_t), intent(in) :: this
+        real(rk), intent(in) :: x(:)
+        real(rk), intent(inout) :: y(:)
+        logical, intent(in) :: owned_only
+        integer :: c, b
+        do c = 1, size(this%couplings)
+            associate (blocks => this%couplings(c)%coupling%blocks)
+                do b = 1, size(blocks)
+                    if (owned_only .and. .not. this%layout%owns_member(blocks(b)%owner)) cycle
+                    y(blocks(b)%unknown_offset + 1:blocks(b)%unknown_offset + blocks(b)%size) = &
+                        x(blocks(b)%state_offset + 1:blocks(b)%state_offset + blocks(b)%size)
+                end do
+            end associate
+        end do
+    end subroutine unknown_blocks_from_state
+
+    ! ---- The step problem -----------------------------------------------------------------
+
+    subroutine system_step_residual(this, t_n, h, x_n, y, f, status)
+        class(rod_system_t), intent(inout) :: this
+        real(rk), intent(in) :: t_n, h, x_n(:), y(:)
+        real(rk), intent(out) :: f(:)
+        integer, intent(out) :: status
+        integer :: m, c
+        if (this%direct) then
+            call this%members(1)%rod%step_residual(t_n, h, x_n, y, f, status)
+            return
+        end if
+        f = 0.0_rk
+        status = state_valid
+        do c = 1, size(this%couplings)
+            if (this%couplings(c)%coupling%admissible(this%layout, t_n, x_n, y)) cycle
+            status = state_invalid
+            return
+        end do
+        do m = 1, size(this%members)
+            if (.not. this%layout%owns_member(m)) cycle
+            associate (place => this%layout%members(m))
+                call this%members(m)%rod%step_residual(t_n, h, &
+                    x_n(place%state_offset + 1:place%state_offset + place%n_state), &
+                    y(place%unknown_offset + 1:place%unknown_offset + place%n_unknown), &
+                    f(place%unknown_offset + 1:place%unknown_offset + place%n_unknown), status)
+            end associate
+            if (status /= state_valid) return
+        end do
+        do c = 1, size(this%couplings)
+            call this%couplings(c)%coupling%add_residual(this%layout, t_n, h, x_n, y, f, .false.)
+        end do
+    end subroutine system_step_residual
+
+    subroutine system_step_jacobian(this, t_n, h, x_n, y, values, status)
+        class(rod_system_t), intent(inout) :: this
+        real(rk), intent(in) :: t_n, h, x_n(:), y(:)
+        real(rk), intent(out) :: values(:)
+        integer, intent(out) :: status
+        integer :: m, p, c
+        if (this%direct) then
+            call this%members(1)%rod%step_jacobian(t_n, h, x_n, y, values, status)
+            return
+        end if
+        values = 0.0_rk
+        status = state_valid
+        do m = 1, size(this%members)
+            if (.not. this%layout%owns_member(m)) cycle
+            associate (member => this%members(m), place => this%layout%members(m))
+                call member%rod%step_jacobian(t_n, h, &
+                    x_n(place%state_offset + 1:place%state_offset + place%n_state), &
+                    y(place%unknown_offset + 1:place%unknown_offset + place%n_unknown), &
+                    member%values, status)
+                if (status /= state_valid) return
+                do p = 1, size(member%values)
+                    values(member%value_map(p)) = values(member%value_map(p)) + member%values(p)
+                end do
+            end associate
+        end do
+        do c = 1, size(this%couplings)
+            call this%couplings(c)%coupling%add_jacobian(this%layout, this%pattern, t_n, h, x_n, &
+                y, values)
+        end do
+    end subroutine system_step_jacobian
+
+    ! ---- Before and after a step ----------------------------------------------------------
+
+    subroutine system_prepare_step(this, t_n, h, x_n, repattern)
+        class(rod_system_t), intent(inout) :: this
+        real(rk), intent(in) :: t_n, h, x_n(:)
+        logical, intent(out) :: repattern
+        logical :: changed
+        integer :: c
+        repattern = .false.
+        do c = 1, size(this%couplings)
+            call this%couplings(c)%coupling%prepare_step(this%layout, x_n, changed)
+            repattern = repattern .or. changed
+        end do
+        if (repattern) call build_pattern(this)
+    end subroutine system_prepare_step
+
+    !> The members' energy terms and the Newton statistics into the ledger, then the work of
+    !> the coupling forces on each rod (booked as its external work: each rod's balance closes
+    !> by itself); step_energy sums the terms for the sentinel.
+    subroutine system_accept_step(this, t_n, h, x_n, x_1, newton_iterations, residual_norm)
+        class(rod_system_t), intent(inout) :: this
+        real(rk), intent(in) :: t_n, h, x_n(:), x_1(:)
+        integer, intent(in) :: newton_iterations
+        real(rk), intent(in) :: residual_norm
+        type(formulation_traits_t) :: traits
+        real(rk), allocatable :: y(:), force(:)
+        integer :: m, first, last, r
+        do m = 1, size(this%members)
+            associate (place => this%layout%members(m))
+                first = place%first_rod
+                last = first + place%n_rods - 1
+                call this%members(m)%rod%accept_step(t_n, h, &
+                    x_n(place%state_offset + 1:place%state_offset + place%n_state), &
+                    x_1(place%state_offset + 1:place%state_offset + place%n_state), &
+                    this%terms(first:last))
+                traits = this%members(m)%rod%traits()
+                call this%ledger%book_step(first, this%terms(first:last), h, newton_iterations, &
+                    residual_norm, traits%linear_step, traits%shared_balance)
+            end associate
+        end do
+        this%step_energy = step_energy_t(reported=all(this%terms%reported))
+        do r = 1, this%n_rods
+            if (.not. this%terms(r)%reported) cycle
+            this%step_energy%before = this%step_energy%before + this%terms(r)%before
+            this%step_energy%after = this%step_energy%after + this%terms(r)%after
+            this%step_energy%work = this%step_energy%work + this%terms(r)%work
+            this%step_energy%actuator_work = this%step_energy%actuator_work + this%terms(r)%actuator_work
+            this%step_energy%dissipated = this%step_energy%dissipated + this%terms(r)%dissipated
+        end do
+        if (size(this%couplings) == 0 .or. this%static) return
+        ! The coupling forces of the step (h times their generalized forces in the momentum
+        ! rows) at the accepted unknowns, all rows on every rank, and their work on each rod.
+        ! Work arrays out of `this` for the calls (no aliasing), back at the end.
+        call move_alloc(this%work_y, y)
+        call move_alloc(this%work_force, force)
+        call unknowns_of(this, x_1, y)
+        call resize(force, this%layout%n_unknown)
+        force = 0.0_rk
+        call coupling_forces(this, t_n, h, x_n, y, force)
+        call book_coupling_work(this, h, x_n, x_1, force)
+        call move_alloc(y, this%work_y)
+        call move_alloc(force, this%work_force)
+    end subroutine system_accept_step
+
+    subroutine coupling_forces(this, t_n, h, x_n, y, force)
+        type(rod_system_t), intent(inout) :: this
+        real(rk), intent(in) :: t_n, h, x_n(:), y(:)
+        real(rk), intent(inout) :: force(:)
+        integer :: c
+        do c = 1, size(this%couplings)
+            call this%couplings(c)%coupling%add_residual(this%layout, t_n, h, x_n, y, force, .true.)
+        end do
+    end subroutine coupling_forces
+
+    !> The work of the coupling forces on each member in a step, booked as the rod's external
+    !> work in the ledger.
+    subroutine book_coupling_work(this, h, x_n, x_1, force)
+        type(rod_system_t), intent(inout) :: this
+        real(rk), intent(in) :: h, x_n(:), x_1(:), force(:)
+        real(rk) :: work, step(max_node_coordinates), q_n(max_node_coordinates)
+        real(rk) :: q_1(max_node_coordinates)
+        integer :: m, k, nc, at
+        do m = 1, size(this%members)
+            associate (place => this%layout%members(m))
+                nc = place%nodes%n_coordinates
+                at = place%nodes%rotation_vector_at
+                work = 0.0_rk
+                do k = 1, place%nodes%n_nodes
+                    associate (rows => this%layout%momentum_rows(m, k, nc))
+                        if (any(rows <= 0)) cycle
+                        q_n(1:nc) = this%layout%node_state(m, k, x_n, nc)
+                        q_1(1:nc) = this%layout%node_state(m, k, x_1, nc)
+                        step(1:nc) = q_1(1:nc) - q_n(1:nc)
+                        if (at > 0) then
+                            ! Rows of body rotations: the step turns the node by T(psi_mid) dpsi.
+                            step(at:at + 2) = matmul(tangent_so3(0.5_rk * (q_n(at:at + 2) + &
+                                q_1(at:at + 2))), step(at:at + 2))
+                        end if
+                        work = work - dot_product(force(rows), step(1:nc)) / &
+                            this%layout%force_scale(m, h)
+                    end associate
+                end do
+                call this%ledger%book_work(place%first_rod, work)
+            end associate
+        end do
+    end subroutine book_coupling_work
+
+    !> Allocate v with length n unless it has it.
+    pure subroutine resize(v, n)
+        real(rk), allocatable, intent(inout) :: v(:)
+        integer, intent(in) :: n
+        if (allocated(v)) then
+            if (size(v) == n) return
+            deallocate(v)
+        end if
+        allocate(v(n))
+    end subroutine resize
+
+    !> The step unknowns that correspond to a state x (the nodes' coordinates and the coupling
+    !> unknowns; the rest zero).
+    subroutine unknowns_of(this, x, y)
+        type(rod_system_t), intent(in) :: this
+        real(rk), intent(in) :: x(:)
+        real(rk), allocatable, intent(inout) :: y(:)
+        integer :: m, k, i, nc
+        call resize(y, this%layout%n_unknown)
+        y = 0.0_rk
+        do m = 1, size(this%members)
+            associate (place => this%layout%members(m))
+                nc = place%nodes%n_coordinates
+                do k = 1, place%nodes%n_nodes
+                    associate (cols => this%layout%coordinate_cols(m, k, nc), &
+                            q => this%layout%node_state(m, k, x, nc))
+                        do i = 1, nc
+                            if (cols(i) > 0) y(cols(i)) = q(i)
+                        end do
+                    end associate
+                end do
+            end associate
+        end do
+        call unknown_blocks_from_state(this, x, y, owned_only=.false.)
+    end subroutine unknowns_of
+
+    ! ---- Records --------------------------------------------------------------------------
+
+    subroutine system_init_history(this, histories, capacity)
+        class(rod_system_t), intent(in) :: this
+        type(rod_history_t), intent(inout), target :: histories(:)
+        integer, intent(in) :: capacity
+        integer :: m, first, last
+        do m = 1, size(this%members)
+            first = this%layout%members(m)%first_rod
+            last = first + this%layout%members(m)%n_rods - 1
+            call this%members(m)%rod%init_history(histories(first:last), capacity)
+            if (size(this%couplings) > 0) call histories(first)%init_coupling(capacity)
+        end do
+    end subroutine system_init_history
+
+    !> The members' records of the state x at time t, the ledger's sums (then started again)
+    !> and the couplings' results.
+    subroutine system_record(this, histories, t, x)
+        class(rod_system_t), intent(inout) :: this
+        type(rod_history_t), intent(inout), target :: histories(:)
+        real(rk), intent(in) :: t, x(:)
+        real(rk), allocatable :: y(:)
+        integer :: m, first, last, i, r, stored(size(histories))
+        integer :: c
+        if (size(this%couplings) > 0) then
+            this%coupling_records = coupling_record_t()
+            call move_alloc(this%work_y, y)
+            call unknowns_of(this, x, y)
+            do c = 1, size(this%couplings)
+                call this%couplings(c)%coupling%add_results(this%layout, t, x, y, this%coupling_records)
+            end do
+            call move_alloc(y, this%work_y)
+        end if
+        stored = histories%n_stored
+        do m = 1, size(this%members)
+            associate (place => this%layout%members(m))
+                first = place%first_rod
+                last = first + place%n_rods - 1
+                call this%members(m)%rod%record(histories(first:last), t, &
+                    x(place%state_offset + 1:place%state_offset + place%n_state))
+                ! A record that found no room leaves the sums for the next one.
+                do i = first, last
+                    if (histories(i)%n_stored > stored(i)) call this%ledger%write_record(i, histories(i))
+                end do
+                if (size(this%couplings) == 0) cycle
+                r = histories(first)%n_stored
+                if (r == stored(first)) cycle
+                histories(first)%contact_energy(r) = this%coupling_records(m)%contact_energy
+                histories(first)%contact_force(:, r) = this%coupling_records(m)%contact_force
+                histories(first)%penetration(r) = this%coupling_records(m)%penetration
+                histories(first)%tie_force(:, :, r) = this%coupling_records(m)%tie_force
+            end associate
+        end do
+    end subroutine system_record
+
+    function system_describe(this) result(text)
+        class(rod_system_t), intent(in) :: this
+        character(len=:), allocatable :: text
+        integer :: m, c, p, n
+        if (this%direct) then
+            text = this%members(1)%rod%describe()
+            return
+        end if
+        text = 'system of ' // str(size(this%members)) // ' ' // this%formulation // ' rods ('
+        do m = 1, size(this%members)
+            if (m > 1) text = text // ', '
+            text = text // this%members(m)%name
+        end do
+        text = text // '): '
+        do c = 1, size(this%couplings)
+            text = text // this%couplings(c)%coupling%describe() // ', '
+        end do
+        text = text // str(this%layout%n_unknown) // ' Newton unknowns, ' // &
+            str(this%pattern%nnz()) // ' Jacobian non-zeros'
+        if (this%layout%n_ranks == 1) return
+        text = text // new_line('a') // 'partition over ' // str(this%layout%n_ranks) // &
+            ' ranks (METIS on the coupling graph):'
+        do p = 0, this%layout%n_ranks - 1
+            n = 0
+            text = text // new_line('a') // '  rank ' // str(p) // ':'
+            do m = 1, size(this%members)
+                if (this%layout%members(m)%part /= p) cycle
+                text = text // ' ' // this%members(m)%name
+                n = n + this%layout%members(m)%n_unknown
+            end do
+            text = text // ' (' // str(n) // ' rod unknowns)'
+        end do
+    end function system_describe
+
+    !> A single member's traits; a coupled system's (the energy scheme stays unchecked: the
+    !> rods' energies leave out the contact energy and the plates' work; the LU pivots, for
+    !> the tie multipliers):
+    !> - full Newton steps: the tie rows (positions, in m) and the momentum rows (h times
+    !>   forces) have different scales, and backtracking on their joint norm takes tiny steps
+    !>   where the full step converges quadratically (measured on the strand scenes,
+    !>   docs/theory/bundles.md); a failed step is still halved by the stepper;
+    !> - quasistatic runs end with the endpoint equilibrium, one Newton solve (no continuation).
+    function system_traits(this) result(traits)
+        class(rod_system_t), intent(in) :: this
+        type(formulation_traits_t) :: traits
+        traits = this%members(1)%rod%traits()
+        if (this%direct) return
+        traits = formulation_traits_t(full_newton=.true., &
+            wants_endpoint_solve=traits%wants_endpoint_solve)
+    end function system_traits
+
+    subroutine system_set_step_problem(this, endpoint, t_load, continue_from)
+        class(rod_system_t), intent(inout) :: this
+        logical, intent(in) :: endpoint
+        real(rk), intent(in) :: t_load
+        real(rk), intent(in), optional :: continue_from(:)
+        integer :: m, c
+        this%static = endpoint
+        if (this%direct) then
+            call this%members(1)%rod%set_step_problem(endpoint, t_load, continue_from)
+            return
+        end if
+        do m = 1, size(this%members)
+            call this%members(m)%rod%set_step_problem(endpoint, t_load)
+        end do
+        do c = 1, size(this%couplings)
+            call this%couplings(c)%coupling%set_endpoint(endpoint, t_load)
+        end do
+    end subroutine system_set_step_problem
+
+    !> The kinetic energy summed over the members (-1 if one does not report it) and the
+    !> largest rotation of any member.
+    function system_state_measures(this, x, from) result(measures)
+        class(rod_system_t), intent(in) :: this
+        real(rk), intent(in) :: x(:)
+        real(rk), intent(in), optional :: from(:)
+        type(state_measures_t) :: measures, one
+        integer :: m
+        if (this%direct) then
+            measures = this%members(1)%rod%state_measures(x, from)
+            return
+        end if
+        measures%kinetic_energy = 0.0_rk
+        do m = 1, size(this%members)
+            associate (place => this%layout%members(m))
+                if (present(from)) then
+                    one = this%members(m)%rod%state_measures(x(place%state_offset + 1: &
+                        place%state_offset + place%n_state), from(place%state_offset + 1: &
+                        place%state_offset + place%n_state))
+                else
+                    one = this%members(m)%rod%state_measures(x(place%state_offset + 1: &
+                        place%state_offset + place%n_state))
+                end if
+            end associate
+            if (one%kinetic_energy < 0.0_rk .or. measures%kinetic_energy < 0.0_rk) then
+                measures%kinetic_energy = -1.0_rk
+            else
+                measures%kinetic_energy = measures%kinetic_energy + one%kinetic_energy
+            end if
+            measures%largest_rotation = max(measures%largest_rotation, one%largest_rotation)
+        end do
+    end function system_state_measures
+
+    ! ---- Checkpoints ----------------------------------------------------------------------
+
+    subroutine system_canonical_state(this, x, canonical)
+        class(rod_system_t), intent(in) :: this
+        real(rk), intent(in) :: x(:)
+        real(rk), intent(out) :: canonical(:)
+        integer :: m, c, b
+        do m = 1, size(this%members)
+            associate (place => this%layout%members(m))
+                canonical(place%canonical_offset + 1:place%canonical_offset + place%n_state) = &
+                    x(place%state_offset + 1:place%state_offset + place%n_state)
+            end associate
+        end do
+        do c = 1, size(this%couplings)
+            associate (blocks => this%couplings(c)%coupling%blocks)
+                do b = 1, size(blocks)
+                    canonical(blocks(b)%canonical_offset + 1:blocks(b)%canonical_offset + &
+                        blocks(b)%size) = x(blocks(b)%state_offset + 1:blocks(b)%state_offset + &
+                        blocks(b)%size)
+                end do
+            end associate
+        end do
+    end subroutine system_canonical_state
+
+    subroutine system_from_canonical(this, canonical, x)
+        class(rod_system_t), intent(in) :: this
+        real(rk), intent(in) :: canonical(:)
+        real(rk), intent(out) :: x(:)
+        integer :: m, c, b
+        do m = 1, size(this%members)
+            associate (place => this%layout%members(m))
+                x(place%state_offset + 1:place%state_offset + place%n_state) = &
+                    canonical(place%canonical_offset + 1:place%canonical_offset + place%n_state)
+            end associate
+        end do
+        do c = 1, size(this%couplings)
+            associate (blocks => this%couplings(c)%coupling%blocks)
+                do b = 1, size(blocks)
+                    x(blocks(b)%state_offset + 1:blocks(b)%state_offset + blocks(b)%size) = &
+                        canonical(blocks(b)%canonical_offset + 1:blocks(b)%canonical_offset + &
+                        blocks(b)%size)
+                end do
+            end associate
+        end do
+    end subroutine system_from_canonical
+
+    pure integer function system_n_ledger(this)
+        class(rod_system_t), intent(in) :: this
+        system_n_ledger = ledger_entries * this%n_rods
+    end function system_n_ledger
+
+    subroutine system_save_ledger(this, values)
+        class(rod_system_t), intent(in) :: this
+        real(rk), intent(out) :: values(:)
+        call this%ledger%save(values)
+    end subroutine system_save_ledger
+
+    subroutine system_restore_ledger(this, values)
+        class(rod_system_t), intent(inout) :: this
+        real(rk), intent(in) :: values(:)
+        call this%ledger%restore(values)
+    end subroutine system_restore_ledger
+
+    ! ---- The coupling graph ---------------------------------------------------------------
+
+    subroutine system_coupling_graph(this, xadj, adjncy, weights)
+        class(rod_system_t), intent(in) :: this
+        integer, allocatable, intent(out) :: xadj(:), adjncy(:), weights(:)
+        logical :: edge(size(this%members), size(this%members))
+        integer :: c, k, m, t, n
+        if (size(this%couplings) == 0) then
+            allocate(xadj(0), adjncy(0), weights(0))
+            return
+        end if
+        edge = .false.
+        do c = 1, size(this%couplings)
+            call this%couplings(c)%coupling%add_edges(edge)
+        end do
+        n = size(this%members)
+        allocate(xadj(n + 1), weights(n))
+        allocate(adjncy(count(edge)))
+        xadj(1) = 0
+        k = 0
+        do m = 1, n
+            do t = 1, n
+                if (.not. edge(t, m)) cycle
+                k = k + 1
+                adjncy(k) = t - 1
+            end do
+            xadj(m + 1) = k
+            weights(m) = this%layout%members(m)%n_unknown
+        end do
+    end subroutine system_coupling_graph
+
+end module rs_system_rod_system
