@@ -199,7 +199,35 @@ contains
             end do
         end if
         call check_planar_systems(scene, errors)
+        call check_one_formulation_per_system(scene, errors)
     end subroutine check_capabilities
+
+    !> The rods of one coupled system (joints, plates, contact; rs_model_coupling) run on one
+    !> formulation: its couplings act in that formulation's coordinates and rows (ties in its
+    !> own coordinates, forces scaled as its rows are; src/system/). 'auto' is resolved per
+    !> system elsewhere.
+    subroutine check_one_formulation_per_system(scene, errors)
+        type(scene_t), intent(in) :: scene
+        type(error_list_t), intent(inout) :: errors
+        integer, allocatable :: system_of(:), first(:), members(:)
+        integer :: s, k, lead, other
+        call coupled_systems(scene, system_of, first, members)
+        do s = 1, size(first) - 1
+            lead = members(first(s))
+            if (trim(scene%rods(lead)%formulation) == 'auto') cycle
+            do k = first(s) + 1, first(s + 1) - 1
+                other = members(k)
+                if (trim(scene%rods(other)%formulation) == 'auto') cycle
+                if (scene%rods(other)%formulation == scene%rods(lead)%formulation) cycle
+                call errors%add(at(scene, scene%rods(other)%input_line) // '&rod formulation: ' // &
+                    'rod ''' // trim(scene%rods(other)%name) // ''' runs on ''' // &
+                    trim(scene%rods(other)%formulation) // ''' but is coupled (joints, plates ' // &
+                    'or contact) with rod ''' // trim(scene%rods(lead)%name) // ''' on ''' // &
+                    trim(scene%rods(lead)%formulation) // '''; the rods of one coupled system ' // &
+                    'run on one formulation' // see_matrix)
+            end do
+        end do
+    end subroutine check_one_formulation_per_system
 
 
     !> End plates and contact against `row` (rod `i`'s formulation, or the planar choice of

@@ -33,7 +33,7 @@ module rs_math_so3
     public :: tangent_so3, tangent_inverse_so3
     public :: exp_so3_derivative, tangent_so3_derivative, tangent_inverse_so3_derivative
     public :: tangent_so3_directional, tangent_inverse_so3_directional
-    public :: complement_rotation_vector, unit_vector
+    public :: complement_rotation_vector, nearest_rotation_vector, unit_vector
 
     !> Angle (radians) below which the scalar coefficients use their Taylor series.
     real(rk), parameter, public :: so3_series_angle = 0.5_rk
@@ -260,6 +260,22 @@ contains
             psi_c = (1.0_rk - 2.0_rk * pi * turns / angle) * psi
         end if
     end function complement_rotation_vector
+
+    !> Of psi and its complements psi (1 + 2 pi k / |psi|), k = -2..2 (the same rotation), the
+    !> one nearest to `near`: undoes a complement (eq. 40) taken between two states, so that a
+    !> step's increment is the one the rotation turned.
+    pure function nearest_rotation_vector(psi, near) result(best)
+        real(rk), intent(in) :: psi(3), near(3)
+        real(rk) :: best(3), candidate(3), angle
+        integer :: k
+        best = psi
+        angle = norm2(psi)
+        if (angle == 0.0_rk) return
+        do k = -2, 2
+            candidate = psi * (1.0_rk + 2.0_rk * pi * real(k, rk) / angle)
+            if (norm2(candidate - near) < norm2(best - near)) best = candidate
+        end do
+    end function nearest_rotation_vector
     ! Scalar coefficients of the SO(3) toolkit, functions of the angle x = |psi| >= 0
     ! (methods eqs. (74), (78), (79), (92)). Each `coef_d...` is the radial slope of the
     ! coefficient it names: d coef / d psi_k = coef_d... * psi_k.

@@ -26,7 +26,7 @@ module rs_system_rod_system
     use rs_assembly_csr_pattern, only: csr_builder_t, csr_pattern_t
     use rs_formulations_formulation, only: rod_formulation_t, formulation_traits_t, &
         state_measures_t, node_tie_t, state_valid, state_invalid, max_node_coordinates
-    use rs_math_so3, only: tangent_so3
+    use rs_math_so3, only: tangent_so3, nearest_rotation_vector
     use rs_formulations_energy_sentinel, only: step_energy_t
     use rs_formulations_descriptor, only: formulation_descriptor_t
     use rs_formulations_registry, only: descriptor_of
@@ -67,7 +67,7 @@ module rs_system_rod_system
         !> Coupling results of the members for the records.
         type(coupling_record_t), allocatable :: coupling_records(:)
         !> Work arrays of the book-keeping (kept between steps: no allocation in the time loop).
-        real(rk), allocatable :: work_y(:), work_force(:)
+        real(rk), allocatable :: work_y(:), work_force(:), work_x(:)
         type(step_energy_t), allocatable :: terms(:)
     contains
         procedure :: init => system_init
@@ -597,7 +597,7 @@ contains
         integer, intent(in) :: newton_iterations
         real(rk), intent(in) :: residual_norm
         type(formulation_traits_t) :: traits
-        real(rk), allocatable :: y(:), force(:)
+        real(rk), allocatable :: y(:), force(:), x_step(:)
         integer :: m, first, last, r
         do m = 1, size(this%members)
             associate (place => this%layout%members(m))
@@ -627,14 +627,40 @@ contains
         ! Work arrays out of `this` for the calls (no aliasing), back at the end.
         call move_alloc(this%work_y, y)
         call move_alloc(this%work_force, force)
-        call unknowns_of(this, x_1, y)
+        call move_alloc(this%work_x, x_step)
+        call resize(x_step, size(x_1))
+        x_step = x_1
+        call undo_complements(this, x_n, x_step)
+        call unknowns_of(this, x_step, y)
         call resize(force, this%layout%n_unknown)
         force = 0.0_rk
         call coupling_forces(this, t_n, h, x_n, y, force)
-        call book_coupling_work(this, h, x_n, x_1, force)
+        call book_coupling_work(this, h, x_n, x_step, force)
         call move_alloc(y, this%work_y)
         call move_alloc(force, this%work_force)
+        call move_alloc(x_step, this%work_x)
     end subroutine system_accept_step
+
+    !> Where a formulation's update replaced rotation vectors by their complements (se3_pg,
+    !> methods/se3_petrov_galerkin.md eq. 40), x_1 takes back the representative nearest to
+    !> x_n's, so that the step's unknowns and increments are the ones Newton took.
+    subroutine undo_complements(this, x_n, x_1)
+        type(rod_system_t), intent(in) :: this
+        real(rk), intent(in) :: x_n(:)
+        real(rk), intent(inout) :: x_1(:)
+        integer :: m, k, at, i
+        do m = 1, size(this%members)
+            associate (place => this%layout%members(m))
+                at = place%nodes%rotation_vector_at
+                if (at == 0) cycle
+                do k = 1, place%nodes%n_nodes
+                    if (any(place%nodes%state(at:at + 2, k) <= 0)) cycle
+                    i = place%state_offset + place%nodes%state(at, k)
+                    x_1(i:i + 2) = nearest_rotation_vector(x_1(i:i + 2), x_n(i:i + 2))
+                end do
+            end associate
+        end do
+    end subroutine undo_complements
 
     subroutine coupling_forces(this, t_n, h, x_n, y, force)
         type(rod_system_t), intent(inout) :: this
