@@ -615,11 +615,12 @@ contains
                 "'revolute': the position tied, relative rotation only about axis (a hinge); " // &
                 'in a planar formulation a pin about the plane normal (a shared nodal (x, y), ' // &
                 'each rod its own theta). Which kinds a formulation has: ' // &
-                'docs/user/capabilities.md. ph_director: a jointed end carries no &bc (a ' // &
-                'clamped or driven end cannot also be jointed) and is on no &plate.', &
+                'docs/user/capabilities.md. 3D formulations (ph_director, se3_pg): a jointed ' // &
+                'end carries no &bc (a clamped or driven end cannot also be jointed) and is ' // &
+                'on no &plate; the joined rods run on one formulation.', &
                 allowed='revolute|rigid|spherical', required=.true., example="'revolute'"), &
             spec_v('axis', 'real', '-', '(3D revolute: required)', &
-                'Revolute joints of 3D formulations (ph_director): the hinge axis in the ' // &
+                'Revolute joints of 3D formulations (ph_director, se3_pg): the hinge axis in the ' // &
                 'reference configuration (inertial components, normalized; not the zero ' // &
                 'vector; components not given are 0). It stays fixed in both end sections, ' // &
                 'which turn relative to each other about it only. Planar formulations turn ' // &
@@ -631,7 +632,7 @@ contains
         type(group_spec_t) :: g
         g%name = 'plate'
         g%repeatable = .true.
-        g%description = 'A rigid end plate to which rod ends are tied (ph_director): each ' // &
+        g%description = 'A rigid end plate to which rod ends are tied (ph_director, se3_pg): each ' // &
             'listed end keeps its reference position and orientation relative to the plate. ' // &
             'The plate is fixed, or driven: moved by f(t) displacement and turned by the ' // &
             'rotation vector f(t) rotation about centre (f the time function). The rods of a ' // &
@@ -642,7 +643,8 @@ contains
                 'plates), used in the plan and the output.', required=.true., example="'top'"), &
             spec_v('rods', 'string', '-', '(required)', 'The rods tied to the plate, 1 to ' // &
                 str(max_plate_rods) // ' names, each at most once (e.g. every wire of a strand); ' // &
-                'all ph_director.', count=1, max_count=max_plate_rods, required=.true., &
+                'all on one formulation with end plates (docs/user/capabilities.md).', count=1, &
+                max_count=max_plate_rods, required=.true., &
                 example="'core', 'wire1', 'wire2'"), &
             spec_v('end', 'string', '-', '(required)', 'The end of every listed rod that is ' // &
                 'tied to the plate (the same for all).', allowed='start|end', required=.true., &
@@ -665,7 +667,8 @@ contains
     function contact_group() result(g)
         type(group_spec_t) :: g
         g%name = 'contact'
-        g%description = 'Rod-rod and self contact between all rods of the scene (ph_director; ' // &
+        g%description = 'Rod-rod and self contact between all rods of the scene (ph_director, ' // &
+            'se3_pg; all rods on one formulation; ' // &
             'DESIGN.md §5): a penalty potential between the Gauss points of nearby elements, ' // &
             'energy consistent in the midpoint step, frictionless; candidate pairs come from a ' // &
             'cell grid rebuilt every step. With &contact all rods of the scene form one system, ' // &

@@ -25,7 +25,7 @@ module rs_system_rod_system
     use rs_model_rod_history, only: rod_history_t
     use rs_assembly_csr_pattern, only: csr_builder_t, csr_pattern_t
     use rs_formulations_formulation, only: rod_formulation_t, formulation_traits_t, &
-        state_measures_t, node_tie_t, state_valid, state_invalid, max_node_coordinates
+        state_measures_t, state_valid, state_invalid, max_node_coordinates
     use rs_math_so3, only: tangent_so3, nearest_rotation_vector
     use rs_formulations_energy_sentinel, only: step_energy_t
     use rs_formulations_descriptor, only: formulation_descriptor_t
@@ -34,7 +34,7 @@ module rs_system_rod_system
     use rs_system_layout, only: system_layout_t
     use rs_system_ledger, only: record_ledger_t, ledger_entries
     use rs_system_coupling, only: coupling_t, coupling_slot_t, coupling_record_t
-    use rs_system_tie_coupling, only: tie_coupling_t, tie_coupling_init
+    use rs_system_tie_coupling, only: tie_coupling_t, tie_coupling_init, tie_maker_t
     use rs_system_contact_coupling, only: contact_coupling_t, contact_coupling_init
     implicit none
     private
@@ -169,7 +169,7 @@ contains
 
     !> The ties (joints, plates) and contact the scene declares among the members.
     subroutine read_couplings(this, scene, err)
-        type(rod_system_t), intent(inout) :: this
+        type(rod_system_t), intent(inout), target :: this
         type(scene_t), intent(in) :: scene
         type(error_t), allocatable, intent(out) :: err
         type(tie_coupling_t), allocatable :: ties
@@ -178,6 +178,7 @@ contains
         integer, allocatable :: joint_ends(:, :)
         type(coupling_slot_t), allocatable :: list(:)
         type(formulation_traits_t) :: traits
+        type(tie_maker_t) :: makers(size(this%members))
         character(len=:), allocatable :: message
         integer :: m, n
         do m = 1, size(this%members)
@@ -188,7 +189,10 @@ contains
         allocate(joint_ends(4, 0))
         if (any_ties(scene)) then
             allocate(ties)
-            call tie_coupling_init(ties, scene, names, this%layout, new_member_tie, err)
+            do m = 1, size(this%members)
+                makers(m)%rod => this%members(m)%rod
+            end do
+            call tie_coupling_init(ties, scene, names, this%layout, makers, err)
             RS_RETURN_IF_ERROR(err)
             if (ties%count_ties() > 0) then
                 joint_ends = ties%joint_ends()
@@ -225,14 +229,6 @@ contains
             RS_SET_ERROR(err, 'rod_system%init', message)
             return
         end do
-    contains
-        subroutine new_member_tie(member, kind, q_a, q_b, axis, tie)
-            integer, intent(in) :: member
-            character(len=*), intent(in) :: kind
-            real(rk), intent(in) :: q_a(:), q_b(:), axis(3)
-            class(node_tie_t), allocatable, intent(out) :: tie
-            call this%members(member)%rod%new_tie(kind, q_a, q_b, axis, tie)
-        end subroutine new_member_tie
     end subroutine read_couplings
 
     pure logical function any_ties(scene)

@@ -20,7 +20,7 @@ module rs_system_tie_coupling
     use rs_model_scene, only: scene_t, unset_real
     use rs_model_time_function, only: time_function_t, time_function_from_plate
     use rs_assembly_csr_pattern, only: csr_builder_t, csr_pattern_t
-    use rs_formulations_formulation, only: node_tie_t, max_node_coordinates
+    use rs_formulations_formulation, only: rod_formulation_t, node_tie_t, max_node_coordinates
     use rs_system_layout, only: system_layout_t, coupling_block_t
     use rs_system_coupling, only: coupling_t, coupling_record_t
     implicit none
@@ -71,30 +71,22 @@ module rs_system_tie_coupling
 
     public :: tie_coupling_init
 
-    abstract interface
-        !> The formulation's tie of `kind` for member m (rod_formulation_t%new_tie).
-        subroutine new_tie_interface(m, kind, q_a, q_b, axis, tie)
-            import :: rk, node_tie_t
-            integer, intent(in) :: m
-            character(len=*), intent(in) :: kind
-            real(rk), intent(in) :: q_a(:), q_b(:), axis(3)
-            class(node_tie_t), allocatable, intent(out) :: tie
-        end subroutine new_tie_interface
-    end interface
-
-    public :: new_tie_interface
+    !> A member's formulation object, for its tie rows (rod_formulation_t%new_tie).
+    type, public :: tie_maker_t
+        class(rod_formulation_t), pointer :: rod => null()
+    end type tie_maker_t
 
 contains
 
     !> The joints among the members named `names` (scene order of the system) and the rod ends
-    !> tied to plates; `new_tie` gives the formulation's rows. The layout's node tables give
+    !> tied to plates; `makers(m)` gives member m's rows. The layout's node tables give
     !> the reference coordinates (rod_nodes_t%held).
-    subroutine tie_coupling_init(this, scene, names, layout, new_tie, err)
+    subroutine tie_coupling_init(this, scene, names, layout, makers, err)
         type(tie_coupling_t), intent(inout) :: this
         type(scene_t), intent(in) :: scene
         character(len=*), intent(in) :: names(:)
         type(system_layout_t), intent(in) :: layout
-        procedure(new_tie_interface) :: new_tie
+        type(tie_maker_t), intent(in) :: makers(:)
         type(error_t), allocatable, intent(out) :: err
         type(tie_entry_t), allocatable :: ties(:)
         integer :: j, p, i, n, m
@@ -119,7 +111,7 @@ contains
                         tie%member_b = member_named(names, joint%rod_b)
                         tie%node_a = end_node(layout, tie%member_a, joint%end_a)
                         tie%node_b = end_node(layout, tie%member_b, joint%end_b)
-                        call new_tie(tie%member_a, trim(joint%kind), &
+                        call makers(tie%member_a)%rod%new_tie(trim(joint%kind), &
                             layout%members(tie%member_a)%nodes%held(:, tie%node_a), &
                             layout%members(tie%member_b)%nodes%held(:, tie%node_b), joint%axis, &
                             tie%at_force)
@@ -139,7 +131,7 @@ contains
                         tie%plate = p
                         tie%member_a = m
                         tie%node_a = end_node(layout, m, scene%plates(p)%end)
-                        call new_tie(m, 'plate', layout%members(m)%nodes%held(:, tie%node_a), &
+                        call makers(m)%rod%new_tie('plate', layout%members(m)%nodes%held(:, tie%node_a), &
                             layout%members(m)%nodes%held(:, tie%node_a), [0.0_rk, 0.0_rk, 1.0_rk], &
                             tie%at_force)
                     end associate
