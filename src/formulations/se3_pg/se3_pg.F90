@@ -35,11 +35,13 @@ module rs_se3_pg
     use rs_model_rod_geometry, only: rod_geometry_t, rod_geometry_of, centreline_point, &
         centreline_frame
     use rs_math_so3, only: exp_so3, log_so3, hat, tangent_so3, tangent_so3_derivative, &
-        complement_rotation_vector
+        complement_rotation_vector, nearest_rotation_vector
     use rs_math_se3, only: log_se3, pose_relative
     use rs_assembly_csr_pattern, only: csr_builder_t, csr_pattern_t
     use rs_formulations_formulation, only: rod_formulation_t, formulation_traits_t, state_valid, &
-        state_invalid, step_energy_t
+        state_invalid, rod_nodes_t, node_tie_t, &
+        step_energy_t
+    use rs_se3_pg_tie, only: se3_pg_node_tie_t, se3_pg_node_tie
     use rs_se3_pg_element, only: se3_strains, se3_internal_force, se3_internal_tangent, &
         se3_element_mass, se3_gyroscopic, follower_force, dead_moment, se3_strain_energy
     implicit none
@@ -104,6 +106,8 @@ module rs_se3_pg
         procedure :: record => se3_record
         procedure :: describe => se3_describe
         procedure :: traits => se3_traits
+        procedure :: nodes => se3_nodes
+        procedure :: new_tie => se3_new_tie
         procedure, private :: full_q, nodal_loads, energies, midpoint_velocity, set_drives
     end type se3_pg_t
 
@@ -673,21 +677,6 @@ contains
             after=kinetic_1 + strain_1, work=work)
     end subroutine se3_accept_step
 
-    !> Of the rotation vectors psi and its complements psi (1 - 2 pi k / |psi|), the one nearest
-    !> to `near`.
-    pure function nearest_rotation_vector(psi, near) result(best)
-        real(rk), intent(in) :: psi(3), near(3)
-        real(rk) :: best(3), candidate(3), angle
-        integer :: k
-        best = psi
-        angle = norm2(psi)
-        if (angle == 0.0_rk) return
-        do k = -2, 2
-            candidate = psi * (1.0_rk + 2.0_rk * pi * real(k, rk) / angle)
-            if (norm2(candidate - near) < norm2(best - near)) best = candidate
-        end do
-    end function nearest_rotation_vector
-
     !> Kinetic energy 1/2 u^T M u (consistent mass) and strain energy sum_e l_e W(eps_e).
     subroutine energies(this, x, kinetic, strain)
         class(se3_pg_t), intent(in) :: this
@@ -798,7 +787,49 @@ contains
         class(se3_pg_t), intent(in) :: this
         type(formulation_traits_t) :: traits
         traits%full_newton = .true.
+        traits%equilibrium_steps = this%statics
     end function se3_traits
+
+    !> The node table for couplings (rs_formulations_formulation): coordinates q = (r, psi),
+    !> rows the virtual-displacement rows (I dr, K dphi) of the free ones, which carry forces
+    !> themselves (not times h) and body rotations; held values and reference coordinates from
+    !> the reference configuration (driven ends move: held_moves).
+    function se3_nodes(this) result(nodes)
+        class(se3_pg_t), intent(in) :: this
+        type(rod_nodes_t) :: nodes
+        integer :: i, k
+        nodes%n_coordinates = 6
+        nodes%n_nodes = this%n_nodes
+        nodes%n_elements = this%n_elements
+        nodes%degree = 1
+        nodes%n_gauss = 1
+        nodes%force_h_power = 0
+        nodes%rotation_vector_at = 4
+        nodes%held_moves = size(this%drives) > 0
+        allocate(nodes%element_length, source=this%element_length)
+        allocate(nodes%state(6, this%n_nodes), nodes%unknown(6, this%n_nodes), &
+            nodes%momentum(6, this%n_nodes), nodes%held(6, this%n_nodes))
+        do k = 1, this%n_nodes
+            do i = 1, 6
+                nodes%state(i, k) = 6 * (k - 1) + i
+            end do
+            nodes%held(:, k) = this%initial(6 * (k - 1) + 1:6 * k)
+        end do
+        nodes%unknown = this%unknown_of
+        nodes%momentum = this%unknown_of
+    end function se3_nodes
+
+    !> The tie of `kind` in se3_pg's coordinates (rs_se3_pg_tie); none for an unknown kind.
+    subroutine se3_new_tie(this, kind, q_a, q_b, axis, tie)
+        class(se3_pg_t), intent(in) :: this
+        character(len=*), intent(in) :: kind
+        real(rk), intent(in) :: q_a(:), q_b(:), axis(3)
+        class(node_tie_t), allocatable, intent(out) :: tie
+        type(se3_pg_node_tie_t) :: made
+        call se3_pg_node_tie(trim(kind), q_a(1:6), q_b(1:6), axis, made)
+        if (len_trim(made%kind) == 0 .or. made%n == 0) return
+        allocate(tie, source=made)
+    end subroutine se3_new_tie
 
     ! ---- Small helpers ----------------------------------------------------------------------
 

@@ -26,12 +26,16 @@ contains
             end_kinds='clamped|pinned|free|driven', &
             load_places='start|end|distributed|gravity', load_frames='spatial|follower', &
             constraints='none', quasistatic=.true., viscoelastic=.false., actuation=.false., &
-            curved_reference=.true., joints='', planar=.false., drive='pose')
+            curved_reference=.true., joints='rigid|spherical|revolute', end_plates=.true., &
+            contact=.true., planar=.false., drive='pose')
+        ! Joints, end plates and rod-rod contact through the system layer (src/system/) on
+        ! se3_pg's node access (se3_pg%nodes, its tie rows in rs_se3_pg_tie): issue 22 item 5.
+        d%system_couplings = .true.
         d%create => create
         d%plan_lines => plan_lines
     end function se3_pg_descriptor
 
-    !> One rod (se3_pg has no couplings yet).
+    !> One rod (its couplings are the system layer's).
     subroutine create(formulation)
         class(rod_formulation_t), allocatable, intent(out) :: formulation
         allocate(se3_pg_t :: formulation)

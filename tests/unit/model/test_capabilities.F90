@@ -189,7 +189,8 @@ contains
     end subroutine test_every_named_formulation_available
 
     ! seed 002 (issue 7): clamped and pinned ends, dead and follower end loads, distributed
-    ! loads and gravity, statics, curved references; no constraints, joints or planar limit.
+    ! loads and gravity, statics, curved references; joints, end plates and contact through the
+    ! system layer (issue 22 item 5); no constraints or planar limit.
     subroutine test_se3_pg_row()
         type(capability_t) :: row
         row = capability_of('se3_pg')
@@ -200,8 +201,8 @@ contains
         CHECK_TRUE(lists_name(row%load_places, 'gravity'), 'gravity')
         CHECK_TRUE(row%quasistatic .and. row%curved_reference, 'statics and curved references')
         CHECK_TRUE(.not. row%viscoelastic .and. .not. row%actuation .and. .not. row%planar, 'nothing more')
-        CHECK_EQUAL(trim(row%joints), '', 'no joints')
-        CHECK_TRUE(.not. row%end_plates .and. .not. row%contact, 'no end plates or contact')
+        CHECK_EQUAL(trim(row%joints), 'rigid|spherical|revolute', 'joints of every kind')
+        CHECK_TRUE(row%end_plates .and. row%contact, 'end plates and contact')
         CHECK_EQUAL(trim(row%drive), 'pose', 'driven by displacement and rotation')
         CHECK_TRUE(.not. row%relaxation, 'statics by load increments, not relaxation')
         CHECK_EQUAL(len_trim(row%end_kinds_at_end), 0, 'same end kinds at both ends')
