@@ -75,12 +75,18 @@ struct rs_stepper_traits {
    cols are then the whole pattern on every rank; the callbacks get the whole x_n, y
    (gathered) and fill the owned rows of f and of the values (other entries are ignored); x of
    advance is whole on every rank. A callback status is agreed by all ranks (the largest).
+   block_lengths (NULL, or n_blocks <= 1: one LU of the whole Jacobian): the unknowns in
+   n_blocks consecutive blocks (a coupled system: one per rod with the coupling unknowns it
+   owns; on several ranks each rank's range is whole blocks); the linear solver is then GMRES
+   with block Jacobi, every block factored exactly (docs/performance.md, "Bundles: block
+   Jacobi"); -ksp_type preonly -pc_type lu -pc_factor_mat_solver_type mumps restores the
+   direct solve.
    Returns 0, or non-zero with a message in errmsg (errlen bytes, NUL-terminated). */
 int rs_stepper_create(void **handle, int n_state, int n_unknown, const int *row_ptr,
                       const int *cols, rs_cb_residual residual, rs_cb_jacobian jacobian,
                       rs_cb_vec predictor, rs_cb_update update, rs_cb_poststep poststep,
                       void *ctx, const struct rs_stepper_traits *traits, const int *owned,
-                      char *errmsg, int errlen);
+                      int n_blocks, const int *block_lengths, char *errmsg, int errlen);
 
 /* Advance x from t_n to exactly t_n + dt: substeps of dt - (time done), each halved by the
    TS on Newton failure, so the step grows back after a cut. Outputs: accepted substeps,

@@ -10,7 +10,7 @@ reference is stress-free, tied at z = 0 to the fixed plate 'bottom' and at z = L
 function; &contact couples all wires (no self contact). docs/theory/bundles.md, "Strand
 geometry", describes what is built and which wires touch.
 
-    python3 scripts/make_strand.py SCENE.nml [--layers 1|2|3] [--wire-radius R]
+    python3 scripts/make_strand.py SCENE.nml [--layers 1..5] [--wire-radius R]
         [--core-radius R_core|auto] [--lay-angle DEG | --pitch P] [--length L]
         [--elements-per-wire N | --elements-per-pitch M] [--E ..] [--nu ..] [--density ..]
         [--stiffness K] [--margin ..] [--dt ..] [--t-end ..] [--pull ..] [--twist ..]
@@ -180,8 +180,8 @@ def parse_args(argv=None):
     p = argparse.ArgumentParser(description=__doc__.split('\n')[0],
                                 formatter_class=argparse.RawDescriptionHelpFormatter)
     p.add_argument('scene', help="scene file to write ('-': standard output)")
-    p.add_argument('--layers', type=int, default=1, choices=(1, 2, 3),
-                   help='helical layers: 1 -> 7 wires, 2 -> 19, 3 -> 37')
+    p.add_argument('--layers', type=int, default=1, choices=(1, 2, 3, 4, 5),
+                   help='helical layers: 1 -> 7 wires, 2 -> 19, 3 -> 37, 4 -> 61, 5 -> 91')
     p.add_argument('--wire-radius', type=float, default=1e-3, help='R of every wire (m)')
     p.add_argument('--core-radius', default=None,
                    help="core radius (m), or 'auto': the smallest >= R that keeps the wires "

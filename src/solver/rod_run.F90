@@ -296,12 +296,13 @@ contains
                 c_funloc(residual_callback), c_funloc(jacobian_callback), &
                 c_funloc(predictor_callback), c_funloc(update_callback), c_funloc(poststep_callback), &
                 c_loc(this%context), stepper_traits(this%solver, this%context%traits), err, &
-                owned=owned)
+                owned=owned, blocks=this%system%solver_blocks())
         else
             call this%stepper%create(this%context%n_state, this%context%n_unknown, row_ptr, cols, &
                 c_funloc(residual_callback), c_funloc(jacobian_callback), &
                 c_funloc(predictor_callback), c_funloc(update_callback), c_funloc(poststep_callback), &
-                c_loc(this%context), stepper_traits(this%solver, this%context%traits), err)
+                c_loc(this%context), stepper_traits(this%solver, this%context%traits), err, &
+                blocks=this%system%solver_blocks())
         end if
     end subroutine build_stepper
 

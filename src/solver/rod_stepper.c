@@ -440,9 +440,10 @@ static PetscErrorCode distributed_setup(RsStepper *s, const int *row_ptr, const 
 }
 
 static PetscErrorCode stepper_setup(RsStepper *s, const int *row_ptr, const int *cols,
-                                    const struct rs_stepper_traits *traits)
+                                    const struct rs_stepper_traits *traits, int n_blocks,
+                                    const int *block_lengths)
 {
-    char      defaults[768], mumps[160], message[1024];
+    char      defaults[1024], mumps[160], linear[320], message[1024];
     Vec       Y_template = NULL;
     SNES           snes;
     SNESLineSearch line_search;
@@ -480,12 +481,27 @@ static PetscErrorCode stepper_setup(RsStepper *s, const int *row_ptr, const int 
     else
         snprintf(mumps, sizeof(mumps), "-mat_mumps_icntl_14 50 -mat_mumps_icntl_7 0 "
                                        "-mat_mumps_cntl_1 0.01 -mat_mumps_icntl_13 0");
+    /* The linear solver: LU of the whole Jacobian, or, for a system given in blocks (one per
+       rod with the coupling unknowns it owns; docs/performance.md, "Bundles: block Jacobi"),
+       GMRES preconditioned by the exact LU of every rod's block (PCBJACOBI, each block
+       factored by the chain LU, rodchain), the couplings between the rods (contact) left to
+       the Krylov iterations. Its absolute tolerance is a tenth of newton_atol, so that the
+       residual the linear solve leaves is below what Newton accepts: Newton stops where it
+       stopped with LU (the energy and the tie rows hold as before); the relative test is off
+       (1e-12). */
+    if (n_blocks > 1)
+        snprintf(linear, sizeof(linear),
+                 "-ksp_type gmres -ksp_gmres_restart 100 -ksp_max_it 500 -ksp_rtol 1e-12 "
+                 "-ksp_atol %.17g -pc_type bjacobi -sub_ksp_type preonly -sub_pc_type lu "
+                 "-sub_pc_factor_mat_solver_type rodchain", 0.1 * traits->newton_atol);
+    else
+        snprintf(linear, sizeof(linear), "-ksp_type preonly -pc_type lu");
     snprintf(defaults, sizeof(defaults),
              "-snes_type %s -snes_atol %.17g -snes_rtol %.17g "
-             "-snes_stol 0 -snes_max_it %d -ksp_type preonly -pc_type lu %s "
+             "-snes_stol 0 -snes_max_it %d %s %s "
              "-ts_rodmid_max_cutbacks %d -ts_rodmid_reuse_jacobian %.17g",
              traits->linear_step ? "ksponly" : "newtonls", traits->newton_atol,
-             traits->newton_rtol, traits->max_newton, mumps, traits->max_cutbacks,
+             traits->newton_rtol, traits->max_newton, linear, mumps, traits->max_cutbacks,
              traits->linear_step ? 0.0 : traits->jacobian_reuse);
     PetscCheck(rs_petsc_apply_options(defaults, NULL, message, (int)sizeof(message)) == 0,
                PETSC_COMM_SELF, PETSC_ERR_LIB, "%s", message);
@@ -535,6 +551,16 @@ static PetscErrorCode stepper_setup(RsStepper *s, const int *row_ptr, const int 
     PetscCall(PCFactorSetMatSolverType(pc, s->distributed ? MATSOLVERMUMPS
                                            : traits->native_lu ? MATSOLVERPETSC
                                                                : MATSOLVERRODCHAIN));
+    /* The blocks of block Jacobi: given here (not an option), used if the options keep
+       -pc_type bjacobi. */
+    if (n_blocks > 1) {
+        PetscInt *lengths;
+        PetscCall(PetscMalloc1(n_blocks, &lengths));
+        for (int b = 0; b < n_blocks; ++b) lengths[b] = block_lengths[b];
+        PetscCall(PCSetType(pc, PCBJACOBI));
+        PetscCall(PCBJacobiSetTotalBlocks(pc, n_blocks, lengths));
+        PetscCall(PetscFree(lengths));
+    }
     /* banded_unknowns: the formulation numbered its unknowns for a narrow band (se3_strand's
        block-tridiagonal interleaving), which the natural ordering keeps: no fill at all, and
        0.6 to 0.9 of the time of nested dissection (docs/performance.md). */
@@ -585,8 +611,8 @@ static void stepper_free(RsStepper *s)
 int rs_stepper_create(void **handle, int n_state, int n_unknown, const int *row_ptr,
                       const int *cols, rs_cb_residual residual, rs_cb_jacobian jacobian,
                       rs_cb_vec predictor, rs_cb_update update, rs_cb_poststep poststep, void *ctx,
-                      const struct rs_stepper_traits *traits, const int *owned, char *errmsg,
-                      int errlen)
+                      const struct rs_stepper_traits *traits, const int *owned, int n_blocks,
+                      const int *block_lengths, char *errmsg, int errlen)
 {
     RsErrorCapture capture = {"", 0};
     RsStepper     *s;
@@ -626,7 +652,7 @@ int rs_stepper_create(void **handle, int n_state, int n_unknown, const int *row_
 
     enter_petsc(s);
     PetscPushErrorHandler(capture_error, &capture);
-    ierr = stepper_setup(s, row_ptr, cols, traits);
+    ierr = stepper_setup(s, row_ptr, cols, traits, block_lengths ? n_blocks : 0, block_lengths);
     PetscPopErrorHandler();
     leave_petsc(s);
     if (ierr) {

@@ -125,8 +125,8 @@ module rs_solver_rod_stepper
 
     interface
         integer(c_int) function rs_stepper_create(handle, n_state, n_unknown, row_ptr, cols, &
-                residual, jacobian, predictor, update, poststep, ctx, traits, owned, errmsg, &
-                errlen) bind(C)
+                residual, jacobian, predictor, update, poststep, ctx, traits, owned, n_blocks, &
+                block_lengths, errmsg, errlen) bind(C)
             import :: c_int, c_char, c_ptr, c_funptr, stepper_traits_t
             type(c_ptr), intent(out) :: handle
             integer(c_int), value :: n_state, n_unknown
@@ -135,6 +135,8 @@ module rs_solver_rod_stepper
             type(c_ptr), value :: ctx
             type(stepper_traits_t), intent(in) :: traits
             type(c_ptr), value :: owned
+            integer(c_int), value :: n_blocks
+            type(c_ptr), value :: block_lengths
             character(kind=c_char), intent(out) :: errmsg(*)
             integer(c_int), value :: errlen
         end function rs_stepper_create
@@ -213,9 +215,10 @@ contains
     !> n_state). `traits`: the Newton settings, defaults that `petsc_options` and the command
     !> line override, and the solver flags (stepper_traits_t; the LU package is the chain LU, or
     !> PETSc's own with `native_lu`; Newton backtracks unless `full_newton`; one linear solve per
-    !> step with `linear_step`).
+    !> step with `linear_step`). `blocks`: the unknowns in consecutive blocks (one per rod of a
+    !> coupled system), solved by GMRES with block Jacobi (rs_stepper_create).
     subroutine rod_stepper_create(this, n_state, n_unknown, row_ptr, cols, residual, jacobian, &
-            predictor, update, poststep, ctx, traits, err, owned)
+            predictor, update, poststep, ctx, traits, err, owned, blocks)
         class(rod_stepper_t), intent(inout) :: this
         integer, intent(in) :: n_state, n_unknown
         integer, intent(in) :: row_ptr(:), cols(:)
@@ -228,8 +231,10 @@ contains
         !> A system shared by all ranks (rs_stepper_create): this rank's 0-based ranges
         !> [state_lo, state_hi, unknown_lo, unknown_hi).
         integer, intent(in), optional :: owned(4)
+        integer, intent(in), optional :: blocks(:)
         integer(c_int), target :: owned_c(4)
-        type(c_ptr) :: owned_ptr
+        integer(c_int), allocatable, target :: blocks_c(:)
+        type(c_ptr) :: owned_ptr, blocks_ptr
         character(kind=c_char) :: message(message_length)
         character(len=:), allocatable :: problem
         integer(c_int) :: ierr
@@ -254,9 +259,16 @@ contains
             owned_c = int(owned, c_int)
             owned_ptr = c_loc(owned_c)
         end if
+        blocks_ptr = c_null_ptr
+        allocate(blocks_c(0))
+        if (present(blocks)) then
+            blocks_c = int(blocks, c_int)
+            if (size(blocks_c) > 1) blocks_ptr = c_loc(blocks_c)
+        end if
         ierr = rs_stepper_create(this%handle, int(n_state, c_int), int(n_unknown, c_int), &
             int(row_ptr, c_int), int(cols, c_int), residual, jacobian, predictor, update, &
-            poststep, ctx, traits, owned_ptr, message, int(message_length, c_int))
+            poststep, ctx, traits, owned_ptr, int(size(blocks_c), c_int), blocks_ptr, message, &
+            int(message_length, c_int))
         if (ierr /= 0) then
             this%handle = c_null_ptr
             RS_SET_ERROR(err, 'rod_stepper_create', from_c_string(message))

@@ -60,6 +60,10 @@ module rs_system_rod_system
         logical :: direct = .true.
         !> In the endpoint equilibrium solve.
         logical :: static = .false.
+        !> The scene is quasistatic; a joint ties two members (for the choice of the linear
+        !> solver, solver_blocks).
+        logical :: quasistatic = .false.
+        logical :: joined = .false.
         integer :: n_rods = 0
         character(len=:), allocatable :: formulation
         !> The energy terms of the last accepted step summed over the rods (the sentinel's).
@@ -106,7 +110,16 @@ module rs_system_rod_system
         procedure :: save_ledger => system_save_ledger
         procedure :: restore_ledger => system_restore_ledger
         procedure :: has_couplings
+        !> The blocks of block Jacobi for the linear solver (one per member with its coupling
+        !> unknowns, in the order of the unknowns), or none where one LU of the whole system
+        !> is faster (docs/performance.md, "Bundles: block Jacobi").
+        procedure :: solver_blocks
     end type rod_system_t
+
+    !> Members from which block Jacobi beats one LU of a dynamic coupled system without joints
+    !> (docs/performance.md, "Bundles: block Jacobi": 2 crossing rods 1.3 times slower, the
+    !> 7-wire strand 1.8 times faster, 19 wires 4.7, 37 wires 10.9).
+    integer, parameter :: block_jacobi_members = 7
 
 contains
 
@@ -157,6 +170,7 @@ contains
             end associate
         end do
         this%n_rods = first - 1
+        this%quasistatic = scene%time%quasistatic
         call this%ledger%init(this%n_rods)
         allocate(this%terms(this%n_rods))
         allocate(this%couplings(0))
@@ -196,6 +210,7 @@ contains
             RS_RETURN_IF_ERROR(err)
             if (ties%count_ties() > 0) then
                 joint_ends = ties%joint_ends()
+                this%joined = size(joint_ends, 2) > 0
                 n = n + 1
                 call move_alloc(ties, list(n)%coupling)
             end if
@@ -237,6 +252,43 @@ contains
         if (allocated(scene%joints)) any_ties = size(scene%joints) > 0
         if (allocated(scene%plates)) any_ties = any_ties .or. size(scene%plates) > 0
     end function any_ties
+
+    !> Block Jacobi over the members where it was measured faster than one LU: a dynamic
+    !> system (the rods' mass makes their own blocks dominant; in statics the contact couples
+    !> them as strongly as their stiffness: 2.9 times slower on the seven-wire strand's
+    !> statics, 1.6 on the pressed rods), without joints (a joint's multipliers tie two blocks:
+    !> 20 times slower on the jointed chain), of at least block_jacobi_members members.
+    function solver_blocks(this) result(lengths)
+        class(rod_system_t), intent(in) :: this
+        integer, allocatable :: lengths(:)
+        integer :: order(size(this%members)), m, k, next
+        allocate(lengths(0))
+        if (this%quasistatic .or. this%joined .or. size(this%members) < block_jacobi_members) return
+        ! Members in the order of their unknowns (by rank, then scene order); each block runs
+        ! to the next member's first unknown (its coupling blocks follow it, distribute).
+        order = [(m, m = 1, size(this%members))]
+        do m = 2, size(order)
+            k = order(m)
+            next = m - 1
+            do while (next >= 1)
+                if (this%layout%members(order(next))%unknown_offset <= &
+                    this%layout%members(k)%unknown_offset) exit
+                order(next + 1) = order(next)
+                next = next - 1
+            end do
+            order(next + 1) = k
+        end do
+        deallocate(lengths)
+        allocate(lengths(size(order)))
+        do m = 1, size(order)
+            if (m < size(order)) then
+                next = this%layout%members(order(m + 1))%unknown_offset
+            else
+                next = this%layout%n_unknown
+            end if
+            lengths(m) = next - this%layout%members(order(m))%unknown_offset
+        end do
+    end function solver_blocks
 
     pure logical function has_couplings(this)
         class(rod_system_t), intent(in) :: this

@@ -65,6 +65,7 @@ FAILURE = re.compile(r"(last SNES reason \w+|encounters zero diagonal|"
 ENVIRONMENT = {"OMPI_ALLOW_RUN_AS_ROOT": "1", "OMPI_ALLOW_RUN_AS_ROOT_CONFIRM": "1",
                "OPENBLAS_NUM_THREADS": "1", "OMP_NUM_THREADS": "1"}
 
+DIRECT_LU = ("-ksp_type", "preonly", "-pc_type", "lu", "-pc_factor_mat_solver_type", "mumps")
 DEFAULT = ("default", "")
 # The LU settings tried, (label, options): on 1 rank the matrix is sequential and centralized
 # (MUMPS may permute large entries onto the diagonal, ICNTL(6)), on 2 ranks it is distributed.
@@ -110,8 +111,11 @@ def run_bundle(args, text, ranks, options, name):
     scene = os.path.join(args.workdir, name + ".nml")
     with open(scene, "w", encoding="utf-8") as f:
         f.write(rs.set_variable(text, "output", "path", f"'{output}'"))
+    # The direct LU of the whole system (MUMPS), whose settings this bench compares; the
+    # default solver of these dynamic strands is block Jacobi since issue 23
+    # (tests/bench/bundle_block_bench.py).
     command = [args.mpiexec, "--oversubscribe", "-np", str(ranks), args.rodsolve, scene,
-               "-ksp_view", *options.split()]
+               "-ksp_view", *DIRECT_LU, *options.split()]
     started = time.perf_counter()
     result = subprocess.run(command, capture_output=True, text=True,
                             env=dict(os.environ, **ENVIRONMENT))
