@@ -484,8 +484,10 @@ static PetscErrorCode stepper_setup(RsStepper *s, const int *row_ptr, const int 
     /* The linear solver: LU of the whole Jacobian, or, for a system given in blocks (one per
        rod with the coupling unknowns it owns; docs/performance.md, "Bundles: block Jacobi"),
        GMRES preconditioned by the exact LU of every rod's block (PCBJACOBI, each block
-       factored by the chain LU, rodchain), the couplings between the rods (contact) left to
-       the Krylov iterations. Its absolute tolerance is a tenth of newton_atol, so that the
+       factored by sequential MUMPS with AMD: the chain LU cannot take a block whose plate-tie
+       multipliers, numbered after the rod, couple its two ends, and fell back to MUMPS for
+       every block, at the same speed), the couplings between the rods (contact) left to the
+       Krylov iterations. Its absolute tolerance is a tenth of newton_atol, so that the
        residual the linear solve leaves is below what Newton accepts: Newton stops where it
        stopped with LU (the energy and the tie rows hold as before); the relative test is off
        (1e-12). */
@@ -493,7 +495,8 @@ static PetscErrorCode stepper_setup(RsStepper *s, const int *row_ptr, const int 
         snprintf(linear, sizeof(linear),
                  "-ksp_type gmres -ksp_gmres_restart 100 -ksp_max_it 500 -ksp_rtol 1e-12 "
                  "-ksp_atol %.17g -pc_type bjacobi -sub_ksp_type preonly -sub_pc_type lu "
-                 "-sub_pc_factor_mat_solver_type rodchain", 0.1 * traits->newton_atol);
+                 "-sub_pc_factor_mat_solver_type mumps -sub_mat_mumps_icntl_7 0",
+                 0.1 * traits->newton_atol);
     else
         snprintf(linear, sizeof(linear), "-ksp_type preonly -pc_type lu");
     snprintf(defaults, sizeof(defaults),

@@ -20,7 +20,7 @@
 module rs_system_rod_system
     use rs_core_kinds, only: rk
     use rs_core_error, only: error_t, set_error
-    use rs_core_strings, only: str
+    use rs_core_strings, only: str, str_significant
     use rs_model_scene, only: scene_t, unset_real
     use rs_model_rod_history, only: rod_history_t
     use rs_assembly_csr_pattern, only: csr_builder_t, csr_pattern_t
@@ -749,6 +749,9 @@ contains
                     end associate
                 end do
                 call this%ledger%book_work(place%first_rod, work)
+                ! The sentinel sees the system's balance as the ledger does: the couplings'
+                ! work on the rods is external to each rod.
+                this%step_energy%work = this%step_energy%work + work
             end associate
         end do
     end subroutine book_coupling_work
@@ -876,11 +879,41 @@ contains
             end do
             text = text // ' (' // str(n) // ' rod unknowns)'
         end do
+        text = text // new_line('a') // partition_quality(this)
     end function system_describe
 
-    !> A single member's traits; a coupled system's (the energy scheme stays unchecked: the
-    !> rods' energies leave out the contact energy and the plates' work; the LU pivots, for
-    !> the tie multipliers):
+    !> The partition's edge cut (coupling-graph edges between members on different ranks, of
+    !> all edges: the couplings whose rows cross ranks) and load balance (the largest rank's
+    !> unknowns over the mean; 1 is perfect), for the log (issue 23 item 2).
+    function partition_quality(this) result(text)
+        type(rod_system_t), intent(in) :: this
+        character(len=:), allocatable :: text
+        integer, allocatable :: xadj(:), adjncy(:), weights(:)
+        integer :: m, k, cut, edges, p
+        real(rk) :: load(0:this%layout%n_ranks - 1)
+        call this%coupling_graph(xadj, adjncy, weights)
+        cut = 0
+        edges = 0
+        do m = 1, size(xadj) - 1
+            do k = xadj(m) + 1, xadj(m + 1)
+                edges = edges + 1
+                if (this%layout%members(adjncy(k) + 1)%part /= this%layout%members(m)%part) &
+                    cut = cut + 1
+            end do
+        end do
+        load = 0.0_rk
+        do m = 1, size(this%members)
+            p = this%layout%members(m)%part
+            load(p) = load(p) + real(this%layout%members(m)%n_unknown, rk)
+        end do
+        text = '  edge cut: ' // str(cut / 2) // ' of ' // str(edges / 2) // ' coupling-graph ' // &
+            'edges cross ranks; load balance (largest rank / mean unknowns): ' // &
+            str_significant(maxval(load) / max(sum(load) / size(load), 1.0_rk), 4)
+    end function partition_quality
+
+    !> A single member's traits; a coupled system's (the energy scheme is its rods': the
+    !> sentinel checks the sum of the rods' balances with the couplings' work on them as
+    !> external work, system_accept_step; the LU pivots, for the tie multipliers):
     !> - full Newton steps: the tie rows (positions, in m) and the momentum rows (h times
     !>   forces) have different scales, and backtracking on their joint norm takes tiny steps
     !>   where the full step converges quadratically (measured on the strand scenes,
@@ -892,7 +925,7 @@ contains
         traits = this%members(1)%rod%traits()
         if (this%direct) return
         traits = formulation_traits_t(full_newton=.true., &
-            wants_endpoint_solve=traits%wants_endpoint_solve)
+            wants_endpoint_solve=traits%wants_endpoint_solve, energy_scheme=traits%energy_scheme)
     end function system_traits
 
     subroutine system_set_step_problem(this, endpoint, t_load, continue_from)

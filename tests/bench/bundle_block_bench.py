@@ -9,7 +9,7 @@ the first layer), as tests/bench/bundle_bench.py runs them:
 - 19 wires at 1, 2, 4 and 8 lay lengths (the elements grow with the length);
 
 each with the default linear solver (GMRES with block Jacobi over the rods, every rod's block
-factored by the chain LU, rodchain; src/solver/rod_stepper.c) on 1 and 2 ranks, and the direct
+factored by sequential MUMPS; src/solver/rod_stepper.c) on 1 and 2 ranks, and the direct
 LU of the whole system (MUMPS, the path before issue 23: -ksp_type preonly -pc_type lu
 -pc_factor_mat_solver_type mumps) on 1 rank where it fits in the budget (DIRECT_UP_TO
 unknowns). Per case, from rodsolve's summary lines and -ksp_converged_reason: time per Newton
@@ -145,7 +145,7 @@ def table(rows):
             return "failed"
         return form.format(case[key]) if case[key] is not None else "-"
     lines = [measured_on() + "; dynamic strands, " + str(STEPS) + " steps of dt = 1e-5 s; "
-             "block Jacobi (GMRES, the chain LU per rod) on 1 and 2 ranks, the direct LU "
+             "block Jacobi (GMRES, an LU per rod) on 1 and 2 ranks, the direct LU "
              "(MUMPS) on 1 rank; medians.", "",
              "| wires | lay lengths | unknowns | s per Newton it., block 1 rank | per wire and "
              "lay length (ms) | Krylov its. per Newton it. | assembly / contact search / "
