@@ -97,8 +97,9 @@ contains
             ' system(s) (a rod, or rods coupled by &joint, &plate or &contact) on ' // &
             str(n_ranks) // ' rank(s), dealt by estimated cost (nodes; the largest first, each ' // &
             'to the least loaded rank), each solved on its own (no communication in the time ' // &
-            'loop but the flushes); on several ranks a ph_director bundle is solved by all ' // &
-            'ranks together (rods partitioned by METIS, MUMPS in parallel)')
+            'loop but the flushes); on several ranks a bundle is solved by all ranks ' // &
+            'together (rods partitioned by METIS; MUMPS in parallel, or GMRES with block ' // &
+            'Jacobi over the rods for dynamic bundles of 7 or more rods without joints)')
         system_rank = deal_by_cost(system_costs(scene, first, members), n_ranks)
         memory = run_memory_estimate(scene, n_ranks)
         if (memory%known) then
