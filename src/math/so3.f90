@@ -34,6 +34,7 @@ module rs_math_so3
     public :: exp_so3_derivative, tangent_so3_derivative, tangent_inverse_so3_derivative
     public :: tangent_so3_directional, tangent_inverse_so3_directional
     public :: complement_rotation_vector, nearest_rotation_vector, unit_vector
+    public :: perpendicular_pair
 
     !> Angle (radians) below which the scalar coefficients use their Taylor series.
     real(rk), parameter, public :: so3_series_angle = 0.5_rk
@@ -421,6 +422,20 @@ contains
             m(:, j) = u * v(j)
         end do
     end function outer
+
+    !> Unit vectors p, r with (e, p, r) a right-handed orthonormal triad, e a unit vector; p is
+    !> built from the coordinate axis least aligned with e, so it is well conditioned (the
+    !> hinge frames of revolute joints, rs_ph_director_tie and rs_se3_pg_tie).
+    pure subroutine perpendicular_pair(e, p, r)
+        real(rk), intent(in) :: e(3)
+        real(rk), intent(out) :: p(3), r(3)
+        real(rk) :: u(3)
+        u = 0.0_rk
+        u(minloc(abs(e), dim=1)) = 1.0_rk
+        p = [e(2) * u(3) - e(3) * u(2), e(3) * u(1) - e(1) * u(3), e(1) * u(2) - e(2) * u(1)]
+        p = p / norm2(p)
+        r = [e(2) * p(3) - e(3) * p(2), e(3) * p(1) - e(1) * p(3), e(1) * p(2) - e(2) * p(1)]
+    end subroutine perpendicular_pair
 
     !> The k-th unit vector e_k.
     pure function unit_vector(k) result(e)

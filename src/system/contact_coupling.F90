@@ -78,6 +78,7 @@ module rs_system_contact_coupling
         procedure :: add_results => contact_add_results
         procedure :: add_edges => contact_add_edges
         procedure :: describe => contact_describe
+        procedure :: pattern_entries => contact_pattern_entries
     end type contact_coupling_t
 
     public :: contact_coupling_init
@@ -600,6 +601,12 @@ contains
             edge(b, a) = .true.
         end do
     end subroutine contact_add_edges
+
+    !> A pair's block: the positions of two elements' nodes against each other (cubic: 24 x 24).
+    pure integer function contact_pattern_entries(this)
+        class(contact_coupling_t), intent(in) :: this
+        contact_pattern_entries = 400 * size(this%pattern_pairs, 2)
+    end function contact_pattern_entries
 
     function contact_describe(this) result(text)
         class(contact_coupling_t), intent(in) :: this

@@ -34,6 +34,9 @@ module rs_system_coupling
         !> the coupling acts at X_{n+1} with the poses of t_{n+1}, as in an endpoint solve.
         logical :: equilibrium_steps = .false.
     contains
+        !> About how many Jacobian entries the coupling adds (the pattern builder's first
+        !> allocation; it grows if short). Default: none.
+        procedure :: pattern_entries => default_pattern_entries
         !> Add the Jacobian blocks to the pattern being built, then find their positions in the
         !> built pattern.
         procedure(pattern_interface), deferred :: add_pattern
@@ -127,6 +130,11 @@ module rs_system_coupling
     end type coupling_slot_t
 
 contains
+
+    pure integer function default_pattern_entries(this)
+        class(coupling_t), intent(in) :: this
+        default_pattern_entries = 0
+    end function default_pattern_entries
 
     subroutine default_start(this, layout, x)
         class(coupling_t), intent(inout) :: this

@@ -136,11 +136,10 @@ contains
         type(formulation_descriptor_t) :: d
         integer :: m, n_members, first
         this%formulation = trim(scene%rods(rods(1))%formulation)
-        d = formulation_descriptor_t()
-        if (descriptor_of(this%formulation, d)) continue
         ! One member per rod where the couplings are the system's; one member for the rods a
-        ! formulation joins itself.
-        n_members = merge(size(rods), 1, d%system_couplings)
+        ! formulation joins itself (an unknown name: one member, whose creation reports it).
+        n_members = 1
+        if (descriptor_of(this%formulation, d)) n_members = merge(size(rods), 1, d%system_couplings)
         allocate(this%members(n_members))
         allocate(this%layout%members(n_members))
         first = 1
@@ -383,8 +382,10 @@ contains
         do m = 1, size(this%members)
             n_expected = n_expected + size(this%members(m)%cols)
         end do
-        call builder%init(this%layout%n_unknown, n_expected + 1024 * coupling_blocks(this) + &
-            400 * contact_pairs(this))
+        do c = 1, size(this%couplings)
+            n_expected = n_expected + this%couplings(c)%coupling%pattern_entries()
+        end do
+        call builder%init(this%layout%n_unknown, n_expected)
         do m = 1, size(this%members)
             associate (member => this%members(m))
                 uo = this%layout%members(m)%unknown_offset
@@ -414,27 +415,6 @@ contains
             call this%couplings(c)%coupling%map_pattern(this%layout, this%pattern)
         end do
     end subroutine build_pattern
-
-    pure integer function coupling_blocks(this)
-        type(rod_system_t), intent(in) :: this
-        integer :: c
-        coupling_blocks = 0
-        do c = 1, size(this%couplings)
-            coupling_blocks = coupling_blocks + size(this%couplings(c)%coupling%blocks)
-        end do
-    end function coupling_blocks
-
-    integer function contact_pairs(this)
-        type(rod_system_t), intent(in) :: this
-        integer :: c
-        contact_pairs = 0
-        do c = 1, size(this%couplings)
-            select type (contact => this%couplings(c)%coupling)
-            type is (contact_coupling_t)
-                contact_pairs = contact_pairs + size(contact%pattern_pairs, 2)
-            end select
-        end do
-    end function contact_pairs
 
     ! ---- Sizes and states -----------------------------------------------------------------
 

@@ -63,6 +63,7 @@ module rs_system_tie_coupling
         procedure :: add_results => ties_add_results
         procedure :: add_edges => ties_add_edges
         procedure :: describe => ties_describe
+        procedure :: pattern_entries => ties_pattern_entries
         !> Joint ends (member a, node a, member b, node b) per joint: contact leaves their
         !> neighbours alone.
         procedure :: joint_ends
@@ -495,6 +496,12 @@ contains
             edge(b, a) = .true.
         end subroutine connect
     end subroutine ties_add_edges
+
+    !> Two nodes' coordinates against each other and against the multipliers, both ways.
+    pure integer function ties_pattern_entries(this)
+        class(tie_coupling_t), intent(in) :: this
+        ties_pattern_entries = size(this%ties) * (4 * this%nc**2 + 4 * this%nc * 6)
+    end function ties_pattern_entries
 
     function ties_describe(this) result(text)
         class(tie_coupling_t), intent(in) :: this

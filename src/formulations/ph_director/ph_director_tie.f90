@@ -69,7 +69,7 @@
 !> the tied nodes] has full row rank, n + 12 for a joint, n + 6 for a plate.
 module rs_ph_director_tie
     use rs_core_kinds, only: rk
-    use rs_math_so3, only: exp_so3
+    use rs_math_so3, only: exp_so3, perpendicular_pair
     implicit none
     private
 
@@ -264,19 +264,6 @@ contains
             tie%a(j0 + l, i0 + l, k) = tie%a(j0 + l, i0 + l, k) + coef
         end do
     end subroutine add_bilinear
-
-    ! Unit vectors p, r with (e, p, r) a right-handed orthonormal triad, e a unit vector; p is
-    ! built from the coordinate axis least aligned with e, so it is well conditioned.
-    pure subroutine perpendicular_pair(e, p, r)
-        real(rk), intent(in) :: e(3)
-        real(rk), intent(out) :: p(3), r(3)
-        real(rk) :: u(3)
-        u = 0.0_rk
-        u(minloc(abs(e), dim=1)) = 1.0_rk
-        p = cross(e, u)
-        p = p / norm2(p)
-        r = cross(e, p)
-    end subroutine perpendicular_pair
 
     ! Director i of nodal coordinates q.
     pure function director(q, i) result(d)

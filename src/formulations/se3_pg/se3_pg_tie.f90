@@ -30,7 +30,7 @@
 !> differences in tests/unit/formulations/test_se3_pg_tie.F90.
 module rs_se3_pg_tie
     use rs_core_kinds, only: rk
-    use rs_math_so3, only: exp_so3, hat, tangent_so3, unit_vector
+    use rs_math_so3, only: exp_so3, hat, tangent_so3, unit_vector, perpendicular_pair
     use rs_formulations_formulation, only: node_tie_t
     implicit none
     private
@@ -256,17 +256,5 @@ contains
             hessian(10:12, 10:12) = matmul(hbb, tangent_so3(z(10:12)))
         end if
     end subroutine tie_force_hessian
-
-    !> p, r unit with (e, p, r) orthonormal and right-handed.
-    pure subroutine perpendicular_pair(e, p, r)
-        real(rk), intent(in) :: e(3)
-        real(rk), intent(out) :: p(3), r(3)
-        real(rk) :: trial(3)
-        trial = [1.0_rk, 0.0_rk, 0.0_rk]
-        if (abs(e(1)) > 0.9_rk) trial = [0.0_rk, 1.0_rk, 0.0_rk]
-        p = trial - dot_product(trial, e) * e
-        p = p / norm2(p)
-        r = matmul(hat(e), p)
-    end subroutine perpendicular_pair
 
 end module rs_se3_pg_tie

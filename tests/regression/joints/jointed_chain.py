@@ -188,9 +188,9 @@ def se3_pg(args, checks):
     position rows of the two joined nodes as +lambda and -lambda and the rods' internal forces
     have no net force (objectivity), so the sum of the position rows is (p_{n+1} - p_n) / h
     exactly up to the round-off of summing forces of O(10) N: linear momentum is kept to
-    round-off whatever the Newton residual. Measured (2 s, 200 steps): per step 4e-14, over
-    the run 3.2e-13, at |p| = 5.1. Bounds: 500 eps |p| per step (14 times the measured), and
-    500 eps |p| sqrt(steps) over the run (a random walk of per-step round-offs; 25 times).
+    round-off whatever the Newton residual. Measured (2 s, 200 steps): per step 4.5e-14, over
+    the run 2.0e-13, at |p| = 5.1. Bounds: 500 eps |p| per step (13 times the measured), and
+    500 eps |p| sqrt(steps) over the run (a random walk of per-step round-offs; 40 times).
     The joints: the position rows are linear in the positions (the pivot offset s is zero for
     coinciding reference ends), so every Newton update keeps them to round-off; the rotation
     rows (bilinear in Exp(psi_a), Exp(psi_b)) converge quadratically with the step and end at
