@@ -24,7 +24,7 @@ program rodsolve
     use rs_formulations_registry, only: registered_capabilities
     use rs_io_hdf5_info, only: hdf5_version
     use rs_solver_petsc_env, only: petsc_initialize, petsc_finalize, petsc_version, mumps_version
-    use rs_app_run_scene, only: run_scene
+    use rs_app_run_scene, only: run_scene, coupled_system_plans
     use rs_app_run_sweep, only: run_sweep, merge_sweep
     use rs_io_sweep, only: sweep_member_count
     use rs_io_output_guard, only: output_lock_t, check_output_target
@@ -68,7 +68,9 @@ program rodsolve
         call logger_init(world_rank(), level=log_level_from_name(trim(scene%run%log_level)), &
             quiet=cli%quiet)
         if (cli%action == 'check') then
-            call print_root(resolved_scene_text(scene) // scene_plan_text(scene, world_size()))
+            call print_root(resolved_scene_text(scene) // scene_plan_text(scene, world_size()) // &
+                plan_comment(coupled_system_plans(scene, err)))
+            if (allocated(err)) call stop_all(exit_input_error, 'rodsolve: ' // err%describe())
             call log_info('rodsolve: ' // cli%scene_file // ' is valid (' // str(size(scene%rods)) // &
                 ' rod(s)); nothing was run (--check-input)')
         else
@@ -94,6 +96,22 @@ program rodsolve
     call stop_all(0)
 
 contains
+
+    !> `text` as comment lines of the plan ('!   ' before each line).
+    function plan_comment(text) result(comment)
+        character(len=*), intent(in) :: text
+        character(len=:), allocatable :: comment
+        integer :: start, finish
+        comment = ''
+        start = 1
+        do while (start <= len(text))
+            finish = index(text(start:), new_line('a'))
+            if (finish == 0) finish = len(text) - start + 2
+            if (finish > 1) comment = comment // '!   ' // text(start:start + finish - 2) // &
+                new_line('a')
+            start = start + finish
+        end do
+    end function plan_comment
 
     !> PETSc options the user gave that nothing read (a misspelling, or an option of a solver
     !> the run does not use): a warning in the log and the result file's root attribute

@@ -12,7 +12,8 @@ module rs_app_run_scene
     use rs_core_kinds, only: rk
     use rs_core_error, only: error_t, set_error, exit_not_reached
     use rs_core_interrupt, only: interrupt_signal, signal_name
-    use rs_core_logger, only: log_info, log_debug, log_warning
+    use rs_core_logger, only: log_info, log_debug, log_warning, logger_level, logger_set_level, &
+        level_warning
     use rs_core_strings, only: str, str_significant
     use rs_core_timer, only: wall_time
     use rs_model_scene, only: scene_t
@@ -27,14 +28,14 @@ module rs_app_run_scene
     use rs_io_xdmf_writer, only: xdmf_rod_t, write_xdmf_sidecar
     use rs_solver_petsc_env, only: petsc_version
     use rs_solver_rod_stepper, only: petsc_apply_options, petsc_options_text
-    use rs_solver_rod_run, only: rod_runner_t, step_count
+    use rs_solver_rod_run, only: rod_runner_t, step_count, system_plan_text
     use rs_model_coupling, only: coupled_systems, system_costs
     use rs_formulations_registry, only: is_bundle
     use rs_parallel_deal, only: deal_by_cost
     implicit none
     private
 
-    public :: run_scene, run_meta, collective_failure
+    public :: run_scene, run_meta, collective_failure, coupled_system_plans
 
     !> The system of each rod, the rod's place among the system's rods, and each system's rods
     !> (members(first(k):first(k+1)-1)); set at the start of run_scene.
@@ -740,6 +741,29 @@ contains
             if (system_shared(k)) system_rank(k) = 0
         end do
     end subroutine mark_shared
+
+    !> The plans of the scene's coupled systems (rods joined by &joint or &plate, or all rods
+    !> with &contact) for --check-input: each built as a run builds it, with its linear solver
+    !> and, on several ranks, its partition (rs_solver_rod_run%system_plan_text).
+    function coupled_system_plans(scene, err) result(text)
+        type(scene_t), intent(in) :: scene
+        type(error_t), allocatable, intent(out) :: err
+        character(len=:), allocatable :: text
+        integer, allocatable :: system_of(:), first(:), members(:)
+        integer :: k, level
+        text = ''
+        call coupled_systems(scene, system_of, first, members)
+        ! The plan is a namelist file with comments: what building the systems logs stays out.
+        level = logger_level()
+        call logger_set_level(level_warning)
+        do k = 1, size(first) - 1
+            if (.not. is_bundle(scene, members(first(k):first(k + 1) - 1))) cycle
+            text = text // system_plan_text(scene, members(first(k):first(k + 1) - 1), &
+                .true., err) // new_line('a')
+            if (allocated(err)) exit
+        end do
+        call logger_set_level(level)
+    end function coupled_system_plans
 
     !> Rank that runs rod i (the owner of its system).
     integer function rod_owner(i)

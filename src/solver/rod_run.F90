@@ -27,7 +27,7 @@ module rs_solver_rod_run
     implicit none
     private
 
-    public :: step_count
+    public :: step_count, system_plan_text
 
     !> What PETSc's callbacks receive: the system, its traits and the vector sizes.
     type :: callback_context_t
@@ -263,9 +263,15 @@ contains
     subroutine distribute_system(this, err)
         type(rod_runner_t), intent(inout) :: this
         type(error_t), allocatable, intent(out) :: err
+        call partition_system(this%system, err)
+    end subroutine distribute_system
+
+    subroutine partition_system(system, err)
+        type(rod_system_t), intent(inout) :: system
+        type(error_t), allocatable, intent(out) :: err
         integer, allocatable :: xadj(:), adjncy(:), weights(:), part(:)
         integer :: i
-        call this%system%coupling_graph(xadj, adjncy, weights)
+        call system%coupling_graph(xadj, adjncy, weights)
         allocate(part(size(weights)))
         if (size(weights) <= world_size()) then
             part = [(i - 1, i = 1, size(weights))]
@@ -273,8 +279,29 @@ contains
             call partition_graph(xadj, adjncy, weights, world_size(), part, err)
             RS_RETURN_IF_ERROR(err)
         end if
-        call this%system%distribute(part, world_rank())
-    end subroutine distribute_system
+        call system%distribute(part, world_rank())
+    end subroutine partition_system
+
+    !> The plan of a coupled system of the scene's rods `rods` (--check-input): the system a
+    !> run builds, its linear solver and, shared by the ranks, its partition with the edge cut
+    !> and the load balance (issue 23 item 2), as the run logs them.
+    function system_plan_text(scene, rods, shared, err) result(text)
+        type(scene_t), intent(in) :: scene
+        integer, intent(in) :: rods(:)
+        logical, intent(in) :: shared
+        type(error_t), allocatable, intent(out) :: err
+        character(len=:), allocatable :: text
+        type(rod_system_t), allocatable :: system
+        text = ''
+        allocate(system)
+        call system%init(scene, rods, err)
+        RS_RETURN_IF_ERROR(err)
+        if (shared .and. world_size() > 1) then
+            call partition_system(system, err)
+            RS_RETURN_IF_ERROR(err)
+        end if
+        text = system%describe()
+    end function system_plan_text
 
     !> The stepper of the formulation's current pattern (again after a pattern change).
     subroutine build_stepper(this, err)

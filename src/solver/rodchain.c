@@ -16,6 +16,7 @@ typedef struct {
     rs_chain_lu *backward; /* the same chain from its other end (made at the first need) */
     rs_chain_lu *active;   /* the one of the last factorization; NULL: the fallback's */
     rs_chain_lu *preferred; /* the direction that worked last */
+    int         *order;    /* the chain order of `forward` (NULL: the matrix's own, ChainOrder) */
     Mat          A;        /* the matrix of the last factorization (referenced) */
     Mat          fallback; /* MUMPS, where neither direction could be factored */
     PetscReal    pivot_tol, check_tol, norm_A;
@@ -122,6 +123,75 @@ static PetscErrorCode MatSolve_RodChain(Mat F, Vec b, Vec x)
     PetscFunctionReturn(0);
 }
 
+/* Panels small enough for dense kernels (NULL: no chain at all). */
+static PetscBool NarrowPanels(const rs_chain_lu *lu)
+{
+    rs_chain_lu_info chain;
+    if (!lu) return PETSC_FALSE;
+    rs_chain_lu_get_info(lu, &chain);
+    return (PetscBool)(chain.largest_panel <= RODCHAIN_LARGEST_PANEL);
+}
+
+/* A chain order of a pattern that is a chain but not in its own order: a rod bordered by the
+   multipliers of the ties at its ends, numbered after it (one rod's block of a bundle's block
+   Jacobi, rs_system_rod_system: every tied end couples to the last rows, so the matrix's order
+   has one panel of the whole rod). Breadth-first from the first unknown over the symmetrized
+   pattern, the neighbours of each unknown in their order (Cuthill-McKee without the degree
+   sort): the levels follow the rod's elements, and a tie's multipliers come in the level of the
+   node they hold. Unknowns the search does not reach start a new search from the first of them.
+   Returns 0, 2 (out of memory). */
+static int ChainOrder(int n, const PetscInt *ia, const PetscInt *ja, int **result)
+{
+    int *t_ptr = calloc((size_t)n + 1, sizeof(int)), *t_rows = malloc(((size_t)ia[n] + 1) * sizeof(int));
+    int *fill = malloc(((size_t)n + 1) * sizeof(int)), *order = malloc((size_t)n * sizeof(int));
+    char *seen = calloc((size_t)n, 1);
+    int   head = 0, tail = 0, status = 0;
+
+    *result = NULL;
+    if (!t_ptr || !t_rows || !fill || !order || !seen) {
+        status = 2;
+        goto done;
+    }
+    /* The transposed pattern: who holds column j in its row. */
+    for (int k = 0; k < ia[n]; ++k) ++t_ptr[ja[k] + 1];
+    for (int j = 0; j < n; ++j) t_ptr[j + 1] += t_ptr[j];
+    for (int j = 0; j <= n; ++j) fill[j] = t_ptr[j];
+    for (int i = 0; i < n; ++i)
+        for (PetscInt k = ia[i]; k < ia[i + 1]; ++k) t_rows[fill[ja[k]]++] = i;
+    for (int first = 0; first < n; ++first) {
+        if (seen[first]) continue;
+        seen[first]    = 1;
+        order[tail++]  = first;
+        while (head < tail) {
+            const int u = order[head++];
+            /* Row u's columns and column u's rows, both sorted: merged in increasing order. */
+            PetscInt a = ia[u], b = t_ptr[u];
+            while (a < ia[u + 1] || b < t_ptr[u + 1]) {
+                int v;
+                if (b >= t_ptr[u + 1] || (a < ia[u + 1] && ja[a] <= t_rows[b])) {
+                    v = (int)ja[a++];
+                    if (b < t_ptr[u + 1] && t_rows[b] == v) ++b;
+                } else {
+                    v = t_rows[b++];
+                }
+                if (!seen[v]) {
+                    seen[v]       = 1;
+                    order[tail++] = v;
+                }
+            }
+        }
+    }
+    *result = order;
+    order   = NULL;
+done:
+    free(t_ptr);
+    free(t_rows);
+    free(fill);
+    free(order);
+    free(seen);
+    return status;
+}
+
 /* The chain from its other end: the same panels problem on the reversed order. */
 static PetscErrorCode BuildBackward(Mat_RodChain *rc, Mat A)
 {
@@ -134,7 +204,7 @@ static PetscErrorCode BuildBackward(Mat_RodChain *rc, Mat A)
     PetscCall(MatGetRowIJ(A, 0, PETSC_FALSE, PETSC_FALSE, &n, &ia, &ja, &done));
     PetscCheck(done, PETSC_COMM_SELF, PETSC_ERR_SUP, "rodchain: no CSR pattern of the matrix");
     PetscCall(PetscMalloc1(n, &perm));
-    for (PetscInt p = 0; p < n; ++p) perm[p] = n - 1 - p;
+    for (PetscInt p = 0; p < n; ++p) perm[p] = rc->order ? rc->order[n - 1 - p] : n - 1 - p;
     status = rs_chain_lu_symbolic_permuted((int)n, ia, ja, perm, &rc->backward);
     PetscCall(PetscFree(perm));
     PetscCall(MatRestoreRowIJ(A, 0, PETSC_FALSE, PETSC_FALSE, &n, &ia, &ja, &done));
@@ -266,21 +336,37 @@ static PetscErrorCode MatLUFactorSymbolic_RodChain(Mat F, Mat A, IS r, IS c,
     rs_chain_lu_free(rc->forward);
     rs_chain_lu_free(rc->backward);
     rc->forward = rc->backward = rc->active = rc->preferred = NULL;
+    free(rc->order);
+    rc->order = NULL;
     PetscCall(MatDestroy(&rc->fallback));
     PetscCall(MatGetRowIJ(A, 0, PETSC_FALSE, PETSC_FALSE, &n, &ia, &ja, &done));
     PetscCheck(done, PETSC_COMM_SELF, PETSC_ERR_SUP, "rodchain: no CSR pattern of the matrix");
     status = rs_chain_lu_symbolic((int)n, ia, ja, &rc->forward);
-    PetscCall(MatRestoreRowIJ(A, 0, PETSC_FALSE, PETSC_FALSE, &n, &ia, &ja, &done));
     PetscCheck(status == 0 || status == 3, PETSC_COMM_SELF,
                status == 2 ? PETSC_ERR_MEM : PETSC_ERR_ARG_WRONG,
                "rodchain: the chain could not be set up from the pattern (status %d)", status);
-    rc->preferred   = rc->forward;
-    rc->not_a_chain = (PetscBool)(status == 3);
-    if (!rc->not_a_chain) {
-        rs_chain_lu_info chain;
-        rs_chain_lu_get_info(rc->forward, &chain);
-        rc->not_a_chain = (PetscBool)(chain.largest_panel > RODCHAIN_LARGEST_PANEL);
+    rc->not_a_chain = (PetscBool)(status == 3 || !NarrowPanels(rc->forward));
+    if (rc->not_a_chain) {
+        /* Not a chain in the matrix's order: perhaps in a chain order (ChainOrder). */
+        rs_chain_lu *ordered = NULL;
+        status = ChainOrder((int)n, ia, ja, &rc->order);
+        PetscCheck(status == 0, PETSC_COMM_SELF, PETSC_ERR_MEM, "rodchain: out of memory");
+        status = rs_chain_lu_symbolic_permuted((int)n, ia, ja, rc->order, &ordered);
+        PetscCheck(status == 0 || status == 3, PETSC_COMM_SELF,
+                   status == 2 ? PETSC_ERR_MEM : PETSC_ERR_ARG_WRONG,
+                   "rodchain: the chain could not be set up from the pattern (status %d)", status);
+        if (status == 0 && NarrowPanels(ordered)) {
+            rs_chain_lu_free(rc->forward);
+            rc->forward     = ordered;
+            rc->not_a_chain = PETSC_FALSE;
+        } else {
+            rs_chain_lu_free(ordered);
+            free(rc->order);
+            rc->order = NULL;
+        }
     }
+    PetscCall(MatRestoreRowIJ(A, 0, PETSC_FALSE, PETSC_FALSE, &n, &ia, &ja, &done));
+    rc->preferred = rc->forward;
 
     F->ops->lufactornumeric = MatLUFactorNumeric_RodChain;
     PetscFunctionReturn(0);
@@ -338,6 +424,7 @@ static PetscErrorCode MatDestroy_RodChain(Mat F)
     if (rc) {
         rs_chain_lu_free(rc->forward);
         rs_chain_lu_free(rc->backward);
+        free(rc->order);
         PetscCall(MatDestroy(&rc->fallback));
         PetscCall(MatDestroy(&rc->A));
         PetscCall(VecDestroy(&rc->residual));

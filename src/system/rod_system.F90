@@ -845,7 +845,8 @@ contains
             text = text // this%couplings(c)%coupling%describe() // ', '
         end do
         text = text // str(this%layout%n_unknown) // ' Newton unknowns, ' // &
-            str(this%pattern%nnz()) // ' Jacobian non-zeros'
+            str(this%pattern%nnz()) // ' Jacobian non-zeros' // new_line('a') // &
+            'linear solver: ' // linear_solver_text(this)
         if (this%layout%n_ranks == 1) return
         text = text // new_line('a') // 'partition over ' // str(this%layout%n_ranks) // &
             ' ranks (METIS on the coupling graph):'
@@ -861,6 +862,31 @@ contains
         end do
         text = text // new_line('a') // partition_quality(this)
     end function system_describe
+
+    !> The default linear solver of the system's Newton steps and why (solver_blocks); PETSc's
+    !> options on the command line override it.
+    function linear_solver_text(this) result(text)
+        type(rod_system_t), intent(in) :: this
+        character(len=:), allocatable :: text
+        character(len=:), allocatable :: why
+        if (size(this%solver_blocks()) > 0) then
+            text = 'GMRES preconditioned (on the right) by block Jacobi over the ' // &
+                str(size(this%members)) // ' rods, each rod''s block factored by the chain ' // &
+                'LU, to a tenth of newton_atol (docs/performance.md, "Bundles: block Jacobi ' // &
+                'over the rods"; -ksp_type preonly -pc_type lu -pc_factor_mat_solver_type ' // &
+                'mumps selects the direct LU)'
+            return
+        end if
+        if (this%quasistatic) then
+            why = 'quasistatic'
+        else if (this%joined) then
+            why = 'joints tie the rods'' blocks together'
+        else
+            why = 'fewer than ' // str(block_jacobi_members) // ' rods'
+        end if
+        text = 'one LU of the whole system by MUMPS (' // why // ': block Jacobi would be ' // &
+            'slower, docs/performance.md, "Bundles: block Jacobi over the rods")'
+    end function linear_solver_text
 
     !> The partition's edge cut (coupling-graph edges between members on different ranks, of
     !> all edges: the couplings whose rows cross ranks) and load balance (the largest rank's
@@ -888,7 +914,7 @@ contains
         end do
         text = '  edge cut: ' // str(cut / 2) // ' of ' // str(edges / 2) // ' coupling-graph ' // &
             'edges cross ranks; load balance (largest rank / mean unknowns): ' // &
-            str_significant(maxval(load) / max(sum(load) / size(load), 1.0_rk), 4)
+            str(real(nint(1000 * maxval(load) / max(sum(load) / size(load), 1.0_rk)), rk) / 1000)
     end function partition_quality
 
     !> A single member's traits; a coupled system's (the energy scheme is its rods': the

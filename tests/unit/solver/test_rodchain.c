@@ -311,6 +311,12 @@ static void csr_free(csr_t *c)
    factor or a wrong package gives O(1). */
 static const double backward_bound = 16.0 * DBL_EPSILON;
 
+/* The same for a chain of 36 to 60 elements (800 to 1350 unknowns): the chain LU pivots within
+   its panels only, and its backward error grows along the chain (measured 0.6e-15 to 1.4e-14
+   over seeds and lengths, in the matrix's order and in the breadth-first chain order alike;
+   dgesv 2e-16); 1e-13 is 7 to 170 times that, while a wrong factor or order gives O(1). */
+static const double long_chain_backward_bound = 1e-13;
+
 /* The difference of two solutions relative to the second, over kappa (eta_1 + eta_2): to first
    order each is within kappa eta (1 + ||b|| / (||A|| ||x||)) <= 2 kappa eta of the exact one,
    kappa being the infinity-norm condition number (dgecon's estimate); achieved 0.01 to 0.2. */
@@ -401,6 +407,27 @@ static PetscErrorCode stats_of(KSP ksp, PetscInt *chain, PetscInt *fallback)
     PetscFunctionBeginUser;
     PetscCall(factor_of(ksp, &F, &type));
     PetscCall(rs_rodchain_get_stats(F, chain, fallback));
+    PetscFunctionReturn(0);
+}
+
+/* Solve m x = b for a random b; the normwise backward error of x. */
+static PetscErrorCode solve_backward_error(KSP ksp, const rod_matrix_t *m, double *eta)
+{
+    Vec                b, x;
+    const PetscScalar *v;
+    double            *bb = malloc((size_t)m->n * sizeof(double));
+
+    PetscFunctionBeginUser;
+    PetscCall(VecCreateSeq(PETSC_COMM_SELF, m->n, &b));
+    PetscCall(VecDuplicate(b, &x));
+    PetscCall(random_right_hand_side(m, b, bb));
+    PetscCall(KSPSolve(ksp, b, x));
+    PetscCall(VecGetArrayRead(x, &v));
+    *eta = backward_error(m, v, bb);
+    PetscCall(VecRestoreArrayRead(x, &v));
+    PetscCall(VecDestroy(&b));
+    PetscCall(VecDestroy(&x));
+    free(bb);
     PetscFunctionReturn(0);
 }
 
@@ -511,6 +538,69 @@ static PetscErrorCode test_matches_mumps(void)
     PetscCall(MatDestroy(&A));
     free(bb);
     free(x_ref);
+    rod_matrix_free(&m);
+    PetscFunctionReturn(0);
+}
+
+/* A rod bordered by the multipliers of ties at its two ends, numbered after it (one rod's
+   block of a bundle's block Jacobi): in the matrix's order the start node couples to the last
+   rows and the panels would hold the whole rod (more than RODCHAIN_LARGEST_PANEL = 400
+   unknowns), so rodchain factors it in its breadth-first chain order, by the chain, with the
+   backward error of a long chain in its own order. */
+static PetscErrorCode test_bordered_rod_in_chain_order(void)
+{
+    const int        ties = 6;
+    rod_shape_t      s    = plain_rod(40);
+    rod_matrix_t     rod, m;
+    Mat              A;
+    KSP              ksp;
+    csr_t            c;
+    rs_chain_lu     *lu = NULL;
+    rs_chain_lu_info natural;
+    PetscInt         chain, fallback;
+    int              primal[16], np, border[6];
+
+    PetscFunctionBeginUser;
+    rod_matrix_make(&s, 11, &rod);
+    m.n      = rod.n + 2 * ties;
+    m.a      = calloc((size_t)m.n * m.n, sizeof(double));
+    m.stored = calloc((size_t)m.n * m.n, 1);
+    for (int j = 0; j < rod.n; ++j)
+        for (int i = 0; i < rod.n; ++i) {
+            m.a[i + (size_t)j * m.n]      = rod.a[i + (size_t)j * rod.n];
+            m.stored[i + (size_t)j * m.n] = rod.stored[i + (size_t)j * rod.n];
+        }
+    for (int end = 0; end < 2; ++end) {
+        np = node_primal(&s, end == 0 ? 0 : s.n_elements, primal);
+        for (int k = 0; k < ties; ++k) border[k] = rod.n + end * ties + k;
+        set_block(&m, border, ties, primal, np);
+        set_block(&m, primal, np, border, ties);
+    }
+    csr_from(&m, &c);
+    natural.largest_panel = c.n;
+    if (rs_chain_lu_symbolic(c.n, c.row_ptr, c.cols, &lu) == 0) rs_chain_lu_get_info(lu, &natural);
+    rs_chain_lu_free(lu);
+    csr_free(&c);
+    printf("    n = %d; in the matrix's order the largest panel holds %d unknowns\n", m.n,
+           natural.largest_panel);
+    CHECK(natural.largest_panel > 400, "the matrix's order is no chain (largest panel %d)",
+          natural.largest_panel);
+    PetscCall(mat_create(&m, &A));
+    PetscCall(lu_ksp(A, MATSOLVERRODCHAIN, "bordered_", &ksp));
+    fallback_lines = 0;
+    {
+        double eta;
+        PetscCall(solve_backward_error(ksp, &m, &eta));
+        CHECK_BELOW(eta, long_chain_backward_bound, "bordered rod, chain order: backward error");
+    }
+    PetscCall(stats_of(ksp, &chain, &fallback));
+    printf("    rodchain: %d by the chain, %d by MUMPS\n", (int)chain, (int)fallback);
+    CHECK(chain == 1 && fallback == 0 && fallback_lines == 0,
+          "one factorization, by the chain: %d, %d (%d fallback messages)", (int)chain,
+          (int)fallback, fallback_lines);
+    PetscCall(KSPDestroy(&ksp));
+    PetscCall(MatDestroy(&A));
+    rod_matrix_free(&rod);
     rod_matrix_free(&m);
     PetscFunctionReturn(0);
 }
@@ -689,25 +779,14 @@ static PetscErrorCode test_nearly_singular_panel_caught_by_the_check(void)
     PetscCall(PetscOptionsSetValue(NULL, "-mat_rodchain_check_tol", "0"));
     PetscCall(lu_ksp(A, MATSOLVERRODCHAIN, "e2_", &ksp));
     {
-        Vec                b, x;
-        double            *bb = malloc((size_t)m.n * sizeof(double)), eta;
-        const PetscScalar *v;
-        PetscCall(VecCreateSeq(PETSC_COMM_SELF, m.n, &b));
-        PetscCall(VecDuplicate(b, &x));
-        PetscCall(random_right_hand_side(&m, b, bb));
-        PetscCall(KSPSolve(ksp, b, x));
-        PetscCall(VecGetArrayRead(x, &v));
-        eta = backward_error(&m, v, bb);
-        PetscCall(VecRestoreArrayRead(x, &v));
+        double eta;
+        PetscCall(solve_backward_error(ksp, &m, &eta));
         PetscCall(stats_of(ksp, &chain, &fallback));
         printf("    -mat_rodchain_check_tol 0: %d by the chain, %d by MUMPS, backward error "
                "%.3g\n", (int)chain, (int)fallback, eta);
         CHECK(chain == 1 && fallback == 0 && eta > 1e-10,
               "without the check the chain's factor stays: %d, %d, backward error %.3g",
               (int)chain, (int)fallback, eta);
-        PetscCall(VecDestroy(&b));
-        PetscCall(VecDestroy(&x));
-        free(bb);
     }
     PetscCall(PetscOptionsClearValue(NULL, "-mat_rodchain_check_tol"));
     PetscCall(KSPDestroy(&ksp));
@@ -907,6 +986,7 @@ int main(int argc, char **argv)
     PetscVFPrintf  = counting_vfprintf;
     run_test("matches_mumps", test_matches_mumps);
     run_test("options_select_the_package", test_options_select_the_package);
+    run_test("bordered_rod_in_chain_order", test_bordered_rod_in_chain_order);
     run_test("first_panel_singular_uses_reversed_chain",
              test_first_panel_singular_uses_reversed_chain);
     run_test("singular_from_both_ends_uses_mumps", test_singular_from_both_ends_uses_mumps);
