@@ -86,9 +86,11 @@ contains
     subroutine builder_build(this, pattern)
         class(csr_builder_t), intent(inout) :: this
         type(csr_pattern_t), intent(out) :: pattern
-        integer, allocatable :: start(:), bucket(:), fill(:)
-        integer :: i, k, r, first, last, n_unique
-        ! Counting sort of the pairs by row, then an insertion sort of each (short) row.
+        integer, allocatable :: start(:), bucket(:), fill(:), seen_in_row(:)
+        integer :: i, k, r, c, first, last, n_unique, n_cols
+        ! Counting sort of the pairs by row; in each row the duplicates are dropped with a
+        ! marker per column (a contact pair declares its block once per pair: rows of a bundle
+        ! hold each column many times) and the distinct columns sorted.
         allocate(start(this%n_rows + 1), source=0)
         do k = 1, this%n_pairs
             start(this%pair_row(k) + 1) = start(this%pair_row(k) + 1) + 1
@@ -104,6 +106,9 @@ contains
             bucket(fill(r)) = this%pair_col(k)
             fill(r) = fill(r) + 1
         end do
+        n_cols = 0
+        if (this%n_pairs > 0) n_cols = maxval(this%pair_col(1:this%n_pairs))
+        allocate(seen_in_row(n_cols), source=0)
         deallocate(this%pair_row, this%pair_col)
         this%n_pairs = 0
 
@@ -114,7 +119,15 @@ contains
         do r = 1, this%n_rows
             first = start(r)
             last = start(r + 1) - 1
-            call sort_unique(bucket(first:last), k)
+            k = 0
+            do i = first, last
+                c = bucket(i)
+                if (seen_in_row(c) == r) cycle
+                seen_in_row(c) = r
+                bucket(first + k) = c
+                k = k + 1
+            end do
+            call sort_ascending(bucket(first:first + k - 1))
             do i = 0, k - 1
                 n_unique = n_unique + 1
                 bucket(n_unique) = bucket(first + i)
@@ -124,29 +137,55 @@ contains
         pattern%cols = bucket(1:n_unique)
     end subroutine builder_build
 
-    !> Sort `values` in place and move the distinct ones to the front; `n` is their number.
-    pure subroutine sort_unique(values, n)
+    !> Sort distinct `values` ascending: insertion for a short row, heap sort (n log n) for a
+    !> long one (a bundle's contact rows hold hundreds of columns).
+    pure subroutine sort_ascending(values)
         integer, intent(inout) :: values(:)
-        integer, intent(out) :: n
-        integer :: i, j, key
-        do i = 2, size(values)
-            key = values(i)
-            j = i - 1
-            do while (j >= 1)
-                if (values(j) <= key) exit
-                values(j + 1) = values(j)
-                j = j - 1
+        integer :: i, j, key, n
+        n = size(values)
+        if (n <= 32) then
+            do i = 2, n
+                key = values(i)
+                j = i - 1
+                do while (j >= 1)
+                    if (values(j) <= key) exit
+                    values(j + 1) = values(j)
+                    j = j - 1
+                end do
+                values(j + 1) = key
             end do
-            values(j + 1) = key
+            return
+        end if
+        do i = n / 2, 1, -1
+            call sift_down(values, i, n)
         end do
-        n = min(1, size(values))
-        do i = 2, size(values)
-            if (values(i) /= values(n)) then
-                n = n + 1
-                values(n) = values(i)
+        do i = n, 2, -1
+            key = values(1)
+            values(1) = values(i)
+            values(i) = key
+            call sift_down(values, 1, i - 1)
+        end do
+    end subroutine sort_ascending
+
+    !> Restore the max-heap below `root` in values(1:last).
+    pure subroutine sift_down(values, root, last)
+        integer, intent(inout) :: values(:)
+        integer, intent(in) :: root, last
+        integer :: parent, child, key
+        parent = root
+        key = values(parent)
+        do
+            child = 2 * parent
+            if (child > last) exit
+            if (child < last) then
+                if (values(child + 1) > values(child)) child = child + 1
             end if
+            if (values(child) <= key) exit
+            values(parent) = values(child)
+            parent = child
         end do
-    end subroutine sort_unique
+        values(parent) = key
+    end subroutine sift_down
 
     !> Number of stored entries.
     pure integer function pattern_nnz(this)

@@ -125,6 +125,8 @@ contains
         real(rk) :: lambda_a, lambda_b, gap_n, gap_1, rc_safe, origin(3)
         real(rk) :: pa_n(3), pa_1(3), pb_n(3), pb_1(3), rn(3), r1(3), d2_n, d2_1, d2_min
         real(rk) :: w, f_a(3), f_b(3), t6(6, 6), block(3, 3), v_i, v_j
+        ! Element b's points at t_n and t_{n+1}, once per pair (not once per point of a).
+        real(rk) :: points_b_n(3, size(shape_b, 2)), points_b_1(3, size(shape_b, 2))
 
         n_a = size(shape_a, 1)
         n_b = size(shape_b, 1)
@@ -146,12 +148,16 @@ contains
         end if
 
         d2_min = huge(1.0_rk)
+        do h = 1, size(shape_b, 2)
+            points_b_n(:, h) = point(xb_n, shape_b(:, h), origin)
+            points_b_1(:, h) = point(xb_1, shape_b(:, h), origin)
+        end do
         do g = 1, size(shape_a, 2)
             pa_n = point(xa_n, shape_a(:, g), origin)
             pa_1 = point(xa_1, shape_a(:, g), origin)
             do h = 1, size(shape_b, 2)
-                pb_n = point(xb_n, shape_b(:, h), origin)
-                pb_1 = point(xb_1, shape_b(:, h), origin)
+                pb_n = points_b_n(:, h)
+                pb_1 = points_b_1(:, h)
                 rn = pa_n - pb_n
                 r1 = pa_1 - pb_1
                 d2_n = dot_product(rn, rn)
