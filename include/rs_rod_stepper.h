@@ -88,6 +88,14 @@ int rs_stepper_create(void **handle, int n_state, int n_unknown, const int *row_
                       void *ctx, const struct rs_stepper_traits *traits, const int *owned,
                       int n_blocks, const int *block_lengths, char *errmsg, int errlen);
 
+/* A system shared by the ranks (owned given to rs_stepper_create): the 0-based entries of the
+   state and of the unknowns this rank's callbacks read (its rows' rods and their neighbours);
+   before each evaluation only these are gathered into the whole-length arrays the callbacks
+   see (the others keep older values), instead of the whole system. Without this call, or on
+   one rank, everything is gathered. Returns 0, or non-zero with the message in errmsg. */
+int rs_stepper_set_needed(void *handle, int n_state, const int *state_entries, int n_unknown,
+                          const int *unknown_entries, char *errmsg, int errlen);
+
 /* Advance x from t_n to exactly t_n + dt: substeps of dt - (time done), each halved by the
    TS on Newton failure, so the step grows back after a cut. Outputs: accepted substeps,
    total halvings and Newton iterations over them, final residual norm of the last one.

@@ -307,7 +307,7 @@ contains
     subroutine build_stepper(this, err)
         type(rod_runner_t), intent(inout) :: this
         type(error_t), allocatable, intent(out) :: err
-        integer, allocatable :: row_ptr(:), cols(:)
+        integer, allocatable :: row_ptr(:), cols(:), state_entries(:), unknown_entries(:)
         integer :: owned(4)
         integer :: jacobians, floor_steps
         call this%system%jacobian_pattern(row_ptr, cols)
@@ -324,6 +324,9 @@ contains
                 c_funloc(predictor_callback), c_funloc(update_callback), c_funloc(poststep_callback), &
                 c_loc(this%context), stepper_traits(this%solver, this%context%traits), err, &
                 owned=owned, blocks=this%system%solver_blocks())
+            RS_RETURN_IF_ERROR(err)
+            call this%system%needed_entries(state_entries, unknown_entries)
+            call this%stepper%set_needed(state_entries, unknown_entries, err)
         else
             call this%stepper%create(this%context%n_state, this%context%n_unknown, row_ptr, cols, &
                 c_funloc(residual_callback), c_funloc(jacobian_callback), &

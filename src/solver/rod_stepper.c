@@ -42,6 +42,10 @@ typedef struct {
     MPI_Comm       comm;
     PetscInt       state_lo, state_hi, unknown_lo, unknown_hi;
     VecScatter     gather_state, gather_unknown;
+    /* The gathers of the evaluations: only the entries this rank's rows read (its rods and
+       their neighbours, rs_stepper_set_needed), or NULL: the whole system. */
+    VecScatter     needed_state, needed_unknown;
+    Vec            Y_layout;               /* a vector of Y's layout, for needed_unknown */
     Vec            x_all, x2_all, y_all;   /* sequential, whole length */
     PetscScalar   *f_all, *values_all, *out_all;
     PetscInt      *row_ptr_all, *cols_all; /* the whole CSR pattern (0-based) */
@@ -124,6 +128,17 @@ static PetscErrorCode gather(VecScatter scatter, Vec V, Vec all)
     PetscFunctionReturn(0);
 }
 
+/* The gathers before an evaluation: the needed entries where set, else the whole system. */
+static VecScatter state_gather(const RsStepper *s)
+{
+    return s->needed_state ? s->needed_state : s->gather_state;
+}
+
+static VecScatter unknown_gather(const RsStepper *s)
+{
+    return s->needed_unknown ? s->needed_unknown : s->gather_unknown;
+}
+
 /* Distributed mode: copy the owned part [lo, hi) of a whole-length array into V. */
 static PetscErrorCode scatter_owned(const PetscScalar *whole, PetscInt lo, PetscInt hi, Vec V)
 {
@@ -157,8 +172,8 @@ static PetscErrorCode call_gathered(RsStepper *s, rs_cb_residual callback, Petsc
     fenv_t             env;
 
     PetscFunctionBegin;
-    PetscCall(gather(s->gather_state, X_n, s->x_all));
-    PetscCall(gather(s->gather_unknown, Y, s->y_all));
+    PetscCall(gather(state_gather(s), X_n, s->x_all));
+    PetscCall(gather(unknown_gather(s), Y, s->y_all));
     PetscCall(VecGetArrayRead(s->x_all, &x));
     PetscCall(VecGetArrayRead(s->y_all, &y));
     enter_user(s, &env);
@@ -276,7 +291,7 @@ static PetscErrorCode step_predictor(PetscReal t_n, PetscReal h, Vec X_n, Vec Y,
 
     PetscFunctionBegin;
     if (s->distributed) {
-        PetscCall(gather(s->gather_state, X_n, s->x_all));
+        PetscCall(gather(state_gather(s), X_n, s->x_all));
         PetscCall(VecGetArrayRead(s->x_all, &x));
         enter_user(s, &env);
         status = s->predictor(s->ctx, t_n, h, x, s->out_all);
@@ -308,8 +323,8 @@ static PetscErrorCode step_update(PetscReal t_n, PetscReal h, Vec X_n, Vec Y, Ve
 
     PetscFunctionBegin;
     if (s->distributed) {
-        PetscCall(gather(s->gather_state, X_n, s->x_all));
-        PetscCall(gather(s->gather_unknown, Y, s->y_all));
+        PetscCall(gather(state_gather(s), X_n, s->x_all));
+        PetscCall(gather(unknown_gather(s), Y, s->y_all));
         PetscCall(VecGetArrayRead(s->x_all, &x));
         PetscCall(VecGetArrayRead(s->y_all, &y));
         enter_user(s, &env);
@@ -418,6 +433,8 @@ static PetscErrorCode distributed_setup(RsStepper *s, const int *row_ptr, const 
     PetscCall(VecScatterCreateToAll(s->X, &s->gather_state, &s->x_all));
     PetscCall(VecDuplicate(s->x_all, &s->x2_all));
     PetscCall(VecScatterCreateToAll(*Y_template, &s->gather_unknown, &s->y_all));
+    PetscCall(PetscObjectReference((PetscObject)*Y_template));
+    s->Y_layout = *Y_template;
     PetscCall(PetscMalloc1(s->n_unknown + 1, &s->row_ptr_all));
     PetscCall(PetscMalloc1(nnz, &s->cols_all));
     for (PetscInt i = 0; i <= s->n_unknown; ++i) s->row_ptr_all[i] = row_ptr[i];
@@ -601,6 +618,9 @@ static void stepper_free(RsStepper *s)
     VecDestroy(&s->X);
     VecScatterDestroy(&s->gather_state);
     VecScatterDestroy(&s->gather_unknown);
+    VecScatterDestroy(&s->needed_state);
+    VecScatterDestroy(&s->needed_unknown);
+    VecDestroy(&s->Y_layout);
     VecDestroy(&s->x_all);
     VecDestroy(&s->x2_all);
     VecDestroy(&s->y_all);
@@ -666,6 +686,70 @@ int rs_stepper_create(void **handle, int n_state, int n_unknown, const int *row_
         return (int)ierr;
     }
     *handle = s;
+    return 0;
+}
+
+/* A gather of the entries `entries` (0-based, n of them) of V into the same places of the
+   whole-length sequential `all`. */
+static PetscErrorCode needed_gather(Vec V, Vec all, int n, const int *entries, VecScatter *scatter)
+{
+    IS is;
+
+    PetscFunctionBegin;
+    PetscCall(ISCreateGeneral(PETSC_COMM_SELF, n, entries, PETSC_COPY_VALUES, &is));
+    PetscCall(VecScatterCreate(V, is, all, is, scatter));
+    PetscCall(ISDestroy(&is));
+    PetscFunctionReturn(0);
+}
+
+static PetscErrorCode stepper_set_needed(RsStepper *s, int n_state, const int *state_entries,
+                                         int n_unknown, const int *unknown_entries)
+{
+    PetscFunctionBegin;
+    PetscCall(VecScatterDestroy(&s->needed_state));
+    PetscCall(VecScatterDestroy(&s->needed_unknown));
+    PetscCall(needed_gather(s->X, s->x_all, n_state, state_entries, &s->needed_state));
+    PetscCall(needed_gather(s->Y_layout, s->y_all, n_unknown, unknown_entries,
+                            &s->needed_unknown));
+    PetscFunctionReturn(0);
+}
+
+int rs_stepper_set_needed(void *handle, int n_state, const int *state_entries, int n_unknown,
+                          const int *unknown_entries, char *errmsg, int errlen)
+{
+    RsErrorCapture capture = {"", 0};
+    RsStepper     *s       = (RsStepper *)handle;
+    PetscErrorCode ierr;
+
+    if (errmsg && errlen > 0) errmsg[0] = '\0';
+    if (!s || n_state < 0 || n_unknown < 0 || (n_state > 0 && !state_entries) ||
+        (n_unknown > 0 && !unknown_entries)) {
+        set_message(errmsg, errlen, "rod stepper: bad arguments to rs_stepper_set_needed");
+        return RS_STEPPER_BAD_ARGUMENT;
+    }
+    for (int k = 0; k < n_state; ++k)
+        if (state_entries[k] < 0 || state_entries[k] >= s->n_state) {
+            set_message(errmsg, errlen, "rod stepper: needed state entry %d outside [0, %d)",
+                        state_entries[k], (int)s->n_state);
+            return RS_STEPPER_BAD_ARGUMENT;
+        }
+    for (int k = 0; k < n_unknown; ++k)
+        if (unknown_entries[k] < 0 || unknown_entries[k] >= s->n_unknown) {
+            set_message(errmsg, errlen, "rod stepper: needed unknown %d outside [0, %d)",
+                        unknown_entries[k], (int)s->n_unknown);
+            return RS_STEPPER_BAD_ARGUMENT;
+        }
+    if (!s->distributed) return 0;
+    enter_petsc(s);
+    PetscPushErrorHandler(capture_error, &capture);
+    ierr = stepper_set_needed(s, n_state, state_entries, n_unknown, unknown_entries);
+    PetscPopErrorHandler();
+    leave_petsc(s);
+    if (ierr) {
+        set_petsc_message(errmsg, errlen, "rod stepper: the gathers could not be set up", ierr,
+                          &capture);
+        return (int)ierr;
+    }
     return 0;
 }
 

@@ -68,6 +68,8 @@ module rs_solver_rod_stepper
     contains
         !> Build the TS, its SNES/KSP/PC and the preallocated Jacobian (destroys an old one).
         procedure :: create => rod_stepper_create
+        !> A shared system: the entries this rank's evaluations read (rs_stepper_set_needed).
+        procedure :: set_needed => rod_stepper_set_needed
         !> Advance the state by exactly dt (with substeps and cut-backs).
         procedure :: advance => rod_stepper_advance
         !> The solver actually configured after all options.
@@ -140,6 +142,15 @@ module rs_solver_rod_stepper
             character(kind=c_char), intent(out) :: errmsg(*)
             integer(c_int), value :: errlen
         end function rs_stepper_create
+        integer(c_int) function rs_stepper_set_needed(handle, n_state, state_entries, &
+                n_unknown, unknown_entries, errmsg, errlen) bind(C)
+            import :: c_int, c_char, c_ptr
+            type(c_ptr), value :: handle
+            integer(c_int), value :: n_state, n_unknown
+            integer(c_int), intent(in) :: state_entries(*), unknown_entries(*)
+            character(kind=c_char), intent(out) :: errmsg(*)
+            integer(c_int), value :: errlen
+        end function rs_stepper_set_needed
         integer(c_int) function rs_stepper_advance(handle, t_n, dt, x, substeps, cutbacks, &
                 newton_its, fnorm, errmsg, errlen) bind(C)
             import :: c_int, c_double, c_char, c_ptr
@@ -276,6 +287,24 @@ contains
         end if
         this%n_state = n_state
     end subroutine rod_stepper_create
+
+    !> A system shared by the ranks: before each residual, Jacobian, predictor and update only
+    !> the 0-based entries `state_entries` of the state and `unknown_entries` of the unknowns
+    !> are gathered (the rods this rank's rows read, rs_system_rod_system%needed_entries).
+    subroutine rod_stepper_set_needed(this, state_entries, unknown_entries, err)
+        class(rod_stepper_t), intent(inout) :: this
+        integer, intent(in) :: state_entries(:), unknown_entries(:)
+        type(error_t), allocatable, intent(out) :: err
+        character(kind=c_char) :: message(message_length)
+        integer(c_int) :: ierr
+        message = c_null_char
+        ierr = rs_stepper_set_needed(this%handle, int(size(state_entries), c_int), &
+            int(state_entries, c_int), int(size(unknown_entries), c_int), &
+            int(unknown_entries, c_int), message, int(message_length, c_int))
+        if (ierr /= 0) then
+            RS_SET_ERROR(err, 'rod_stepper_set_needed', from_c_string(message))
+        end if
+    end subroutine rod_stepper_set_needed
 
     !> Advance `x` from X(t_n) to X(t_n + dt) in substeps: each tries the rest of dt and is
     !> halved by the TS when Newton fails, up to max_cutbacks times. Outputs: the number of

@@ -102,6 +102,9 @@ module rs_system_rod_system
         procedure :: distribute => system_distribute
         !> The 0-based half-open ranges [lo, hi) of the state and the unknowns this rank owns.
         procedure :: owned_range => system_owned_range
+        !> The 0-based entries of the state and of the unknowns this rank's rows read (the
+        !> members its rows couple to, whole), for the gathers of a shared system.
+        procedure :: needed_entries => system_needed_entries
         !> The state in the layout of one rank (checkpoints, DESIGN.md §7), and back.
         procedure :: canonical_state => system_canonical_state
         procedure :: from_canonical => system_from_canonical
@@ -437,6 +440,60 @@ contains
         unknown_hi = this%layout%unknown_hi
     end subroutine system_owned_range
 
+    !> A shared system's residual and Jacobian on this rank read the state and the unknowns
+    !> of its own members and of the members its rows couple to (the columns of its rows in
+    !> the Jacobian pattern: contact neighbours, tied rods), each member whole with the coupling
+    !> blocks it owns; rod_stepper.c gathers only these before each evaluation instead of the
+    !> whole system (docs/performance.md, "Bundles: block Jacobi over the rods").
+    subroutine system_needed_entries(this, state_entries, unknown_entries)
+        class(rod_system_t), intent(in) :: this
+        integer, allocatable, intent(out) :: state_entries(:), unknown_entries(:)
+        logical :: column(this%layout%n_unknown), needed(size(this%members))
+        integer :: m, r, n_state, n_unknown, i
+        column = .false.
+        do r = this%layout%unknown_lo + 1, this%layout%unknown_hi
+            column(this%pattern%cols(this%pattern%row_ptr(r):this%pattern%row_ptr(r + 1) - 1)) = &
+                .true.
+        end do
+        do m = 1, size(this%members)
+            call member_extent(this, m, n_state, n_unknown)
+            associate (place => this%layout%members(m))
+                needed(m) = this%layout%owns_member(m) .or. &
+                    any(column(place%unknown_offset + 1:place%unknown_offset + n_unknown))
+            end associate
+        end do
+        allocate(state_entries(0), unknown_entries(0))
+        do m = 1, size(this%members)
+            if (.not. needed(m)) cycle
+            call member_extent(this, m, n_state, n_unknown)
+            associate (place => this%layout%members(m))
+                state_entries = [state_entries, (place%state_offset + i - 1, i = 1, n_state)]
+                unknown_entries = [unknown_entries, &
+                    (place%unknown_offset + i - 1, i = 1, n_unknown)]
+            end associate
+        end do
+    end subroutine system_needed_entries
+
+    !> Entries of member m in the state and the unknowns with the coupling blocks it owns
+    !> (laid out after it, system_distribute).
+    subroutine member_extent(this, m, n_state, n_unknown)
+        type(rod_system_t), intent(in) :: this
+        integer, intent(in) :: m
+        integer, intent(out) :: n_state, n_unknown
+        integer :: c, b
+        n_state = this%layout%members(m)%n_state
+        n_unknown = this%layout%members(m)%n_unknown
+        do c = 1, size(this%couplings)
+            associate (blocks => this%couplings(c)%coupling%blocks)
+                do b = 1, size(blocks)
+                    if (blocks(b)%owner /= m) cycle
+                    n_state = n_state + blocks(b)%size
+                    n_unknown = n_unknown + blocks(b)%size
+                end do
+            end associate
+        end do
+    end subroutine member_extent
+
     subroutine system_jacobian_pattern(this, row_ptr, cols)
         class(rod_system_t), intent(in) :: this
         integer, allocatable, intent(out) :: row_ptr(:), cols(:)
@@ -547,7 +604,8 @@ contains
             call this%members(1)%rod%step_residual(t_n, h, x_n, y, f, status)
             return
         end if
-        f = 0.0_rk
+        ! Only this rank's rows are filled and read (rod_stepper.c takes the owned part).
+        f(this%layout%unknown_lo + 1:this%layout%unknown_hi) = 0.0_rk
         status = state_valid
         do c = 1, size(this%couplings)
             if (this%couplings(c)%coupling%admissible(this%layout, t_n, x_n, y)) cycle
@@ -579,7 +637,9 @@ contains
             call this%members(1)%rod%step_jacobian(t_n, h, x_n, y, values, status)
             return
         end if
-        values = 0.0_rk
+        ! Only this rank's rows are filled and read (rod_stepper.c takes the owned part).
+        values(this%pattern%row_ptr(this%layout%unknown_lo + 1): &
+            this%pattern%row_ptr(this%layout%unknown_hi + 1) - 1) = 0.0_rk
         status = state_valid
         do m = 1, size(this%members)
             if (.not. this%layout%owns_member(m)) cycle
