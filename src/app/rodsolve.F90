@@ -68,7 +68,8 @@ program rodsolve
         call logger_init(world_rank(), level=log_level_from_name(trim(scene%run%log_level)), &
             quiet=cli%quiet)
         if (cli%action == 'check') then
-            call print_root(resolved_scene_text(scene) // scene_plan_text(scene, world_size()) // &
+            call print_root(resolved_scene_text(scene) // &
+                scene_plan_text(scene, world_size()) // &
                 plan_comment(coupled_system_plans(scene, err)))
             if (allocated(err)) call stop_all(exit_input_error, 'rodsolve: ' // err%describe())
             call log_info('rodsolve: ' // cli%scene_file // ' is valid (' // str(size(scene%rods)) // &

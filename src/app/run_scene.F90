@@ -31,6 +31,8 @@ module rs_app_run_scene
     use rs_solver_rod_run, only: rod_runner_t, step_count, system_plan_text
     use rs_model_coupling, only: coupled_systems, system_costs
     use rs_formulations_registry, only: is_bundle
+    use rs_formulations_memory_estimate, only: memory_estimate_t, run_memory_estimate, &
+        available_memory_bytes
     use rs_parallel_deal, only: deal_by_cost
     implicit none
     private
@@ -751,8 +753,16 @@ contains
         character(len=:), allocatable :: text
         integer, allocatable :: system_of(:), first(:), members(:)
         integer :: k, level
+        type(memory_estimate_t) :: memory
         text = ''
         call coupled_systems(scene, system_of, first, members)
+        ! Built in full (not from 4 elements as the rods' lines): only what the run could build.
+        memory = run_memory_estimate(scene, world_size())
+        if (memory%known .and. memory%busiest_rank_bytes > available_memory_bytes()) then
+            text = 'coupled systems: not built (the run would not fit in memory, see above)' // &
+                new_line('a')
+            return
+        end if
         ! The plan is a namelist file with comments: what building the systems logs stays out.
         level = logger_level()
         call logger_set_level(level_warning)

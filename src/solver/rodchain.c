@@ -142,8 +142,10 @@ static PetscBool NarrowPanels(const rs_chain_lu *lu)
    Returns 0, 2 (out of memory). */
 static int ChainOrder(int n, const PetscInt *ia, const PetscInt *ja, int **result)
 {
-    int *t_ptr = calloc((size_t)n + 1, sizeof(int)), *t_rows = malloc(((size_t)ia[n] + 1) * sizeof(int));
-    int *fill = malloc(((size_t)n + 1) * sizeof(int)), *order = malloc((size_t)n * sizeof(int));
+    int  *t_ptr  = calloc((size_t)n + 1, sizeof(int));
+    int  *t_rows = malloc(((size_t)ia[n] + 1) * sizeof(int));
+    int  *fill   = malloc(((size_t)n + 1) * sizeof(int));
+    int  *order  = malloc((size_t)n * sizeof(int));
     char *seen = calloc((size_t)n, 1);
     int   head = 0, tail = 0, status = 0;
 

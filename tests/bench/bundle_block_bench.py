@@ -167,7 +167,8 @@ def main():
                 difference(one, direct) > args.tolerance:
             bad.append(f"{label}: block Jacobi and the direct LU differ by "
                        f"{difference(one, direct):.2e}")
-        if "failed" not in one and "failed" not in first and difference(one, first) > args.tolerance:
+        if "failed" not in one and "failed" not in first and \
+                difference(one, first) > args.tolerance:
             bad.append(f"{label}: the chain LU's and MUMPS's blocks differ by "
                        f"{difference(one, first):.2e}")
         rows.append((WIRES[layers], lengths, one, two, first, direct))
@@ -218,7 +219,8 @@ def table(rows):
                      f"{number(one, 'per_newton', '{:.4f}')} | {per_unit} | "
                      f"{number(one, 'krylov', '{:.1f}')} | {shares} | "
                      f"{number(two, 'per_newton', '{:.4f}')} | {ratio(one, two)} | "
-                     f"{number(first, 'per_newton', '{:.4f}')}, {number(first, 'krylov', '{:.1f}')} | "
+                     f"{number(first, 'per_newton', '{:.4f}')}, "
+                     f"{number(first, 'krylov', '{:.1f}')} | "
                      f"{ratio(first, one)} | {number(direct, 'per_newton', '{:.4f}')} | "
                      f"{ratio(direct, one)} | {newton} |")
     lines += ["", "2 ranks, the default: shares of rank 0's time loop (the vector exchanges: "
@@ -233,7 +235,8 @@ def table(rows):
         if "failed" in two:
             lines.append(f"| {wires} | {lengths} | failed | | | |")
             continue
-        lines.append(f"| {wires} | {lengths} | {two['assembly']:.2f} / {two['factorization']:.2f} / "
+        lines.append(f"| {wires} | {lengths} | {two['assembly']:.2f} / "
+                     f"{two['factorization']:.2f} / "
                      f"{two['krylov_share']:.2f} / {two['exchange']:.3f} | "
                      f"{number(two, 'messages', '{:.1f}')} | {number(two, 'bytes', '{:.0f}')} | "
                      f"{number(two, 'reductions', '{:.1f}')} |")
