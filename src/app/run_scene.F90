@@ -744,8 +744,8 @@ contains
         end do
     end subroutine mark_shared
 
-    !> The plans of the scene's coupled systems (rods joined by &joint or &plate, or all rods
-    !> with &contact) for --check-input: each built as a run builds it, with its linear solver
+    !> The plans of the scene's coupled systems (rods joined by &joint or &plate, all rods with
+    !> &contact, every rod with &obstacle) for --check-input: each built as a run builds it, with its linear solver
     !> and, on several ranks, its partition (rs_solver_rod_run%system_plan_text).
     function coupled_system_plans(scene, err) result(text)
         type(scene_t), intent(in) :: scene
@@ -767,13 +767,20 @@ contains
         level = logger_level()
         call logger_set_level(level_warning)
         do k = 1, size(first) - 1
-            if (.not. is_bundle(scene, members(first(k):first(k + 1) - 1))) cycle
+            if (.not. (is_bundle(scene, members(first(k):first(k + 1) - 1)) .or. &
+                has_obstacles(scene))) cycle
             text = text // system_plan_text(scene, members(first(k):first(k + 1) - 1), &
                 .true., err) // new_line('a')
             if (allocated(err)) exit
         end do
         call logger_set_level(level)
     end function coupled_system_plans
+
+    pure logical function has_obstacles(scene)
+        type(scene_t), intent(in) :: scene
+        has_obstacles = .false.
+        if (allocated(scene%obstacles)) has_obstacles = size(scene%obstacles) > 0
+    end function has_obstacles
 
     !> Rank that runs rod i (the owner of its system).
     integer function rod_owner(i)

@@ -9,7 +9,7 @@ module rs_formulations_plan
     use rs_core_kinds, only: rk
     use rs_core_error, only: error_t
     use rs_core_strings, only: str, text_buffer_t
-    use rs_model_scene, only: scene_t, step_count
+    use rs_model_scene, only: scene_t, step_count, obstacle_input_t
     use rs_model_units, only: unit_in_system
     use rs_model_coupling, only: coupled_systems, system_costs
     use rs_formulations_formulation, only: rod_formulation_t
@@ -113,6 +113,11 @@ contains
         else
             call add('memory: no estimate (a rod cannot be built; see its lines below)')
         end if
+        if (allocated(scene%obstacles)) then
+            do i = 1, size(scene%obstacles)
+                call add(obstacle_line(scene%obstacles(i)))
+            end do
+        end if
         do i = 1, size(scene%rods)
             rank = system_rank(system_of(i))
             if (n_ranks > 1 .and. is_bundle(scene, members(first(system_of(i)):first(system_of(i) + 1) - 1))) &
@@ -186,6 +191,34 @@ contains
             call buffer%append(piece)
         end subroutine append
     end function scene_plan_text
+
+    !> An obstacle for the plan: its kind, place, stiffness, and that every rod touches it.
+    function obstacle_line(obstacle) result(text)
+        type(obstacle_input_t), intent(in) :: obstacle
+        character(len=:), allocatable :: text
+        text = 'obstacle ''' // trim(obstacle%name) // ''': '
+        select case (trim(obstacle%kind))
+        case ('plane')
+            text = text // 'the ground, the plane through ' // vector_text(obstacle%point) // &
+                ' m with outward normal ' // vector_text(obstacle%normal)
+        case ('sphere')
+            text = text // 'a sphere of radius ' // str(obstacle%radius) // ' m about ' // &
+                vector_text(obstacle%point) // ' m'
+        case default
+            text = text // 'a cylinder of radius ' // str(obstacle%radius) // ' m about the ' // &
+                'axis through ' // vector_text(obstacle%point) // ' m along ' // &
+                vector_text(obstacle%normal)
+        end select
+        text = text // '; fixed, frictionless, stiffness ' // str(obstacle%stiffness) // &
+            ' N/m^3; every rod touches it with its contact_radius (&obstacle at line ' // &
+            str(obstacle%input_line) // ')'
+    end function obstacle_line
+
+    function vector_text(v) result(text)
+        real(rk), intent(in) :: v(3)
+        character(len=:), allocatable :: text
+        text = '(' // str(v(1)) // ', ' // str(v(2)) // ', ' // str(v(3)) // ')'
+    end function vector_text
 
     !> The sweep part of the plan ('' without &sweep): the number of members and how the sweeps
     !> combine, each swept variable with its number and range of values, and the values of the

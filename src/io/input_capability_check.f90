@@ -253,6 +253,14 @@ contains
                 'formulation ''' // trim(row%formulation) // ''' (rod ''' // trim(rod%name) // &
                 '''); with &contact every rod of the scene must run on a formulation with ' // &
                 'contact' // see_matrix)
+            ! Obstacles act through the same node access as contact (rs_system_obstacle_coupling).
+            if (allocated(scene%obstacles) .and. .not. row%contact) then
+                if (size(scene%obstacles) > 0) call errors%add(at(scene, &
+                    scene%obstacles(1)%input_line) // '&obstacle: obstacles are not available ' // &
+                    'for formulation ''' // trim(row%formulation) // ''' (rod ''' // &
+                    trim(rod%name) // '''); every rod of a scene with obstacles must run on a ' // &
+                    'formulation with contact' // see_matrix)
+            end if
         end associate
     end subroutine check_bundle_capabilities
 

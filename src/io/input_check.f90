@@ -14,7 +14,8 @@ module rs_io_input_check
     use rs_io_input_values, only: check_step_count, check_relaxation, check_output_and_restart, &
         resolve_rod, default_output_path
     use rs_io_input_cross_check, only: check_unique_names, check_bcs, check_loads, &
-        check_actuators, check_joints, resolve_joint_axes, resolve_plates, resolve_contact
+        check_actuators, check_joints, resolve_joint_axes, resolve_plates, resolve_contact, &
+        resolve_obstacles
     use rs_io_input_capability_check, only: resolve_auto_formulations, &
         resolve_formulation_options, check_joint_formulations, check_capabilities, &
         check_rod_capabilities
@@ -57,6 +58,7 @@ contains
         call resolve_joint_axes(scene)
         call resolve_plates(scene, geometry_ok, errors)
         call resolve_contact(scene, geometry_ok, errors)
+        call resolve_obstacles(scene, errors)
         ! 'auto' needs every rod, load and joint resolved: it looks at whole systems.
         call resolve_auto_formulations(scene)
         call resolve_formulation_options(scene)

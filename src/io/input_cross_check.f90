@@ -23,7 +23,7 @@ module rs_io_input_cross_check
     private
 
     public :: check_unique_names, check_bcs, check_loads, check_actuators, check_joints, &
-        resolve_joint_axes, resolve_plates, resolve_contact
+        resolve_joint_axes, resolve_plates, resolve_contact, resolve_obstacles
 
     !> Deviation from unit length or orthogonality that counts as round-off.
     real(rk), parameter :: round_off = 4.0_rk * epsilon(1.0_rk)
@@ -638,18 +638,25 @@ contains
         type(scene_t), intent(inout) :: scene
         logical, intent(in) :: geometry_ok(:)
         type(error_list_t), intent(inout) :: errors
-        character(len=:), allocatable :: here
+        character(len=:), allocatable :: here, user
         real(rk) :: r_max, h_min
         integer :: i
-        logical :: all_known
+        logical :: all_known, obstacles
         all_known = .true.
+        obstacles = .false.
+        if (allocated(scene%obstacles)) obstacles = size(scene%obstacles) > 0
+        if (scene%contact%given) then
+            user = '&contact (line ' // str(scene%contact%input_line) // ')'
+        else if (obstacles) then
+            user = '&obstacle (line ' // str(scene%obstacles(1)%input_line) // ')'
+        end if
         do i = 1, size(scene%rods)
             associate (rod => scene%rods(i))
                 here = at(scene, rod%input_line) // '&rod ''' // trim(rod%name) // ''' '
-                if (.not. scene%contact%given) then
+                if (.not. (scene%contact%given .or. obstacles)) then
                     if (rod%contact_radius /= unset_real) call errors%add(here // 'contact_radius: ' // &
-                        str(rod%contact_radius) // ' given, but the scene has no &contact group, ' // &
-                        'which is what uses it; remove it or add &contact')
+                        str(rod%contact_radius) // ' given, but the scene has no &contact or ' // &
+                        '&obstacle group, which is what uses it; remove it or add &contact')
                     cycle
                 end if
                 if (rod%contact_radius == unset_real) then
@@ -657,8 +664,8 @@ contains
                             rod%radius /= unset_real) then
                         rod%contact_radius = rod%radius
                     else
-                        call errors%add(here // 'contact_radius: required with &contact (line ' // &
-                            str(scene%contact%input_line) // ') for section = ''' // &
+                        call errors%add(here // 'contact_radius: required with ' // user // &
+                            ' for section = ''' // &
                             trim(rod%section) // ''' (only a circle or tube section gives it by ' // &
                             'default, its radius); give the radius of the rod''s surface')
                         all_known = .false.
@@ -673,5 +680,48 @@ contains
         if (scene%contact%margin == unset_real) scene%contact%margin = r_max
         if (scene%contact%skip == unset_int) scene%contact%skip = ceiling(3.0_rk * r_max / h_min) + 1
     end subroutine resolve_contact
+
+    !> The obstacles (&obstacle): unique names; a plane takes a normal and no radius, a sphere a
+    !> radius and no normal, a cylinder both; normals and axes are normalized.
+    subroutine resolve_obstacles(scene, errors)
+        type(scene_t), intent(inout) :: scene
+        type(error_list_t), intent(inout) :: errors
+        character(len=:), allocatable :: here
+        logical :: has_normal, has_radius, wants_normal, wants_radius
+        integer :: o, q
+        if (.not. allocated(scene%obstacles)) allocate(scene%obstacles(0))
+        do o = 1, size(scene%obstacles)
+            associate (obstacle => scene%obstacles(o))
+                here = at(scene, obstacle%input_line) // '&obstacle ''' // &
+                    trim(obstacle%name) // ''' '
+                do q = 1, o - 1
+                    if (scene%obstacles(q)%name == obstacle%name) call errors%add(here // &
+                        'name: also the name of the obstacle at line ' // &
+                        str(scene%obstacles(q)%input_line))
+                end do
+                has_normal = any(obstacle%normal /= unset_real)
+                has_radius = obstacle%radius /= unset_real
+                wants_normal = trim(obstacle%kind) /= 'sphere'
+                wants_radius = trim(obstacle%kind) /= 'plane'
+                if (wants_normal .and. .not. has_normal) call errors%add(here // 'normal: ' // &
+                    'required for kind = ''' // trim(obstacle%kind) // ''' (the plane''s ' // &
+                    'outward normal, the cylinder''s axis)')
+                if (.not. wants_normal .and. has_normal) call errors%add(here // 'normal: a ' // &
+                    'sphere takes none')
+                if (wants_radius .and. .not. has_radius) call errors%add(here // 'radius: ' // &
+                    'required for kind = ''' // trim(obstacle%kind) // '''')
+                if (.not. wants_radius .and. has_radius) call errors%add(here // 'radius: a ' // &
+                    'plane takes none')
+                if (has_normal) then
+                    where (obstacle%normal == unset_real) obstacle%normal = 0.0_rk
+                    if (norm2(obstacle%normal) == 0.0_rk) then
+                        call errors%add(here // 'normal: the zero vector')
+                    else
+                        obstacle%normal = obstacle%normal / norm2(obstacle%normal)
+                    end if
+                end if
+            end associate
+        end do
+    end subroutine resolve_obstacles
 
 end module rs_io_input_cross_check

@@ -92,7 +92,7 @@ contains
     !> All groups of the input language, in the order the reference documents them.
     function input_groups() result(groups)
         type(group_spec_t), allocatable :: groups(:)
-        allocate(groups(12))
+        allocate(groups(13))
         groups(1) = run_group()
         groups(2) = time_group()
         groups(3) = solver_group()
@@ -105,6 +105,7 @@ contains
         groups(10) = plate_group()
         groups(11) = contact_group()
         groups(12) = sweep_group()
+        groups(13) = obstacle_group()
     end function input_groups
 
     !> Index of group `name` in `groups`, 0 if unknown.
@@ -398,10 +399,11 @@ contains
             spec_v('radius', 'real', 'm', '-', 'Radius of a circle, outer radius of a tube.', &
                 lower=0.0_rk, lower_inclusive=.false., example='0.01'), &
             spec_v('contact_radius', 'real', 'm', 'circle, tube: radius', &
-                'Radius of the rod''s surface in rod-rod contact (&contact): two rods touch ' // &
+                'Radius of the rod''s surface in contact (&contact, &obstacle): two rods touch ' // &
                 'when their centrelines come within the sum of their contact radii. Default: ' // &
-                'the radius of a ''circle'' or ''tube'' section; required with &contact for ' // &
-                'other sections; only used with &contact (an error without it).', lower=0.0_rk, &
+                'the radius of a ''circle'' or ''tube'' section; required with &contact or ' // &
+                '&obstacle for other sections; used only with them (an error without).', &
+                lower=0.0_rk, &
                 lower_inclusive=.false., example='0.001'), &
             spec_v('inner_radius', 'real', 'm', '-', 'Inner radius of a tube.', lower=0.0_rk, &
                 example='0.008'), &
@@ -708,6 +710,39 @@ contains
                 "Friction: 'none' (frictionless normal contact; friction is not available in " // &
                 'this version).', allowed='none', example="'none'")]
     end function contact_group
+
+    function obstacle_group() result(g)
+        type(group_spec_t) :: g
+        g%name = 'obstacle'
+        g%repeatable = .true.
+        g%description = 'A rigid, fixed obstacle that every rod touches with its ' // &
+            'contact_radius (ph_director, se3_pg): the ground (''plane''), a ''sphere'' or ' // &
+            'an infinite ''cylinder''; frictionless penalty contact whose midpoint step ' // &
+            'keeps the energy exactly, and nothing tunnels through a plane ' // &
+            '(docs/theory/bundles.md, Obstacles).'
+        g%variables = [ &
+            spec_v('name', 'string', '-', '(required)', 'Name of the obstacle (unique among ' // &
+                'the obstacles), used in the plan.', required=.true., example="'ground'"), &
+            spec_v('kind', 'string', '-', '(required)', '''plane'': the half-space behind ' // &
+                'the plane through point with outward normal; ''sphere'': the ball of radius ' // &
+                'about point; ''cylinder'': the infinite cylinder of radius about the axis ' // &
+                'through point along normal.', allowed='plane|sphere|cylinder', required=.true., &
+                example="'plane'"), &
+            spec_v('point', 'real', 'm', '0, 0, 0', 'A point of the plane, the centre of ' // &
+                'the sphere, a point of the cylinder''s axis (inertial components).', count=3, &
+                example='0, 0, -0.1'), &
+            spec_v('normal', 'real', '-', '(plane, cylinder: required)', 'The plane''s ' // &
+                'outward normal (rods stay on its side), or the cylinder''s axis; normalized, ' // &
+                'not the zero vector. A sphere takes none.', count=3, example='0, 0, 1'), &
+            spec_v('radius', 'real', 'm', '(sphere, cylinder: required)', 'Radius of the ' // &
+                'sphere or the cylinder. A plane takes none.', lower=0.0_rk, &
+                lower_inclusive=.false., example='0.5'), &
+            spec_v('stiffness', 'real', 'N/m^3', '(required)', 'Penalty stiffness k: a ' // &
+                'centreline point that penetrates the surface by delta (its distance below ' // &
+                'its contact_radius) carries the force k delta^2 per length; a rod of weight ' // &
+                'w per length resting on the ground penetrates sqrt(w / k).', lower=0.0_rk, &
+                lower_inclusive=.false., required=.true., example='1e9')]
+    end function obstacle_group
 
     function sweep_group() result(g)
         type(group_spec_t) :: g

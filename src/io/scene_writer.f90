@@ -13,7 +13,7 @@ module rs_io_scene_writer
     use rs_io_input_spec, only: group_spec_t, input_groups, find_group, find_variable, split_condition
     use rs_model_scene, only: section_derived_names, scene_t, run_input_t, time_input_t, solver_input_t, output_input_t, &
         rod_input_t, bc_input_t, load_input_t, actuator_input_t, joint_input_t, plate_input_t, &
-        contact_input_t, sweep_input_t, sweep_values
+        contact_input_t, sweep_input_t, sweep_values, obstacle_input_t
     implicit none
     private
 
@@ -46,6 +46,7 @@ contains
         type(joint_input_t) :: joint
         type(plate_input_t) :: plate
         type(contact_input_t) :: contact
+        type(obstacle_input_t) :: obstacle
         namelist /run_nml/ run
         namelist /time_nml/ time
         namelist /solver_nml/ solver
@@ -57,6 +58,7 @@ contains
         namelist /joint_nml/ joint
         namelist /plate_nml/ plate
         namelist /contact_nml/ contact
+        namelist /obstacle_nml/ obstacle
         integer :: i
 
         ! Each group's text ends at its '/' line (tidy_group reads no further), so the lines
@@ -118,6 +120,13 @@ contains
             contact = scene%contact
             write(lines, nml=contact_nml, delim='apostrophe')
             text = text // tidy_group('contact', lines)
+        end if
+        if (allocated(scene%obstacles)) then
+            do i = 1, size(scene%obstacles)
+                obstacle = scene%obstacles(i)
+                write(lines, nml=obstacle_nml, delim='apostrophe')
+                text = text // tidy_group('obstacle', lines)
+            end do
         end if
         if (allocated(scene%sweeps)) then
             ! The resolved values themselves (a linspace or logspace written out), one per line.

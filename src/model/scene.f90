@@ -311,6 +311,24 @@ module rs_model_scene
         integer :: points_per_element = unset_int
     end type contact_input_t
 
+    !> &obstacle: a rigid, fixed obstacle that every rod of the scene touches with its
+    !> contact_radius (issue 24 item 3): the ground ('plane': the half-space below the plane
+    !> through `point` with outward `normal`), a 'sphere' (centre `point`, `radius`) or an
+    !> infinite 'cylinder' (axis through `point` along `normal`, `radius`), with the penalty
+    !> potential and discrete gradient of rs_contact_obstacle (frictionless, energy exact).
+    type, public :: obstacle_input_t
+        !> Line of the group in the input file (set by the reader; not an input variable).
+        integer :: input_line = 0
+        character(len=name_len) :: name = ''
+        character(len=name_len) :: kind = ''
+        real(rk) :: point(3) = 0.0_rk
+        !> 'plane': the outward normal; 'cylinder': the axis (normalized by the checks).
+        real(rk) :: normal(3) = unset_real
+        real(rk) :: radius = unset_real
+        !> Penalty stiffness k (N/m^3): a point penetrating by delta carries k delta^2 per length.
+        real(rk) :: stiffness = unset_real
+    end type obstacle_input_t
+
     !> &sweep: one swept variable (DESIGN.md §5, §6). `parameter` is a path into the scene,
     !> 'rod(1)%EI1', 'time%dt', 'load(1)%force(3)'; its values are the leading given entries of
     !> `values`, or `linspace` / `logspace` = first, last, count. The sweeps of a scene combine
@@ -345,6 +363,7 @@ module rs_model_scene
         type(joint_input_t), allocatable :: joints(:)
         type(plate_input_t), allocatable :: plates(:)
         type(contact_input_t) :: contact
+        type(obstacle_input_t), allocatable :: obstacles(:)
         type(sweep_input_t), allocatable :: sweeps(:)
     end type scene_t
 

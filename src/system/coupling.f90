@@ -1,7 +1,8 @@
 !> A coupling between the members of a system of rods (issue 22, DESIGN.md §5): an abstract
 !> type with one implementation per kind, written once for every formulation that offers node
-!> access (rod_formulation_t%nodes): ties (joints and end plates, rs_system_tie_coupling) and
-!> contact (rs_system_contact_coupling). A coupling adds terms to the momentum rows of the nodes
+!> access (rod_formulation_t%nodes): ties (joints and end plates, rs_system_tie_coupling),
+!> contact (rs_system_contact_coupling) and rigid obstacles (rs_system_obstacle_coupling). A
+!> coupling adds terms to the momentum rows of the nodes
 !> it touches (h times generalized forces, like the rods' internal forces; methods/
 !> ph_director_3d.md §5.2 and §5.6) and may add unknown blocks of its own with their rows (tie
 !> multipliers), which the system lays out after the member that owns each block.

@@ -36,6 +36,7 @@ module rs_system_rod_system
     use rs_system_coupling, only: coupling_t, coupling_slot_t, coupling_record_t
     use rs_system_tie_coupling, only: tie_coupling_t, tie_coupling_init, tie_maker_t
     use rs_system_contact_coupling, only: contact_coupling_t, contact_coupling_init
+    use rs_system_obstacle_coupling, only: obstacle_coupling_t, obstacle_coupling_init
     implicit none
     private
 
@@ -183,13 +184,14 @@ contains
         call this%distribute([(0, m = 1, n_members)], 0)
     end subroutine system_init
 
-    !> The ties (joints, plates) and contact the scene declares among the members.
+    !> The ties (joints, plates), contact and obstacles the scene declares for the members.
     subroutine read_couplings(this, scene, err)
         type(rod_system_t), intent(inout), target :: this
         type(scene_t), intent(in) :: scene
         type(error_t), allocatable, intent(out) :: err
         type(tie_coupling_t), allocatable :: ties
         type(contact_coupling_t), allocatable :: contact
+        type(obstacle_coupling_t), allocatable :: obstacles
         character(len=64) :: names(size(this%members))
         integer, allocatable :: joint_ends(:, :)
         type(coupling_slot_t), allocatable :: list(:)
@@ -200,7 +202,7 @@ contains
         do m = 1, size(this%members)
             names(m) = this%members(m)%name
         end do
-        allocate(list(2))
+        allocate(list(3))
         n = 0
         allocate(joint_ends(4, 0))
         if (any_ties(scene)) then
@@ -223,6 +225,15 @@ contains
             RS_RETURN_IF_ERROR(err)
             n = n + 1
             call move_alloc(contact, list(n)%coupling)
+        end if
+        if (allocated(scene%obstacles)) then
+            if (size(scene%obstacles) > 0) then
+                allocate(obstacles)
+                call obstacle_coupling_init(obstacles, scene, this%layout, err)
+                RS_RETURN_IF_ERROR(err)
+                n = n + 1
+                call move_alloc(obstacles, list(n)%coupling)
+            end if
         end if
         deallocate(this%couplings)
         allocate(this%couplings(n))
@@ -929,6 +940,10 @@ contains
         type(rod_system_t), intent(in) :: this
         character(len=:), allocatable :: text
         character(len=:), allocatable :: why
+        if (size(this%members) == 1) then
+            text = 'the chain LU of the rod (rodchain)'
+            return
+        end if
         if (size(this%solver_blocks()) > 0) then
             text = 'GMRES preconditioned (on the right) by block Jacobi over the ' // &
                 str(size(this%members)) // ' rods, each rod''s block factored by the chain ' // &

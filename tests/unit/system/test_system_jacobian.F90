@@ -7,6 +7,8 @@
 !>       and turns about an off-axis centre with a ramp, dynamic and quasistatic;
 !>   (c) two crossing rods with &contact, their centrelines 0.09 apart with contact radii
 !>       0.05 (in contact: the contact distance is 0.1), dynamic and quasistatic;
+!>   (d) a rod clamped at its start, pressed into the ground, a sphere and a cylinder
+!>       (&obstacle, issue 24) by 0.005 of its contact radius 0.05, dynamic and quasistatic;
 !> for se3_pg (its tie rows, rs_se3_pg_tie, and its node access) and ph_director (the same
 !> scenes: a regression of the generic layer). Quasistatic scenes are checked in their time
 !> steps and in the endpoint equilibrium (set_step_problem), where the couplings act at
@@ -67,6 +69,8 @@ contains
         call run_test('ph_director_joints', test_ph_director_joints)
         call run_test('ph_director_plates', test_ph_director_plates)
         call run_test('ph_director_contact', test_ph_director_contact)
+        call run_test('se3_pg_obstacles', test_se3_pg_obstacles)
+        call run_test('ph_director_obstacles', test_ph_director_obstacles)
         write(output_unit, '(a,es10.3)') '  worst relative error of any block: ', worst_error
     end subroutine run_all_tests
 
@@ -93,6 +97,14 @@ contains
     subroutine test_ph_director_contact()
         call check_contact('ph_director', 3)
     end subroutine test_ph_director_contact
+
+    subroutine test_se3_pg_obstacles()
+        call check_obstacles('se3_pg', 4)
+    end subroutine test_se3_pg_obstacles
+
+    subroutine test_ph_director_obstacles()
+        call check_obstacles('ph_director', 4)
+    end subroutine test_ph_director_obstacles
 
     ! ---------------------------------------------------------------------------------------
     ! Scenes
@@ -183,8 +195,37 @@ contains
             '&contact stiffness = 1e7 /' // nl // loads_text('a')
     end function contact_scene
 
+    ! (d): 'a' along x at height 0.045 over the ground z = 0, under a ball of radius 0.05
+    ! about (0.3, 0, 0.14) and a cylinder of radius 0.05 about the axis through (-0.3, 0, 0.14)
+    ! along y; contact radius 0.05, so each presses it by 0.005. Clamped at its start.
+    function obstacle_scene(name, n_elements, quasistatic) result(text)
+        character(len=*), intent(in) :: name
+        integer, intent(in) :: n_elements
+        logical, intent(in) :: quasistatic
+        character(len=:), allocatable :: text
+        text = time_text(quasistatic) // &
+            rod_text('a', name, n_elements, '-0.5, 0, 0.045', '1, 0, 0', &
+            ', contact_radius = 0.05') // &
+            "&bc rod = 'a', end = 'start', kind = 'clamped' /" // nl // &
+            "&obstacle name = 'ground', kind = 'plane', point = 0, 0, 0, normal = 0, 0, 1, " // &
+            'stiffness = 1e7 /' // nl // &
+            "&obstacle name = 'ball', kind = 'sphere', point = 0.3, 0, 0.14, radius = 0.05, " // &
+            'stiffness = 1e7 /' // nl // &
+            "&obstacle name = 'drum', kind = 'cylinder', point = -0.3, 0, 0.14, " // &
+            'normal = 0, 1, 0, radius = 0.05, stiffness = 1e7 /' // nl // loads_text('a')
+    end function obstacle_scene
+
     ! ---------------------------------------------------------------------------------------
     ! The checks per kind of coupling
+
+    subroutine check_obstacles(name, n_elements)
+        character(len=*), intent(in) :: name
+        integer, intent(in) :: n_elements
+        call check_scene(name // ' obstacles, dynamic', obstacle_scene(name, n_elements, &
+            .false.), .false., .false.)
+        call check_scene(name // ' obstacles, quasistatic', obstacle_scene(name, n_elements, &
+            .true.), .true., .false.)
+    end subroutine check_obstacles
 
     subroutine check_joints(name, n_elements)
         character(len=*), intent(in) :: name

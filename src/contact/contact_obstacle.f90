@@ -1,0 +1,201 @@
+!> Penalty potential of a rod against a rigid, fixed obstacle and its energy-consistent
+!> midpoint force (issue 24 item 3; docs/theory/bundles.md, "Obstacles"). Pure kernels on plain
+!> arrays, as rs_contact_potential, whose construction this follows.
+!>
+!> The support function. A centreline point x of a rod with contact radius r touches the
+!> obstacle where s(x) > 0, with s polynomial in x:
+!>
+!>     plane (point p, outward unit normal n):    s = r - n . (x - p)                  (linear)
+!>     sphere (centre p, radius R):               s = (R + r)^2 - |x - p|^2            (quadratic)
+!>     cylinder (axis p + t a, radius R):         s = (R + r)^2 - |P (x - p)|^2,  P = I - a a^T
+!>
+!> and carries the energy psi(s) = c s^3 per length (0 for s <= 0), c = k / 3 for the plane
+!> and k / (24 (R + r)^3) for the sphere and the cylinder, so that a point that penetrates by
+!> delta (its distance from the surface below r) carries k delta^3 / 3 (exactly for the plane;
+!> to first order in delta / (R + r) for the others, where s = 2 (R + r) delta - delta^2) and
+!> is pushed out with the force k delta^2 per length. For the plane s grows without bound
+!> behind the surface, so no step can carry a point through it; a sphere's or a cylinder's s
+!> is largest at the centre (a point pushed that deep has failed the contact anyway: the
+!> stated bound is delta << R).
+!>
+!> The midpoint step. With s_n = s(x_n) and s_1 = s(x_1) the discrete gradient of psi(s(x)) is
+!>
+!>     f = psi_bar(s_n, s_1) grad_bar,   psi_bar = [psi(s_1) - psi(s_n)] / (s_1 - s_n),
+!>     grad_bar = -n (plane),   -2 P (x_mid - p) (sphere: P = I; cylinder),
+!>
+!> for which grad_bar . (x_1 - x_n) = s_1 - s_n exactly (s is linear or quadratic), hence
+!> f . (x_1 - x_n) = psi(s_1) - psi(s_n) for any step: the energy is exact. psi_bar of the cubic
+!> is evaluated as in rs_contact_potential (the terminating Taylor form when both s are in the
+!> support, the quotient without cancellation when one is), so no step-size switch is needed.
+!> f is a gradient of the energy (it enters the momentum residual as the internal forces do);
+!> the physical force on the rod is -f.
+module rs_contact_obstacle
+    use rs_core_kinds, only: rk
+    implicit none
+    private
+
+    integer, parameter, public :: obstacle_plane = 1, obstacle_sphere = 2, obstacle_cylinder = 3
+
+    !> One obstacle as the kernels see it, with the contact radius of the rod that touches it.
+    type, public :: obstacle_params_t
+        integer :: kind = obstacle_plane
+        real(rk) :: point(3) = 0.0_rk
+        !> Unit outward normal (plane) or axis (cylinder).
+        real(rk) :: normal(3) = [0.0_rk, 0.0_rk, 1.0_rk]
+        real(rk) :: radius = 0.0_rk
+        !> Contact radius of the rod.
+        real(rk) :: rod_radius = 0.0_rk
+        !> c of psi = c s^3.
+        real(rk) :: c = 0.0_rk
+    end type obstacle_params_t
+
+    public :: obstacle_params_init, obstacle_support, obstacle_energy, obstacle_penetration
+    public :: obstacle_point_force, obstacle_point_tangent
+
+contains
+
+    !> The parameters of obstacle `kind` for a rod of contact radius `rod_radius` (k: N/m^3).
+    pure function obstacle_params_init(kind, point, normal, radius, stiffness, rod_radius) &
+            result(params)
+        integer, intent(in) :: kind
+        real(rk), intent(in) :: point(3), normal(3), radius, stiffness, rod_radius
+        type(obstacle_params_t) :: params
+        params%kind = kind
+        params%point = point
+        params%normal = normal
+        params%radius = radius
+        params%rod_radius = rod_radius
+        if (kind == obstacle_plane) then
+            params%c = stiffness / 3.0_rk
+        else
+            params%c = stiffness / (24.0_rk * (radius + rod_radius)**3)
+        end if
+    end function obstacle_params_init
+
+    !> P (x - p): the part of x - p that s depends on (all of it for a sphere).
+    pure function projected(params, x) result(v)
+        type(obstacle_params_t), intent(in) :: params
+        real(rk), intent(in) :: x(3)
+        real(rk) :: v(3)
+        v = x - params%point
+        if (params%kind == obstacle_cylinder) v = v - dot_product(params%normal, v) * params%normal
+    end function projected
+
+    !> s(x) (module header).
+    pure real(rk) function obstacle_support(params, x) result(s)
+        type(obstacle_params_t), intent(in) :: params
+        real(rk), intent(in) :: x(3)
+        real(rk) :: v(3)
+        if (params%kind == obstacle_plane) then
+            s = params%rod_radius - dot_product(params%normal, x - params%point)
+        else
+            v = projected(params, x)
+            s = (params%radius + params%rod_radius)**2 - dot_product(v, v)
+        end if
+    end function obstacle_support
+
+    !> psi(s(x)), the energy per length at x.
+    pure real(rk) function obstacle_energy(params, x) result(psi)
+        type(obstacle_params_t), intent(in) :: params
+        real(rk), intent(in) :: x(3)
+        real(rk) :: s
+        s = obstacle_support(params, x)
+        psi = 0.0_rk
+        if (s > 0.0_rk) psi = params%c * s**3
+    end function obstacle_energy
+
+    !> How far x lies inside the surface grown by the rod's radius (0 outside), m.
+    pure real(rk) function obstacle_penetration(params, x) result(delta)
+        type(obstacle_params_t), intent(in) :: params
+        real(rk), intent(in) :: x(3)
+        real(rk) :: v(3)
+        if (params%kind == obstacle_plane) then
+            delta = max(0.0_rk, obstacle_support(params, x))
+        else
+            v = projected(params, x)
+            delta = max(0.0_rk, params%radius + params%rod_radius - norm2(v))
+        end if
+    end function obstacle_penetration
+
+    !> psi_bar(s_n, s_1) and its derivative with respect to s_1 (module header).
+    pure subroutine divided_difference(c, s_n, s_1, psi_bar, dpsi_bar)
+        real(rk), intent(in) :: c, s_n, s_1
+        real(rk), intent(out) :: psi_bar, dpsi_bar
+        if (s_n > 0.0_rk .and. s_1 > 0.0_rk) then
+            psi_bar = c * (s_n * s_n + s_n * s_1 + s_1 * s_1)
+            dpsi_bar = c * (s_n + 2.0_rk * s_1)
+        else if (s_1 > 0.0_rk) then
+            psi_bar = c * s_1**3 / (s_1 - s_n)
+            dpsi_bar = c * s_1**2 * (2.0_rk * s_1 - 3.0_rk * s_n) / (s_1 - s_n)**2
+        else if (s_n > 0.0_rk) then
+            psi_bar = c * s_n**3 / (s_n - s_1)
+            dpsi_bar = c * s_n**3 / (s_n - s_1)**2
+        else
+            psi_bar = 0.0_rk
+            dpsi_bar = 0.0_rk
+        end if
+    end subroutine divided_difference
+
+    !> grad_bar (module header) at the midpoint of x_n and x_1.
+    pure function midpoint_gradient(params, x_n, x_1) result(g)
+        type(obstacle_params_t), intent(in) :: params
+        real(rk), intent(in) :: x_n(3), x_1(3)
+        real(rk) :: g(3)
+        if (params%kind == obstacle_plane) then
+            g = -params%normal
+        else
+            g = -2.0_rk * projected(params, 0.5_rk * (x_n + x_1))
+        end if
+    end function midpoint_gradient
+
+    !> The discrete gradient f of the energy per length at a point moving from x_n to x_1
+    !> (zero when s <= 0 at both ends); `touching` when it is not zero.
+    pure subroutine obstacle_point_force(params, x_n, x_1, f, touching)
+        type(obstacle_params_t), intent(in) :: params
+        real(rk), intent(in) :: x_n(3), x_1(3)
+        real(rk), intent(out) :: f(3)
+        logical, intent(out) :: touching
+        real(rk) :: s_n, s_1, psi_bar, dpsi_bar
+        s_n = obstacle_support(params, x_n)
+        s_1 = obstacle_support(params, x_1)
+        touching = s_n > 0.0_rk .or. s_1 > 0.0_rk
+        f = 0.0_rk
+        if (.not. touching) return
+        call divided_difference(params%c, s_n, s_1, psi_bar, dpsi_bar)
+        f = psi_bar * midpoint_gradient(params, x_n, x_1)
+    end subroutine obstacle_point_force
+
+    !> d f / d x_1 (3 x 3) of obstacle_point_force.
+    pure subroutine obstacle_point_tangent(params, x_n, x_1, tangent)
+        type(obstacle_params_t), intent(in) :: params
+        real(rk), intent(in) :: x_n(3), x_1(3)
+        real(rk), intent(out) :: tangent(3, 3)
+        real(rk) :: s_n, s_1, psi_bar, dpsi_bar, g(3), grad_1(3)
+        integer :: i
+        tangent = 0.0_rk
+        s_n = obstacle_support(params, x_n)
+        s_1 = obstacle_support(params, x_1)
+        if (s_n <= 0.0_rk .and. s_1 <= 0.0_rk) return
+        call divided_difference(params%c, s_n, s_1, psi_bar, dpsi_bar)
+        g = midpoint_gradient(params, x_n, x_1)
+        if (params%kind == obstacle_plane) then
+            grad_1 = -params%normal
+        else
+            grad_1 = -2.0_rk * projected(params, x_1)
+        end if
+        do i = 1, 3
+            tangent(:, i) = dpsi_bar * g * grad_1(i)
+        end do
+        if (params%kind == obstacle_plane) return
+        ! d grad_bar / d x_1 = -P (the midpoint moves by half of x_1).
+        do i = 1, 3
+            tangent(i, i) = tangent(i, i) - psi_bar
+        end do
+        if (params%kind == obstacle_cylinder) then
+            do i = 1, 3
+                tangent(:, i) = tangent(:, i) + psi_bar * params%normal * params%normal(i)
+            end do
+        end if
+    end subroutine obstacle_point_tangent
+
+end module rs_contact_obstacle

@@ -1,0 +1,143 @@
+"""A rod thrown at a rigid, fixed obstacle (issue 24 item 3; input/obstacle_ground.nml;
+docs/theory/bundles.md, "Obstacles"): it strikes, springs off and flies away spinning.
+
+    obstacles.py plane          the ground (the scene as it is), ph_director
+    obstacles.py sphere         a ball of radius 0.1 m about the origin, the rod thrown at it
+                                from above
+    obstacles.py cylinder       a cylinder of radius 0.05 m about the y axis, the rod thrown
+                                across it from above
+    obstacles.py se3_pg_plane   the ground, the rod on se3_pg
+
+What the theory says (src/contact/contact_obstacle.f90): the obstacle's force of a step is the
+discrete gradient of its energy (exact, because the support function is linear or quadratic in
+the position), pointing along the plane's normal, through the sphere's centre, or through the
+cylinder's axis at right angles to it. Without loads and supports, per step:
+- H + E_obstacle changes only by the Newton residual's work;
+- the momentum along the plane, along the cylinder's axis, and the angular momentum about the
+  plane's normal (through any point), about the sphere's centre, about the cylinder's axis do
+  not change (the obstacle's forces have no component or moment there), up to the residual.
+The penetration is measured in the test from the stored node positions, not from the code's
+record.
+"""
+import math
+import os
+import re
+import sys
+
+import numpy as np
+
+sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+import run_scene as rs  # noqa: E402
+
+RADIUS = 0.005
+
+# name: (obstacle group, rod start, direction, velocity, conserved momentum components,
+#        conserved angular momentum components (about the origin), penetration of a point x)
+CASES = {
+    "plane": ("kind = 'plane', point = 0, 0, 0, normal = 0, 0, 1",
+              None, None, None, (0, 1), (2,),
+              lambda x: RADIUS - x[..., 2]),
+    "sphere": ("kind = 'sphere', point = 0, 0, 0, radius = 0.1",
+               "-0.2, 0.03, 0.07", "0.97, 0.0, 0.2425", "0.3, 0.2, -1.0", (), (0, 1, 2),
+               lambda x: 0.1 + RADIUS - np.linalg.norm(x, axis=-1)),
+    "cylinder": ("kind = 'cylinder', point = 0, 0, 0, normal = 0, 1, 0, radius = 0.05",
+                 "-0.2, 0.0, 0.065", "0.97, 0.0, 0.2425", "0.3, 0.2, -1.0", (1,), (1,),
+                 lambda x: 0.05 + RADIUS - np.linalg.norm(x[..., [0, 2]], axis=-1)),
+}
+
+
+def scene(args, case):
+    text = rs.read_example(args.source, "obstacle_ground.nml")
+    kind = "plane" if case == "se3_pg_plane" else case
+    group, start, direction, velocity, _, _, _ = CASES[kind]
+    body = re.search(r"^&obstacle\b(.*?)\n/", text, flags=re.M | re.S)
+    text = text[:body.start()] + "&obstacle\n    name = 'obstacle', " + group + \
+        ", stiffness = 1e10\n/" + text[body.end():]
+    if start:
+        text = rs.set_variable(text, "rod", "start", start)
+        text = rs.set_variable(text, "rod", "direction", direction)
+        text = rs.set_variable(text, "rod", "velocity", velocity)
+    if case == "se3_pg_plane":
+        text = rs.set_variable(text, "rod", "formulation", "'se3_pg'")
+    return text, kind
+
+
+def run_case(args, checks, case):
+    text, kind = scene(args, case)
+    atol = 1e-12
+    path = rs.run(args, text, case)
+    r = rs.rod(path, "a")
+    steps = r["time"].size - 1
+    n_nodes = r["position"].shape[1]
+    iterations = r["series/newton/iterations"]
+    print(f"info: {case}: {steps} steps, Newton iterations {iterations[1:].mean():.2f} per step "
+          f"(at most {iterations.max()})")
+
+    # --- Energy: exact per step up to the residual's work (velocities and forces O(1) here:
+    # 10 newton_atol per step, as tests/regression/bundle/contact_crossing.py). Acceptance:
+    # 1e-8 relative over the run (measured 1e-11 on the plane). se3_pg's midpoint step does not
+    # keep its own H (methods/se3_petrov_galerkin.md; 1e-3 here), so on se3_pg only the
+    # obstacle's part is checked: the booked work below.
+    obstacle = r["series/contact/energy"]
+    total = r["series/energy/total"] + obstacle
+    drift = np.abs(total - total[0]) / total[0]
+    print(f"info: H(0) = {total[0]:.9g} J, largest obstacle energy {obstacle.max():.4e} J "
+          f"({obstacle.max() / total[0]:.1%} of H(0)); relative drift {drift.max():.3e}")
+    if not case.startswith("se3_pg"):
+        checks.check(f"{case}: max |H + E_obstacle - H(0)| / H(0)", float(drift.max()), 1e-8)
+        checks.check(f"{case}: max per-step |Delta (H + E_obstacle)| (J)",
+                     float(np.max(np.abs(np.diff(total)))), 10 * atol)
+    # The obstacle acted: a percent of H(0) or more went through it (measured 2.6 to 9 %).
+    checks.check(f"{case}: the obstacle acted (-largest E_obstacle / H(0))",
+                 -float(obstacle.max() / total[0]), -0.01)
+    # The work the ledger books on the rod is the obstacle's alone (no loads): each step it is
+    # minus the change of E_obstacle, to the round-off of sums over the contact points of
+    # terms up to H(0): bound 1000 eps H(0) = 3.9e-15 J (measured 4e-18 to 1.9e-16 J).
+    booked = r["series/energy/external_work"][1:]
+    checks.check(f"{case}: max per-step |booked external work + Delta E_obstacle| (J)",
+                 float(np.max(np.abs(booked + np.diff(obstacle)))),
+                 1000 * np.finfo(float).eps * total[0])
+
+    # --- Momenta: the conserved components change per step by at most sqrt(n_nodes) |R| and
+    # lever sqrt(4 n_nodes) |R| (tests/regression/bundle/contact_crossing.py), |R| <= atol.
+    _, _, _, _, linear, angular, penetration = CASES[kind]
+    p = r["series/momentum/linear"]
+    l = r["series/momentum/angular"]
+    lever = max(1.0, float(np.max(np.linalg.norm(r["position"], axis=2))))
+    for i in linear:
+        checks.check(f"{case}: max |p_{'xyz'[i]}(t) - p_{'xyz'[i]}(0)| (along the obstacle)",
+                     float(np.max(np.abs(p[:, i] - p[0, i]))), math.sqrt(n_nodes) * atol * steps)
+    for i in angular:
+        checks.check(f"{case}: max |l_{'xyz'[i]}(t) - l_{'xyz'[i]}(0)| (about the obstacle)",
+                     float(np.max(np.abs(l[:, i] - l[0, i]))),
+                     lever * math.sqrt(4 * n_nodes) * atol * steps)
+    # The rod bounced: the momentum's component towards the obstacle changed by more than a
+    # third of its start (the conserved ones excepted).
+    change = float(np.max(np.linalg.norm(p - p[0], axis=1)))
+    checks.check(f"{case}: the rod bounced (-|p(t) - p(0)| / |p(0)|)",
+                 -change / float(np.linalg.norm(p[0])), -1 / 3)
+
+    # --- Penetration, from the stored nodes (the rod's low end strikes first and dips deepest):
+    # stated tolerance 0.3 r.
+    deepest = float(np.max(penetration(r["position"])))
+    print(f"info: deepest node {deepest * 1e3:.3f} mm = {deepest / RADIUS:.3f} r inside; the "
+          f"code's record {r['series/contact/penetration'].max() * 1e3:.3f} mm")
+    checks.check(f"{case}: deepest node inside the obstacle / r (stated tolerance 0.3)",
+                 deepest / RADIUS, 0.3)
+    # The record (contact points and nodes) sees what the nodes show.
+    checks.check(f"{case}: |recorded penetration - deepest node| / r",
+                 abs(float(r["series/contact/penetration"].max()) - max(deepest, 0.0)) / RADIUS,
+                 0.05)
+
+
+def main():
+    parser = rs.common_arguments(__doc__)
+    parser.add_argument("case", choices=["plane", "sphere", "cylinder", "se3_pg_plane"])
+    args = parser.parse_args()
+    checks = rs.Checks()
+    run_case(args, checks, args.case)
+    checks.finish()
+
+
+if __name__ == "__main__":
+    main()
