@@ -29,6 +29,19 @@
 !> support, the quotient without cancellation when one is), so no step-size switch is needed.
 !> f is a gradient of the energy (it enters the momentum residual as the internal forces do);
 !> the physical force on the rod is -f.
+!>
+!> Friction (regularized Coulomb, issue 24 item 2). With the normal force per length
+!> f_N = |f| = psi_bar |grad_bar|, the unit outward normal at the midpoint n = -grad_bar /
+!> |grad_bar|, the step's slip u = (I - n n^T)(x_1 - x_n) and eta = v_s h (v_s the slip
+!> velocity of the regularization, h the step), the friction term is
+!>
+!>     f_T = mu f_N u / sqrt(|u|^2 + eta^2),
+!>
+!> whose physical force -f_T opposes the slip with at most mu f_N (Coulomb's bound, reached
+!> for |u| >> eta; below v_s the law is viscous, a smooth stick branch). Its work on the step is
+!> -f_T . (x_1 - x_n) = -D_T with D_T = mu f_N |u|^2 / sqrt(|u|^2 + eta^2) >= 0 (u is the
+!> tangential part of the displacement): the dissipation is non-negative by construction, and
+!> obstacle_point_dissipation returns it for the books.
 module rs_contact_obstacle
     use rs_core_kinds, only: rk
     implicit none
@@ -47,10 +60,14 @@ module rs_contact_obstacle
         real(rk) :: rod_radius = 0.0_rk
         !> c of psi = c s^3.
         real(rk) :: c = 0.0_rk
+        !> Friction coefficient and slip velocity of the regularization (m/s).
+        real(rk) :: mu = 0.0_rk
+        real(rk) :: slip_velocity = 1.0_rk
     end type obstacle_params_t
 
     public :: obstacle_params_init, obstacle_support, obstacle_energy, obstacle_penetration
     public :: obstacle_point_force, obstacle_point_tangent
+    public :: obstacle_point_friction, obstacle_point_friction_tangent, obstacle_point_dissipation
 
 contains
 
@@ -197,5 +214,120 @@ contains
             end do
         end if
     end subroutine obstacle_point_tangent
+
+    !> The normal force per length f_N, the unit outward normal n at the midpoint, and the
+    !> slip u of a step (module header); f_N = 0 where the point does not touch.
+    pure subroutine slip_of_step(params, x_n, x_1, f_normal, normal, slip)
+        type(obstacle_params_t), intent(in) :: params
+        real(rk), intent(in) :: x_n(3), x_1(3)
+        real(rk), intent(out) :: f_normal, normal(3), slip(3)
+        real(rk) :: f(3), g(3), step(3)
+        logical :: touching
+        call obstacle_point_force(params, x_n, x_1, f, touching)
+        g = midpoint_gradient(params, x_n, x_1)
+        f_normal = norm2(f)
+        normal = 0.0_rk
+        slip = 0.0_rk
+        if (.not. touching .or. norm2(g) == 0.0_rk) then
+            f_normal = 0.0_rk
+            return
+        end if
+        normal = -g / norm2(g)
+        step = x_1 - x_n
+        slip = step - dot_product(normal, step) * normal
+    end subroutine slip_of_step
+
+    !> The friction term f_T of a step of length h (module header; zero without friction or
+    !> contact).
+    pure subroutine obstacle_point_friction(params, x_n, x_1, h, f)
+        type(obstacle_params_t), intent(in) :: params
+        real(rk), intent(in) :: x_n(3), x_1(3), h
+        real(rk), intent(out) :: f(3)
+        real(rk) :: f_normal, normal(3), slip(3), eta
+        f = 0.0_rk
+        if (params%mu == 0.0_rk) return
+        call slip_of_step(params, x_n, x_1, f_normal, normal, slip)
+        if (f_normal == 0.0_rk) return
+        eta = params%slip_velocity * h
+        f = params%mu * f_normal * slip / sqrt(dot_product(slip, slip) + eta * eta)
+    end subroutine obstacle_point_friction
+
+    !> The step's friction dissipation per length D_T = f_T . (x_1 - x_n) >= 0.
+    pure real(rk) function obstacle_point_dissipation(params, x_n, x_1, h) result(d)
+        type(obstacle_params_t), intent(in) :: params
+        real(rk), intent(in) :: x_n(3), x_1(3), h
+        real(rk) :: f_normal, normal(3), slip(3), eta
+        d = 0.0_rk
+        if (params%mu == 0.0_rk) return
+        call slip_of_step(params, x_n, x_1, f_normal, normal, slip)
+        if (f_normal == 0.0_rk) return
+        eta = params%slip_velocity * h
+        d = params%mu * f_normal * dot_product(slip, slip) / sqrt(dot_product(slip, slip) + &
+            eta * eta)
+    end function obstacle_point_dissipation
+
+    !> d f_T / d x_1 (3 x 3) of obstacle_point_friction: through f_N, the normal (sphere,
+    !> cylinder: it turns with the midpoint) and the slip.
+    pure subroutine obstacle_point_friction_tangent(params, x_n, x_1, h, tangent)
+        type(obstacle_params_t), intent(in) :: params
+        real(rk), intent(in) :: x_n(3), x_1(3), h
+        real(rk), intent(out) :: tangent(3, 3)
+        real(rk) :: f_normal, normal(3), slip(3), step(3), eta, root, direction(3)
+        real(rk) :: s_n, s_1, psi_bar, dpsi_bar, grad_1(3), q(3), length
+        real(rk) :: d_f_normal(3), d_normal(3, 3), d_slip(3, 3), d_direction(3, 3), projector(3, 3)
+        integer :: i
+        tangent = 0.0_rk
+        if (params%mu == 0.0_rk) return
+        call slip_of_step(params, x_n, x_1, f_normal, normal, slip)
+        if (f_normal == 0.0_rk) return
+        s_n = obstacle_support(params, x_n)
+        s_1 = obstacle_support(params, x_1)
+        call divided_difference(params%c, s_n, s_1, psi_bar, dpsi_bar)
+        step = x_1 - x_n
+        eta = params%slip_velocity * h
+        root = sqrt(dot_product(slip, slip) + eta * eta)
+        direction = slip / root
+        ! P: the part of x - p that s depends on (plane: the normal only, which is constant).
+        projector = 0.0_rk
+        do i = 1, 3
+            projector(i, i) = 1.0_rk
+        end do
+        if (params%kind == obstacle_plane) then
+            grad_1 = -params%normal
+            ! f_N = psi_bar (|grad_bar| = 1); the normal does not turn.
+            d_f_normal = dpsi_bar * grad_1
+            d_normal = 0.0_rk
+        else
+            if (params%kind == obstacle_cylinder) then
+                do i = 1, 3
+                    projector(:, i) = projector(:, i) - params%normal * params%normal(i)
+                end do
+            end if
+            grad_1 = -2.0_rk * projected(params, x_1)
+            q = projected(params, 0.5_rk * (x_n + x_1))
+            length = norm2(q)
+            ! f_N = 2 psi_bar |q|, d|q| / d x_1 = n^T P / 2; n = q / |q| turns by
+            ! (I - n n^T) P / (2 |q|).
+            d_f_normal = 2.0_rk * length * dpsi_bar * grad_1 + psi_bar * matmul(normal, projector)
+            do i = 1, 3
+                d_normal(:, i) = (projector(:, i) - normal * dot_product(normal, projector(:, i))) / &
+                    (2.0_rk * length)
+            end do
+        end if
+        ! u = step - n (n . step): du = I - n n^T - (n . step) dn - n (step^T dn).
+        do i = 1, 3
+            d_slip(:, i) = -normal * normal(i) - dot_product(normal, step) * d_normal(:, i) - &
+                normal * dot_product(step, d_normal(:, i))
+            d_slip(i, i) = d_slip(i, i) + 1.0_rk
+        end do
+        ! d (u / root) = (I - direction direction^T) du / root.
+        do i = 1, 3
+            d_direction(:, i) = (d_slip(:, i) - direction * dot_product(direction, d_slip(:, i))) / &
+                root
+        end do
+        do i = 1, 3
+            tangent(:, i) = params%mu * (direction * d_f_normal(i) + f_normal * d_direction(:, i))
+        end do
+    end subroutine obstacle_point_friction_tangent
 
 end module rs_contact_obstacle

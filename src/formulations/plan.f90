@@ -209,8 +209,14 @@ contains
                 'axis through ' // vector_text(obstacle%point) // ' m along ' // &
                 vector_text(obstacle%normal)
         end select
-        text = text // '; fixed, frictionless, stiffness ' // str(obstacle%stiffness) // &
-            ' N/m^3; every rod touches it with its contact_radius (&obstacle at line ' // &
+        text = text // '; fixed, stiffness ' // str(obstacle%stiffness) // ' N/m^3, '
+        if (obstacle%mu > 0.0_rk) then
+            text = text // 'friction mu = ' // str(obstacle%mu) // ' (regularized below ' // &
+                str(obstacle%slip_velocity) // ' m/s)'
+        else
+            text = text // 'frictionless'
+        end if
+        text = text // '; every rod touches it with its contact_radius (&obstacle at line ' // &
             str(obstacle%input_line) // ')'
     end function obstacle_line
 

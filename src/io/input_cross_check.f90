@@ -712,6 +712,9 @@ contains
                     'required for kind = ''' // trim(obstacle%kind) // '''')
                 if (.not. wants_radius .and. has_radius) call errors%add(here // 'radius: a ' // &
                     'plane takes none')
+                if (obstacle%mu > 0.0_rk .and. scene%time%quasistatic) call errors%add(here // &
+                    'mu: friction acts on the slip velocity of a time step, and a quasistatic ' // &
+                    'run has none; set mu = 0 or run dynamically')
                 if (has_normal) then
                     where (obstacle%normal == unset_real) obstacle%normal = 0.0_rk
                     if (norm2(obstacle%normal) == 0.0_rk) then

@@ -717,9 +717,9 @@ contains
         g%repeatable = .true.
         g%description = 'A rigid, fixed obstacle that every rod touches with its ' // &
             'contact_radius (ph_director, se3_pg): the ground (''plane''), a ''sphere'' or ' // &
-            'an infinite ''cylinder''; frictionless penalty contact whose midpoint step ' // &
-            'keeps the energy exactly, and nothing tunnels through a plane ' // &
-            '(docs/theory/bundles.md, Obstacles).'
+            'an infinite ''cylinder''; penalty contact whose midpoint step keeps the ' // &
+            'energy exactly (nothing tunnels through a plane), with regularized Coulomb ' // &
+            'friction (docs/theory/bundles.md, Obstacles).'
         g%variables = [ &
             spec_v('name', 'string', '-', '(required)', 'Name of the obstacle (unique among ' // &
                 'the obstacles), used in the plan.', required=.true., example="'ground'"), &
@@ -741,7 +741,16 @@ contains
                 'centreline point that penetrates the surface by delta (its distance below ' // &
                 'its contact_radius) carries the force k delta^2 per length; a rod of weight ' // &
                 'w per length resting on the ground penetrates sqrt(w / k).', lower=0.0_rk, &
-                lower_inclusive=.false., required=.true., example='1e9')]
+                lower_inclusive=.false., required=.true., example='1e9'), &
+            spec_v('mu', 'real', '-', '0', 'Coulomb friction coefficient: the force against ' // &
+                'the slip is at most mu times the normal force (regularized below ' // &
+                'slip_velocity). Friction acts in dynamics (a quasistatic run refuses it); its ' // &
+                'dissipation is booked in series/energy/dissipated.', lower=0.0_rk, &
+                example='0.3'), &
+            spec_v('slip_velocity', 'real', 'm/s', '1e-4', 'Regularization of friction: below ' // &
+                'this slip velocity the friction force grows linearly from 0 (a smooth stick ' // &
+                'branch: a rod that should stick creeps at a fraction of it).', lower=0.0_rk, &
+                lower_inclusive=.false., example='1e-5')]
     end function obstacle_group
 
     function sweep_group() result(g)

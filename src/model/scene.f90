@@ -327,6 +327,10 @@ module rs_model_scene
         real(rk) :: radius = unset_real
         !> Penalty stiffness k (N/m^3): a point penetrating by delta carries k delta^2 per length.
         real(rk) :: stiffness = unset_real
+        !> Coulomb friction coefficient (0: frictionless) and the slip velocity (m/s) below which
+        !> the regularized law is viscous (rs_contact_obstacle).
+        real(rk) :: mu = 0.0_rk
+        real(rk) :: slip_velocity = 1.0e-4_rk
     end type obstacle_input_t
 
     !> &sweep: one swept variable (DESIGN.md §5, §6). `parameter` is a path into the scene,

@@ -62,6 +62,10 @@ module rs_system_coupling
         procedure(edges_interface), deferred :: add_edges
         !> A short description for the log.
         procedure(describe_interface), deferred :: describe
+        !> Add each member's dissipation of the accepted step from x_n to y (friction, >= 0):
+        !> the part of the coupling's work that the system books as dissipated rather than as
+        !> external work. Default: none (conservative couplings).
+        procedure :: add_dissipation => default_add_dissipation
     end type coupling_t
 
     abstract interface
@@ -131,6 +135,13 @@ module rs_system_coupling
     end type coupling_slot_t
 
 contains
+
+    subroutine default_add_dissipation(this, layout, h, x_n, y, dissipated)
+        class(coupling_t), intent(in) :: this
+        type(system_layout_t), intent(in) :: layout
+        real(rk), intent(in) :: h, x_n(:), y(:)
+        real(rk), intent(inout) :: dissipated(:)
+    end subroutine default_add_dissipation
 
     pure integer function default_pattern_entries(this)
         class(coupling_t), intent(in) :: this

@@ -44,6 +44,8 @@ module rs_system_ledger
         procedure :: book_step => ledger_book_step
         !> Book work done on a rod by a coupling (external to the rod's own balance).
         procedure :: book_work => ledger_book_work
+        !> Book dissipation of a coupling on a rod (friction).
+        procedure :: book_dissipation => ledger_book_dissipation
         !> Write rod i's sums into its newest record and start again.
         procedure :: write_record => ledger_write_record
         !> The sums as checkpoint entries (ledger_entries per rod, named by
@@ -109,6 +111,14 @@ contains
         this%rods(i)%work = this%rods(i)%work + work
         this%rods(i)%balance = this%rods(i)%balance - work
     end subroutine ledger_book_work
+
+    subroutine ledger_book_dissipation(this, i, dissipated)
+        class(record_ledger_t), intent(inout) :: this
+        integer, intent(in) :: i
+        real(rk), intent(in) :: dissipated
+        this%rods(i)%dissipated = this%rods(i)%dissipated + dissipated
+        this%rods(i)%balance = this%rods(i)%balance + dissipated
+    end subroutine ledger_book_dissipation
 
     subroutine ledger_write_record(this, i, history)
         class(record_ledger_t), intent(inout) :: this

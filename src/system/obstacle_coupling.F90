@@ -18,7 +18,8 @@ module rs_system_obstacle_coupling
     use rs_assembly_csr_pattern, only: csr_builder_t, csr_pattern_t
     use rs_contact_obstacle, only: obstacle_params_t, obstacle_params_init, obstacle_energy, &
         obstacle_penetration, obstacle_point_force, obstacle_point_tangent, obstacle_plane, &
-        obstacle_sphere, obstacle_cylinder
+        obstacle_sphere, obstacle_cylinder, obstacle_point_friction, &
+        obstacle_point_friction_tangent, obstacle_point_dissipation
     use rs_contact_element, only: contact_points
     use rs_system_layout, only: system_layout_t
     use rs_system_coupling, only: coupling_t, coupling_record_t
@@ -53,6 +54,7 @@ module rs_system_obstacle_coupling
         procedure :: add_edges => obstacle_add_edges
         procedure :: describe => obstacle_describe
         procedure :: pattern_entries => obstacle_pattern_entries
+        procedure :: add_dissipation => obstacle_add_dissipation
     end type obstacle_coupling_t
 
     public :: obstacle_coupling_init
@@ -112,6 +114,8 @@ contains
                             merge(obstacle%normal, 0.0_rk, kind /= obstacle_sphere), &
                             merge(obstacle%radius, 0.0_rk, kind /= obstacle_plane), &
                             obstacle%stiffness, layout%members(m)%contact_radius)
+                        member%obstacles(o)%mu = obstacle%mu
+                        member%obstacles(o)%slip_velocity = obstacle%slip_velocity
                     end associate
                 end do
             end associate
@@ -211,6 +215,7 @@ contains
         logical, intent(in) :: all_rows
         real(rk), intent(inout), optional :: f(:), values(:)
         real(rk) :: x_e(3, max_nodes), y_e(3, max_nodes), p_n(3), p_1(3), force(3), t3(3, 3)
+        real(rk) :: friction(3), t3_friction(3, 3)
         real(rk) :: r(3, max_nodes), tangent(3 * max_nodes, 3 * max_nodes), w, scale, h_m
         integer :: m, e, g, o, a, b, nen, n, i, j, p, rows(3 * max_nodes), cols(3 * max_nodes)
         logical :: touching, any_touching, static
@@ -236,11 +241,20 @@ contains
                                 touching)
                             if (.not. touching) cycle
                             any_touching = .true.
+                            ! Friction acts on the slip of a time step (none in equilibrium).
+                            friction = 0.0_rk
+                            if (.not. static) call obstacle_point_friction(member%obstacles(o), &
+                                p_n, p_1, h, friction)
                             do a = 1, nen
-                                r(:, a) = r(:, a) + (w * member%shape(a, g)) * force
+                                r(:, a) = r(:, a) + (w * member%shape(a, g)) * (force + friction)
                             end do
                             if (.not. present(values)) cycle
                             call obstacle_point_tangent(member%obstacles(o), p_n, p_1, t3)
+                            if (.not. static .and. member%obstacles(o)%mu > 0.0_rk) then
+                                call obstacle_point_friction_tangent(member%obstacles(o), p_n, &
+                                    p_1, h, t3_friction)
+                                t3 = t3 + t3_friction
+                            end if
                             do b = 1, nen
                                 do a = 1, nen
                                     tangent(3 * a - 2:3 * a, 3 * b - 2:3 * b) = &
@@ -325,6 +339,36 @@ contains
             end associate
         end do
     end subroutine obstacle_add_results
+
+    !> Each member's friction dissipation D_T >= 0 of the accepted step from x_n to the
+    !> unknowns y (rs_contact_obstacle), integrated as the forces are.
+    subroutine obstacle_add_dissipation(this, layout, h, x_n, y, dissipated)
+        class(obstacle_coupling_t), intent(in) :: this
+        type(system_layout_t), intent(in) :: layout
+        real(rk), intent(in) :: h, x_n(:), y(:)
+        real(rk), intent(inout) :: dissipated(:)
+        real(rk) :: x_e(3, max_nodes), y_e(3, max_nodes), p_n(3), p_1(3), w
+        integer :: m, e, g, o, nen
+        if (this%static .or. this%equilibrium_steps) return
+        do m = 1, size(layout%members)
+            associate (member => this%members(m), nodes => layout%members(m)%nodes)
+                if (all(member%obstacles%mu == 0.0_rk)) cycle
+                nen = nodes%degree + 1
+                do e = 1, nodes%n_elements
+                    call element_positions(layout, m, e, x_n, y, x_e(:, 1:nen), y_e(:, 1:nen))
+                    do g = 1, size(member%weight)
+                        p_n = matmul(x_e(:, 1:nen), member%shape(:, g))
+                        p_1 = matmul(y_e(:, 1:nen), member%shape(:, g))
+                        w = member%weight(g) * nodes%element_length(e)
+                        do o = 1, size(member%obstacles)
+                            dissipated(m) = dissipated(m) + w * &
+                                obstacle_point_dissipation(member%obstacles(o), p_n, p_1, h)
+                        end do
+                    end do
+                end do
+            end associate
+        end do
+    end subroutine obstacle_add_dissipation
 
     !> Obstacles couple no members to each other.
     subroutine obstacle_add_edges(this, edge)

@@ -734,7 +734,7 @@ contains
         call resize(force, this%layout%n_unknown)
         force = 0.0_rk
         call coupling_forces(this, t_n, h, x_n, y, force)
-        call book_coupling_work(this, h, x_n, x_step, force)
+        call book_coupling_work(this, h, x_n, x_step, y, force)
         call move_alloc(y, this%work_y)
         call move_alloc(force, this%work_force)
         call move_alloc(x_step, this%work_x)
@@ -773,12 +773,18 @@ contains
 
     !> The work of the coupling forces on each member in a step, booked as the rod's external
     !> work in the ledger.
-    subroutine book_coupling_work(this, h, x_n, x_1, force)
+    subroutine book_coupling_work(this, h, x_n, x_1, y, force)
         type(rod_system_t), intent(inout) :: this
-        real(rk), intent(in) :: h, x_n(:), x_1(:), force(:)
+        real(rk), intent(in) :: h, x_n(:), x_1(:), y(:), force(:)
         real(rk) :: work, step(max_node_coordinates), q_n(max_node_coordinates)
-        real(rk) :: q_1(max_node_coordinates)
-        integer :: m, k, nc, at
+        real(rk) :: q_1(max_node_coordinates), dissipated(size(this%members))
+        integer :: m, k, nc, at, c
+        ! Friction's share of the work is dissipation (>= 0): booked as such, the rest as
+        ! external work, so that work + dissipation is the couplings' whole work.
+        dissipated = 0.0_rk
+        do c = 1, size(this%couplings)
+            call this%couplings(c)%coupling%add_dissipation(this%layout, h, x_n, y, dissipated)
+        end do
         do m = 1, size(this%members)
             associate (place => this%layout%members(m))
                 nc = place%nodes%n_coordinates
@@ -799,10 +805,12 @@ contains
                             this%layout%force_scale(m, h)
                     end associate
                 end do
-                call this%ledger%book_work(place%first_rod, work)
+                call this%ledger%book_work(place%first_rod, work + dissipated(m))
+                call this%ledger%book_dissipation(place%first_rod, dissipated(m))
                 ! The sentinel sees the system's balance as the ledger does: the couplings'
                 ! work on the rods is external to each rod.
-                this%step_energy%work = this%step_energy%work + work
+                this%step_energy%work = this%step_energy%work + work + dissipated(m)
+                this%step_energy%dissipated = this%step_energy%dissipated + dissipated(m)
             end associate
         end do
     end subroutine book_coupling_work

@@ -3,7 +3,9 @@
 !> cylinder, the energy identity of the midpoint force for random steps (into, out of and
 !> through the support), the force direction (along the normal, through the centre, at right
 !> angles through the axis), the penalty law k delta^2 at small penetration, and the tangent
-!> against central differences. Each test prints the largest error it measured.
+!> against central differences; friction: its dissipation (f_T . dx = D_T >= 0, |f_T| <= mu f_N)
+!> and its tangent against central differences. Each test prints the largest error it
+!> measured.
 module rs_test_contact_obstacle
     use, intrinsic :: iso_fortran_env, only: output_unit
     use rs_core_kinds, only: rk
@@ -11,7 +13,8 @@ module rs_test_contact_obstacle
     use rs_test_assert, only: run_test, assert_true, assert_close
     use rs_contact_obstacle, only: obstacle_params_t, obstacle_params_init, obstacle_support, &
         obstacle_energy, obstacle_penetration, obstacle_point_force, obstacle_point_tangent, &
-        obstacle_plane, obstacle_sphere, obstacle_cylinder
+        obstacle_plane, obstacle_sphere, obstacle_cylinder, obstacle_point_friction, &
+        obstacle_point_friction_tangent, obstacle_point_dissipation
     implicit none
     private
 
@@ -34,7 +37,18 @@ contains
         call run_test('force_direction', test_force_direction)
         call run_test('penalty_law', test_penalty_law)
         call run_test('tangent_fd', test_tangent_fd)
+        call run_test('friction_dissipation', test_friction_dissipation)
+        call run_test('friction_tangent_fd', test_friction_tangent_fd)
     end subroutine run_all_tests
+
+    !> An obstacle with friction mu = 0.3 and slip velocity 1e-3 m/s.
+    function rough(k) result(params)
+        integer, intent(in) :: k
+        type(obstacle_params_t) :: params
+        params = obstacle(k)
+        params%mu = 0.3_rk
+        params%slip_velocity = 1.0e-3_rk
+    end function rough
 
     !> The three obstacles: the ground z = 0, a ball of radius 0.1 about p, a cylinder of
     !> radius 0.05 about the axis through p along a tilted unit vector.
@@ -215,6 +229,87 @@ contains
         write(text, '(a,es9.2)') '    max FD error / max entry: ', worst
         write(output_unit, '(a)') trim(text)
     end subroutine test_tangent_fd
+
+    !> For random touching steps: f_T . (x_1 - x_n) = D_T >= 0 (relative to |f_T| |dx|), and
+    !> |f_T| <= mu f_N (Coulomb's bound; f_N the normal force of the same step).
+    subroutine test_friction_dissipation()
+        type(obstacle_params_t) :: params
+        real(rk) :: x_n(3), x_1(3), f(3), f_t(3), d, h, worst, excess
+        logical :: touching
+        integer :: k, i, touched
+        character(len=120) :: text
+        call set_random_seed(14, 1)
+        worst = 0.0_rk
+        excess = 0.0_rk
+        h = 1.0e-4_rk
+        do k = 1, 3
+            params = rough(k)
+            touched = 0
+            do i = 1, n_steps
+                x_n = near_surface(params)
+                x_1 = x_n + uniform(0.0_rk, 0.5_rk) * rod_radius * random_unit_vector()
+                call obstacle_point_force(params, x_n, x_1, f, touching)
+                if (.not. touching) cycle
+                touched = touched + 1
+                call obstacle_point_friction(params, x_n, x_1, h, f_t)
+                d = obstacle_point_dissipation(params, x_n, x_1, h)
+                CHECK_TRUE(d >= 0.0_rk, 'D_T >= 0')
+                worst = max(worst, abs(dot_product(f_t, x_1 - x_n) - d) / &
+                    (norm2(f_t) * norm2(x_1 - x_n) + tiny(1.0_rk)))
+                excess = max(excess, norm2(f_t) - params%mu * norm2(f))
+            end do
+            CHECK_TRUE(touched > n_steps / 4, 'a quarter of the steps or more touch')
+        end do
+        CHECK_TRUE(worst <= energy_rtol, 'f_T . dx = D_T')
+        CHECK_TRUE(excess <= 0.0_rk, '|f_T| <= mu f_N')
+        write(text, '(a,es9.2,a,es9.2)') '    max relative error of f_T . dx - D_T: ', worst, &
+            '; max |f_T| - mu f_N: ', excess
+        write(output_unit, '(a)') trim(text)
+    end subroutine test_friction_dissipation
+
+    !> d f_T / d x_1 against central differences (slips of 0.1 to 10 slip velocities).
+    subroutine test_friction_tangent_fd()
+        type(obstacle_params_t) :: params
+        real(rk) :: x_n(3), x_1(3), xp(3), xm(3), fp(3), fm(3), tangent(3, 3), fd(3), h
+        real(rk) :: step, error, worst
+        integer :: k, i, j, tested
+        character(len=120) :: text
+        call set_random_seed(15, 1)
+        worst = 0.0_rk
+        step = 1.0e-4_rk
+        do k = 1, 3
+            params = rough(k)
+            tested = 0
+            do i = 1, 300
+                x_n = near_surface(params)
+                x_1 = x_n + 10.0_rk**uniform(-1.0_rk, 1.0_rk) * params%slip_velocity * step * &
+                    random_unit_vector()
+                if (obstacle_support(params, x_1) < 0.1_rk * rod_radius * merge(1.0_rk, &
+                    2.0_rk * (params%radius + rod_radius), k == 1)) cycle
+                if (obstacle_support(params, x_n) < 0.1_rk * rod_radius * merge(1.0_rk, &
+                    2.0_rk * (params%radius + rod_radius), k == 1)) cycle
+                call obstacle_point_friction_tangent(params, x_n, x_1, step, tangent)
+                tested = tested + 1
+                ! Differences of 1e-4 of the slip scale eta = v_s h.
+                h = 1.0e-4_rk * params%slip_velocity * step
+                do j = 1, 3
+                    xp = x_1
+                    xm = x_1
+                    xp(j) = xp(j) + h
+                    xm(j) = xm(j) - h
+                    call obstacle_point_friction(params, x_n, xp, step, fp)
+                    call obstacle_point_friction(params, x_n, xm, step, fm)
+                    fd = (fp - fm) / (2.0_rk * h)
+                    error = maxval(abs(fd - tangent(:, j))) / maxval(abs(tangent))
+                    worst = max(worst, error)
+                end do
+            end do
+            CHECK_TRUE(tested > 50, 'enough touching steps tested')
+        end do
+        CHECK_TRUE(worst <= fd_rtol, 'd f_T / d x_1 = tangent')
+        write(text, '(a,es9.2)') '    max FD error / max entry: ', worst
+        write(output_unit, '(a)') trim(text)
+    end subroutine test_friction_tangent_fd
 
 end module rs_test_contact_obstacle
 
