@@ -237,33 +237,40 @@ contains
         slip = step - dot_product(normal, step) * normal
     end subroutine slip_of_step
 
+    !> mu f_N / sqrt(|u|^2 + eta^2) and the slip u of a step of length h (the factor 0 without
+    !> friction or contact): f_T = factor u, D_T = factor |u|^2.
+    pure subroutine friction_factor(params, x_n, x_1, h, factor, slip)
+        type(obstacle_params_t), intent(in) :: params
+        real(rk), intent(in) :: x_n(3), x_1(3), h
+        real(rk), intent(out) :: factor, slip(3)
+        real(rk) :: f_normal, normal(3), eta
+        factor = 0.0_rk
+        slip = 0.0_rk
+        if (params%mu == 0.0_rk) return
+        call slip_of_step(params, x_n, x_1, f_normal, normal, slip)
+        eta = params%slip_velocity * h
+        if (f_normal > 0.0_rk) factor = params%mu * f_normal / &
+            sqrt(dot_product(slip, slip) + eta * eta)
+    end subroutine friction_factor
+
     !> The friction term f_T of a step of length h (module header; zero without friction or
     !> contact).
     pure subroutine obstacle_point_friction(params, x_n, x_1, h, f)
         type(obstacle_params_t), intent(in) :: params
         real(rk), intent(in) :: x_n(3), x_1(3), h
         real(rk), intent(out) :: f(3)
-        real(rk) :: f_normal, normal(3), slip(3), eta
-        f = 0.0_rk
-        if (params%mu == 0.0_rk) return
-        call slip_of_step(params, x_n, x_1, f_normal, normal, slip)
-        if (f_normal == 0.0_rk) return
-        eta = params%slip_velocity * h
-        f = params%mu * f_normal * slip / sqrt(dot_product(slip, slip) + eta * eta)
+        real(rk) :: factor, slip(3)
+        call friction_factor(params, x_n, x_1, h, factor, slip)
+        f = factor * slip
     end subroutine obstacle_point_friction
 
     !> The step's friction dissipation per length D_T = f_T . (x_1 - x_n) >= 0.
     pure real(rk) function obstacle_point_dissipation(params, x_n, x_1, h) result(d)
         type(obstacle_params_t), intent(in) :: params
         real(rk), intent(in) :: x_n(3), x_1(3), h
-        real(rk) :: f_normal, normal(3), slip(3), eta
-        d = 0.0_rk
-        if (params%mu == 0.0_rk) return
-        call slip_of_step(params, x_n, x_1, f_normal, normal, slip)
-        if (f_normal == 0.0_rk) return
-        eta = params%slip_velocity * h
-        d = params%mu * f_normal * dot_product(slip, slip) / sqrt(dot_product(slip, slip) + &
-            eta * eta)
+        real(rk) :: factor, slip(3)
+        call friction_factor(params, x_n, x_1, h, factor, slip)
+        d = factor * dot_product(slip, slip)
     end function obstacle_point_dissipation
 
     !> d f_T / d x_1 (3 x 3) of obstacle_point_friction: through f_N, the normal (sphere,

@@ -191,10 +191,8 @@ contains
     !> d f / d x_1 against central differences, for steps into and within the support.
     subroutine test_tangent_fd()
         type(obstacle_params_t) :: params
-        real(rk) :: x_n(3), x_1(3), xp(3), xm(3), fp(3), fm(3), tangent(3, 3), fd(3), h
-        real(rk) :: error, worst
-        logical :: touching
-        integer :: k, i, j, tested
+        real(rk) :: x_n(3), x_1(3), tangent(3, 3), h, worst
+        integer :: k, i, tested
         character(len=120) :: text
         call set_random_seed(13, 1)
         worst = 0.0_rk
@@ -211,17 +209,7 @@ contains
                 call obstacle_point_tangent(params, x_n, x_1, tangent)
                 if (maxval(abs(tangent)) == 0.0_rk) cycle
                 tested = tested + 1
-                do j = 1, 3
-                    xp = x_1
-                    xm = x_1
-                    xp(j) = xp(j) + h
-                    xm(j) = xm(j) - h
-                    call obstacle_point_force(params, x_n, xp, fp, touching)
-                    call obstacle_point_force(params, x_n, xm, fm, touching)
-                    fd = (fp - fm) / (2.0_rk * h)
-                    error = maxval(abs(fd - tangent(:, j))) / maxval(abs(tangent))
-                    worst = max(worst, error)
-                end do
+                worst = max(worst, difference_error(params, x_n, x_1, h, 0.0_rk, tangent))
             end do
             CHECK_TRUE(tested > 50, 'enough touching steps tested')
         end do
@@ -270,9 +258,8 @@ contains
     !> d f_T / d x_1 against central differences (slips of 0.1 to 10 slip velocities).
     subroutine test_friction_tangent_fd()
         type(obstacle_params_t) :: params
-        real(rk) :: x_n(3), x_1(3), xp(3), xm(3), fp(3), fm(3), tangent(3, 3), fd(3), h
-        real(rk) :: step, error, worst
-        integer :: k, i, j, tested
+        real(rk) :: x_n(3), x_1(3), tangent(3, 3), h, step, worst
+        integer :: k, i, tested
         character(len=120) :: text
         call set_random_seed(15, 1)
         worst = 0.0_rk
@@ -292,17 +279,7 @@ contains
                 tested = tested + 1
                 ! Differences of 1e-4 of the slip scale eta = v_s h.
                 h = 1.0e-4_rk * params%slip_velocity * step
-                do j = 1, 3
-                    xp = x_1
-                    xm = x_1
-                    xp(j) = xp(j) + h
-                    xm(j) = xm(j) - h
-                    call obstacle_point_friction(params, x_n, xp, step, fp)
-                    call obstacle_point_friction(params, x_n, xm, step, fm)
-                    fd = (fp - fm) / (2.0_rk * h)
-                    error = maxval(abs(fd - tangent(:, j))) / maxval(abs(tangent))
-                    worst = max(worst, error)
-                end do
+                worst = max(worst, difference_error(params, x_n, x_1, h, step, tangent))
             end do
             CHECK_TRUE(tested > 50, 'enough touching steps tested')
         end do
@@ -310,6 +287,33 @@ contains
         write(text, '(a,es9.2)') '    max FD error / max entry: ', worst
         write(output_unit, '(a)') trim(text)
     end subroutine test_friction_tangent_fd
+
+    !> The largest entry of central differences (step h in x_1) minus `tangent`, relative to
+    !> its largest entry: of the normal force (time_step 0) or of the friction term of a step
+    !> of length time_step.
+    function difference_error(params, x_n, x_1, h, time_step, tangent) result(error)
+        type(obstacle_params_t), intent(in) :: params
+        real(rk), intent(in) :: x_n(3), x_1(3), h, time_step, tangent(3, 3)
+        real(rk) :: error, xp(3), xm(3), fp(3), fm(3)
+        logical :: touching
+        integer :: j
+        error = 0.0_rk
+        do j = 1, 3
+            xp = x_1
+            xm = x_1
+            xp(j) = xp(j) + h
+            xm(j) = xm(j) - h
+            if (time_step > 0.0_rk) then
+                call obstacle_point_friction(params, x_n, xp, time_step, fp)
+                call obstacle_point_friction(params, x_n, xm, time_step, fm)
+            else
+                call obstacle_point_force(params, x_n, xp, fp, touching)
+                call obstacle_point_force(params, x_n, xm, fm, touching)
+            end if
+            error = max(error, maxval(abs((fp - fm) / (2.0_rk * h) - tangent(:, j))) / &
+                maxval(abs(tangent)))
+        end do
+    end function difference_error
 
 end module rs_test_contact_obstacle
 
