@@ -209,7 +209,13 @@ contains
                 'axis through ' // vector_text(obstacle%point) // ' m along ' // &
                 vector_text(obstacle%normal)
         end select
-        text = text // '; fixed, stiffness ' // str(obstacle%stiffness) // ' N/m^3, '
+        if (any(obstacle%displacement /= 0.0_rk)) then
+            text = text // '; moving by f(t) ' // vector_text(obstacle%displacement) // &
+                ' m, f = ''' // trim(obstacle%time_function) // ''''
+        else
+            text = text // '; fixed'
+        end if
+        text = text // ', stiffness ' // str(obstacle%stiffness) // ' N/m^3, '
         if (obstacle%mu > 0.0_rk) then
             text = text // 'friction mu = ' // str(obstacle%mu) // ' (regularized below ' // &
                 str(obstacle%slip_velocity) // ' m/s)'

@@ -14,7 +14,7 @@ module rs_io_input_cross_check
     use rs_model_scene, only: scene_t, rod_input_t, actuator_input_t, bc_input_t, unset_real, &
         unset_int, name_len
     use rs_model_time_function, only: time_function_t, time_function_from_bc, &
-        time_function_from_plate
+        time_function_from_plate, time_function_from_obstacle
     use rs_model_rod_geometry, only: rod_geometry_t, rod_geometry_of, centreline_point
     use rs_model_capabilities, only: capability_t
     use rs_formulations_registry, only: capability_of
@@ -686,6 +686,8 @@ contains
     subroutine resolve_obstacles(scene, errors)
         type(scene_t), intent(inout) :: scene
         type(error_list_t), intent(inout) :: errors
+        type(time_function_t) :: f
+        type(error_t), allocatable :: err
         character(len=:), allocatable :: here
         logical :: has_normal, has_radius, wants_normal, wants_radius
         integer :: o, q
@@ -712,6 +714,18 @@ contains
                     'required for kind = ''' // trim(obstacle%kind) // '''')
                 if (.not. wants_radius .and. has_radius) call errors%add(here // 'radius: a ' // &
                     'plane takes none')
+                call check_time_function(here, obstacle%time_function, obstacle%t_on, &
+                    obstacle%t_off, obstacle%table_times, obstacle%table_values, errors)
+                if (any(obstacle%displacement /= 0.0_rk)) then
+                    call time_function_from_obstacle(obstacle, f, err)
+                    if (allocated(err)) then
+                        deallocate(err)
+                    else if (f%value(0.0_rk) /= 0.0_rk) then
+                        call errors%add(here // 'time_function: f(0) = ' // &
+                            str(f%value(0.0_rk)) // '; a moving obstacle (displacement not ' // &
+                            'zero) starts where it is given, so f(0) = 0')
+                    end if
+                end if
                 if (obstacle%mu > 0.0_rk .and. scene%time%quasistatic) call errors%add(here // &
                     'mu: friction acts on the slip velocity of a time step, and a quasistatic ' // &
                     'run has none; set mu = 0 or run dynamically')

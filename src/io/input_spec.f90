@@ -715,7 +715,7 @@ contains
         type(group_spec_t) :: g
         g%name = 'obstacle'
         g%repeatable = .true.
-        g%description = 'A rigid, fixed obstacle that every rod touches with its ' // &
+        g%description = 'A rigid obstacle, fixed or moving, that every rod touches with its ' // &
             'contact_radius (ph_director, se3_pg): the ground (''plane''), a ''sphere'' or ' // &
             'an infinite ''cylinder''; penalty contact whose midpoint step keeps the ' // &
             'energy exactly (nothing tunnels through a plane), with regularized Coulomb ' // &
@@ -750,7 +750,12 @@ contains
             spec_v('slip_velocity', 'real', 'm/s', '1e-4', 'Regularization of friction: below ' // &
                 'this slip velocity the friction force grows linearly from 0 (a smooth stick ' // &
                 'branch: a rod that should stick creeps at a fraction of it).', lower=0.0_rk, &
-                lower_inclusive=.false., example='1e-5')]
+                lower_inclusive=.false., example='1e-5'), &
+            spec_v('displacement', 'real', 'm', '0, 0, 0', 'Translation of the obstacle at ' // &
+                'f(t) = 1: it moves rigidly by f(t) displacement (f the time function; a moving ' // &
+                'obstacle starts where it is given, f(0) = 0). Its work on the rods is booked ' // &
+                'as theirs (external work).', count=3, example='0, 0, 0.01'), &
+            time_function_variables('obstacle motion')]
     end function obstacle_group
 
     function sweep_group() result(g)

@@ -311,11 +311,12 @@ module rs_model_scene
         integer :: points_per_element = unset_int
     end type contact_input_t
 
-    !> &obstacle: a rigid, fixed obstacle that every rod of the scene touches with its
-    !> contact_radius (issue 24 item 3): the ground ('plane': the half-space below the plane
-    !> through `point` with outward `normal`), a 'sphere' (centre `point`, `radius`) or an
-    !> infinite 'cylinder' (axis through `point` along `normal`, `radius`), with the penalty
-    !> potential and discrete gradient of rs_contact_obstacle (frictionless, energy exact).
+    !> &obstacle: a rigid obstacle, fixed or translated by a time function, that every rod of
+    !> the scene touches with its contact_radius (issue 24 item 3): the ground ('plane': the
+    !> half-space below the plane through `point` with outward `normal`), a 'sphere' (centre
+    !> `point`, `radius`) or an infinite 'cylinder' (axis through `point` along `normal`,
+    !> `radius`), with the penalty potential, its discrete gradient and regularized Coulomb
+    !> friction of rs_contact_obstacle (energy exact without friction).
     type, public :: obstacle_input_t
         !> Line of the group in the input file (set by the reader; not an input variable).
         integer :: input_line = 0
@@ -331,6 +332,13 @@ module rs_model_scene
         !> the regularized law is viscous (rs_contact_obstacle).
         real(rk) :: mu = 0.0_rk
         real(rk) :: slip_velocity = 1.0e-4_rk
+        !> A moving obstacle translates by f(t) displacement (f the time function, f(0) = 0).
+        real(rk) :: displacement(3) = 0.0_rk
+        character(len=name_len) :: time_function = 'constant'
+        real(rk) :: t_on = 0.0_rk
+        real(rk) :: t_off = unset_real
+        real(rk) :: table_times(max_table) = unset_real
+        real(rk) :: table_values(max_table) = unset_real
     end type obstacle_input_t
 
     !> &sweep: one swept variable (DESIGN.md §5, §6). `parameter` is a path into the scene,

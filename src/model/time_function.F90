@@ -19,12 +19,13 @@
 module rs_model_time_function
     use rs_core_kinds, only: rk
     use rs_core_error, only: error_t, set_error
-    use rs_model_scene, only: load_input_t, actuator_input_t, bc_input_t, plate_input_t, unset_real
+    use rs_model_scene, only: load_input_t, actuator_input_t, bc_input_t, plate_input_t, &
+        obstacle_input_t, unset_real
     implicit none
     private
 
     public :: time_function_from_load, time_function_from_actuator, time_function_from_bc
-    public :: time_function_from_plate
+    public :: time_function_from_plate, time_function_from_obstacle
 
     !> The names `time_function_from_load`, `time_function_from_actuator` and
     !> `time_function_from_bc` accept.
@@ -83,6 +84,16 @@ contains
         call time_function_from_parts('time_function_from_plate', plate%time_function, plate%t_on, &
             plate%t_off, plate%table_times, plate%table_values, tf, err)
     end subroutine time_function_from_plate
+
+    !> The time function f of a moving `&obstacle` (it is translated by f(t) displacement); the
+    !> same names and rules as `time_function_from_load`.
+    subroutine time_function_from_obstacle(obstacle, tf, err)
+        type(obstacle_input_t), intent(in) :: obstacle
+        type(time_function_t), intent(out) :: tf
+        type(error_t), allocatable, intent(out) :: err
+        call time_function_from_parts('time_function_from_obstacle', obstacle%time_function, &
+            obstacle%t_on, obstacle%t_off, obstacle%table_times, obstacle%table_values, tf, err)
+    end subroutine time_function_from_obstacle
 
     !> The time function named `name` on [t_on, t_off] or through the set entries of
     !> (times, values); errors name `routine`, the public entry point.

@@ -62,7 +62,7 @@ module rs_system_coupling
         procedure(edges_interface), deferred :: add_edges
         !> A short description for the log.
         procedure(describe_interface), deferred :: describe
-        !> Add each member's dissipation of the accepted step from x_n to y (friction, >= 0):
+        !> Add each member's dissipation of the accepted step from (t_n, x_n) to y (friction):
         !> the part of the coupling's work that the system books as dissipated rather than as
         !> external work. Default: none (conservative couplings).
         procedure :: add_dissipation => default_add_dissipation
@@ -136,10 +136,10 @@ module rs_system_coupling
 
 contains
 
-    subroutine default_add_dissipation(this, layout, h, x_n, y, dissipated)
+    subroutine default_add_dissipation(this, layout, t_n, h, x_n, y, dissipated)
         class(coupling_t), intent(in) :: this
         type(system_layout_t), intent(in) :: layout
-        real(rk), intent(in) :: h, x_n(:), y(:)
+        real(rk), intent(in) :: t_n, h, x_n(:), y(:)
         real(rk), intent(inout) :: dissipated(:)
     end subroutine default_add_dissipation
 

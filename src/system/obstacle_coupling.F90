@@ -21,6 +21,7 @@ module rs_system_obstacle_coupling
         obstacle_sphere, obstacle_cylinder, obstacle_point_friction, &
         obstacle_point_friction_tangent, obstacle_point_dissipation
     use rs_contact_element, only: contact_points
+    use rs_model_time_function, only: time_function_t, time_function_from_obstacle
     use rs_system_layout, only: system_layout_t
     use rs_system_coupling, only: coupling_t, coupling_record_t
     implicit none
@@ -38,10 +39,19 @@ module rs_system_obstacle_coupling
         integer, allocatable :: map(:, :, :)
     end type obstacle_member_t
 
+    !> How an obstacle moves: it is translated by f(t) displacement.
+    type :: obstacle_motion_t
+        real(rk) :: displacement(3) = 0.0_rk
+        type(time_function_t) :: f
+    end type obstacle_motion_t
+
     type, extends(coupling_t), public :: obstacle_coupling_t
         type(obstacle_member_t), allocatable :: members(:)
+        type(obstacle_motion_t), allocatable :: motions(:)
         character(len=:), allocatable :: names
         logical :: static = .false.
+        !> Load time of the endpoint equilibrium (set_endpoint).
+        real(rk) :: t_load = 0.0_rk
         !> Jacobian entries of the element blocks (the pattern builder's first allocation).
         integer :: entries = 0
     contains
@@ -74,11 +84,20 @@ contains
         character(len=:), allocatable :: message
         allocate(this%blocks(0))
         allocate(this%members(size(layout%members)))
+        allocate(this%motions(size(scene%obstacles)))
+        do o = 1, size(scene%obstacles)
+            this%motions(o)%displacement = scene%obstacles(o)%displacement
+            call time_function_from_obstacle(scene%obstacles(o), this%motions(o)%f, err)
+            RS_RETURN_IF_ERROR(err)
+        end do
         this%names = ''
         do o = 1, size(scene%obstacles)
             if (o > 1) this%names = this%names // ', '
             this%names = this%names // '''' // trim(scene%obstacles(o)%name) // ''' (' // &
-                trim(scene%obstacles(o)%kind) // ')'
+                trim(scene%obstacles(o)%kind)
+            if (any(scene%obstacles(o)%displacement /= 0.0_rk)) this%names = this%names // &
+                ', moving'
+            this%names = this%names // ')'
         end do
         do m = 1, size(layout%members)
             associate (member => this%members(m), nodes => layout%members(m)%nodes)
@@ -193,7 +212,7 @@ contains
         real(rk), intent(in) :: t_n, h, x_n(:), y(:)
         real(rk), intent(inout) :: f(:)
         logical, intent(in) :: all_rows
-        call assemble(this, layout, h, x_n, y, all_rows, f=f)
+        call assemble(this, layout, t_n, h, x_n, y, all_rows, f=f)
     end subroutine obstacle_add_residual
 
     subroutine obstacle_add_jacobian(this, layout, pattern, t_n, h, x_n, y, values)
@@ -202,25 +221,52 @@ contains
         type(csr_pattern_t), intent(in) :: pattern
         real(rk), intent(in) :: t_n, h, x_n(:), y(:)
         real(rk), intent(inout) :: values(:)
-        call assemble(this, layout, h, x_n, y, .false., values=values)
+        call assemble(this, layout, t_n, h, x_n, y, .false., values=values)
     end subroutine obstacle_add_jacobian
+
+    !> Where each obstacle is at the two ends of the step from t_n by h, as displacements from
+    !> its given place: in the endpoint equilibrium both at its load time, in equilibrium steps
+    !> both at t_n + h (the coupling acts at X_{n+1} only).
+    subroutine step_shifts(this, t_n, h, shift_n, shift_1)
+        type(obstacle_coupling_t), intent(in) :: this
+        real(rk), intent(in) :: t_n, h
+        real(rk), intent(out) :: shift_n(:, :), shift_1(:, :)
+        real(rk) :: time_n, time_1
+        integer :: o
+        time_n = t_n
+        time_1 = t_n + h
+        if (this%static) then
+            time_n = this%t_load
+            time_1 = this%t_load
+        else if (this%equilibrium_steps) then
+            time_n = time_1
+        end if
+        do o = 1, size(this%motions)
+            shift_n(:, o) = this%motions(o)%f%value(time_n) * this%motions(o)%displacement
+            shift_1(:, o) = this%motions(o)%f%value(time_1) * this%motions(o)%displacement
+        end do
+    end subroutine step_shifts
 
     !> The obstacles' terms: h^p times the discrete gradient of their energy, integrated over
     !> each element at its contact points (in the endpoint solve the gradient at X_{n+1}: both
-    !> arguments at X_{n+1}, whose derivative is twice the partial one by symmetry).
-    subroutine assemble(this, layout, h, x_n, y, all_rows, f, values)
+    !> arguments at X_{n+1}, whose derivative is twice the partial one by symmetry). A moving
+    !> obstacle is seen from its own frame: the points are shifted back by its displacement at
+    !> each end of the step, which leaves the derivatives in x_1 as they are.
+    subroutine assemble(this, layout, t_n, h, x_n, y, all_rows, f, values)
         type(obstacle_coupling_t), intent(in) :: this
         type(system_layout_t), intent(in) :: layout
-        real(rk), intent(in) :: h, x_n(:), y(:)
+        real(rk), intent(in) :: t_n, h, x_n(:), y(:)
         logical, intent(in) :: all_rows
         real(rk), intent(inout), optional :: f(:), values(:)
         real(rk) :: x_e(3, max_nodes), y_e(3, max_nodes), p_n(3), p_1(3), force(3), t3(3, 3)
         real(rk) :: friction(3), t3_friction(3, 3)
+        real(rk) :: shift_n(3, size(this%motions)), shift_1(3, size(this%motions))
         real(rk) :: r(3, max_nodes), tangent(3 * max_nodes, 3 * max_nodes), w, scale, h_m
         integer :: m, e, g, o, a, b, nen, n, i, j, p, rows(3 * max_nodes), cols(3 * max_nodes)
         logical :: touching, any_touching, static
         static = this%static .or. this%equilibrium_steps
         scale = merge(2.0_rk, 1.0_rk, static)
+        call step_shifts(this, t_n, h, shift_n, shift_1)
         do m = 1, size(layout%members)
             if (.not. (all_rows .or. layout%owns_member(m))) cycle
             associate (member => this%members(m), nodes => layout%members(m)%nodes)
@@ -237,22 +283,23 @@ contains
                         p_1 = matmul(y_e(:, 1:nen), member%shape(:, g))
                         w = member%weight(g) * nodes%element_length(e)
                         do o = 1, size(member%obstacles)
-                            call obstacle_point_force(member%obstacles(o), p_n, p_1, force, &
-                                touching)
+                            call obstacle_point_force(member%obstacles(o), p_n - shift_n(:, o), &
+                                p_1 - shift_1(:, o), force, touching)
                             if (.not. touching) cycle
                             any_touching = .true.
                             ! Friction acts on the slip of a time step (none in equilibrium).
                             friction = 0.0_rk
                             if (.not. static) call obstacle_point_friction(member%obstacles(o), &
-                                p_n, p_1, h, friction)
+                                p_n - shift_n(:, o), p_1 - shift_1(:, o), h, friction)
                             do a = 1, nen
                                 r(:, a) = r(:, a) + (w * member%shape(a, g)) * (force + friction)
                             end do
                             if (.not. present(values)) cycle
-                            call obstacle_point_tangent(member%obstacles(o), p_n, p_1, t3)
+                            call obstacle_point_tangent(member%obstacles(o), p_n - shift_n(:, o), &
+                                p_1 - shift_1(:, o), t3)
                             if (.not. static .and. member%obstacles(o)%mu > 0.0_rk) then
-                                call obstacle_point_friction_tangent(member%obstacles(o), p_n, &
-                                    p_1, h, t3_friction)
+                                call obstacle_point_friction_tangent(member%obstacles(o), &
+                                    p_n - shift_n(:, o), p_1 - shift_1(:, o), h, t3_friction)
                                 t3 = t3 + t3_friction
                             end if
                             do b = 1, nen
@@ -295,6 +342,7 @@ contains
         logical, intent(in) :: on
         real(rk), intent(in) :: t_load
         this%static = on
+        this%t_load = t_load
     end subroutine obstacle_set_endpoint
 
     !> Each member's obstacle energy, the force of the obstacles on it and its deepest
@@ -307,8 +355,12 @@ contains
         real(rk), intent(in) :: t, x(:), y(:)
         type(coupling_record_t), intent(inout) :: records(:)
         real(rk) :: x_e(3, max_nodes), y_e(3, max_nodes), point(3), force(3), w
+        real(rk) :: shift(3, size(this%motions))
         integer :: m, e, g, o, nen
         logical :: touching
+        do o = 1, size(this%motions)
+            shift(:, o) = this%motions(o)%f%value(t) * this%motions(o)%displacement
+        end do
         do m = 1, size(layout%members)
             associate (member => this%members(m), nodes => layout%members(m)%nodes, &
                     record => records(m))
@@ -316,9 +368,9 @@ contains
                 do e = 1, nodes%n_elements
                     call element_positions(layout, m, e, x, y, x_e(:, 1:nen), y_e(:, 1:nen))
                     do g = 1, size(member%weight)
-                        point = matmul(x_e(:, 1:nen), member%shape(:, g))
                         w = member%weight(g) * nodes%element_length(e)
                         do o = 1, size(member%obstacles)
+                            point = matmul(x_e(:, 1:nen), member%shape(:, g)) - shift(:, o)
                             call obstacle_point_force(member%obstacles(o), point, point, force, &
                                 touching)
                             if (.not. touching) cycle
@@ -332,7 +384,7 @@ contains
                     do g = 1, nen
                         do o = 1, size(member%obstacles)
                             record%penetration = max(record%penetration, &
-                                obstacle_penetration(member%obstacles(o), x_e(:, g)))
+                                obstacle_penetration(member%obstacles(o), x_e(:, g) - shift(:, o)))
                         end do
                     end do
                 end do
@@ -342,14 +394,16 @@ contains
 
     !> Each member's friction dissipation D_T >= 0 of the accepted step from x_n to the
     !> unknowns y (rs_contact_obstacle), integrated as the forces are.
-    subroutine obstacle_add_dissipation(this, layout, h, x_n, y, dissipated)
+    subroutine obstacle_add_dissipation(this, layout, t_n, h, x_n, y, dissipated)
         class(obstacle_coupling_t), intent(in) :: this
         type(system_layout_t), intent(in) :: layout
-        real(rk), intent(in) :: h, x_n(:), y(:)
+        real(rk), intent(in) :: t_n, h, x_n(:), y(:)
         real(rk), intent(inout) :: dissipated(:)
         real(rk) :: x_e(3, max_nodes), y_e(3, max_nodes), p_n(3), p_1(3), w
+        real(rk) :: shift_n(3, size(this%motions)), shift_1(3, size(this%motions))
         integer :: m, e, g, o, nen
         if (this%static .or. this%equilibrium_steps) return
+        call step_shifts(this, t_n, h, shift_n, shift_1)
         do m = 1, size(layout%members)
             associate (member => this%members(m), nodes => layout%members(m)%nodes)
                 if (all(member%obstacles%mu == 0.0_rk)) cycle
@@ -361,8 +415,8 @@ contains
                         p_1 = matmul(y_e(:, 1:nen), member%shape(:, g))
                         w = member%weight(g) * nodes%element_length(e)
                         do o = 1, size(member%obstacles)
-                            dissipated(m) = dissipated(m) + w * &
-                                obstacle_point_dissipation(member%obstacles(o), p_n, p_1, h)
+                            dissipated(m) = dissipated(m) + w * obstacle_point_dissipation( &
+                                member%obstacles(o), p_n - shift_n(:, o), p_1 - shift_1(:, o), h)
                         end do
                     end do
                 end do

@@ -734,7 +734,7 @@ contains
         call resize(force, this%layout%n_unknown)
         force = 0.0_rk
         call coupling_forces(this, t_n, h, x_n, y, force)
-        call book_coupling_work(this, h, x_n, x_step, y, force)
+        call book_coupling_work(this, t_n, h, x_n, x_step, y, force)
         call move_alloc(y, this%work_y)
         call move_alloc(force, this%work_force)
         call move_alloc(x_step, this%work_x)
@@ -773,9 +773,9 @@ contains
 
     !> The work of the coupling forces on each member in a step, booked as the rod's external
     !> work in the ledger.
-    subroutine book_coupling_work(this, h, x_n, x_1, y, force)
+    subroutine book_coupling_work(this, t_n, h, x_n, x_1, y, force)
         type(rod_system_t), intent(inout) :: this
-        real(rk), intent(in) :: h, x_n(:), x_1(:), y(:), force(:)
+        real(rk), intent(in) :: t_n, h, x_n(:), x_1(:), y(:), force(:)
         real(rk) :: work, step(max_node_coordinates), q_n(max_node_coordinates)
         real(rk) :: q_1(max_node_coordinates), dissipated(size(this%members))
         integer :: m, k, nc, at, c
@@ -783,7 +783,8 @@ contains
         ! external work, so that work + dissipation is the couplings' whole work.
         dissipated = 0.0_rk
         do c = 1, size(this%couplings)
-            call this%couplings(c)%coupling%add_dissipation(this%layout, h, x_n, y, dissipated)
+            call this%couplings(c)%coupling%add_dissipation(this%layout, t_n, h, x_n, y, &
+                dissipated)
         end do
         do m = 1, size(this%members)
             associate (place => this%layout%members(m))
