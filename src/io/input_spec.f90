@@ -688,7 +688,9 @@ contains
                 'Broad-phase margin: elements whose centrelines come within contact_radius_a + ' // &
                 'contact_radius_b + margin of each other are candidate pairs (the boxes of the ' // &
                 'cell grid grow by margin / 2). It does not change the potential; a larger ' // &
-                'margin finds pairs that close within a step at the cost of more candidates.', &
+                'margin finds pairs that close within a step at the cost of more candidates. ' // &
+                'A step moves no point by more than margin / 2 or a quarter of the smallest ' // &
+                'contact distance (else it is halved).', &
                 lower=0.0_rk, example='0.002'), &
             spec_v('skip', 'integer', '-', '(derived)', &
                 'Elements of one rod this many or fewer apart along it are never a pair, and ' // &

@@ -9,7 +9,9 @@
 !>
 !> Contact safety. The candidates of a step are the element pairs within the contact distance
 !> plus `margin` at t_n; a step in which any centreline point moves more than margin / 2 could
-!> miss a pair, so its iterates are rejected as invalid states (the step is halved).
+!> miss a pair, and one in which it moves more than a quarter of the smallest contact distance
+!> could carry it past another centreline unseen, so its iterates are rejected as invalid
+!> states (the step is halved).
 module rs_system_contact_coupling
     use rs_core_kinds, only: rk
     use rs_core_error, only: error_t, set_error
@@ -139,7 +141,12 @@ contains
         ! Default: elements closer along a rod than 1.5 contact distances never pair (their
         ! points would touch through the rod itself).
         if (this%skip == unset_int) this%skip = ceiling(1.5_rk * 2.0_rk * largest_radius / shortest_element) + 1
-        this%motion_limit = 0.5_rk * this%margin
+        ! A quarter of the smallest contact distance too (issue 24 item 1): two points then
+        ! close by at most half a contact distance per step, so no step carries a point past
+        ! another centreline without the potential seeing the approach (with a wider margin
+        ! alone a rope thrown at another passed through it in one step). Equal radii and the
+        ! default margin (the largest radius) give the same limit as margin / 2 alone.
+        this%motion_limit = min(0.5_rk * this%margin, 0.25_rk * 2.0_rk * smallest_radius)
         m = 0
         do i = 1, size(this%members)
             this%members(i)%first_segment = m + 1
@@ -415,8 +422,9 @@ contains
         ok = this%lebesgue * largest <= this%motion_limit
         if (ok .or. this%warned_motion) return
         call log_info('bundle: at t = ' // str(t_n) // ' a Newton iterate moved a centreline ' // &
-            'point more than margin / 2 = ' // str(this%motion_limit) // ' m, so the step is ' // &
-            'cut (docs/theory/bundles.md); for faster motion raise &contact margin')
+            'point more than ' // str(this%motion_limit) // ' m (the smaller of margin / 2 and ' // &
+            'a quarter of the smallest contact distance), so the step is cut ' // &
+            '(docs/theory/bundles.md)')
         this%warned_motion = .true.
     end function contact_admissible
 
