@@ -23,8 +23,9 @@
 !>     f = psi_bar(s_n, s_1) grad_bar,   psi_bar = [psi(s_1) - psi(s_n)] / (s_1 - s_n),
 !>     grad_bar = -n (plane),   -2 P (x_mid - p) (sphere: P = I; cylinder),
 !>
-!> for which grad_bar . (x_1 - x_n) = s_1 - s_n exactly (s is linear or quadratic), hence
-!> f . (x_1 - x_n) = psi(s_1) - psi(s_n) for any step: the energy is exact. psi_bar of the cubic
+!> for which grad_bar . (x_1 - x_n) = s_1 - s_n exactly (s is linear or quadratic: the
+!> "directionality" of a quadratic at the midpoint, methods/ph_director_3d.md §5.3 item 1,
+!> Remark 4.2), hence f . (x_1 - x_n) = psi(s_1) - psi(s_n) for any step: the energy is exact. psi_bar of the cubic
 !> is evaluated as in rs_contact_potential (the terminating Taylor form when both s are in the
 !> support, the quotient without cancellation when one is), so no step-size switch is needed.
 !> f is a gradient of the energy (it enters the momentum residual as the internal forces do);
@@ -40,8 +41,9 @@
 !> whose physical force -f_T opposes the slip with at most mu f_N (Coulomb's bound, reached
 !> for |u| >> eta; below v_s the law is viscous, a smooth stick branch). Its work on the step is
 !> -f_T . (x_1 - x_n) = -D_T with D_T = mu f_N |u|^2 / sqrt(|u|^2 + eta^2) >= 0 (u is the
-!> tangential part of the displacement): the dissipation is non-negative by construction, and
-!> obstacle_point_dissipation returns it for the books.
+!> tangential part of the displacement): the dissipation is non-negative by construction, as
+!> the discrete balance H_{n+1} - H_n = W_n - D_n with D_n >= 0 of methods/ph_director_3d.md
+!> §5.3 item 1 asks, and obstacle_point_dissipation returns it for the books.
 module rs_contact_obstacle
     use rs_core_kinds, only: rk
     implicit none

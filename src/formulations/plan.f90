@@ -8,7 +8,7 @@ module rs_formulations_plan
     use, intrinsic :: iso_fortran_env, only: int64
     use rs_core_kinds, only: rk
     use rs_core_error, only: error_t
-    use rs_core_strings, only: str, text_buffer_t
+    use rs_core_strings, only: str, text_buffer_t, vector_text
     use rs_model_scene, only: scene_t, step_count, obstacle_input_t
     use rs_model_units, only: unit_in_system
     use rs_model_coupling, only: coupled_systems, system_costs
@@ -199,19 +199,19 @@ contains
         text = 'obstacle ''' // trim(obstacle%name) // ''': '
         select case (trim(obstacle%kind))
         case ('plane')
-            text = text // 'the ground, the plane through ' // vector_text(obstacle%point) // &
-                ' m with outward normal ' // vector_text(obstacle%normal)
+            text = text // 'the ground, the plane through (' // vector_text(obstacle%point) // &
+                ') m with outward normal (' // vector_text(obstacle%normal) // ')'
         case ('sphere')
-            text = text // 'a sphere of radius ' // str(obstacle%radius) // ' m about ' // &
-                vector_text(obstacle%point) // ' m'
+            text = text // 'a sphere of radius ' // str(obstacle%radius) // ' m about (' // &
+                vector_text(obstacle%point) // ') m'
         case default
             text = text // 'a cylinder of radius ' // str(obstacle%radius) // ' m about the ' // &
-                'axis through ' // vector_text(obstacle%point) // ' m along ' // &
-                vector_text(obstacle%normal)
+                'axis through (' // vector_text(obstacle%point) // ') m along (' // &
+                vector_text(obstacle%normal) // ')'
         end select
         if (any(obstacle%displacement /= 0.0_rk)) then
-            text = text // '; moving by f(t) ' // vector_text(obstacle%displacement) // &
-                ' m, f = ''' // trim(obstacle%time_function) // ''''
+            text = text // '; moving by f(t) (' // vector_text(obstacle%displacement) // &
+                ') m, f = ''' // trim(obstacle%time_function) // ''''
         else
             text = text // '; fixed'
         end if
@@ -225,12 +225,6 @@ contains
         text = text // '; every rod touches it with its contact_radius (&obstacle at line ' // &
             str(obstacle%input_line) // ')'
     end function obstacle_line
-
-    function vector_text(v) result(text)
-        real(rk), intent(in) :: v(3)
-        character(len=:), allocatable :: text
-        text = '(' // str(v(1)) // ', ' // str(v(2)) // ', ' // str(v(3)) // ')'
-    end function vector_text
 
     !> The sweep part of the plan ('' without &sweep): the number of members and how the sweeps
     !> combine, each swept variable with its number and range of values, and the values of the

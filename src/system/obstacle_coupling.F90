@@ -3,7 +3,8 @@
 !> formulation with node access: the penalty potential of rs_contact_obstacle integrated along
 !> each rod's centreline at the contact points of its elements (Gauss points; the rule of
 !> rs_contact_element), its discrete gradient in the momentum rows of the positions (h^p times
-!> the generalized force, rod_nodes_t%force_h_power), as rod-rod contact does. The energy of a
+!> the generalized force, rod_nodes_t%force_h_power: the h [ ... ] of (M1) in
+!> methods/ph_director_3d.md §5.2), as rod-rod contact does. The energy of a
 !> step is exact (module header of rs_contact_obstacle), so the obstacles' work, which the
 !> system books as external work on each rod, is minus the change of their energy.
 !>

@@ -274,11 +274,11 @@ contains
     function solver_blocks(this) result(lengths)
         class(rod_system_t), intent(in) :: this
         integer, allocatable :: lengths(:)
-        integer :: order(size(this%members)), m, k, next
+        integer :: order(size(this%members)), m, k, next, n_state
         allocate(lengths(0))
         if (this%quasistatic .or. this%joined .or. size(this%members) < block_jacobi_members) return
-        ! Members in the order of their unknowns (by rank, then scene order); each block runs
-        ! to the next member's first unknown (its coupling blocks follow it, distribute).
+        ! Members in the order of their unknowns (by rank, then scene order); each block is the
+        ! member's unknowns with the coupling blocks it owns (member_extent).
         order = [(m, m = 1, size(this%members))]
         do m = 2, size(order)
             k = order(m)
@@ -294,12 +294,7 @@ contains
         deallocate(lengths)
         allocate(lengths(size(order)))
         do m = 1, size(order)
-            if (m < size(order)) then
-                next = this%layout%members(order(m + 1))%unknown_offset
-            else
-                next = this%layout%n_unknown
-            end if
-            lengths(m) = next - this%layout%members(order(m))%unknown_offset
+            call member_extent(this, order(m), n_state, lengths(m))
         end do
     end function solver_blocks
 
@@ -1076,45 +1071,49 @@ contains
         class(rod_system_t), intent(in) :: this
         real(rk), intent(in) :: x(:)
         real(rk), intent(out) :: canonical(:)
-        integer :: m, c, b
-        do m = 1, size(this%members)
-            associate (place => this%layout%members(m))
-                canonical(place%canonical_offset + 1:place%canonical_offset + place%n_state) = &
-                    x(place%state_offset + 1:place%state_offset + place%n_state)
-            end associate
-        end do
-        do c = 1, size(this%couplings)
-            associate (blocks => this%couplings(c)%coupling%blocks)
-                do b = 1, size(blocks)
-                    canonical(blocks(b)%canonical_offset + 1:blocks(b)%canonical_offset + &
-                        blocks(b)%size) = x(blocks(b)%state_offset + 1:blocks(b)%state_offset + &
-                        blocks(b)%size)
-                end do
-            end associate
-        end do
+        call copy_blocks(this, x, canonical, to_canonical=.true.)
     end subroutine system_canonical_state
 
     subroutine system_from_canonical(this, canonical, x)
         class(rod_system_t), intent(in) :: this
         real(rk), intent(in) :: canonical(:)
         real(rk), intent(out) :: x(:)
+        call copy_blocks(this, canonical, x, to_canonical=.false.)
+    end subroutine system_from_canonical
+
+    !> Every block of the state (members, coupling blocks) from its place in `from` to its
+    !> place in `to`: from this rank's layout to the canonical one, or back.
+    subroutine copy_blocks(this, from, to, to_canonical)
+        type(rod_system_t), intent(in) :: this
+        real(rk), intent(in) :: from(:)
+        real(rk), intent(out) :: to(:)
+        logical, intent(in) :: to_canonical
         integer :: m, c, b
         do m = 1, size(this%members)
             associate (place => this%layout%members(m))
-                x(place%state_offset + 1:place%state_offset + place%n_state) = &
-                    canonical(place%canonical_offset + 1:place%canonical_offset + place%n_state)
+                call copy_block(place%state_offset, place%canonical_offset, place%n_state)
             end associate
         end do
         do c = 1, size(this%couplings)
             associate (blocks => this%couplings(c)%coupling%blocks)
                 do b = 1, size(blocks)
-                    x(blocks(b)%state_offset + 1:blocks(b)%state_offset + blocks(b)%size) = &
-                        canonical(blocks(b)%canonical_offset + 1:blocks(b)%canonical_offset + &
+                    call copy_block(blocks(b)%state_offset, blocks(b)%canonical_offset, &
                         blocks(b)%size)
                 end do
             end associate
         end do
-    end subroutine system_from_canonical
+    contains
+        subroutine copy_block(state_offset, canonical_offset, n)
+            integer, intent(in) :: state_offset, canonical_offset, n
+            if (to_canonical) then
+                to(canonical_offset + 1:canonical_offset + n) = &
+                    from(state_offset + 1:state_offset + n)
+            else
+                to(state_offset + 1:state_offset + n) = &
+                    from(canonical_offset + 1:canonical_offset + n)
+            end if
+        end subroutine copy_block
+    end subroutine copy_blocks
 
     pure integer function system_n_ledger(this)
         class(rod_system_t), intent(in) :: this

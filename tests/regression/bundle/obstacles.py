@@ -218,8 +218,6 @@ def incline(args, checks, case):
                  float(np.max(np.abs(books - books[0]))), 1e-11)
     checks.check(f"{case}: the code's balance error per record (J)",
                  float(np.max(np.abs(r["series/energy/balance_error"]))), 1e-11)
-    checks.check(f"{case}: dissipation >= 0 in every record (-min D)",
-                 -float(np.min(r["series/energy/dissipated"])), 0.0)
     if case == "incline_slide":
         # Coulomb: a = g (sin(alpha) - mu cos(alpha)) once the slip exceeds the slip velocity
         # (the regularization's share of the force is (v_s / v)^2 / 2 < 1e-5 after 1 ms).
@@ -240,6 +238,10 @@ def incline(args, checks, case):
         beta = tan_alpha / MU
         creep = SLIP_VELOCITY * beta / math.sqrt(1.0 - beta**2)
         print(f"info: creep v t = {creep * t[-1] * 1e3:.6f} mm")
+        # Creeping at a steady speed, the rod keeps its kinetic energy: friction takes all of
+        # gravity's work (measured 2.3e-4 relative, the start to the creep speed).
+        checks.check(f"{case}: |dissipated / gravity's work - 1| (stuck)",
+                     abs(dissipated[-1] / gravity_work[-1] - 1.0), 1e-2)
         checks.check(f"{case}: |travel / (creep t) - 1| (the stick branch's creep; measured "
                      "6e-4)", abs(travel / (creep * t[-1]) - 1.0), 0.01)
         checks.check(f"{case}: travel / frictionless slide (stuck)",

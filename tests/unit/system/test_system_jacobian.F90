@@ -197,16 +197,24 @@ contains
 
     ! (d): 'a' along x at height 0.045 over the ground z = 0, under a ball of radius 0.05
     ! about (0.3, 0, 0.14) and a cylinder of radius 0.05 about the axis through (-0.3, 0, 0.14)
-    ! along y; contact radius 0.05, so each presses it by 0.005. Clamped at its start.
-    function obstacle_scene(name, n_elements, quasistatic) result(text)
+    ! along y; contact radius 0.05, so each presses it by 0.005. Clamped at its start. Without
+    ! `obstacles` the same rod alone (for the obstacles' share of the residual).
+    function obstacle_scene(name, n_elements, quasistatic, obstacles) result(text)
         character(len=*), intent(in) :: name
         integer, intent(in) :: n_elements
         logical, intent(in) :: quasistatic
+        logical, intent(in), optional :: obstacles
         character(len=:), allocatable :: text
-        text = time_text(quasistatic) // &
-            rod_text('a', name, n_elements, '-0.5, 0, 0.045', '1, 0, 0', &
+        text = time_text(quasistatic) // "&bc rod = 'a', end = 'start', kind = 'clamped' /" // nl
+        if (present(obstacles)) then
+            if (.not. obstacles) then
+                text = text // rod_text('a', name, n_elements, '-0.5, 0, 0.045', '1, 0, 0', '') // &
+                    loads_text('a')
+                return
+            end if
+        end if
+        text = text // rod_text('a', name, n_elements, '-0.5, 0, 0.045', '1, 0, 0', &
             ', contact_radius = 0.05') // &
-            "&bc rod = 'a', end = 'start', kind = 'clamped' /" // nl // &
             "&obstacle name = 'ground', kind = 'plane', point = 0, 0, 0, normal = 0, 0, 1, " // &
             'stiffness = 1e7 /' // nl // &
             "&obstacle name = 'ball', kind = 'sphere', point = 0.3, 0, 0.14, radius = 0.05, " // &
@@ -225,7 +233,58 @@ contains
             .false.), .false., .false.)
         call check_scene(name // ' obstacles, quasistatic', obstacle_scene(name, n_elements, &
             .true.), .true., .false.)
+        call check_obstacles_act(name, n_elements)
     end subroutine check_obstacles
+
+    !> The obstacles are in the residual checked above: at the scene's start (the predictor
+    !> from the initial state), the residual with them differs from that of the rod alone by
+    !> at least contact_visible of its largest entry (each obstacle presses by a tenth of the
+    !> contact radius; measured in the output).
+    subroutine check_obstacles_act(name, n_elements)
+        character(len=*), intent(in) :: name
+        integer, intent(in) :: n_elements
+        real(rk), allocatable :: x_n(:), y(:), f_with(:), f_without(:)
+        real(rk) :: share
+        integer :: status
+        call start_residual(obstacle_scene(name, n_elements, .false.), x_n, y, f_with, status)
+        CHECK_EQUAL(status, state_valid, name // ': residual with the obstacles')
+        call start_residual(obstacle_scene(name, n_elements, .false., .false.), x_n, y, &
+            f_without, status)
+        CHECK_EQUAL(status, state_valid, name // ': residual of the rod alone')
+        CHECK_EQUAL(size(f_with), size(f_without), name // ': the obstacles add no unknowns')
+        if (size(f_with) /= size(f_without)) return
+        share = maxval(abs(f_with - f_without)) / maxval(abs(f_with))
+        write(output_unit, '(a,es9.2)') '  ' // name // ' obstacles: their share of the ' // &
+            'residual ', share
+        CHECK_TRUE(share >= contact_visible, name // ': the obstacles act on the rod')
+    end subroutine check_obstacles_act
+
+    !> The step residual of a scene's system at the predictor from its initial state.
+    subroutine start_residual(text, x_n, y, f, status)
+        character(len=*), intent(in) :: text
+        real(rk), allocatable, intent(out) :: x_n(:), y(:), f(:)
+        integer, intent(out) :: status
+        type(scene_t) :: scene
+        type(error_list_t) :: errors
+        type(error_t), allocatable :: err
+        type(rod_system_t) :: system
+        logical :: repattern
+        integer :: r
+        status = -1
+        allocate(x_n(0), y(0), f(0))
+        call parse_scene(text, 'system_jacobian.nml', scene, errors)
+        CHECK_EQUAL(errors%count, 0, 'the scene parses: ' // errors%joined())
+        if (errors%count > 0) return
+        call system%init(scene, [(r, r = 1, size(scene%rods))], err)
+        CHECK_TRUE(.not. allocated(err), 'system init')
+        if (allocated(err)) return
+        deallocate(x_n, y, f)
+        allocate(x_n(system%n_state()), y(system%n_unknown()), f(system%n_unknown()))
+        call system%initial_state(x_n)
+        call system%prepare_step(fixture_t_n, fixture_h, x_n, repattern)
+        call system%predictor(fixture_t_n, fixture_h, x_n, y)
+        call system%step_residual(fixture_t_n, fixture_h, x_n, y, f, status)
+    end subroutine start_residual
 
     subroutine check_joints(name, n_elements)
         character(len=*), intent(in) :: name
