@@ -86,7 +86,8 @@ module rs_contact_element
     use rs_math_quadrature, only: gauss_legendre, max_gauss_points
     use rs_math_lagrange, only: lagrange_shape
     use rs_contact_potential, only: contact_params_t, contact_psi, contact_point_force, &
-        contact_point_tangent
+        contact_point_tangent, contact_friction_normal, contact_point_friction, &
+        contact_point_friction_tangent
     implicit none
     private
 
@@ -107,9 +108,15 @@ contains
     !> d[X_a,1; X_b,1] with rows and columns ordered as the X_a nodes then the X_b nodes, 3 per
     !> node (not symmetric); optional `closest`, the smallest point distance |x_a(g) - x_b(h)| at
     !> t_{n+1}, exact whenever it is below r_c (otherwise a lower bound that is >= r_c when the
-    !> pair was skipped by its bounding spheres).
+    !> pair was skipped by its bounding spheres). With params%mu > 0 the forces and the tangent
+!> include friction (rs_contact_potential, Friction), whose contact normals take the centreline
+!> tangents at t_n from `slope_a` (n_a, m_a) and `slope_b`, the shape functions' derivatives at
+!> the contact points (contact_points; any scale), or, when they are absent, from the element's
+!> chord (exact for straight elements); optional `dissipation` is the pair's friction
+!> dissipation D of the step (the sum of w_a w_b D over the point pairs, >= 0).
     pure subroutine contact_element_pair(params, shape_a, weight_a, xa_n, xa_1, shape_b, &
-            weight_b, xb_n, xb_1, r_a, r_b, energy_n, energy_1, tangent, closest)
+            weight_b, xb_n, xb_1, r_a, r_b, energy_n, energy_1, tangent, closest, dissipation, &
+            slope_a, slope_b)
         type(contact_params_t), intent(in) :: params
         real(rk), intent(in) :: shape_a(:, :), shape_b(:, :)
         real(rk), intent(in) :: weight_a(size(shape_a, 2)), weight_b(size(shape_b, 2))
@@ -120,11 +127,17 @@ contains
         real(rk), intent(out), optional :: &
             tangent(3 * (size(shape_a, 1) + size(shape_b, 1)), &
             3 * (size(shape_a, 1) + size(shape_b, 1)))
-        real(rk), intent(out), optional :: closest
+        real(rk), intent(out), optional :: closest, dissipation
+        real(rk), intent(in), optional :: slope_a(size(shape_a, 1), size(shape_a, 2))
+        real(rk), intent(in), optional :: slope_b(size(shape_b, 1), size(shape_b, 2))
         integer :: n_a, n_b, g, h, i, j, ri, cj
         real(rk) :: lambda_a, lambda_b, gap_n, gap_1, rc_safe, origin(3)
         real(rk) :: pa_n(3), pa_1(3), pb_n(3), pb_1(3), rn(3), r1(3), d2_n, d2_1, d2_min
-        real(rk) :: w, f_a(3), f_b(3), t6(6, 6), block(3, 3), v_i, v_j
+        real(rk) :: w, f_a(3), f_b(3), t6(6, 6), block(3, 3), v_i, v_j, f_t(3), d_t, t3(3, 3)
+        real(rk) :: tangent_a(3), normal(3)
+        logical :: friction
+        ! The unit tangents of element b's points at t_n (friction only).
+        real(rk) :: tangents_b(3, size(shape_b, 2))
         ! Element b's points at t_n and t_{n+1}, once per pair (not once per point of a).
         real(rk) :: points_b_n(3, size(shape_b, 2)), points_b_1(3, size(shape_b, 2))
 
@@ -135,6 +148,8 @@ contains
         energy_n = 0.0_rk
         energy_1 = 0.0_rk
         if (present(tangent)) tangent = 0.0_rk
+        if (present(dissipation)) dissipation = 0.0_rk
+        friction = params%mu > 0.0_rk
 
         lambda_a = lebesgue_bound(shape_a)
         lambda_b = lebesgue_bound(shape_b)
@@ -151,10 +166,24 @@ contains
         do h = 1, size(shape_b, 2)
             points_b_n(:, h) = point(xb_n, shape_b(:, h), origin)
             points_b_1(:, h) = point(xb_1, shape_b(:, h), origin)
+            if (friction) then
+                if (present(slope_b)) then
+                    tangents_b(:, h) = unit_tangent(xb_n, slope_b(:, h))
+                else
+                    tangents_b(:, h) = unit_chord(xb_n)
+                end if
+            end if
         end do
         do g = 1, size(shape_a, 2)
             pa_n = point(xa_n, shape_a(:, g), origin)
             pa_1 = point(xa_1, shape_a(:, g), origin)
+            if (friction) then
+                if (present(slope_a)) then
+                    tangent_a = unit_tangent(xa_n, slope_a(:, g))
+                else
+                    tangent_a = unit_chord(xa_n)
+                end if
+            end if
             do h = 1, size(shape_b, 2)
                 pb_n = points_b_n(:, h)
                 pb_1 = points_b_1(:, h)
@@ -169,6 +198,13 @@ contains
                 energy_n = energy_n + w * contact_psi(d2_n, params)
                 energy_1 = energy_1 + w * contact_psi(d2_1, params)
                 call contact_point_force(pa_n, pb_n, pa_1, pb_1, params, f_a, f_b)
+                if (friction) then
+                    normal = contact_friction_normal(pa_n - pb_n, tangent_a, tangents_b(:, h))
+                    call contact_point_friction(pa_n, pb_n, pa_1, pb_1, params, normal, f_t, d_t)
+                    f_a = f_a + f_t
+                    f_b = f_b - f_t
+                    if (present(dissipation)) dissipation = dissipation + w * d_t
+                end if
                 do i = 1, n_a
                     r_a(:, i) = r_a(:, i) + (w * shape_a(i, g)) * f_a
                 end do
@@ -180,6 +216,11 @@ contains
                 ! nodes) enters with v_I = N_I(g) or -N_I(h), and block (I, J) gets v_I v_J w A.
                 call contact_point_tangent(pa_n, pb_n, pa_1, pb_1, params, t6)
                 block = w * t6(1:3, 1:3)
+                if (friction) then
+                    call contact_point_friction_tangent(pa_n, pb_n, pa_1, pb_1, params, normal, &
+                        t3)
+                    block = block + w * t3
+                end if
                 do j = 1, n_a + n_b
                     if (j <= n_a) then
                         v_j = shape_a(j, g)
@@ -209,11 +250,14 @@ contains
     !> multiplies by the element length). Points ascending. The rules with m <=
     !> max_gauss_points are those of rs_math_quadrature; larger m are computed by Newton's method
     !> on the Legendre polynomial (points and weights to a few ulps). `ok` is false (and the
-    !> arrays zero) for an unsupported degree or m < 1.
-    pure subroutine contact_points(degree, m, shape, weight_ref, ok)
+    !> arrays zero) for an unsupported degree or m < 1. Optional `slope`: the derivatives, for
+    !> the centreline's tangent at the points.
+    pure subroutine contact_points(degree, m, shape, weight_ref, ok, slope)
         integer, intent(in) :: degree, m
         real(rk), intent(out) :: shape(degree + 1, m), weight_ref(m)
         logical, intent(out) :: ok
+        !> The shape functions' derivatives d N_i / d xi (xi in [-1, 1]) at the points.
+        real(rk), intent(out), optional :: slope(degree + 1, m)
         real(rk) :: xi(m), w(m), derivatives(degree + 1)
         integer :: g
         shape = 0.0_rk
@@ -232,6 +276,7 @@ contains
                 shape = 0.0_rk
                 return
             end if
+            if (present(slope)) slope(:, g) = derivatives
         end do
         weight_ref = 0.5_rk * w
     end subroutine contact_points
@@ -318,6 +363,23 @@ contains
         s = delta * (2.0_rk * rc - delta)
         force = (32.0_rk / 15.0_rk) * params%stiffness * (rc - delta) * s**2 * sqrt(s) / rc**4
     end function line_force_of_penetration
+
+    !> The unit tangent of an element's centreline at a point, from the shape functions'
+    !> derivatives there (any scale).
+    pure function unit_tangent(nodes, slope) result(t)
+        real(rk), intent(in) :: nodes(:, :), slope(:)
+        real(rk) :: t(3)
+        t = matmul(nodes, slope)
+        if (norm2(t) > 0.0_rk) t = t / norm2(t)
+    end function unit_tangent
+
+    !> The unit chord of an element (first to last node).
+    pure function unit_chord(nodes) result(t)
+        real(rk), intent(in) :: nodes(:, :)
+        real(rk) :: t(3)
+        t = nodes(:, size(nodes, 2)) - nodes(:, 1)
+        if (norm2(t) > 0.0_rk) t = t / norm2(t)
+    end function unit_chord
 
     ! x - origin = sum_i shape(i) (nodes(:, i) - origin), exact since sum_i shape(i) = 1; in
     ! explicit loops (no array temporaries).

@@ -59,6 +59,36 @@
 !> Pairs. Outside the support at both t_n and t_{n+1} a pair contributes nothing; a pair with one
 !> end in the support does (the broad phase must see pairs at both times: a step is redone if a
 !> new pair enters, DESIGN.md §5).
+!>
+!> Friction (regularized Coulomb, issue 24 item 2: the law of rs_contact_obstacle on the relative
+!> motion of the two points). The friction acts in the tangent plane of the contact, whose
+!> normal n is that of the two centrelines, not of the point pair: point pairs at an offset
+!> along a line contact are oblique, and with their own direction as the normal, two rods pressed
+!> together (a normal motion) would slip at every oblique pair and dissipate. With the unit
+!> tangents t_a, t_b of the centrelines at the two points and P = I - t t^T,
+!>
+!>     n = q / |q|,    q = (P_a P_b + P_b P_a) r_n / 2
+!>
+!> (r_n / |r_n| where q = 0): for parallel rods the radial direction, for crossing rods their
+!> common normal t_a x t_b, continuous in between. n is taken at t_n, fixed in the step (the
+!> friction's direction explicit, its magnitude and the slip implicit). With the normal force
+!> f_N = |f_a . n| = 2 |psi_bar| |r_mid . n|, the step's relative slip u = (I - n n^T)(r_1 - r_n)
+!> and eta = v_s h (params%slip_length, set by the caller per step), the friction terms are
+!>
+!>     f_Ta = mu f_N u / sqrt(|u|^2 + eta^2),    f_Tb = -f_Ta,
+!>
+!> added to f_a and f_b. The physical force -f_Ta on a opposes a's slip relative to b with at
+!> most mu f_N (Coulomb's bound for |u| >> eta; a viscous stick branch below v_s). Their work
+!> on the step is -(f_Ta . (x_a,1 - x_a,n) + f_Tb . (x_b,1 - x_b,n)) = -D with
+!> D = mu f_N |u|^2 / sqrt(|u|^2 + eta^2) >= 0 by construction (contact_point_friction returns
+!> it): the balance H_{n+1} - H_n = W_n - D_n of methods/ph_director_3d.md §5.3 item 1 holds with
+!> D booked. On a line contact sliding along its axis the friction is exactly mu times the
+!> normal force (the f_a . n of all pairs sum to it), and a normal motion does not slip.
+!> f_Ta + f_Tb = 0 keeps linear momentum. Angular momentum is not kept: the two tangential
+!> forces act at centreline points a distance |r_mid| (about r_c) apart, a couple r_mid x f_Ta
+!> that a contact between the surfaces would apply to the cross-sections (their rotations), which
+!> a centreline law leaves out; for the same reason a rod rolling on another slips at its
+!> centreline (docs/theory/bundles.md, Friction).
 module rs_contact_potential
     use rs_core_kinds, only: rk
     implicit none
@@ -69,6 +99,7 @@ module rs_contact_potential
     public :: contact_discrete_gradient, contact_discrete_gradient_derivative
     public :: contact_point_force, contact_point_tangent
     public :: contact_pair_force, contact_pair_tangent
+    public :: contact_friction_normal, contact_point_friction, contact_point_friction_tangent
 
     !> Parameters of the potential of one pair of rods; set them with contact_params_init, which
     !> also fills the derived components.
@@ -81,6 +112,10 @@ module rs_contact_potential
         real(rk) :: support2 = 0.0_rk
         !> c = k / (3 r_c^4), so that psi = c (r_c^2 - d2)^3 on the support.
         real(rk) :: coefficient = 0.0_rk
+        !> Coulomb friction coefficient (0: frictionless) and the regularization length
+        !> eta = v_s h of the step (m; module header, Friction).
+        real(rk) :: mu = 0.0_rk
+        real(rk) :: slip_length = 0.0_rk
     end type contact_params_t
 
 contains
@@ -253,5 +288,101 @@ contains
         call contact_point_tangent(matmul(qa_n, weights_a), matmul(qb_n, weights_b), &
             matmul(qa_1, weights_a), matmul(qb_1, weights_b), params, tangent)
     end subroutine contact_pair_tangent
+
+    !> The normal n of the contact's tangent plane (module header, Friction) from the relative
+    !> position r_n = x_a - x_b and the unit tangents of the two centrelines at t_n; the zero
+    !> vector when r_n = 0 (no friction then).
+    pure function contact_friction_normal(r_n, tangent_a, tangent_b) result(normal)
+        real(rk), intent(in) :: r_n(3), tangent_a(3), tangent_b(3)
+        real(rk) :: normal(3)
+        real(rk) :: pa(3), pb(3), q(3)
+        ! P_b r then P_a of it, and the other order; their mean is q.
+        pb = r_n - dot_product(tangent_b, r_n) * tangent_b
+        pa = r_n - dot_product(tangent_a, r_n) * tangent_a
+        q = 0.5_rk * (pb - dot_product(tangent_a, pb) * tangent_a + &
+            pa - dot_product(tangent_b, pa) * tangent_b)
+        normal = 0.0_rk
+        if (norm2(q) > 0.0_rk) then
+            normal = q / norm2(q)
+        else if (norm2(r_n) > 0.0_rk) then
+            normal = r_n / norm2(r_n)
+        end if
+    end function contact_friction_normal
+
+    !> The normal force f_N = |f_a . n| (and the sign of f_a . n), the slip u of a step and the
+    !> root sqrt(|u|^2 + eta^2) of a point pair with the contact normal n (module header,
+    !> Friction); f_N = 0 where the pair exerts no force.
+    pure subroutine slip_of_step(xa_n, xb_n, xa_1, xb_1, params, normal, f_normal, sense, slip, &
+            root)
+        real(rk), intent(in) :: xa_n(3), xb_n(3), xa_1(3), xb_1(3), normal(3)
+        type(contact_params_t), intent(in) :: params
+        real(rk), intent(out) :: f_normal, sense, slip(3), root
+        real(rk) :: r_n(3), r_1(3), step(3), psi_bar, along
+        r_n = xa_n - xb_n
+        r_1 = xa_1 - xb_1
+        psi_bar = contact_discrete_gradient(dot_product(r_n, r_n), dot_product(r_1, r_1), params)
+        along = psi_bar * dot_product(r_n + r_1, normal)
+        f_normal = abs(along)
+        sense = sign(1.0_rk, along)
+        slip = 0.0_rk
+        root = params%slip_length
+        if (f_normal == 0.0_rk) return
+        step = r_1 - r_n
+        slip = step - dot_product(normal, step) * normal
+        root = sqrt(dot_product(slip, slip) + params%slip_length**2)
+    end subroutine slip_of_step
+
+    !> The friction term f_Ta on point a (f_Tb = -f_Ta) of a step with the contact normal n and
+    !> its dissipation D = f_Ta . (r_1 - r_n) >= 0 (module header, Friction; zero without
+    !> friction or force).
+    pure subroutine contact_point_friction(xa_n, xb_n, xa_1, xb_1, params, normal, f_t, &
+            dissipation)
+        real(rk), intent(in) :: xa_n(3), xb_n(3), xa_1(3), xb_1(3), normal(3)
+        type(contact_params_t), intent(in) :: params
+        real(rk), intent(out) :: f_t(3), dissipation
+        real(rk) :: f_normal, sense, slip(3), root
+        f_t = 0.0_rk
+        dissipation = 0.0_rk
+        if (params%mu == 0.0_rk) return
+        call slip_of_step(xa_n, xb_n, xa_1, xb_1, params, normal, f_normal, sense, slip, root)
+        if (f_normal == 0.0_rk) return
+        f_t = (params%mu * f_normal / root) * slip
+        dissipation = dot_product(f_t, slip)
+    end subroutine contact_point_friction
+
+    !> d f_Ta / d xa_1 (3 x 3) of contact_point_friction; f_Ta depends on the positions at
+    !> t_{n+1} through r_1 = xa_1 - xb_1 only, so the pair's tangent is [[T, -T], [-T, T]] as
+    !> for the normal force. Through f_N (d f_N = sense n^T A with A the normal tangent of
+    !> contact_point_tangent) and the slip (d u = I - n n^T; n is fixed in the step).
+    pure subroutine contact_point_friction_tangent(xa_n, xb_n, xa_1, xb_1, params, normal, &
+            tangent)
+        real(rk), intent(in) :: xa_n(3), xb_n(3), xa_1(3), xb_1(3), normal(3)
+        type(contact_params_t), intent(in) :: params
+        real(rk), intent(out) :: tangent(3, 3)
+        real(rk) :: f_normal, sense, slip(3), root, r_n(3), r_1(3), direction(3)
+        real(rk) :: psi_bar, dpsi_bar, d_f_normal(3), d_direction(3, 3)
+        integer :: i
+        tangent = 0.0_rk
+        if (params%mu == 0.0_rk) return
+        call slip_of_step(xa_n, xb_n, xa_1, xb_1, params, normal, f_normal, sense, slip, root)
+        if (f_normal == 0.0_rk) return
+        r_n = xa_n - xb_n
+        r_1 = xa_1 - xb_1
+        psi_bar = contact_discrete_gradient(dot_product(r_n, r_n), dot_product(r_1, r_1), params)
+        dpsi_bar = contact_discrete_gradient_derivative(dot_product(r_n, r_n), &
+            dot_product(r_1, r_1), params)
+        ! f_a . n = psi_bar (r_n + r_1) . n, A = psi_bar I + 2 dpsi_bar (r_n + r_1) r_1^T.
+        d_f_normal = sense * (psi_bar * normal + 2.0_rk * dpsi_bar * dot_product(normal, &
+            r_n + r_1) * r_1)
+        ! d (u / root) = (I - direction direction^T)(I - n n^T) / root, and (I - n n^T) u = u.
+        direction = slip / root
+        do i = 1, 3
+            d_direction(:, i) = -(normal * normal(i) + direction * direction(i)) / root
+            d_direction(i, i) = d_direction(i, i) + 1.0_rk / root
+        end do
+        do i = 1, 3
+            tangent(:, i) = params%mu * (direction * d_f_normal(i) + f_normal * d_direction(:, i))
+        end do
+    end subroutine contact_point_friction_tangent
 
 end module rs_contact_potential

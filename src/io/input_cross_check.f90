@@ -632,8 +632,8 @@ contains
     !> elements closer along a rod than 1.5 contact distances never pair, the rule of
     !> rs_ph_bundle, resolved here so that the echo and the plan show it. points_per_element is
     !> left to the formulation (it depends on its quadrature). stiffness > 0, margin >= 0,
-    !> skip >= 0 and friction 'none' are the reader's (rs_io_input_spec); that all rods can
-    !> touch (ph_director): check_capabilities.
+    !> skip >= 0, mu >= 0 and slip_velocity > 0 are the reader's (rs_io_input_spec); friction
+    !> (mu > 0) needs a dynamic run; that all rods can touch (ph_director): check_capabilities.
     subroutine resolve_contact(scene, geometry_ok, errors)
         type(scene_t), intent(inout) :: scene
         logical, intent(in) :: geometry_ok(:)
@@ -647,6 +647,10 @@ contains
         if (allocated(scene%obstacles)) obstacles = size(scene%obstacles) > 0
         if (scene%contact%given) then
             user = '&contact (line ' // str(scene%contact%input_line) // ')'
+            if (scene%contact%mu > 0.0_rk .and. scene%time%quasistatic) call errors%add( &
+                at(scene, scene%contact%input_line) // '&contact mu: friction acts on the ' // &
+                'slip velocity of a time step, and a quasistatic run has none; set mu = 0 or ' // &
+                'run dynamically')
         else if (obstacles) then
             user = '&obstacle (line ' // str(scene%obstacles(1)%input_line) // ')'
         end if

@@ -672,7 +672,8 @@ contains
         g%description = 'Rod-rod and self contact between all rods of the scene (ph_director, ' // &
             'se3_pg; all rods on one formulation; ' // &
             'DESIGN.md §5): a penalty potential between the Gauss points of nearby elements, ' // &
-            'energy consistent in the midpoint step, frictionless; candidate pairs come from a ' // &
+            'energy consistent in the midpoint step, with regularized Coulomb friction (mu); ' // &
+            'candidate pairs come from a ' // &
             'cell grid rebuilt every step. With &contact all rods of the scene form one system, ' // &
             'and every rod needs a contact_radius (&rod).'
         g%variables = [ &
@@ -708,9 +709,16 @@ contains
             spec_v('self_contact', 'logical', '-', '.true.', &
                 'Contact of a rod with itself beyond skip elements (a twisted rod forming a ' // &
                 'loop); .false. keeps contact between different rods only.', example='.false.'), &
-            spec_v('friction', 'string', '-', "'none'", &
-                "Friction: 'none' (frictionless normal contact; friction is not available in " // &
-                'this version).', allowed='none', example="'none'")]
+            spec_v('mu', 'real', '-', '0', 'Coulomb friction coefficient between rods: ' // &
+                'the force against the relative slip of two touching points is at most mu ' // &
+                'times their normal force (regularized below slip_velocity). Friction acts in ' // &
+                'dynamics (a quasistatic run refuses it); its dissipation is booked in ' // &
+                'series/energy/dissipated, half on each rod of a pair.', lower=0.0_rk, &
+                example='0.2'), &
+            spec_v('slip_velocity', 'real', 'm/s', '1e-4', 'Regularization of friction: below ' // &
+                'this relative slip velocity the friction force grows linearly from 0 (a ' // &
+                'smooth stick branch: rods that should stick creep at a fraction of it).', &
+                lower=0.0_rk, lower_inclusive=.false., example='1e-5')]
     end function contact_group
 
     function obstacle_group() result(g)

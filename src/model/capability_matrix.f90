@@ -47,8 +47,8 @@ contains
             ' | ' // yes_no(row%actuation, 'pneumatic chambers, tendons (`&actuator`)') // &
             ' | ' // listed(row%joints) // &
             ' | ' // yes_no(row%end_plates, 'yes: fixed or driven (`&plate`)') // &
-            ' | ' // yes_no(row%contact, 'yes: rod-rod and self (`&contact`, ' // &
-            'frictionless), rigid obstacles with friction (`&obstacle`)') // &
+            ' | ' // yes_no(row%contact, 'yes: rod-rod and self (`&contact`), rigid ' // &
+            'obstacles (`&obstacle`), with friction') // &
             ' | ' // yes_no(row%quasistatic, 'yes (`&time quasistatic`)') // &
             ' | ' // yes_no(row%relaxation, 'yes (`&time relaxation`)') // &
             ' | ' // yes_no(row%planar, 'yes: rods and loads in one plane') // ' |'

@@ -304,8 +304,10 @@ module rs_model_scene
         integer :: skip = unset_int
         !> Self contact of a rod beyond `skip` elements.
         logical :: self_contact = .true.
-        !> Friction: 'none' (frictionless normal contact).
-        character(len=name_len) :: friction = 'none'
+        !> Coulomb friction coefficient (0: frictionless) and the slip velocity (m/s) below which
+        !> the regularized law is viscous (rs_contact_potential, Friction).
+        real(rk) :: mu = 0.0_rk
+        real(rk) :: slip_velocity = 1.0e-4_rk
         !> Contact points (Gauss points) per element; default: enough to resolve the contact
         !> patch at a penetration of 5% of the contact distance (docs/theory/bundles.md).
         integer :: points_per_element = unset_int

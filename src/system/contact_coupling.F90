@@ -12,6 +12,10 @@
 !> miss a pair, and one in which it moves more than a quarter of the smallest contact distance
 !> could carry it past another centreline unseen, so its iterates are rejected as invalid
 !> states (the step is halved).
+!>
+!> Friction (&contact mu, slip_velocity; issue 24 item 2): the regularized Coulomb law of
+!> rs_contact_potential on every point pair in contact, in dynamic steps (none in the endpoint
+!> solve or in equilibrium steps); each pair's dissipation is booked half on each of its rods.
 module rs_system_contact_coupling
     use rs_core_kinds, only: rk
     use rs_core_error, only: error_t, set_error
@@ -36,6 +40,8 @@ module rs_system_contact_coupling
     !> first global segment (element) number in the grid.
     type :: contact_member_t
         real(rk), allocatable :: shape(:, :), weight(:)
+        !> Derivatives of the shape functions at the points (friction's contact normals).
+        real(rk), allocatable :: slope(:, :)
         integer :: first_segment = 0
     end type contact_member_t
 
@@ -45,6 +51,9 @@ module rs_system_contact_coupling
         real(rk) :: margin = 0.0_rk
         integer :: skip = 0
         logical :: self_contact = .true.
+        !> Coulomb friction coefficient (0: frictionless) and slip velocity (m/s).
+        real(rk) :: mu = 0.0_rk
+        real(rk) :: slip_velocity = 1.0_rk
         logical :: static = .false.
         !> Largest motion of a centreline point allowed in one step (margin / 2) and the bound
         !> of the interpolated motion by the nodal one (the Lebesgue constant of the elements).
@@ -81,6 +90,7 @@ module rs_system_contact_coupling
         procedure :: add_edges => contact_add_edges
         procedure :: describe => contact_describe
         procedure :: pattern_entries => contact_pattern_entries
+        procedure :: add_dissipation => contact_add_dissipation
     end type contact_coupling_t
 
     public :: contact_coupling_init
@@ -103,6 +113,8 @@ contains
         this%joint_ends = joint_ends
         this%stiffness = scene%contact%stiffness
         this%self_contact = scene%contact%self_contact
+        this%mu = scene%contact%mu
+        this%slip_velocity = scene%contact%slip_velocity
         smallest_radius = minval(layout%members%contact_radius)
         largest_radius = maxval(layout%members%contact_radius)
         this%margin = scene%contact%margin
@@ -120,8 +132,10 @@ contains
                 n_points = max(nodes%n_gauss, ceiling(2.0_rk * longest_element / &
                     (rc * sqrt(reference_penetration * (2.0_rk - reference_penetration)))))
                 if (scene%contact%points_per_element /= unset_int) n_points = scene%contact%points_per_element
-                allocate(member%shape(nodes%degree + 1, n_points), member%weight(n_points))
-                call contact_points(nodes%degree, n_points, member%shape, member%weight, ok)
+                allocate(member%shape(nodes%degree + 1, n_points), member%weight(n_points), &
+                    member%slope(nodes%degree + 1, n_points))
+                call contact_points(nodes%degree, n_points, member%shape, member%weight, ok, &
+                    member%slope)
                 if (.not. ok) then
                     RS_SET_ERROR(err, 'contact_coupling_init', 'no contact points of degree ' // str(nodes%degree))
                     return
@@ -162,7 +176,8 @@ contains
         end do
         call log_info('bundle contact: stiffness ' // str(this%stiffness) // ' N/m^3, margin ' // &
             str(this%margin) // ' m, skip ' // str(this%skip) // ' elements, ' // &
-            trim(merge('with   ', 'without', this%self_contact)) // ' self contact')
+            trim(merge('with   ', 'without', this%self_contact)) // ' self contact, ' // &
+            friction_text(this))
     end subroutine contact_coupling_init
 
     !> Candidate pairs of the state x (the initial state) with twice the margin: the pattern.
@@ -494,6 +509,11 @@ contains
                     na = la%nodes%degree + 1
                     nb = lb%nodes%degree + 1
                     call contact_params_init(params, la%contact_radius, lb%contact_radius, this%stiffness, ok)
+                    ! Friction acts on the slip of a time step (none in equilibrium).
+                    if (.not. static) then
+                        params%mu = this%mu
+                        params%slip_length = this%slip_velocity * h
+                    end if
                     call pair_positions(layout, pair, x_n, y, xa_n(:, 1:na), xa_1(:, 1:na), &
                         xb_n(:, 1:nb), xb_1(:, 1:nb))
                     if (static) then
@@ -506,13 +526,14 @@ contains
                             xa_1(:, 1:na), b%shape, b%weight * &
                             lb%nodes%element_length(pair(4)), xb_n(:, 1:nb), xb_1(:, 1:nb), &
                             r_a(:, 1:na), r_b(:, 1:nb), energy_n, energy_1, &
-                            tangent=tangent)
+                            tangent=tangent, slope_a=a%slope, slope_b=b%slope)
                     else
                         call contact_element_pair(params, a%shape, &
                             a%weight * la%nodes%element_length(pair(2)), xa_n(:, 1:na), &
                             xa_1(:, 1:na), b%shape, b%weight * &
                             lb%nodes%element_length(pair(4)), xb_n(:, 1:nb), xb_1(:, 1:nb), &
-                            r_a(:, 1:na), r_b(:, 1:nb), energy_n, energy_1)
+                            r_a(:, 1:na), r_b(:, 1:nb), energy_n, energy_1, slope_a=a%slope, &
+                            slope_b=b%slope)
                     end if
                 end associate
                 call pair_indices(layout, pair, rows, cols, n)
@@ -597,6 +618,54 @@ contains
             end associate
         end do
     end subroutine contact_add_results
+
+    !> The friction dissipation D >= 0 of the accepted step from x_n to the unknowns y of each
+    !> active pair (rs_contact_potential, Friction), half on each of its two members.
+    subroutine contact_add_dissipation(this, layout, t_n, h, x_n, y, dissipated)
+        class(contact_coupling_t), intent(in) :: this
+        type(system_layout_t), intent(in) :: layout
+        real(rk), intent(in) :: t_n, h, x_n(:), y(:)
+        real(rk), intent(inout) :: dissipated(:)
+        real(rk) :: xa_n(3, 8), xa_1(3, 8), xb_n(3, 8), xb_1(3, 8), r_a(3, 8), r_b(3, 8)
+        real(rk) :: energy_n, energy_1, pair_dissipation
+        type(contact_params_t) :: params
+        integer :: k, na, nb
+        logical :: ok
+        if (this%mu == 0.0_rk .or. this%static .or. this%equilibrium_steps) return
+        do k = 1, this%n_active
+            associate (pair => this%active_pairs(:, k), a => this%members(this%active_pairs(1, k)), &
+                    b => this%members(this%active_pairs(3, k)), &
+                    la => layout%members(this%active_pairs(1, k)), &
+                    lb => layout%members(this%active_pairs(3, k)))
+                na = la%nodes%degree + 1
+                nb = lb%nodes%degree + 1
+                call contact_params_init(params, la%contact_radius, lb%contact_radius, this%stiffness, ok)
+                params%mu = this%mu
+                params%slip_length = this%slip_velocity * h
+                call pair_positions(layout, pair, x_n, y, xa_n(:, 1:na), xa_1(:, 1:na), &
+                    xb_n(:, 1:nb), xb_1(:, 1:nb))
+                call contact_element_pair(params, a%shape, a%weight * &
+                    la%nodes%element_length(pair(2)), xa_n(:, 1:na), xa_1(:, 1:na), b%shape, &
+                    b%weight * lb%nodes%element_length(pair(4)), xb_n(:, 1:nb), xb_1(:, 1:nb), &
+                    r_a(:, 1:na), r_b(:, 1:nb), energy_n, energy_1, dissipation=pair_dissipation, &
+                    slope_a=a%slope, slope_b=b%slope)
+                dissipated(pair(1)) = dissipated(pair(1)) + 0.5_rk * pair_dissipation
+                dissipated(pair(3)) = dissipated(pair(3)) + 0.5_rk * pair_dissipation
+            end associate
+        end do
+    end subroutine contact_add_dissipation
+
+    !> 'frictionless' or the friction law's parameters, for the log and the plan.
+    function friction_text(this) result(text)
+        type(contact_coupling_t), intent(in) :: this
+        character(len=:), allocatable :: text
+        if (this%mu == 0.0_rk) then
+            text = 'frictionless'
+        else
+            text = 'friction mu ' // str(this%mu) // ' (regularized below ' // &
+                str(this%slip_velocity) // ' m/s)'
+        end if
+    end function friction_text
 
     !> Members with a contact candidate pair of the pattern are neighbours.
     subroutine contact_add_edges(this, edge)

@@ -266,7 +266,7 @@ contains
                     str(c%margin) // ' ' // m // ', skip ' // str(c%skip) // ' element(s) along a ' // &
                     'rod, points per element: ' // points // ', self contact ' // &
                     trim(merge('on ', 'off', c%self_contact)) // &
-                    ', friction ''' // trim(c%friction) // '''; candidate pairs from a cell grid ' // &
+                    ', ' // friction_text() // '; candidate pairs from a cell grid ' // &
                     'rebuilt every step'
                 ! Not an error: a sheath or a coating may be thicker than the section.
                 if ((trim(input%section) == 'circle' .or. trim(input%section) == 'tube') .and. &
@@ -278,6 +278,17 @@ contains
                 end if
             end associate
         end function contact_text
+
+        !> The friction of &contact between rods.
+        function friction_text() result(t)
+            character(len=:), allocatable :: t
+            if (scene%contact%mu == 0.0_rk) then
+                t = 'frictionless'
+            else
+                t = 'friction mu ' // str(scene%contact%mu) // ' (regularized below ' // &
+                    str(scene%contact%slip_velocity) // ' ' // unit_in_system('m/s', units) // ')'
+            end if
+        end function friction_text
 
         function velocity_text() result(t)
             character(len=:), allocatable :: t

@@ -38,6 +38,7 @@ import numpy as np
 
 sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 import run_scene as rs  # noqa: E402
+from slope_friction import centre_of_mass, check_slope  # noqa: E402
 
 RADIUS = 0.005
 
@@ -181,16 +182,6 @@ def incline_scene(tan_alpha, t_end):
 """, alpha
 
 
-def centre_of_mass(position):
-    """The centre of mass of a uniform rod of quadratic elements from its nodes [records,
-    nodes, 3] (Simpson's weights per element: exact for the quadratic centreline)."""
-    weights = np.zeros(position.shape[1])
-    for e in range((position.shape[1] - 1) // 2):
-        weights[2 * e:2 * e + 3] += np.array([1.0, 4.0, 1.0]) / 6.0
-    weights /= weights.sum()
-    return np.einsum("n,rnk->rk", weights, position)
-
-
 def incline(args, checks, case):
     tan_alpha = 0.2 if case == "incline_stick" else 0.5
     t_end = 0.1
@@ -199,7 +190,7 @@ def incline(args, checks, case):
     r = rs.rod(path, "a")
     t = r["time"]
     iterations = r["series/newton/iterations"]
-    c = centre_of_mass(r["position"])
+    c = centre_of_mass(r["position"], 8)
     travel = c[-1, 0] - c[0, 0]
     print(f"info: {case}: tan(alpha) = {tan_alpha}, mu = {MU}; Newton iterations "
           f"{iterations[1:].mean() / 10:.2f} per step (records every 10 steps); travel down "
@@ -218,34 +209,10 @@ def incline(args, checks, case):
                  float(np.max(np.abs(books - books[0]))), 1e-11)
     checks.check(f"{case}: the code's balance error per record (J)",
                  float(np.max(np.abs(r["series/energy/balance_error"]))), 1e-11)
-    if case == "incline_slide":
-        # Coulomb: a = g (sin(alpha) - mu cos(alpha)) once the slip exceeds the slip velocity
-        # (the regularization's share of the force is (v_s / v)^2 / 2 < 1e-5 after 1 ms).
-        a = G * (math.sin(alpha) - MU * math.cos(alpha))
-        expected = 0.5 * a * t[-1] ** 2
-        print(f"info: expected travel {expected * 1e3:.6f} mm")
-        checks.check(f"{case}: |travel / (a t^2 / 2) - 1| (acceptance 1 %)",
-                     abs(travel / expected - 1.0), 0.01)
-        # Sliding at Coulomb's bound the whole way but the first 1e-4 s: D = mu N travel to
-        # the regularization's share (measured 2.4e-6).
-        checks.check(f"{case}: dissipation = mu N travel, relative",
-                     abs(dissipated[-1] / (MU * RHO_A * LENGTH * G * math.cos(alpha) * travel)
-                         - 1.0), 1e-4)
-    else:
-        # Stuck: the regularized law balances the slope's pull at the creep velocity
-        # v = v_s beta / sqrt(1 - beta^2), beta = tan(alpha) / mu = 2/3: 0.89 v_s, reached
-        # within a step; frictionless the rod would slide g sin(alpha) t^2 / 2 = 9.6 mm.
-        beta = tan_alpha / MU
-        creep = SLIP_VELOCITY * beta / math.sqrt(1.0 - beta**2)
-        print(f"info: creep v t = {creep * t[-1] * 1e3:.6f} mm")
-        # Creeping at a steady speed, the rod keeps its kinetic energy: friction takes all of
-        # gravity's work (measured 2.3e-4 relative, the start to the creep speed).
-        checks.check(f"{case}: |dissipated / gravity's work - 1| (stuck)",
-                     abs(dissipated[-1] / gravity_work[-1] - 1.0), 1e-2)
-        checks.check(f"{case}: |travel / (creep t) - 1| (the stick branch's creep; measured "
-                     "6e-4)", abs(travel / (creep * t[-1]) - 1.0), 0.01)
-        checks.check(f"{case}: travel / frictionless slide (stuck)",
-                     travel / (0.5 * G * math.sin(alpha) * t[-1] ** 2), 1e-2)
+    # Sliding at Coulomb's bound the whole way but the first 1e-4 s: D = mu N travel to the
+    # regularization's share (measured 2.4e-6).
+    check_slope(checks, case, case == "incline_slide", alpha, MU, SLIP_VELOCITY,
+                RHO_A * LENGTH * G, t[-1], travel, dissipated[-1], 1e-4)
 
 
 def moving_plane(args, checks):

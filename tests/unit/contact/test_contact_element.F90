@@ -40,6 +40,7 @@ module rs_test_contact_element
     type :: element_pair_t
         integer :: na = 0, ma = 0, nb = 0, mb = 0
         real(rk), allocatable :: shape_a(:, :), shape_b(:, :), wa(:), wb(:)
+        real(rk), allocatable :: slope_a(:, :), slope_b(:, :)
         real(rk), allocatable :: xa_n(:, :), xa_1(:, :), xb_n(:, :), xb_1(:, :)
     end type element_pair_t
 
@@ -59,6 +60,9 @@ contains
         call run_test('line_penetration_inverse', test_line_penetration_inverse)
         call run_test('line_law_from_elements', test_line_law_from_elements)
         call run_test('sliding_ripple', test_sliding_ripple)
+        call run_test('friction_tangent_fd', test_friction_tangent_fd)
+        call run_test('friction_balance', test_friction_balance)
+        call run_test('friction_coulomb_line', test_friction_coulomb_line)
     end subroutine run_all_tests
 
     function parameter_set(i) result(params)
@@ -148,8 +152,9 @@ contains
         length = 1.5_rk * rc
         allocate(pc%shape_a(pc%na, pc%ma), pc%wa(pc%ma), pc%shape_b(pc%nb, pc%mb), pc%wb(pc%mb))
         allocate(pc%xa_n(3, pc%na), pc%xa_1(3, pc%na), pc%xb_n(3, pc%nb), pc%xb_1(3, pc%nb))
-        call contact_points(pc%na - 1, pc%ma, pc%shape_a, pc%wa, ok)
-        call contact_points(pc%nb - 1, pc%mb, pc%shape_b, pc%wb, ok)
+        allocate(pc%slope_a(pc%na, pc%ma), pc%slope_b(pc%nb, pc%mb))
+        call contact_points(pc%na - 1, pc%ma, pc%shape_a, pc%wa, ok, pc%slope_a)
+        call contact_points(pc%nb - 1, pc%mb, pc%shape_b, pc%wb, ok, pc%slope_b)
         pc%wa = length * pc%wa
         pc%wb = length * pc%wb
         axis = random_unit_vector()
@@ -172,14 +177,16 @@ contains
     end function random_pair
 
     ! The kernel on a pair; r packs r_a then r_b (3 per node).
-    subroutine evaluate(pc, params, r, e_n, e_1, tangent, closest)
+    subroutine evaluate(pc, params, r, e_n, e_1, tangent, closest, dissipation)
         type(element_pair_t), intent(in) :: pc
         type(contact_params_t), intent(in) :: params
         real(rk), intent(out) :: r(3 * (pc%na + pc%nb)), e_n, e_1
         real(rk), intent(out), optional :: tangent(3 * (pc%na + pc%nb), 3 * (pc%na + pc%nb)), closest
+        real(rk), intent(out), optional :: dissipation
         real(rk) :: r_a(3, pc%na), r_b(3, pc%nb)
         call contact_element_pair(params, pc%shape_a, pc%wa, pc%xa_n, pc%xa_1, pc%shape_b, pc%wb, &
-            pc%xb_n, pc%xb_1, r_a, r_b, e_n, e_1, tangent, closest)
+            pc%xb_n, pc%xb_1, r_a, r_b, e_n, e_1, tangent, closest, dissipation, pc%slope_a, &
+            pc%slope_b)
         r(1:3 * pc%na) = reshape(r_a, [3 * pc%na])
         r(3 * pc%na + 1:) = reshape(r_b, [3 * pc%nb])
     end subroutine evaluate
@@ -309,20 +316,36 @@ contains
     ! tangent = d r / d X_1 against central differences (quadratic-quadratic and
     ! quadratic-linear pairs, at least 3 point pairs inside the support).
     subroutine test_tangent_fd()
+        real(rk) :: worst
+        integer :: n_cases
+        character(len=120) :: text
+        call tangent_fd_sweep(.false., worst, n_cases)
+        write(text, '(a,es9.2,a,i0,a)') '    max FD error of the tangent / max entry: ', worst, ' (', n_cases, ' pairs)'
+        write(output_unit, '(a)') trim(text)
+    end subroutine test_tangent_fd
+
+    ! The tangent of 40 random touching pairs per parameter set against central differences of
+    ! r (without or with friction: mu = 0.3 and slip lengths eta from 0.03 to 1 times the step,
+    ! the regularization's smooth stick branch and its Coulomb branch).
+    subroutine tangent_fd_sweep(friction, worst, n_cases)
+        logical, intent(in) :: friction
+        real(rk), intent(out) :: worst
+        integer, intent(out) :: n_cases
         type(contact_params_t) :: params
         type(element_pair_t) :: pc, pp, pm
         real(rk), allocatable :: tangent(:, :)
         real(rk) :: r(3 * 2 * max_n), rp(3 * 2 * max_n), rm(3 * 2 * max_n)
-        real(rk) :: fd(3 * 2 * max_n), e_n, e_1, ref_closest, rc, h, error, worst, x0, width
-        integer :: set, trial, k, node, comp, n, inside_n, inside_1, n_cases
-        character(len=120) :: text
+        real(rk) :: fd(3 * 2 * max_n), e_n, e_1, ref_closest, rc, h, error, x0, width
+        integer :: set, trial, k, node, comp, n, inside_n, inside_1
         worst = 0.0_rk
         n_cases = 0
         do set = 1, n_sets
             params = parameter_set(set)
             rc = params%contact_distance
             h = fd_step * rc
+            if (friction) params%mu = 0.3_rk
             do trial = 1, 40
+                if (friction) params%slip_length = 10.0_rk**uniform(-1.5_rk, 0.0_rk) * 0.1_rk * rc
                 do
                     pc = random_pair(params, scene_origin(set), uniform(0.3_rk, 0.9_rk), 0.1_rk, mod(trial, 2) == 0)
                     call brute_force(pc, params, r, e_n, e_1, ref_closest, inside_n, inside_1)
@@ -359,9 +382,7 @@ contains
                 end do
             end do
         end do
-        write(text, '(a,es9.2,a,i0,a)') '    max FD error of the tangent / max entry: ', worst, ' (', n_cases, ' pairs)'
-        write(output_unit, '(a)') trim(text)
-    end subroutine test_tangent_fd
+    end subroutine tangent_fd_sweep
 
     ! E_ab(t_{n+1}) - E_ab(t_n) = r . (X_1 - X_n) for random steps of 0.02 to 0.5 r_c, many of
     ! which move point pairs into or out of the support.
@@ -782,6 +803,179 @@ contains
         write(text, '(a,4es9.2)') '    worst tangential / (a/d):                ', worst_t
         write(output_unit, '(a)') trim(text)
     end subroutine test_sliding_ripple
+
+    ! Friction (rs_contact_potential, Friction): the tangent with friction against central
+    ! differences (tangent_fd_sweep).
+    subroutine test_friction_tangent_fd()
+        real(rk) :: worst
+        integer :: n_cases
+        character(len=120) :: text
+        call tangent_fd_sweep(.true., worst, n_cases)
+        write(text, '(a,es9.2,a,i0,a)') '    max FD error of the tangent with friction / max entry: ', &
+            worst, ' (', n_cases, ' pairs)'
+        write(output_unit, '(a)') trim(text)
+    end subroutine test_friction_tangent_fd
+
+    ! The step's balance with friction, computed here from the forces: the work r . (X_1 - X_n)
+    ! of the nodal terms with friction equals E_1 - E_n + D with the kernel's dissipation D, and
+    ! D > 0 where the points slip in contact (random steps of 0.02 to 0.5 r_c); the friction
+    ! terms sum to zero (linear momentum). Their moment about the midpoints does not vanish
+    ! (the centreline law's couple, module header of rs_contact_potential): shown, not zero.
+    subroutine test_friction_balance()
+        type(contact_params_t) :: params
+        type(element_pair_t) :: pc
+        real(rk) :: r(3 * 2 * max_n), dx(3 * 2 * max_n), e_n, e_1, dissipation, work, scale
+        real(rk) :: error, worst, force(3), f_scale, worst_force, smallest
+        integer :: set, trial, n, i, n_slipping
+        character(len=160) :: text
+        worst = 0.0_rk
+        worst_force = 0.0_rk
+        smallest = huge(1.0_rk)
+        n_slipping = 0
+        do set = 1, n_sets
+            params = parameter_set(set)
+            params%mu = 0.4_rk
+            params%slip_length = 0.01_rk * params%contact_distance
+            do trial = 1, 1000
+                pc = random_pair(params, scene_origin(set), uniform(0.2_rk, 1.5_rk), &
+                    uniform(0.02_rk, 0.5_rk), mod(trial, 4) == 0)
+                n = 3 * (pc%na + pc%nb)
+                call evaluate(pc, params, r(1:n), e_n, e_1, dissipation=dissipation)
+                if (all(r(1:n) == 0.0_rk)) cycle
+                dx(1:3 * pc%na) = reshape(pc%xa_1 - pc%xa_n, [3 * pc%na])
+                dx(3 * pc%na + 1:n) = reshape(pc%xb_1 - pc%xb_n, [3 * pc%nb])
+                work = dot_product(r(1:n), dx(1:n))
+                scale = sum(abs(r(1:n) * dx(1:n))) + abs(e_n) + abs(e_1)
+                error = abs(work - (e_1 - e_n) - dissipation) / scale
+                CHECK_TRUE(error <= energy_rtol, 'r . dX = E_1 - E_n + D')
+                worst = max(worst, error)
+                if (dissipation > 1.0e-3_rk * scale) then
+                    n_slipping = n_slipping + 1
+                    smallest = min(smallest, dissipation / scale)
+                end if
+                force = 0.0_rk
+                f_scale = 0.0_rk
+                do i = 1, pc%na + pc%nb
+                    force = force + r(3 * i - 2:3 * i)
+                    f_scale = f_scale + norm2(r(3 * i - 2:3 * i))
+                end do
+                CHECK_TRUE(norm2(force) <= 1.0e-14_rk * f_scale, 'sum of nodal terms = 0')
+                worst_force = max(worst_force, norm2(force) / f_scale)
+            end do
+        end do
+        CHECK_TRUE(n_slipping > 200, 'steps that slip in contact and dissipate')
+        write(text, '(a,es9.2,a,es9.2,a,i0,a)') '    max |r . dX - dE - D| / scale: ', worst, &
+            ', |sum r| / scale: ', worst_force, ' (', n_slipping, ' slipping steps)'
+        write(output_unit, '(a)') trim(text)
+    end subroutine test_friction_balance
+
+    ! Coulomb's law, closed form: element a slides along element b, parallel to it (a line
+    ! contact) or crossing it at right angles (a point contact), centrelines d = 0.9 r_c apart,
+    ! step s along b's axis. The contact normal n (rs_contact_potential, Friction) is the radial
+    ! direction or the common normal, the slip of every point pair the whole step, so the
+    ! friction on a is exactly mu times the sum of the pairs' f_a . n, its normal force, up to
+    ! the regularization factor |u| / sqrt(|u|^2 + eta^2) = 1 - 5e-13 (eta = 1e-6 s), whatever
+    ! the quadrature. And a normal step (a pressed towards b) slips nowhere: no friction, no
+    ! dissipation (the point pairs' own directions, oblique along a line contact, would slip).
+    subroutine test_friction_coulomb_line()
+        type(contact_params_t) :: params, rough
+        type(element_pair_t) :: pc
+        real(rk) :: r_normal(18), r_both(18), e_n, e_1, rc, s, slide(3), ratio, worst, d_t
+        real(rk) :: largest_normal, largest_dissipation
+        integer :: degree, i, layout
+        logical :: ok
+        character(len=200) :: text
+        call contact_params_init(params, 0.5_rk, 0.5_rk, 1.0e3_rk, ok)
+        rc = params%contact_distance
+        s = 0.01_rk * rc
+        rough = params
+        rough%mu = 0.25_rk
+        rough%slip_length = 1.0e-6_rk * s
+        worst = 0.0_rk
+        largest_normal = 0.0_rk
+        largest_dissipation = 0.0_rk
+        do layout = 1, 2
+            do degree = 1, 2
+                pc = straight_pair(degree, rc, layout == 2)
+                ! b lies along x (parallel) or y (crossing); a moves by s along b's axis,
+                ! placed so that the midpoint configuration is symmetric.
+                slide = merge([s, 0.0_rk, 0.0_rk], [0.0_rk, s, 0.0_rk], layout == 1)
+                do i = 1, pc%na
+                    pc%xa_n(:, i) = pc%xa_n(:, i) - 0.5_rk * slide
+                    pc%xa_1(:, i) = pc%xa_n(:, i) + slide
+                end do
+                call evaluate(pc, params, r_normal(1:6 * pc%na), e_n, e_1)
+                call evaluate(pc, rough, r_both(1:6 * pc%na), e_n, e_1)
+                ratio = dot_product(friction_on_a(pc, r_both - r_normal), slide / s) / &
+                    abs(sum(r_normal(3:3 * pc%na:3)))
+                CHECK_CLOSE(ratio, rough%mu, 0.0_rk, 1.0e-11_rk, 'friction = mu times the normal force')
+                worst = max(worst, abs(ratio / rough%mu - 1.0_rk))
+                ! Pressed: a moves by s towards b.
+                pc = straight_pair(degree, rc, layout == 2)
+                do i = 1, pc%na
+                    pc%xa_1(:, i) = pc%xa_n(:, i) - [0.0_rk, 0.0_rk, s]
+                end do
+                call evaluate(pc, params, r_normal(1:6 * pc%na), e_n, e_1)
+                call evaluate(pc, rough, r_both(1:6 * pc%na), e_n, e_1, dissipation=d_t)
+                largest_normal = max(largest_normal, maxval(abs(r_both(1:6 * pc%na) - &
+                    r_normal(1:6 * pc%na))) / maxval(abs(r_normal(1:6 * pc%na))))
+                largest_dissipation = max(largest_dissipation, d_t / abs(dot_product( &
+                    r_normal(1:6 * pc%na), [reshape(pc%xa_1 - pc%xa_n, [3 * pc%na]), &
+                    reshape(pc%xb_1 - pc%xb_n, [3 * pc%nb])])))
+            end do
+        end do
+        ! Round-off only: the tangents' ulps tilt n by 1e-16, a slip of 1e-16 s that the
+        ! regularization (eta = 1e-6 s) magnifies to a friction of 1e-10 mu f_N.
+        CHECK_TRUE(largest_normal <= 1.0e-9_rk, 'a normal step has no friction')
+        CHECK_TRUE(largest_dissipation <= 1.0e-20_rk, 'a normal step does not dissipate')
+        write(text, '(a,es9.2,a,es9.2,a,es9.2)') '    |friction / (mu normal force) - 1|: ', &
+            worst, '; a normal step: friction / normal force ', largest_normal, &
+            ', D / normal work ', largest_dissipation
+        write(output_unit, '(a)') trim(text)
+    end subroutine test_friction_coulomb_line
+
+    ! Two straight elements of degree `degree` and length 2 r_c with 8 contact points each,
+    ! centred at the origin: b along x, a 0.9 r_c above it along x (or y if `crossing`), at rest.
+    function straight_pair(degree, rc, crossing) result(pc)
+        integer, intent(in) :: degree
+        real(rk), intent(in) :: rc
+        logical, intent(in) :: crossing
+        type(element_pair_t) :: pc
+        real(rk) :: xi, axis(3)
+        integer :: i
+        logical :: ok
+        pc%na = degree + 1
+        pc%nb = degree + 1
+        pc%ma = 8
+        pc%mb = 8
+        allocate(pc%shape_a(pc%na, pc%ma), pc%wa(pc%ma), pc%shape_b(pc%nb, pc%mb), pc%wb(pc%mb))
+        allocate(pc%slope_a(pc%na, pc%ma), pc%slope_b(pc%nb, pc%mb))
+        allocate(pc%xa_n(3, pc%na), pc%xa_1(3, pc%na), pc%xb_n(3, pc%nb), pc%xb_1(3, pc%nb))
+        call contact_points(degree, pc%ma, pc%shape_a, pc%wa, ok, pc%slope_a)
+        call contact_points(degree, pc%mb, pc%shape_b, pc%wb, ok, pc%slope_b)
+        pc%wa = 2.0_rk * rc * pc%wa
+        pc%wb = 2.0_rk * rc * pc%wb
+        axis = merge([0.0_rk, 1.0_rk, 0.0_rk], [1.0_rk, 0.0_rk, 0.0_rk], crossing)
+        do i = 1, pc%na
+            xi = 2.0_rk * rc * (real(i - 1, rk) / degree - 0.5_rk)
+            pc%xa_n(:, i) = xi * axis + [0.0_rk, 0.0_rk, 0.9_rk * rc]
+            pc%xb_n(:, i) = [xi, 0.0_rk, 0.0_rk]
+        end do
+        pc%xa_1 = pc%xa_n
+        pc%xb_1 = pc%xb_n
+    end function straight_pair
+
+    ! The sum of the terms r (packed as evaluate's) on the nodes of a.
+    function friction_on_a(pc, r) result(total)
+        type(element_pair_t), intent(in) :: pc
+        real(rk), intent(in) :: r(:)
+        real(rk) :: total(3)
+        integer :: i
+        total = 0.0_rk
+        do i = 1, pc%na
+            total = total + r(3 * i - 2:3 * i)
+        end do
+    end function friction_on_a
 
     subroutine sliding_ripple(params, m, length, d, ripple, tangential)
         type(contact_params_t), intent(in) :: params

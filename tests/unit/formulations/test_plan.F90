@@ -346,7 +346,7 @@ contains
         CHECK_CONTAINS(plan, expected, 'driven plate about the mean of its ends')
         expected = "contact: stiffness 1.0e+09 N/m^3, contact radius 0.01 m, margin 0.025 m, " // &
             "skip 2 element(s) along a rod, points per element: derived, self contact off, " // &
-            "friction 'none'; candidate pairs " // &
+            "frictionless; candidate pairs " // &
             'from a cell grid rebuilt every step'
         CHECK_CONTAINS(plan, expected, 'contact of a: derived margin and skip')
         CHECK_CONTAINS(plan, 'contact radius 0.025 m', 'contact radius of b')

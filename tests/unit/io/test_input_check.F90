@@ -782,7 +782,7 @@ contains
         CHECK_EQUAL(scene%contact%skip, 3, 'skip: ceiling(3 r_max / h_min) + 1')
         CHECK_EQUAL(scene%contact%points_per_element, unset_int, 'points per element: the formulation''s')
         CHECK_TRUE(scene%contact%self_contact, 'self contact by default')
-        CHECK_EQUAL(trim(scene%contact%friction), 'none', 'frictionless')
+        CHECK_CLOSE(scene%contact%mu, 0.0_rk, 0.0_rk, 0.0_rk, 'frictionless by default')
         call coupled_systems(scene, system_of, first, members)
         CHECK_TRUE(all(system_of == 1), 'one system')
         errors = error_list_t()

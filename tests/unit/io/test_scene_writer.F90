@@ -243,7 +243,7 @@ contains
             '       displacement = 0, 0, 1e-4, rotation = 0, 0, 0.05, time_function = ''table'',' // nl // &
             '       table_times = 0, 0.5, 1, table_values = 0, 1, 0.3333333333333333 /' // nl // &
             '&contact stiffness = 1.5e12, margin = 2e-4, self_contact = .false.,' // nl // &
-            '         points_per_element = 6 /' // nl
+            '         points_per_element = 6, mu = 0.15, slip_velocity = 2e-5 /' // nl
     end function bundle
 
     ! The bundle round-trips (derived plate centre, contact radius, skip, normalized axis and the
@@ -525,7 +525,8 @@ contains
         CHECK_EQUAL(b%skip, a%skip, 'contact skip')
         CHECK_EQUAL(b%points_per_element, a%points_per_element, 'contact points_per_element')
         CHECK_EQUAL(b%self_contact, a%self_contact, 'contact self_contact')
-        CHECK_EQUAL(b%friction, a%friction, 'contact friction')
+        call check_real(b%mu, a%mu, 'contact mu')
+        call check_real(b%slip_velocity, a%slip_velocity, 'contact slip_velocity')
     end subroutine check_same_contact
 
 end module rs_test_io_scene_writer
