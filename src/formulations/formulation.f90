@@ -96,6 +96,9 @@ module rs_formulations_formulation
         !> se3_petrov_galerkin.md eqs. 42-45), so a step turns them by T(psi_mid) dpsi; 0: every
         !> row is that of its coordinate.
         integer :: rotation_vector_at = 0
+        !> Coordinates directors_at .. directors_at + 8 are the directors d_1, d_2, d_3, whose
+        !> generalized forces g_i exert the moment sum_i d_i x g_i (ph_director: 4); 0: none.
+        integer :: directors_at = 0
         !> Some held coordinates move in time (driven ends): the held values above are those
         !> of the reference only, so couplings are refused on such a rod.
         logical :: held_moves = .false.

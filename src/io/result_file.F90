@@ -12,7 +12,7 @@
 !>                             dissipated,balance_error}, momentum/{linear,angular},
 !>                             center_of_mass, constraint_residual, newton/{iterations,residual},
 !>                             dt; rods of a bundle: contact/{energy,force,penetration},
-!>                             ties/force
+!>                             ties/{force,moment}
 !>     /checkpoint/<name>/     state, ledger, step, records, time: what a restart needs;
 !>                             checksum (rs_io_checksum), verified by read_checkpoint
 !>     /series/                time, energy/..., momentum/... summed over all rods (at the end)
@@ -142,7 +142,7 @@ module rs_io_result_file
     end type result_writer_t
 
     !> The fields `&output fields` may select: nodal and stress fields, and the bundle series
-    !> ('contact': the three series/contact/ datasets, 'ties': series/ties/force); the other
+    !> ('contact': the three series/contact/ datasets, 'ties': series/ties/force and moment); the other
     !> per-record series and `time` are always written.
     character(len=*), parameter :: selectable_fields = &
         'position,directors,velocity,director_velocity,stress,strain,branch_stress,contact,ties'
@@ -241,6 +241,7 @@ contains
         if (has_2(h%contact_force)) call note('series/contact/force')
         if (has_1(h%penetration)) call note('series/contact/penetration')
         if (has_3(h%tie_force)) call note('series/ties/force')
+        if (has_3(h%tie_moment)) call note('series/ties/moment')
     contains
         subroutine note(path)
             character(len=*), intent(in) :: path
@@ -404,10 +405,16 @@ contains
                 'r_c - d over the rod''s contact point pairs at the record (r_c the sum of ' // &
                 'the contact radii, d the distance of the centrelines); 0 without contact, [step]')
         end if
-        if (field_selected(selection, 'ties')) call add('series/ties/force', [3, 2], 'N', &
-            'force of the joints and end plates on the rod''s ends at the record, spatial ' // &
-            'components, [step, end, component] with end 0 = start, 1 = end; zero at an end ' // &
-            'no joint or plate ties')
+        if (field_selected(selection, 'ties')) then
+            call add('series/ties/force', [3, 2], 'N', &
+                'force of the joints and end plates on the rod''s ends at the record, spatial ' // &
+                'components, [step, end, component] with end 0 = start, 1 = end; zero at an ' // &
+                'end no joint or plate ties')
+            call add('series/ties/moment', [3, 2], 'N m', &
+                'moment of the joints and end plates on the rod''s ends at the record (about ' // &
+                'the end''s node), spatial components, [step, end, component] as ' // &
+                'series/ties/force')
+        end if
     contains
         subroutine add(path, dims, unit, description, components, integer_values)
             character(len=*), intent(in) :: path, unit, description
@@ -473,6 +480,8 @@ contains
             values = h%penetration(first:last)
         case ('series/ties/force')
             values = reshape(h%tie_force(:, :, first:last), [6 * n])
+        case ('series/ties/moment')
+            values = reshape(h%tie_moment(:, :, first:last), [6 * n])
         case default
             call energy_of(h, path(len('series/energy/') + 1:), series)
             values = series(first:last)
@@ -1168,6 +1177,7 @@ contains
             if (too_short_2(h%contact_force, h%n_stored)) what = 'contact_force'
             if (too_short_1(h%penetration, h%n_stored)) what = 'penetration'
             if (too_short_3(h%tie_force, h%n_stored)) what = 'tie_force'
+            if (too_short_3(h%tie_moment, h%n_stored)) what = 'tie_moment'
             if (allocated(h%newton_iterations)) then
                 if (size(h%newton_iterations) > 0 .and. size(h%newton_iterations) < h%n_stored) &
                     what = 'newton_iterations'

@@ -67,9 +67,10 @@ module rs_model_rod_history
         !> Rods of a bundle (issue 10; allocated by init_coupling): the rod's share of the
         !> contact energy (half of each of its pairs), the total contact force on it, its
         !> deepest contact penetration r_c - d (0 without contact), and the forces of joints and
-        !> plates on its two ends, tie_force(:, end, step) with end 1 = start, 2 = end.
+        !> plates on its two ends, tie_force(:, end, step) with end 1 = start, 2 = end, and
+        !> their moments tie_moment (spatial components, about the end's node).
         real(rk), allocatable :: contact_energy(:), penetration(:)
-        real(rk), allocatable :: contact_force(:, :), tie_force(:, :, :)
+        real(rk), allocatable :: contact_force(:, :), tie_force(:, :, :), tie_moment(:, :, :)
     contains
         !> The bundle series, with room for as many records as the other arrays.
         procedure :: init_coupling => rod_history_init_coupling
@@ -162,6 +163,7 @@ contains
         if (allocated(this%penetration)) deallocate(this%penetration)
         if (allocated(this%contact_force)) deallocate(this%contact_force)
         if (allocated(this%tie_force)) deallocate(this%tie_force)
+        if (allocated(this%tie_moment)) deallocate(this%tie_moment)
     end subroutine rod_history_free
 
     !> `capacity` is the history's own (kept as an argument for the formulations' calls).
@@ -172,7 +174,8 @@ contains
         room = size(this%time)
         if (capacity < room) room = max(capacity, 0)
         allocate(this%contact_energy(room), this%penetration(room), source=0.0_rk)
-        allocate(this%contact_force(3, room), this%tie_force(3, 2, room), source=0.0_rk)
+        allocate(this%contact_force(3, room), this%tie_force(3, 2, room), &
+            this%tie_moment(3, 2, room), source=0.0_rk)
     end subroutine rod_history_init_coupling
 
     !> Index of the next record (the arrays grown if they are full), or 0 when the capacity
@@ -218,6 +221,7 @@ contains
         call grow_3(this%stress)
         call grow_3(this%strains)
         call grow_3(this%tie_force)
+        call grow_3(this%tie_moment)
         call grow_4(this%directors)
         call grow_4(this%director_velocity)
         call grow_4(this%branch_stress)

@@ -20,12 +20,13 @@ module rs_system_coupling
 
     !> What couplings report on a member for its records (rod_history_t's coupling fields):
     !> its share of the contact energy at the state, the contact force on it, its deepest
-    !> penetration, and the tie forces on its two ends.
+    !> penetration, and the tie forces and moments on its two ends.
     type, public :: coupling_record_t
         real(rk) :: contact_energy = 0.0_rk
         real(rk) :: contact_force(3) = 0.0_rk
         real(rk) :: penetration = 0.0_rk
         real(rk) :: tie_force(3, 2) = 0.0_rk
+        real(rk) :: tie_moment(3, 2) = 0.0_rk
     end type coupling_record_t
 
     type, abstract, public :: coupling_t

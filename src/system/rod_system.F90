@@ -898,6 +898,7 @@ contains
                 histories(first)%contact_force(:, r) = this%coupling_records(m)%contact_force
                 histories(first)%penetration(r) = this%coupling_records(m)%penetration
                 histories(first)%tie_force(:, :, r) = this%coupling_records(m)%tie_force
+                histories(first)%tie_moment(:, :, r) = this%coupling_records(m)%tie_moment
             end associate
         end do
     end subroutine system_record

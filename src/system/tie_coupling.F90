@@ -20,7 +20,9 @@ module rs_system_tie_coupling
     use rs_model_scene, only: scene_t, unset_real
     use rs_model_time_function, only: time_function_t, time_function_from_plate
     use rs_assembly_csr_pattern, only: csr_builder_t, csr_pattern_t
-    use rs_formulations_formulation, only: rod_formulation_t, node_tie_t, max_node_coordinates
+    use rs_formulations_formulation, only: rod_formulation_t, node_tie_t, max_node_coordinates, &
+        rod_nodes_t
+    use rs_math_so3, only: exp_so3, hat
     use rs_system_layout, only: system_layout_t, coupling_block_t
     use rs_system_coupling, only: coupling_t, coupling_record_t
     implicit none
@@ -437,7 +439,28 @@ contains
         this%t_static = t_load
     end subroutine ties_set_endpoint
 
-    !> The tie forces on the tied ends at state x (multipliers in y), with the pose at t.
+    !> The moment about a node of the generalized force g on its coordinates q (rod_nodes_t):
+    !> sum_i d_i x g_i on directors (a virtual rotation dtheta turns d_i by dtheta x d_i, so
+    !> g . dq = dtheta . sum_i d_i x g_i), R(psi) g_psi on rows of body rotations.
+    pure function node_moment(nodes, q, g) result(moment)
+        type(rod_nodes_t), intent(in) :: nodes
+        real(rk), intent(in) :: q(:), g(:)
+        real(rk) :: moment(3)
+        integer :: i, at
+        moment = 0.0_rk
+        if (nodes%directors_at > 0) then
+            do i = 0, 2
+                at = nodes%directors_at + 3 * i
+                moment = moment + matmul(hat(q(at:at + 2)), g(at:at + 2))
+            end do
+        else if (nodes%rotation_vector_at > 0) then
+            at = nodes%rotation_vector_at
+            moment = matmul(exp_so3(q(at:at + 2)), g(at:at + 2))
+        end if
+    end function node_moment
+
+    !> The tie forces and moments on the tied ends at state x (multipliers in y), with the
+    !> pose at t.
     subroutine ties_add_results(this, layout, t, x, y, records)
         class(tie_coupling_t), intent(inout) :: this
         type(system_layout_t), intent(in) :: layout
@@ -460,10 +483,15 @@ contains
                 e = merge(1, 2, tie%node_a == 1)
                 records(tie%member_a)%tie_force(:, e) = records(tie%member_a)%tie_force(:, e) + &
                     force(1:3)
+                records(tie%member_a)%tie_moment(:, e) = records(tie%member_a)%tie_moment(:, e) + &
+                    node_moment(layout%members(tie%member_a)%nodes, z(1:nc), force(1:nc))
                 if (tie%member_b > 0) then
                     e = merge(1, 2, tie%node_b == 1)
                     records(tie%member_b)%tie_force(:, e) = records(tie%member_b)%tie_force(:, e) + &
                         force(nc + 1:nc + 3)
+                    records(tie%member_b)%tie_moment(:, e) = records(tie%member_b)%tie_moment(:, e) + &
+                        node_moment(layout%members(tie%member_b)%nodes, z(nc + 1:nz), &
+                        force(nc + 1:nz))
                 end if
             end associate
         end do

@@ -1361,6 +1361,7 @@ contains
         type(rod_nodes_t) :: nodes
         integer :: k
         nodes%n_coordinates = 12
+        nodes%directors_at = 4
         nodes%n_nodes = this%n_nodes
         nodes%n_elements = this%n_elements
         nodes%degree = this%degree
