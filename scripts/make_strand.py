@@ -6,15 +6,18 @@ rests on the one below), at the phases 2 pi j / (6 k), j = 0 .. 6 k - 1, all wit
 (--lay-angle) or one pitch (--pitch); the layers are right-handed unless --left (all left) or
 --alternate (layer 1 as chosen, then alternating). All wires are ph_director rods whose helical
 reference is stress-free, tied at z = 0 to the fixed plate 'bottom' and at z = L to the plate
-'top', which is pulled along the axis (--pull, m) and turned about it (--twist, rad) with a time
-function; &contact couples all wires (no self contact). docs/theory/bundles.md, "Strand
-geometry", describes what is built and which wires touch.
+'top', which is pulled along the axis (--pull, m), turned about it (--twist, rad) and bent
+about e_x (--bend, rad) with a time function; with --pretension T the bottom plate pulls
+instead, ramped over [0, T] (a strand under tension, then bent or twisted by the top plate).
+&contact couples all wires (no self contact), with friction --mu. docs/theory/bundles.md,
+"Strand geometry", describes what is built and which wires touch.
 
     python3 scripts/make_strand.py SCENE.nml [--layers 1..5] [--wire-radius R]
         [--core-radius R_core|auto] [--lay-angle DEG | --pitch P] [--length L]
         [--elements-per-wire N | --elements-per-pitch M] [--E ..] [--nu ..] [--density ..]
-        [--stiffness K] [--margin ..] [--dt ..] [--t-end ..] [--pull ..] [--twist ..]
-        [--time-function ramp] [--quasistatic] [--output PATH] [--title ..] [--left|--alternate]
+        [--stiffness K] [--margin ..] [--mu ..] [--slip-velocity ..] [--dt ..] [--t-end ..]
+        [--pull ..] [--twist ..] [--bend ..] [--pretension T] [--time-function ramp]
+        [--quasistatic] [--output PATH] [--title ..] [--left|--alternate]
 
 SCENE '-' writes to standard output. The geometry is reported on standard error (and in the
 scene's header), with a warning when the wires of a layer overlap their neighbours.
@@ -214,6 +217,15 @@ def parse_args(argv=None):
                    help='axial displacement of the top plate at f = 1 (m); default 1e-3 L')
     p.add_argument('--twist', type=float, default=0.0,
                    help='rotation of the top plate about the axis at f = 1 (rad)')
+    p.add_argument('--bend', type=float, default=0.0,
+                   help='rotation of the top plate about e_x at f = 1 (rad): bending')
+    p.add_argument('--pretension', type=float, default=None, metavar='T',
+                   help='the bottom plate pulls (by --pull, away from the top), ramped over '
+                        '[0, T]; the top plate then only turns (--twist, --bend)')
+    p.add_argument('--mu', type=float, default=0.0,
+                   help='&contact friction coefficient (0: frictionless)')
+    p.add_argument('--slip-velocity', type=float, default=None,
+                   help='&contact slip_velocity (m/s) of the regularized friction')
     p.add_argument('--time-function', default='ramp',
                    choices=('ramp', 'hat', 'pulse', 'sine', 'constant'),
                    help='time function of the top plate')
@@ -246,9 +258,16 @@ def parse_args(argv=None):
             p.error("--core-radius takes a length or 'auto'")
         if args.core_radius <= 0.0:
             p.error('--core-radius must be > 0')
-    if args.time_function == 'constant' and (args.pull or args.twist):
+    if args.time_function == 'constant' and (args.twist or args.bend or
+                                             (args.pull and args.pretension is None)):
         p.error("a driven plate starts at its reference pose: --time-function 'constant' "
-                'cannot pull or twist')
+                'cannot pull, twist or bend')
+    if args.pretension is not None and args.pretension <= 0.0:
+        p.error('--pretension must be > 0 (the end of the ramp, s)')
+    if args.mu < 0.0:
+        p.error('--mu must be >= 0')
+    if args.mu > 0.0 and args.quasistatic:
+        p.error('friction (--mu) needs a dynamic run (rodsolve refuses it in a quasistatic one)')
     return args
 
 
@@ -337,8 +356,8 @@ def _costello_lines(args, strand, pull):
         f"rigid contact): K_eps = {model['K_eps']:.6e} N, F = {model['K_eps'] * eps:.6e} N, "
         f"M = {model['K_m'] * eps:.6e} N m;",
         f"E (A1 + 6 A2 cos^3 theta) = {full['K_simple']:.6e} N."]
-    if args.twist:
-        text.append('(These are for the pull alone; the scene also twists the top plate.)')
+    if args.twist or args.bend:
+        text.append('(These are for the pull alone; the scene also turns the top plate.)')
     if args.stiffness and eps > 0.0:
         try:
             K, delta, _ = cs.penalty_secant_stiffness(R1, R2, theta, args.E, args.nu,
@@ -350,6 +369,18 @@ def _costello_lines(args, strand, pull):
         except ValueError as err:
             text.append(f'Penalty estimate failed: {err}.')
     return comment(*text)
+
+
+def _plates_sentence(args):
+    """How the plates move, for the header."""
+    motions = [what for what, on in (('turned about the axis', args.twist),
+                                     ('bent about e_x', args.bend)) if on]
+    if args.pretension is not None:
+        return ("tied at z = 0 to the plate 'bottom', which pulls the strand (a ramp to t = "
+                f"{fmt(args.pretension)} s), and at z = L to the plate 'top'"
+                + (', which is ' + ' and '.join(motions) if motions else ', which is held'))
+    return ("tied at z = 0 to the fixed plate 'bottom' and at z = L to the plate 'top', which "
+            "is pulled along the axis" + ''.join(', ' + m for m in motions))
 
 
 def scene_text(args, command=None):
@@ -364,15 +395,18 @@ def scene_text(args, command=None):
     hands = {1: 'right', -1: 'left'}
     lines = comment(
         f"{title}: a straight core wire and {len(strand['layers'])} helical layer(s) of "
-        "ph_director wires with stress-free helical references, tied at z = 0 to the fixed "
-        "plate 'bottom' and at z = L to the plate 'top', which is pulled along the axis and "
-        "turned about it; frictionless penalty contact between the wires "
-        "(docs/theory/bundles.md, \"Strand geometry\").",
+        "ph_director wires with stress-free helical references, "
+        + _plates_sentence(args) + ("; frictionless penalty contact between the wires "
+                                    if args.mu == 0.0 else
+                                    f"; penalty contact between the wires with friction mu = "
+                                    f"{fmt(args.mu)} ")
+        + "(docs/theory/bundles.md, \"Strand geometry\").",
         'Generated by scripts/make_strand.py' + (f': {command}' if command else '') + '.',
         f"Settings the results depend on: wire radius R = {fmt(R)} m, core radius {fmt(core)} "
         f"m, length L = {fmt(L)} m, E = {fmt(args.E)} Pa, nu = {fmt(args.nu)}, contact "
         f"stiffness {fmt(args.stiffness)} N/m^3, Newton tolerance {fmt(args.newton_atol)}, "
-        f"dt = {fmt(args.dt)}, pull {fmt(pull)} m, twist {fmt(args.twist)} rad.")
+        f"dt = {fmt(args.dt)}, pull {fmt(pull)} m, twist {fmt(args.twist)} rad, bend "
+        f"{fmt(args.bend)} rad.")
     lines.append('! layer  wires  helix radius (m)  lay angle (deg)  pitch (m)   hand  turns  '
                  'gap (R)')
     for layer in strand['layers']:
@@ -431,17 +465,26 @@ def scene_text(args, command=None):
     names = [f"'{rod['name']}'" for rod in strand['rods']]
     chunks = [', '.join(names[i:i + 8]) for i in range(0, len(names), 8)]
     rod_list = ',\n         '.join(chunks)
-    lines += ['&plate', "    name = 'bottom'", f'    rods = {rod_list}', "    end = 'start'",
-              '/', '&plate', "    name = 'top'", f'    rods = {rod_list}', "    end = 'end'",
+    lines += ['&plate', "    name = 'bottom'", f'    rods = {rod_list}', "    end = 'start'"]
+    top_pull = pull
+    if args.pretension is not None:
+        lines += ['    centre = 0.0, 0.0, 0.0', f'    displacement = 0.0, 0.0, {fmt(-pull)}',
+                  f"    time_function = 'ramp', t_on = 0.0, t_off = {fmt(args.pretension)}"]
+        top_pull = 0.0
+    lines += ['/', '&plate', "    name = 'top'", f'    rods = {rod_list}', "    end = 'end'",
               f'    centre = 0.0, 0.0, {fmt(L)}',
-              f'    displacement = 0.0, 0.0, {fmt(pull)}',
-              f'    rotation = 0.0, 0.0, {fmt(args.twist)}',
+              f'    displacement = 0.0, 0.0, {fmt(top_pull)}',
+              f'    rotation = {fmt(args.bend)}, 0.0, {fmt(args.twist)}',
               f"    time_function = '{args.time_function}'"]
     if args.time_function != 'constant':
         lines.append(f'    t_on = {fmt(args.t_on)}, t_off = {fmt(t_off)}')
     lines += ['/', '&contact', f'    stiffness = {fmt(args.stiffness)}',
               f'    margin = {fmt(args.margin if args.margin is not None else R)}',
-              '    self_contact = .false.', '/']
+              '    self_contact = .false.']
+    if args.mu > 0.0:
+        lines.append(f'    mu = {fmt(args.mu)}' + (f', slip_velocity = {fmt(args.slip_velocity)}'
+                                                   if args.slip_velocity is not None else ''))
+    lines += ['/']
     return '\n'.join(lines) + '\n', strand
 
 

@@ -25,6 +25,8 @@ make_strand.py:
   - every helical wire, evaluated with the documented helix convention (with helix_phase),
     starts at z = 0 on its layer radius at phase 2 pi j / (6 k), stays on that radius, winds
     with the layer's handedness and ends at z = L; the header's gaps match the geometry;
+  - --pretension, --bend and --mu write the pulling bottom plate, the bending top plate and
+    the friction; --mu with --quasistatic exits 2;
   - the command lines write files and exit 0; a bad option exits 2.
 Exit status 1 with a list of failures.
 """
@@ -345,6 +347,34 @@ def test_scenes():
                 check(layer['gap'] > 0.0, f'{tag}: layer {k} overlaps with --core-radius auto')
 
 
+def test_bending_scene():
+    """--pretension, --bend, --mu: the bottom plate pulls along -e_z on a ramp, the top plate
+    turns about e_x with the time function and does not pull, &contact has the friction; a
+    quasistatic run with friction is refused."""
+    argv = ['-', '--layers', '1', '--core-radius', 'auto', '--pull', '6e-5', '--pretension',
+            '0.01', '--bend', '0.05', '--time-function', 'sine', '--t-on', '0.01', '--t-off',
+            '0.05', '--mu', '0.3', '--slip-velocity', '5e-3', '--dt', '5e-4', '--t-end', '0.09']
+    text, _ = ms.scene_text(ms.parse_args(argv), 'make_strand.py ' + ' '.join(argv))
+    groups = parse_scene(text)
+    plates = {body['name'][0].strip("'"): {k: [value(t) for t in v] for k, v in body.items()}
+              for g, body in groups if g == 'plate'}
+    bottom, top = plates['bottom'], plates['top']
+    check(bottom['displacement'] == [0.0, 0.0, -6e-5] and bottom['time_function'] == ['ramp']
+          and bottom['t_off'] == [0.01], f'bending scene: bottom plate {bottom}')
+    check(top['displacement'] == [0.0, 0.0, 0.0] and top['rotation'] == [0.05, 0.0, 0.0]
+          and top['time_function'] == ['sine'], f'bending scene: top plate {top}')
+    contact = [{k: [value(t) for t in v] for k, v in body.items()}
+               for g, body in groups if g == 'contact'][0]
+    check(contact['mu'] == [0.3] and contact['slip_velocity'] == [5e-3],
+          f'bending scene: contact {contact}')
+    header = ' '.join(line[2:] for line in text.splitlines() if line.startswith('! '))
+    check('friction mu = 0.3' in header and 'bent about e_x' in header, 'bending scene: header')
+    refused = subprocess.run([sys.executable, os.path.join(SCRIPTS, 'make_strand.py'), '-',
+                              '--mu', '0.3', '--quasistatic'], capture_output=True, text=True)
+    check(refused.returncode == 2 and 'dynamic run' in refused.stderr,
+          f'make_strand.py --mu --quasistatic: exit {refused.returncode}')
+
+
 def test_command_lines():
     with tempfile.TemporaryDirectory() as tmp:
         scene = os.path.join(tmp, 'strand.nml')
@@ -372,7 +402,7 @@ def test_command_lines():
 
 def main():
     for test in (test_linearization, test_energy_hessian, test_limits, test_touching,
-                 test_contact_load, test_scenes, test_command_lines):
+                 test_contact_load, test_scenes, test_bending_scene, test_command_lines):
         before = len(FAILURES)
         test()
         print(f"{test.__name__}: {'ok' if len(FAILURES) == before else 'FAILED'}")
