@@ -12,7 +12,7 @@ module rs_io_input_cross_check
     use rs_core_error, only: error_list_t, error_t
     use rs_core_strings, only: str, vector_text, did_you_mean
     use rs_model_scene, only: scene_t, rod_input_t, actuator_input_t, bc_input_t, unset_real, &
-        unset_int, name_len
+        unset_int, name_len, body_inertia_tensor
     use rs_model_time_function, only: time_function_t, time_function_from_bc, &
         time_function_from_plate, time_function_from_obstacle
     use rs_model_rod_geometry, only: rod_geometry_t, rod_geometry_of, centreline_point
@@ -96,6 +96,7 @@ contains
                     if (geometry_ok(r)) call check_pinned_at_rest(scene, r, bc%end, bc%input_line, errors)
                 end if
                 call check_driven(scene, bc, errors)
+                if (trim(bc%kind) == 'body') call check_body_inertia(scene, bc, errors)
                 do j = 1, i - 1
                     if (scene%bcs(j)%rod /= bc%rod .or. scene%bcs(j)%end /= bc%end .or. &
                             len_trim(bc%end) == 0) cycle
@@ -128,6 +129,45 @@ contains
         end function velocity_note
     end subroutine check_bcs
 
+
+    !> The inertia tensor of a body on an end (kind = 'body') is one of a body: positive
+    !> semidefinite, each principal moment at most the sum of the other two (the triangle
+    !> inequalities, which also make the Euler tensor E = tr(J)/2 I - J of the director form
+    !> positive semidefinite: its kinetic energy is never negative).
+    subroutine check_body_inertia(scene, bc, errors)
+        type(scene_t), intent(in) :: scene
+        type(bc_input_t), intent(in) :: bc
+        type(error_list_t), intent(inout) :: errors
+        real(rk) :: tensor(3, 3), euler(3, 3), scale
+        integer :: i, j
+        logical :: semidefinite
+        tensor = body_inertia_tensor(bc)
+        euler = -tensor
+        do i = 1, 3
+            euler(i, i) = euler(i, i) + 0.5_rk * (tensor(1, 1) + tensor(2, 2) + tensor(3, 3))
+        end do
+        ! Semidefinite: every principal minor is >= 0 (to round-off of the entries).
+        scale = max(maxval(abs(tensor)), tiny(1.0_rk))
+        semidefinite = all([(euler(i, i) >= -1.0e-12_rk * scale, i = 1, 3)])
+        do i = 1, 3
+            do j = i + 1, 3
+                semidefinite = semidefinite .and. euler(i, i) * euler(j, j) - euler(i, j)**2 >= &
+                    -1.0e-12_rk * scale**2
+            end do
+        end do
+        semidefinite = semidefinite .and. determinant3(euler) >= -1.0e-12_rk * scale**3
+        if (.not. semidefinite) call errors%add(at(scene, bc%input_line) // &
+            '&bc inertia, inertia_products: not the inertia tensor of a body (a principal ' // &
+            'moment exceeds the sum of the other two, or the tensor is not positive ' // &
+            'semidefinite; the second moments of its mass would be negative)')
+    end subroutine check_body_inertia
+
+    pure real(rk) function determinant3(a)
+        real(rk), intent(in) :: a(3, 3)
+        determinant3 = a(1, 1) * (a(2, 2) * a(3, 3) - a(2, 3) * a(3, 2)) - &
+            a(1, 2) * (a(2, 1) * a(3, 3) - a(2, 3) * a(3, 1)) + &
+            a(1, 3) * (a(2, 1) * a(3, 2) - a(2, 2) * a(3, 1))
+    end function determinant3
 
     !> A driven end moves: by its pose (displacement, rotation), with a time function f(0) = 0
     !> so that it starts at its reference pose, or by its velocity (velocity, angular_velocity,

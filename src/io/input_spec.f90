@@ -516,9 +516,10 @@ contains
                 'its position only (a ground pin: the rod turns freely about it), ''free'' ' // &
                 'neither, ''driven'' is a clamp moved by displacement and rotation (se3_pg) or ' // &
                 'by velocity and angular_velocity (se3_strand; several driven &bc on one end ' // &
-                'add up); which kinds a formulation has, at which end, and how it drives an end: ' // &
-                'docs/user/capabilities.md.', &
-                allowed='clamped|pinned|free|driven', required=.true., example="'clamped'"), &
+                'add up), ''body'' a free end carrying a rigid body (mass, centre, inertia: a tip ' // &
+                'mass, a payload); which kinds a formulation has, at which end, and how it ' // &
+                'drives an end: docs/user/capabilities.md.', &
+                allowed='clamped|pinned|free|driven|body', required=.true., example="'clamped'"), &
             spec_v('displacement', 'real', 'm', '0, 0, 0', 'Driven end of a formulation that ' // &
                 'drives the pose (se3_pg): its displacement at f(t) = 1 (inertial components); ' // &
                 'the end is at its reference position plus f(t) displacement.', count=3, &
@@ -536,6 +537,24 @@ contains
                 'formulation that drives the velocity (se3_strand): the end section turns with ' // &
                 'angular velocity f(t) angular_velocity (inertial components) about the end''s ' // &
                 'own (moving) position.', count=3, example='0, 0, 6.2831853072'), &
+            spec_v('mass', 'real', 'kg', '(body: required)', 'Mass of the rigid body on the ' // &
+                'end (kind = ''body''), rigidly attached to the end''s cross-section: its ' // &
+                'kinetic energy and momenta are the rod''s, gravity acts on it.', lower=0.0_rk, &
+                lower_inclusive=.false., required_if='kind=body', only_if='kind=body', &
+                example='0.5'), &
+            spec_v('centre', 'real', 'm', '0, 0, 0', 'The body''s centre of mass relative to ' // &
+                'the end''s centreline point, inertial components in the reference ' // &
+                'configuration (it moves with the end''s cross-section).', count=3, &
+                only_if='kind=body', example='0, 0, 0.02'), &
+            spec_v('inertia', 'real', 'kg m^2', '0, 0, 0', 'The body''s moments of inertia ' // &
+                'about its centre of mass, (I_xx, I_yy, I_zz) in inertial components in the ' // &
+                'reference configuration (0: a point mass).', count=3, lower=0.0_rk, &
+                only_if='kind=body', example='1e-4, 1e-4, 2e-4'), &
+            spec_v('inertia_products', 'real', 'kg m^2', '0, 0, 0', 'The products of inertia ' // &
+                '(I_yz, I_xz, I_xy) of the same tensor (entries of the tensor, not their ' // &
+                'negatives); the tensor must be positive semidefinite and satisfy the ' // &
+                'triangle inequalities of a body.', count=3, only_if='kind=body', &
+                example='0, 0, 0'), &
             time_function_variables('motion of a driven end')]
     end function bc_group
 

@@ -12,7 +12,7 @@ module rs_model_scene
     private
 
     public :: load_applies_to, sweep_value_count, sweep_values, sweep_member_count, &
-        sweep_member_indices, step_count
+        sweep_member_indices, step_count, body_inertia_tensor
 
     !> Marks a real variable that was not given and has no default.
     real(rk), parameter, public :: unset_real = huge(1.0_rk)
@@ -207,6 +207,13 @@ module rs_model_scene
         real(rk) :: t_off = unset_real
         real(rk) :: table_times(max_table) = unset_real
         real(rk) :: table_values(max_table) = unset_real
+        !> A rigid body on the end (kind = 'body'; issue 24 item 4): its mass, its centre of mass
+        !> relative to the end's node and its inertia tensor about the centre of mass
+        !> (diagonal and products, inertial components in the reference configuration).
+        real(rk) :: mass = unset_real
+        real(rk) :: centre(3) = 0.0_rk
+        real(rk) :: inertia(3) = 0.0_rk
+        real(rk) :: inertia_products(3) = 0.0_rk
     end type bc_input_t
 
     !> &load: an end load, a distributed load or gravity, scaled by a time function.
@@ -382,6 +389,25 @@ module rs_model_scene
     end type scene_t
 
 contains
+
+    !> The inertia tensor of the body of a &bc (kind = 'body') about its centre of mass,
+    !> inertial components in the reference configuration: diagonal `inertia`, off-diagonal
+    !> `inertia_products` (I_yz, I_xz, I_xy).
+    pure function body_inertia_tensor(bc) result(tensor)
+        type(bc_input_t), intent(in) :: bc
+        real(rk) :: tensor(3, 3)
+        tensor = 0.0_rk
+        tensor(1, 1) = bc%inertia(1)
+        tensor(2, 2) = bc%inertia(2)
+        tensor(3, 3) = bc%inertia(3)
+        tensor(2, 3) = bc%inertia_products(1)
+        tensor(3, 2) = bc%inertia_products(1)
+        tensor(1, 3) = bc%inertia_products(2)
+        tensor(3, 1) = bc%inertia_products(2)
+        tensor(1, 2) = bc%inertia_products(3)
+        tensor(2, 1) = bc%inertia_products(3)
+    end function body_inertia_tensor
+
 
     !> Number of steps of the scene's time grid, max(1, ceiling(t_end / dt)) as the run takes
     !> them (the last one may be shorter). The quotient is taken in reals and capped at the

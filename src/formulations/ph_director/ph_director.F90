@@ -22,7 +22,8 @@ module rs_ph_director
     use rs_core_kinds, only: rk
     use rs_core_error, only: error_t, set_error
     use rs_core_strings, only: str
-    use rs_model_scene, only: scene_t, rod_input_t, unset_real, load_applies_to
+    use rs_model_scene, only: scene_t, rod_input_t, unset_real, load_applies_to, &
+        body_inertia_tensor
     use rs_model_rod_geometry, only: rod_geometry_t, rod_geometry_of, centreline_point, &
         centreline_frame
     use rs_core_logger, only: log_info, log_warning
@@ -44,6 +45,9 @@ module rs_ph_director
         ph_director_local_size, ph_director_element_reference_strains, &
         ph_director_element_initial_stress, ph_director_straight_strain
     use rs_ph_director_node_tie, only: ph_director_node_tie
+    use rs_ph_director_body, only: ph_director_body_t, ph_director_body_init, &
+        ph_director_body_kinetic_energy, ph_director_body_momenta, ph_director_body_weight, &
+        ph_director_body_centre
     implicit none
     private
 
@@ -54,6 +58,9 @@ module rs_ph_director
     type :: rod_load_t
         integer :: node = 0
         logical :: distributed = .false.
+        !> Gravity (distributed): its acceleration, for the weight of a body on an end.
+        logical :: gravity = .false.
+        real(rk) :: acceleration(3) = 0.0_rk
         real(rk) :: force(3) = 0.0_rk
         real(rk) :: moment(3) = 0.0_rk
         type(time_function_t) :: factor
@@ -112,6 +119,8 @@ module rs_ph_director
         real(rk) :: row_scale = 0.0_rk
         real(rk), allocatable :: anchor(:)
         logical, allocatable :: clamped(:)
+        !> Rigid bodies on the ends (&bc kind = 'body'; rs_ph_director_body).
+        type(ph_director_body_t), allocatable :: bodies(:)
         real(rk), allocatable :: fixed_q(:, :)
         !> Reference strains eps_0 at the Gauss points, eps_ref(6, n_gauss, element).
         real(rk), allocatable :: eps_ref(:, :, :)
@@ -413,6 +422,7 @@ contains
         character(len=:), allocatable :: message
         integer :: i, node
         allocate(this%clamped(this%n_nodes), source=.false.)
+        allocate(this%bodies(0))
         do i = 1, size(scene%bcs)
             associate (bc => scene%bcs(i))
                 if (trim(bc%rod) /= this%name) cycle
@@ -420,6 +430,9 @@ contains
                 select case (trim(bc%kind))
                 case ('clamped')
                     this%clamped(node) = .true.
+                case ('body')
+                    this%bodies = [this%bodies, ph_director_body_init(node, bc%mass, bc%centre, &
+                        body_inertia_tensor(bc), reshape(this%fixed_q(4:12, node), [3, 3]))]
                 case ('free')
                 case default
                     message = 'rod ''' // this%name // ''': a ''' // trim(bc%kind) // &
@@ -467,6 +480,8 @@ contains
                 end select
                 if (trim(input%where) == 'gravity') then
                     load%force = this%line_mass * input%acceleration
+                    load%gravity = .true.
+                    load%acceleration = input%acceleration
                 else
                     load%force = input%force
                     load%moment = input%moment
@@ -584,11 +599,15 @@ contains
 
     !> Non-zeros of the node kernel's Jacobian (methods §5.6): kinematic rows couple q and v of
     !> the same component; director momentum rows couple to the directors (multiplier and
-    !> end-moment terms) and the multipliers; constraint rows to the directors.
-    pure function node_mask() result(mask)
+    !> end-moment terms) and the multipliers; constraint rows to the directors. On a rod with
+    !> a body on an end, the momentum rows couple to all v (the body's mass matrix couples
+    !> the point's and the directors' velocities).
+    pure function node_mask(with_body) result(mask)
+        logical, intent(in) :: with_body
         logical :: mask(node_dofs, node_dofs)
         integer :: c
         mask = .false.
+        if (with_body) mask(13:24, 13:24) = .true.
         do c = 1, 12
             mask(c, c) = .true.
             mask(c, 12 + c) = .true.
@@ -606,7 +625,7 @@ contains
         logical, allocatable :: touched(:)
         integer :: e, k
         emask = element_mask(this)
-        nmask = node_mask()
+        nmask = node_mask(size(this%bodies) > 0)
         call builder%init(this%n_dofs, this%n_elements * count(emask) + this%n_nodes * count(nmask))
         do e = 1, this%n_elements
             call builder%add_block(this%element_dof(:, e), this%element_dof(:, e), emask)
@@ -806,6 +825,30 @@ contains
         end do
     end subroutine node_loads
 
+    !> The generalized forces (12) at time t on node k of the bodies on it (their weight), and
+    !> whether it carries a body.
+    pure subroutine body_forces(this, k, t, force, carries)
+        type(ph_director_t), intent(in) :: this
+        integer, intent(in) :: k
+        real(rk), intent(in) :: t
+        real(rk), intent(out) :: force(12)
+        logical, intent(out) :: carries
+        real(rk) :: acceleration(3)
+        integer :: b, i
+        force = 0.0_rk
+        carries = .false.
+        acceleration = 0.0_rk
+        do i = 1, size(this%loads)
+            if (this%loads(i)%gravity) acceleration = acceleration + &
+                this%loads(i)%factor%value(t) * this%loads(i)%acceleration
+        end do
+        do b = 1, size(this%bodies)
+            if (this%bodies(b)%node /= k) cycle
+            carries = .true.
+            force = force + ph_director_body_weight(this%bodies(b), acceleration)
+        end do
+    end subroutine body_forces
+
     !> The midpoint step residual (methods §5.6, rows R_K, R_M, R_S and the nodal constraint
     !> g(d_{n+1}) = 0 of DESIGN.md §3), assembled from the element and node kernels.
     subroutine ph_director_step_residual(this, t_n, h, x_n, y, f, status)
@@ -854,9 +897,24 @@ contains
         real(rk), intent(out) :: r_k(node_dofs)
         real(rk), intent(out), optional :: j_k(node_dofs, node_dofs)
         real(rk) :: force(3), moment(3)
+        real(rk) :: weight(12)
+        integer :: b
+        logical :: carries
         call node_loads(this, k, t_load, force, moment)
         call ph_director_node_residual(h, this%static, this%q_n(:, k), this%q_1(:, k), &
             this%v_n(:, k), this%v_1(:, k), this%lambda(:, k), .true., force, moment, r_k, j_k)
+        if (size(this%bodies) == 0) return
+        ! A body on the node (rs_ph_director_body): its weight, and its inertia in time steps.
+        call body_forces(this, k, t_load, weight, carries)
+        if (.not. carries) return
+        r_k(13:24) = r_k(13:24) - h * weight
+        if (this%static .or. this%quasistatic) return
+        do b = 1, size(this%bodies)
+            if (this%bodies(b)%node /= k) cycle
+            r_k(13:24) = r_k(13:24) + matmul(this%bodies(b)%mass_matrix, &
+                this%v_1(:, k) - this%v_n(:, k))
+            if (present(j_k)) j_k(13:24, 13:24) = j_k(13:24, 13:24) + this%bodies(b)%mass_matrix
+        end do
     end subroutine node_kernel
 
     !> Residual and/or Jacobian of the uncondensed step: element kernels scattered through the
@@ -1001,6 +1059,8 @@ contains
         integer :: e, k, i, j, nq
         nq = 12 * (this%degree + 1)
         nmask = .false.
+        ! A body's mass matrix couples all q of its node (through v = 2 (q - q_n)/h - v_n).
+        if (size(this%bodies) > 0) nmask(1:12, 1:12) = .true.
         nmask(4:12, 4:12) = .true.
         nmask(4:12, 13:18) = .true.
         nmask(13:18, 4:12) = .true.
@@ -1200,13 +1260,22 @@ contains
             if (present(values)) then
                 call node_kernel(this, k, h, t_mid, r_k, j_k)
                 ! Condensed row i is node row 12 + i (momentum 13:24, constraint 25:30); column
-                ! j is q (1:12) or lambda (25:30). The node's momentum rows do not depend on v.
+                ! j is q (1:12) or lambda (25:30). The node's momentum rows depend on v only
+                ! through a body's mass: d/dq_{n+1} = 2/h d/dv_{n+1} there.
                 do j = 1, 18
                     do i = 1, 18
                         p = this%node_map(i, j, k)
                         if (p > 0) values(p) = values(p) + j_k(12 + i, merge(j, 12 + j, j <= 12))
                     end do
                 end do
+                if (size(this%bodies) > 0) then
+                    do j = 1, 12
+                        do i = 1, 12
+                            p = this%node_map(i, j, k)
+                            if (p > 0) values(p) = values(p) + (2.0_rk / h) * j_k(12 + i, 12 + j)
+                        end do
+                    end do
+                end if
             else
                 call node_kernel(this, k, h, t_mid, r_k)
             end if
@@ -1233,6 +1302,11 @@ contains
             strain = strain + ph_director_element_complementary_energy(this%basis, &
                 this%material, this%element_length(e), this%s_1(:, :, :, e))
         end do
+        if (this%quasistatic) return
+        do e = 1, size(this%bodies)
+            kinetic = kinetic + ph_director_body_kinetic_energy(this%bodies(e), &
+                this%v_1(:, this%bodies(e)%node))
+        end do
     end subroutine ph_director_energy
 
     !> The energy terms of the accepted step: H_n and H_{n+1}, the work of the loads and of the
@@ -1244,9 +1318,10 @@ contains
         real(rk), intent(in) :: t_n, h, x_n(:), x_1(:)
         type(step_energy_t), intent(out) :: terms(:)
         real(rk) :: work, actuator_work, dissipated, nbar(3), mbar(3), force(3), moment(3), t_mid
-        real(rk) :: kinetic_n, strain_n, kinetic_1, strain_1
+        real(rk) :: kinetic_n, strain_n, kinetic_1, strain_1, weight(12)
         type(ph_director_actuation_t) :: actuation
         integer :: e, k, nodes(2)
+        logical :: carries
         if (this%static) then
             terms(1) = step_energy_t(reported=.false., grid_step=.false.)
             return
@@ -1277,6 +1352,9 @@ contains
         end do
         do k = 1, this%n_nodes
             if (this%clamped(k)) cycle
+            ! A body's weight: its generalized force on the step of the node's coordinates.
+            call body_forces(this, k, t_mid, weight, carries)
+            if (carries) work = work + dot_product(weight, this%q_1(:, k) - this%q_n(:, k))
             call node_loads(this, k, t_mid, force, moment)
             if (all(force == 0.0_rk) .and. all(moment == 0.0_rk)) cycle
             work = work + ph_director_node_external_work(h, this%q_n(:, k), this%q_1(:, k), &
@@ -1418,7 +1496,7 @@ contains
         type(rod_history_t), intent(inout), target :: histories(:)
         real(rk), intent(in) :: t, x(:)
         type(rod_history_t), pointer :: history
-        real(rk) :: kinetic, strain, linear(3), angular(3), l_e(3), a_e(3), position(3)
+        real(rk) :: kinetic, strain, linear(3), angular(3), l_e(3), a_e(3), position(3), mass
         real(rk) :: gamma(3, this%degree), kappa(3, this%degree)
         integer :: r, e, k, i, nodes(2), first, last, br
         history => histories(1)
@@ -1443,9 +1521,28 @@ contains
         history%kinetic(r) = kinetic
         history%strain(r) = strain
         history%total(r) = kinetic + strain
+        history%center_of_mass(:, r) = position / this%length
+        if (size(this%bodies) > 0) then
+            ! The bodies on the ends: their momenta, and their mass in the centre of mass.
+            position = this%line_mass * position
+            mass = this%line_mass * this%length
+            do e = 1, size(this%bodies)
+                associate (body => this%bodies(e))
+                    if (.not. this%quasistatic) then
+                        call ph_director_body_momenta(body, this%q_1(:, body%node), &
+                            this%v_1(:, body%node), l_e, a_e)
+                        linear = linear + l_e
+                        angular = angular + a_e
+                    end if
+                    position = position + body%mass * ph_director_body_centre(body, &
+                        this%q_1(:, body%node))
+                    mass = mass + body%mass
+                end associate
+            end do
+            history%center_of_mass(:, r) = position / mass
+        end if
         history%linear_momentum(:, r) = linear
         history%angular_momentum(:, r) = angular
-        history%center_of_mass(:, r) = position / this%length
         history%constraint_residual(r) = 0.0_rk
         do k = 1, this%n_nodes
             history%position(:, k, r) = this%q_1(1:3, k)

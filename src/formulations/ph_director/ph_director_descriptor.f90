@@ -26,7 +26,7 @@ contains
         ! plates as constraints with multipliers on the end nodes (rs_ph_director_tie), and
         ! rod-rod and self contact by an energy-consistent penalty (rs_contact_potential).
         d%capability = capability_t(formulation=d%name, available=.true., &
-            end_kinds='clamped|free', load_places='start|end|distributed|gravity', &
+            end_kinds='clamped|free|body', load_places='start|end|distributed|gravity', &
             load_frames='spatial', constraints='none|kirchhoff|inextensible', quasistatic=.true., &
             viscoelastic=.true., actuation=.true., curved_reference=.true., prestressed=.true., &
             joints='rigid|spherical|revolute', end_plates=.true., contact=.true.)

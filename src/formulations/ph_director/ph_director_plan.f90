@@ -370,6 +370,21 @@ contains
             end if
             t = 'free'
             associate (name => scene%rods(i)%name)
+                do k = 1, size(scene%bcs)
+                    if (scene%bcs(k)%rod /= name .or. trim(scene%bcs(k)%end) /= end_name) cycle
+                    if (trim(scene%bcs(k)%kind) /= 'body') cycle
+                    associate (units => trim(scene%run%units))
+                        t = 'a rigid body: mass ' // str(scene%bcs(k)%mass) // ' ' // &
+                            unit_in_system('kg', units) // ', centre (' // &
+                            vector_text(scene%bcs(k)%centre) // ') ' // unit_in_system('m', &
+                            units) // ' from the end, inertia (' // &
+                            vector_text(scene%bcs(k)%inertia) // '), products (' // &
+                            vector_text(scene%bcs(k)%inertia_products) // ') ' // &
+                            unit_in_system('kg m^2', units) // ' (its mass matrix on the ' // &
+                            'end node, rs_ph_director_body)'
+                    end associate
+                    return
+                end do
                 if (allocated(scene%plates)) then
                     do k = 1, size(scene%plates)
                         if (trim(scene%plates(k)%end) /= end_name) cycle

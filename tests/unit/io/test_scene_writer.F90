@@ -67,6 +67,8 @@ contains
             "     em_variant = 'ph_irreducible', start = -1.5, 0.25, -2.7499999, length = 0.5," // nl // &
             '     EA = 1, GA1 = 2, GA2 = 3, EI1 = 4, EI2 = 5, GJ = 6, rhoA = 7, rhoI1 = 8, rhoI2 = 9 /' // nl // &
             "&bc rod = 'left', end = 'end', kind = 'pinned' /" // nl // &
+            "&bc rod = 'left', end = 'start', kind = 'body', mass = 0.5, centre = 0.01, 0, -2e-3," // nl // &
+            "    inertia = 1e-4, 2e-4, 2.5e-4, inertia_products = 0, 1e-6, 0 /" // nl // &
             "&bc rod = 'rod2', end = 'start', kind = 'driven', rotation = 0.5, 0, -1.25," // nl // &
             "    displacement = 0, 1e-3, 0, time_function = 'ramp', t_on = 0.25, t_off = 2 /" // nl // &
             "&load rod = 'left', where = 'end', force = 1.1, -2.2, 3.3," // nl // &
@@ -138,11 +140,12 @@ contains
         text = resolved_scene_text(scene)
         CHECK_EQUAL(occurrences(text, nl // '&run' // nl), 1, '&run block')
         CHECK_EQUAL(occurrences(text, nl // '&rod' // nl), 3, 'one &rod block per rod')
-        CHECK_EQUAL(occurrences(text, nl // '&bc' // nl), 2, 'one &bc block per bc')
+        CHECK_EQUAL(occurrences(text, nl // '&bc' // nl), 3, 'one &bc block per bc')
         CHECK_EQUAL(occurrences(text, nl // '&load' // nl), 3, 'one &load block per load')
         CHECK_EQUAL(occurrences(text, nl // '&actuator' // nl), 2, 'one &actuator block per actuator')
         CHECK_EQUAL(occurrences(text, nl // '&joint' // nl), 1, 'one &joint block per joint')
-        CHECK_EQUAL(occurrences(text, nl // '/' // nl), 15, 'every block closed')
+        CHECK_EQUAL(occurrences(text, nl // '/' // nl), 16, 'every block closed')
+        CHECK_EQUAL(occurrences(text, nl // '    mass = '), 1, 'a mass for the body''s end only')
         CHECK_TRUE(index(text, '&actuator') < index(text, '&joint'), 'actuators before joints')
         CHECK_CONTAINS(text, nl // "    rod_b = 'right'" // nl, 'joint rod')
         CHECK_CONTAINS(text, nl // "    kind = 'rigid'" // nl // '/', 'joint kind in lower case')
@@ -457,6 +460,10 @@ contains
         call check_real(b%t_off, a%t_off, 'bc t_off')
         call check_reals(b%table_times, a%table_times, 'bc table_times')
         call check_reals(b%table_values, a%table_values, 'bc table_values')
+        call check_real(b%mass, a%mass, 'bc mass')
+        call check_reals(b%centre, a%centre, 'bc centre')
+        call check_reals(b%inertia, a%inertia, 'bc inertia')
+        call check_reals(b%inertia_products, a%inertia_products, 'bc inertia_products')
     end subroutine check_same_bc
 
     subroutine check_same_load(a, b)
