@@ -302,6 +302,8 @@ def momentum_plot(res, rod_name, out, dpi):
 
 #: The bundle series of a rod (docs/user/output.md): contact force, penetration, energy share.
 CONTACT_SERIES = ("contact/force", "contact/penetration", "contact/energy")
+#: Friction of each step (&contact or &obstacle mu): drawn when a rod has any.
+FRICTION_SERIES = ("contact/friction", "contact/slip_speed")
 TIE_SERIES = "ties/force"
 
 
@@ -314,9 +316,10 @@ def contact_plot(res, rod_name, out, dpi):
 
 def contact_figure(res, rod_name=None):
     """(figure, axes): per rod of a bundle, |contact force|, deepest penetration and contact
-    energy share against time, and |tie force| on its start (solid) and end (dashed) when the
-    file has series/ties/force. The axes are those of the panels drawn, in this order; rods
-    without these series are left out (all of them: MissingData)."""
+    energy share against time, |friction force| and the largest slip speed when a rod has
+    friction (a non-zero series/contact/friction), and |tie force| on its start (solid) and end
+    (dashed) when the file has series/ties/force. The axes are those of the panels drawn, in
+    this order; rods without these series are left out (all of them: MissingData)."""
     names = [rod_name] if rod_name is not None else res.rods()
     rods = [res.rod(name) for name in names]
     rods = [rod for rod in rods
@@ -326,12 +329,19 @@ def contact_figure(res, rod_name=None):
                           "series/ties/force: rods of a bundle, &output fields 'contact' and "
                           "'ties')" % (res.path, "rod '%s' has" % rod_name if rod_name
                                        else "no rod has"))
+    def drawn(name):
+        present = [rod for rod in rods if name in rod.series_names()]
+        if name in FRICTION_SERIES:
+            return any(np.any(np.asarray(rod.series(name)) != 0.0) for rod in present)
+        return bool(present)
     panels = [(name, title) for name, title in (
         ("contact/force", "|contact force| on the rod"),
         ("contact/penetration", "deepest penetration r$_c$ - d (0: no contact)"),
         ("contact/energy", "contact energy share (half of each contact pair)"),
+        ("contact/friction", "|friction force| on the rod in the step"),
+        ("contact/slip_speed", "largest slip speed of its contact points in the step"),
         (TIE_SERIES, "|force of joints and plates| on the start (solid) and end (dashed)"))
-        if any(name in rod.series_names() for rod in rods)]
+        if drawn(name)]
     fig, axes = plt.subplots(len(panels), 1, figsize=(8, 2.6 * len(panels) + 0.8), sharex=True,
                              squeeze=False)
     axes = axes[:, 0]
@@ -955,7 +965,8 @@ def parser():
                "             default the one across which it moves least). Without --rod:\n"
                "             every rod.\n"
                "  contact    rods of a bundle: |contact force|, deepest penetration and\n"
-               "             contact energy share against time, and |tie force| on each\n"
+               "             contact energy share against time, |friction force| and slip\n"
+               "             speed (with friction), and |tie force| on each\n"
                "             rod's start (solid) and end (dashed) when the file has\n"
                "             series/ties/force. Without --rod: every rod that has them.\n"
                "  animate    3D centrelines over time as a GIF (needs Pillow): one frame per\n"

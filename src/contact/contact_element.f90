@@ -113,10 +113,12 @@ contains
 !> tangents at t_n from `slope_a` (n_a, m_a) and `slope_b`, the shape functions' derivatives at
 !> the contact points (contact_points; any scale), or, when they are absent, from the element's
 !> chord (exact for straight elements); optional `dissipation` is the pair's friction
-!> dissipation D of the step (the sum of w_a w_b D over the point pairs, >= 0).
+!> dissipation D of the step (the sum of w_a w_b D over the point pairs, >= 0), optional
+!> `friction_a` the sum of the friction terms w_a w_b f_Ta on a (the terms on b sum to its
+!> negative), optional `largest_slip` the largest slip |u| of a point pair in contact.
     pure subroutine contact_element_pair(params, shape_a, weight_a, xa_n, xa_1, shape_b, &
             weight_b, xb_n, xb_1, r_a, r_b, energy_n, energy_1, tangent, closest, dissipation, &
-            slope_a, slope_b)
+            slope_a, slope_b, friction_a, largest_slip)
         type(contact_params_t), intent(in) :: params
         real(rk), intent(in) :: shape_a(:, :), shape_b(:, :)
         real(rk), intent(in) :: weight_a(size(shape_a, 2)), weight_b(size(shape_b, 2))
@@ -130,11 +132,12 @@ contains
         real(rk), intent(out), optional :: closest, dissipation
         real(rk), intent(in), optional :: slope_a(size(shape_a, 1), size(shape_a, 2))
         real(rk), intent(in), optional :: slope_b(size(shape_b, 1), size(shape_b, 2))
+        real(rk), intent(out), optional :: friction_a(3), largest_slip
         integer :: n_a, n_b, g, h, i, j, ri, cj
         real(rk) :: lambda_a, lambda_b, gap_n, gap_1, rc_safe, origin(3)
         real(rk) :: pa_n(3), pa_1(3), pb_n(3), pb_1(3), rn(3), r1(3), d2_n, d2_1, d2_min
         real(rk) :: w, f_a(3), f_b(3), t6(6, 6), block(3, 3), v_i, v_j, f_t(3), d_t, t3(3, 3)
-        real(rk) :: tangent_a(3), normal(3)
+        real(rk) :: tangent_a(3), normal(3), slip_length
         logical :: friction
         ! The unit tangents of element b's points at t_n (friction only).
         real(rk) :: tangents_b(3, size(shape_b, 2))
@@ -149,6 +152,8 @@ contains
         energy_1 = 0.0_rk
         if (present(tangent)) tangent = 0.0_rk
         if (present(dissipation)) dissipation = 0.0_rk
+        if (present(friction_a)) friction_a = 0.0_rk
+        if (present(largest_slip)) largest_slip = 0.0_rk
         friction = params%mu > 0.0_rk
 
         lambda_a = lebesgue_bound(shape_a)
@@ -200,10 +205,13 @@ contains
                 call contact_point_force(pa_n, pb_n, pa_1, pb_1, params, f_a, f_b)
                 if (friction) then
                     normal = contact_friction_normal(pa_n - pb_n, tangent_a, tangents_b(:, h))
-                    call contact_point_friction(pa_n, pb_n, pa_1, pb_1, params, normal, f_t, d_t)
+                    call contact_point_friction(pa_n, pb_n, pa_1, pb_1, params, normal, f_t, d_t, &
+                        slip_length)
                     f_a = f_a + f_t
                     f_b = f_b - f_t
                     if (present(dissipation)) dissipation = dissipation + w * d_t
+                    if (present(friction_a)) friction_a = friction_a + w * f_t
+                    if (present(largest_slip)) largest_slip = max(largest_slip, slip_length)
                 end if
                 do i = 1, n_a
                     r_a(:, i) = r_a(:, i) + (w * shape_a(i, g)) * f_a

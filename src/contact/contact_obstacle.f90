@@ -70,6 +70,7 @@ module rs_contact_obstacle
     public :: obstacle_params_init, obstacle_support, obstacle_energy, obstacle_penetration
     public :: obstacle_point_force, obstacle_point_tangent
     public :: obstacle_point_friction, obstacle_point_friction_tangent, obstacle_point_dissipation
+    public :: obstacle_point_slip
 
 contains
 
@@ -274,6 +275,15 @@ contains
         call friction_factor(params, x_n, x_1, h, factor, slip)
         d = factor * dot_product(slip, slip)
     end function obstacle_point_dissipation
+
+    !> |u|, the step's slip of a point in contact (0 where it does not touch).
+    pure real(rk) function obstacle_point_slip(params, x_n, x_1) result(length)
+        type(obstacle_params_t), intent(in) :: params
+        real(rk), intent(in) :: x_n(3), x_1(3)
+        real(rk) :: f_normal, normal(3), slip(3)
+        call slip_of_step(params, x_n, x_1, f_normal, normal, slip)
+        length = norm2(slip)
+    end function obstacle_point_slip
 
     !> d f_T / d x_1 (3 x 3) of obstacle_point_friction: through f_N, the normal (sphere,
     !> cylinder: it turns with the midpoint) and the slip.

@@ -334,20 +334,24 @@ contains
 
     !> The friction term f_Ta on point a (f_Tb = -f_Ta) of a step with the contact normal n and
     !> its dissipation D = f_Ta . (r_1 - r_n) >= 0 (module header, Friction; zero without
-    !> friction or force).
+    !> friction or force); optional `slip_length`: |u|, the step's slip of the pair (0 where
+    !> it exerts no force).
     pure subroutine contact_point_friction(xa_n, xb_n, xa_1, xb_1, params, normal, f_t, &
-            dissipation)
+            dissipation, slip_length)
         real(rk), intent(in) :: xa_n(3), xb_n(3), xa_1(3), xb_1(3), normal(3)
         type(contact_params_t), intent(in) :: params
         real(rk), intent(out) :: f_t(3), dissipation
+        real(rk), intent(out), optional :: slip_length
         real(rk) :: f_normal, sense, slip(3), root
         f_t = 0.0_rk
         dissipation = 0.0_rk
+        if (present(slip_length)) slip_length = 0.0_rk
         if (params%mu == 0.0_rk) return
         call slip_of_step(xa_n, xb_n, xa_1, xb_1, params, normal, f_normal, sense, slip, root)
         if (f_normal == 0.0_rk) return
         f_t = (params%mu * f_normal / root) * slip
         dissipation = dot_product(f_t, slip)
+        if (present(slip_length)) slip_length = norm2(slip)
     end subroutine contact_point_friction
 
     !> d f_Ta / d xa_1 (3 x 3) of contact_point_friction; f_Ta depends on the positions at

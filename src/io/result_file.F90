@@ -11,8 +11,8 @@
 !>     /rods/<name>/series/    energy/{kinetic,strain,total,external_work,actuator_work,
 !>                             dissipated,balance_error}, momentum/{linear,angular},
 !>                             center_of_mass, constraint_residual, newton/{iterations,residual},
-!>                             dt; rods of a bundle: contact/{energy,force,penetration},
-!>                             ties/{force,moment}
+!>                             dt; rods of a bundle: contact/{energy,force,penetration,
+!>                             friction,slip_speed}, ties/{force,moment}
 !>     /checkpoint/<name>/     state, ledger, step, records, time: what a restart needs;
 !>                             checksum (rs_io_checksum), verified by read_checkpoint
 !>     /series/                time, energy/..., momentum/... summed over all rods (at the end)
@@ -142,7 +142,7 @@ module rs_io_result_file
     end type result_writer_t
 
     !> The fields `&output fields` may select: nodal and stress fields, and the bundle series
-    !> ('contact': the three series/contact/ datasets, 'ties': series/ties/force and moment); the other
+    !> ('contact': the series/contact/ datasets, 'ties': series/ties/force and moment); the other
     !> per-record series and `time` are always written.
     character(len=*), parameter :: selectable_fields = &
         'position,directors,velocity,director_velocity,stress,strain,branch_stress,contact,ties'
@@ -240,6 +240,8 @@ contains
         if (has_1(h%contact_energy)) call note('series/contact/energy')
         if (has_2(h%contact_force)) call note('series/contact/force')
         if (has_1(h%penetration)) call note('series/contact/penetration')
+        if (has_2(h%friction_force)) call note('series/contact/friction')
+        if (has_1(h%slip_speed)) call note('series/contact/slip_speed')
         if (has_3(h%tie_force)) call note('series/ties/force')
         if (has_3(h%tie_moment)) call note('series/ties/moment')
     contains
@@ -404,6 +406,11 @@ contains
             call add('series/contact/penetration', [integer ::], 'm', 'deepest penetration ' // &
                 'r_c - d over the rod''s contact point pairs at the record (r_c the sum of ' // &
                 'the contact radii, d the distance of the centrelines); 0 without contact, [step]')
+            call add('series/contact/friction', [3], 'N', 'friction force on the rod in the ' // &
+                'step that ended at the record (rod-rod and obstacles, &contact and ' // &
+                '&obstacle mu), spatial components; 0 without friction, [step, component]')
+            call add('series/contact/slip_speed', [integer ::], 'm/s', 'largest slip speed ' // &
+                '|u| / h of the rod''s contact points in friction in that step, [step]')
         end if
         if (field_selected(selection, 'ties')) then
             call add('series/ties/force', [3, 2], 'N', &
@@ -478,6 +485,10 @@ contains
             values = reshape(h%contact_force(:, first:last), [3 * n])
         case ('series/contact/penetration')
             values = h%penetration(first:last)
+        case ('series/contact/friction')
+            values = reshape(h%friction_force(:, first:last), [3 * n])
+        case ('series/contact/slip_speed')
+            values = h%slip_speed(first:last)
         case ('series/ties/force')
             values = reshape(h%tie_force(:, :, first:last), [6 * n])
         case ('series/ties/moment')
@@ -1176,6 +1187,8 @@ contains
             if (too_short_1(h%contact_energy, h%n_stored)) what = 'contact_energy'
             if (too_short_2(h%contact_force, h%n_stored)) what = 'contact_force'
             if (too_short_1(h%penetration, h%n_stored)) what = 'penetration'
+            if (too_short_2(h%friction_force, h%n_stored)) what = 'friction_force'
+            if (too_short_1(h%slip_speed, h%n_stored)) what = 'slip_speed'
             if (too_short_3(h%tie_force, h%n_stored)) what = 'tie_force'
             if (too_short_3(h%tie_moment, h%n_stored)) what = 'tie_moment'
             if (allocated(h%newton_iterations)) then

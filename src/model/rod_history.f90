@@ -68,9 +68,12 @@ module rs_model_rod_history
         !> contact energy (half of each of its pairs), the total contact force on it, its
         !> deepest contact penetration r_c - d (0 without contact), and the forces of joints and
         !> plates on its two ends, tie_force(:, end, step) with end 1 = start, 2 = end, and
-        !> their moments tie_moment (spatial components, about the end's node).
-        real(rk), allocatable :: contact_energy(:), penetration(:)
+        !> their moments tie_moment (spatial components, about the end's node); the friction of
+        !> the step that ended at the record: the friction force on the rod and the largest slip
+        !> speed of its contact points.
+        real(rk), allocatable :: contact_energy(:), penetration(:), slip_speed(:)
         real(rk), allocatable :: contact_force(:, :), tie_force(:, :, :), tie_moment(:, :, :)
+        real(rk), allocatable :: friction_force(:, :)
     contains
         !> The bundle series, with room for as many records as the other arrays.
         procedure :: init_coupling => rod_history_init_coupling
@@ -164,6 +167,8 @@ contains
         if (allocated(this%contact_force)) deallocate(this%contact_force)
         if (allocated(this%tie_force)) deallocate(this%tie_force)
         if (allocated(this%tie_moment)) deallocate(this%tie_moment)
+        if (allocated(this%friction_force)) deallocate(this%friction_force)
+        if (allocated(this%slip_speed)) deallocate(this%slip_speed)
     end subroutine rod_history_free
 
     !> `capacity` is the history's own (kept as an argument for the formulations' calls).
@@ -175,7 +180,8 @@ contains
         if (capacity < room) room = max(capacity, 0)
         allocate(this%contact_energy(room), this%penetration(room), source=0.0_rk)
         allocate(this%contact_force(3, room), this%tie_force(3, 2, room), &
-            this%tie_moment(3, 2, room), source=0.0_rk)
+            this%tie_moment(3, 2, room), this%friction_force(3, room), this%slip_speed(room), &
+            source=0.0_rk)
     end subroutine rod_history_init_coupling
 
     !> Index of the next record (the arrays grown if they are full), or 0 when the capacity
@@ -222,6 +228,8 @@ contains
         call grow_3(this%strains)
         call grow_3(this%tie_force)
         call grow_3(this%tie_moment)
+        call grow_2(this%friction_force)
+        call grow_1(this%slip_speed)
         call grow_4(this%directors)
         call grow_4(this%director_velocity)
         call grow_4(this%branch_stress)

@@ -28,7 +28,7 @@ module rs_system_contact_coupling
     use rs_contact_element, only: contact_element_pair, contact_points
     use rs_math_lagrange, only: lagrange_shape
     use rs_system_layout, only: system_layout_t
-    use rs_system_coupling, only: coupling_t, coupling_record_t
+    use rs_system_coupling, only: coupling_t, coupling_record_t, friction_record_t
     implicit none
     private
 
@@ -620,14 +620,17 @@ contains
     end subroutine contact_add_results
 
     !> The friction dissipation D >= 0 of the accepted step from x_n to the unknowns y of each
-    !> active pair (rs_contact_potential, Friction), half on each of its two members.
-    subroutine contact_add_dissipation(this, layout, t_n, h, x_n, y, dissipated)
+    !> active pair (rs_contact_potential, Friction), half on each of its two members, the
+    !> friction force of the pair on each (the terms' sums, opposite on the two) and the largest
+    !> slip speed of its point pairs.
+    subroutine contact_add_dissipation(this, layout, t_n, h, x_n, y, dissipated, friction)
         class(contact_coupling_t), intent(in) :: this
         type(system_layout_t), intent(in) :: layout
         real(rk), intent(in) :: t_n, h, x_n(:), y(:)
         real(rk), intent(inout) :: dissipated(:)
+        type(friction_record_t), intent(inout) :: friction(:)
         real(rk) :: xa_n(3, 8), xa_1(3, 8), xb_n(3, 8), xb_1(3, 8), r_a(3, 8), r_b(3, 8)
-        real(rk) :: energy_n, energy_1, pair_dissipation
+        real(rk) :: energy_n, energy_1, pair_dissipation, friction_a(3), largest_slip
         type(contact_params_t) :: params
         integer :: k, na, nb
         logical :: ok
@@ -648,9 +651,15 @@ contains
                     la%nodes%element_length(pair(2)), xa_n(:, 1:na), xa_1(:, 1:na), b%shape, &
                     b%weight * lb%nodes%element_length(pair(4)), xb_n(:, 1:nb), xb_1(:, 1:nb), &
                     r_a(:, 1:na), r_b(:, 1:nb), energy_n, energy_1, dissipation=pair_dissipation, &
-                    slope_a=a%slope, slope_b=b%slope)
+                    slope_a=a%slope, slope_b=b%slope, friction_a=friction_a, &
+                    largest_slip=largest_slip)
                 dissipated(pair(1)) = dissipated(pair(1)) + 0.5_rk * pair_dissipation
                 dissipated(pair(3)) = dissipated(pair(3)) + 0.5_rk * pair_dissipation
+                ! The physical forces are minus the terms: -f_Ta on a, +f_Ta on b.
+                friction(pair(1))%force = friction(pair(1))%force - friction_a
+                friction(pair(3))%force = friction(pair(3))%force + friction_a
+                friction(pair(1))%slip_speed = max(friction(pair(1))%slip_speed, largest_slip / h)
+                friction(pair(3))%slip_speed = max(friction(pair(3))%slip_speed, largest_slip / h)
             end associate
         end do
     end subroutine contact_add_dissipation

@@ -29,6 +29,13 @@ module rs_system_coupling
         real(rk) :: tie_moment(3, 2) = 0.0_rk
     end type coupling_record_t
 
+    !> The friction of a step on a member: the total friction force on it (the physical force,
+    !> against its slip) and the largest slip speed |u| / h of its contact points.
+    type, public :: friction_record_t
+        real(rk) :: force(3) = 0.0_rk
+        real(rk) :: slip_speed = 0.0_rk
+    end type friction_record_t
+
     type, abstract, public :: coupling_t
         !> Its unknown blocks (the system sets their offsets).
         type(coupling_block_t), allocatable :: blocks(:)
@@ -65,7 +72,8 @@ module rs_system_coupling
         procedure(describe_interface), deferred :: describe
         !> Add each member's dissipation of the accepted step from (t_n, x_n) to y (friction):
         !> the part of the coupling's work that the system books as dissipated rather than as
-        !> external work. Default: none (conservative couplings).
+        !> external work, and the friction of the step on it (friction_record_t). Default:
+        !> none (conservative couplings).
         procedure :: add_dissipation => default_add_dissipation
     end type coupling_t
 
@@ -137,11 +145,12 @@ module rs_system_coupling
 
 contains
 
-    subroutine default_add_dissipation(this, layout, t_n, h, x_n, y, dissipated)
+    subroutine default_add_dissipation(this, layout, t_n, h, x_n, y, dissipated, friction)
         class(coupling_t), intent(in) :: this
         type(system_layout_t), intent(in) :: layout
         real(rk), intent(in) :: t_n, h, x_n(:), y(:)
         real(rk), intent(inout) :: dissipated(:)
+        type(friction_record_t), intent(inout) :: friction(:)
     end subroutine default_add_dissipation
 
     pure integer function default_pattern_entries(this)

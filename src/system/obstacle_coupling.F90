@@ -20,11 +20,11 @@ module rs_system_obstacle_coupling
     use rs_contact_obstacle, only: obstacle_params_t, obstacle_params_init, obstacle_energy, &
         obstacle_penetration, obstacle_point_force, obstacle_point_tangent, obstacle_plane, &
         obstacle_sphere, obstacle_cylinder, obstacle_point_friction, &
-        obstacle_point_friction_tangent, obstacle_point_dissipation
+        obstacle_point_friction_tangent, obstacle_point_dissipation, obstacle_point_slip
     use rs_contact_element, only: contact_points
     use rs_model_time_function, only: time_function_t, time_function_from_obstacle
     use rs_system_layout, only: system_layout_t
-    use rs_system_coupling, only: coupling_t, coupling_record_t
+    use rs_system_coupling, only: coupling_t, coupling_record_t, friction_record_t
     implicit none
     private
 
@@ -394,13 +394,15 @@ contains
     end subroutine obstacle_add_results
 
     !> Each member's friction dissipation D_T >= 0 of the accepted step from x_n to the
-    !> unknowns y (rs_contact_obstacle), integrated as the forces are.
-    subroutine obstacle_add_dissipation(this, layout, t_n, h, x_n, y, dissipated)
+    !> unknowns y (rs_contact_obstacle), integrated as the forces are, the friction force on
+    !> it (-f_T integrated) and the largest slip speed of its contact points.
+    subroutine obstacle_add_dissipation(this, layout, t_n, h, x_n, y, dissipated, friction)
         class(obstacle_coupling_t), intent(in) :: this
         type(system_layout_t), intent(in) :: layout
         real(rk), intent(in) :: t_n, h, x_n(:), y(:)
         real(rk), intent(inout) :: dissipated(:)
-        real(rk) :: x_e(3, max_nodes), y_e(3, max_nodes), p_n(3), p_1(3), w
+        type(friction_record_t), intent(inout) :: friction(:)
+        real(rk) :: x_e(3, max_nodes), y_e(3, max_nodes), p_n(3), p_1(3), w, f_t(3)
         real(rk) :: shift_n(3, size(this%motions)), shift_1(3, size(this%motions))
         integer :: m, e, g, o, nen
         if (this%static .or. this%equilibrium_steps) return
@@ -416,8 +418,17 @@ contains
                         p_1 = matmul(y_e(:, 1:nen), member%shape(:, g))
                         w = member%weight(g) * nodes%element_length(e)
                         do o = 1, size(member%obstacles)
-                            dissipated(m) = dissipated(m) + w * obstacle_point_dissipation( &
-                                member%obstacles(o), p_n - shift_n(:, o), p_1 - shift_1(:, o), h)
+                            if (member%obstacles(o)%mu == 0.0_rk) cycle
+                            associate (params => member%obstacles(o), a => p_n - shift_n(:, o), &
+                                    b => p_1 - shift_1(:, o))
+                                dissipated(m) = dissipated(m) + w * &
+                                    obstacle_point_dissipation(params, a, b, h)
+                                call obstacle_point_friction(params, a, b, h, f_t)
+                                if (all(f_t == 0.0_rk)) cycle
+                                friction(m)%force = friction(m)%force - w * f_t
+                                friction(m)%slip_speed = max(friction(m)%slip_speed, &
+                                    obstacle_point_slip(params, a, b) / h)
+                            end associate
                         end do
                     end do
                 end do

@@ -33,7 +33,8 @@ module rs_system_rod_system
     use rs_formulations_factory, only: create_formulation
     use rs_system_layout, only: system_layout_t
     use rs_system_ledger, only: record_ledger_t, ledger_entries
-    use rs_system_coupling, only: coupling_t, coupling_slot_t, coupling_record_t
+    use rs_system_coupling, only: coupling_t, coupling_slot_t, coupling_record_t, &
+        friction_record_t
     use rs_system_tie_coupling, only: tie_coupling_t, tie_coupling_init, tie_maker_t
     use rs_system_contact_coupling, only: contact_coupling_t, contact_coupling_init
     use rs_system_obstacle_coupling, only: obstacle_coupling_t, obstacle_coupling_init
@@ -71,6 +72,8 @@ module rs_system_rod_system
         type(step_energy_t) :: step_energy
         !> Coupling results of the members for the records.
         type(coupling_record_t), allocatable :: coupling_records(:)
+        !> The friction of the last accepted step on each member (recorded with the state).
+        type(friction_record_t), allocatable :: step_friction(:)
         !> Work arrays of the book-keeping (kept between steps: no allocation in the time loop).
         real(rk), allocatable :: work_y(:), work_force(:), work_x(:)
         type(step_energy_t), allocatable :: terms(:)
@@ -180,7 +183,7 @@ contains
         if (d%system_couplings) call read_couplings(this, scene, err)
         RS_RETURN_IF_ERROR(err)
         this%direct = n_members == 1 .and. size(this%couplings) == 0
-        allocate(this%coupling_records(n_members))
+        allocate(this%coupling_records(n_members), this%step_friction(n_members))
         call this%distribute([(0, m = 1, n_members)], 0)
     end subroutine system_init
 
@@ -777,9 +780,10 @@ contains
         ! Friction's share of the work is dissipation (>= 0): booked as such, the rest as
         ! external work, so that work + dissipation is the couplings' whole work.
         dissipated = 0.0_rk
+        this%step_friction = friction_record_t()
         do c = 1, size(this%couplings)
             call this%couplings(c)%coupling%add_dissipation(this%layout, t_n, h, x_n, y, &
-                dissipated)
+                dissipated, this%step_friction)
         end do
         do m = 1, size(this%members)
             associate (place => this%layout%members(m))
@@ -899,6 +903,8 @@ contains
                 histories(first)%penetration(r) = this%coupling_records(m)%penetration
                 histories(first)%tie_force(:, :, r) = this%coupling_records(m)%tie_force
                 histories(first)%tie_moment(:, :, r) = this%coupling_records(m)%tie_moment
+                histories(first)%friction_force(:, r) = this%step_friction(m)%force
+                histories(first)%slip_speed(r) = this%step_friction(m)%slip_speed
             end associate
         end do
     end subroutine system_record

@@ -212,7 +212,8 @@ def incline(args, checks, case):
     # Sliding at Coulomb's bound the whole way but the first 1e-4 s: D = mu N travel to the
     # regularization's share (measured 2.4e-6).
     check_slope(checks, case, case == "incline_slide", alpha, MU, SLIP_VELOCITY,
-                RHO_A * LENGTH * G, t[-1], travel, dissipated[-1], 1e-4)
+                RHO_A * LENGTH * G, t[-1], travel, dissipated[-1], 1e-4, t,
+                r["series/contact/friction"], r["series/contact/slip_speed"])
 
 
 def moving_plane(args, checks):

@@ -140,7 +140,8 @@ def run_case(args, checks, case):
                      abs(np.sum(parallel["series/energy/dissipated"]) /
                          np.sum(rod["series/energy/dissipated"]) - 1.0), 1e-12)
     check_slope(checks, case, case != "stick", alpha, MU, SLIP_VELOCITY, RHO_A * LENGTH * G,
-                t[-1], travel, dissipated[-1], 1e-2)
+                t[-1], travel, dissipated[-1], 1e-2, t, rod["series/contact/friction"],
+                rod["series/contact/slip_speed"])
 
 
 def main():

@@ -65,6 +65,9 @@ BUNDLE_SERIES = {
     "contact/force": ("N", "total contact force on the rod"),
     "contact/penetration": ("m", "deepest penetration r_c - d"),
     "ties/force": ("N", "end 0 = start, 1 = end"),
+    "ties/moment": ("N m", "about the end's node"),
+    "contact/friction": ("N", "friction force on the rod"),
+    "contact/slip_speed": ("m/s", "largest slip speed"),
 }
 BUNDLE_RODS = ("arm",)
 
@@ -158,6 +161,11 @@ def expected_rod(k, n_nodes, n_points, n_branches):
         series["ties/force"] = np.stack([ends[None, :] + 0 * j[:, None],
                                          10.0 * j[:, None] + 0 * ends[None, :],
                                          -1.0 * ends[None, :] * j[:, None]], axis=2)
+        series["ties/moment"] = np.stack([0.1 * ends[None, :] * j[:, None],
+                                          -1.0 * ends[None, :] + 0 * j[:, None],
+                                          0.5 * j[:, None] + 0 * ends[None, :]], axis=2)
+        series["contact/friction"] = np.stack([0.25 * j, 0 * t, -1.0 + 0 * t], axis=1)
+        series["contact/slip_speed"] = 1.0e-3 * j
     return e, series
 
 

@@ -81,6 +81,9 @@ contains
             h%penetration = -999.0_rk
             h%contact_force = -999.0_rk
             h%tie_force = -999.0_rk
+            h%tie_moment = -999.0_rk
+            h%friction_force = -999.0_rk
+            h%slip_speed = -999.0_rk
         end if
         do a = 1, n_nodes
             h%mesh(a) = length * (a - 1) / (n_nodes - 1)
@@ -136,7 +139,10 @@ contains
                 h%contact_force(:, j) = [real(j, rk), -2.0_rk * j, 0.5_rk]
                 do a = 1, 2
                     h%tie_force(:, a, j) = [real(a, rk), 10.0_rk * j, -1.0_rk * a * j]
+                    h%tie_moment(:, a, j) = [0.1_rk * a * j, -real(a, rk), 0.5_rk * j]
                 end do
+                h%friction_force(:, j) = [0.25_rk * j, 0.0_rk, -1.0_rk]
+                h%slip_speed(j) = 1.0e-3_rk * j
             end if
         end do
         if (k == 2) then

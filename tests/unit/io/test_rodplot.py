@@ -514,8 +514,9 @@ def sweep_checks(rodplot, result, out_dir):
 
 def contact_checks(rodplot, result, out_dir):
     """`contact` on the file of test_result_file.F90: 'arm' has the bundle series (its closed
-    form: contact force (j, -2j, 0.5), penetration 1e-5 (j mod 3), energy 1e-3 j, tie force
-    (e, 10j, -e j) on end e = 1 (start), 2 (end), record j = 1, 2, ...), 'tail' none."""
+    form: contact force (j, -2j, 0.5), penetration 1e-5 (j mod 3), energy 1e-3 j, friction
+    force (j / 4, 0, -1), slip speed 1e-3 j, tie force (e, 10j, -e j) on end e = 1 (start),
+    2 (end), record j = 1, 2, ...), 'tail' none."""
     out = os.path.join(out_dir, "contact.png")
     if os.path.exists(out):
         os.remove(out)
@@ -538,10 +539,12 @@ def contact_checks(rodplot, result, out_dir):
             [np.sqrt(j**2 + 4 * j**2 + 0.25)],
             [1.0e-5 * (j % 3)],
             [1.0e-3 * j],
+            [np.sqrt((0.25 * j)**2 + 1.0)],
+            [1.0e-3 * j],
             [np.sqrt(1 + 101 * j**2), np.sqrt(4 + 104 * j**2)],
         ]
         fig, axes = module.contact_figure(res)
-        check(len(axes) == 4, "contact: 4 panels, got %d" % len(axes))
+        check(len(axes) == 6, "contact: 6 panels (with friction), got %d" % len(axes))
         for number, (ax, want) in enumerate(zip(axes, expected)):
             curves, _ = data_lines(ax)
             check(len(curves) == len(want), "contact panel %d: %d curves (only arm), got %d"
