@@ -44,6 +44,20 @@
 !> tangential part of the displacement): the dissipation is non-negative by construction, as
 !> the discrete balance H_{n+1} - H_n = W_n - D_n with D_n >= 0 of methods/ph_director_3d.md
 !> §5.3 item 1 asks, and obstacle_point_dissipation returns it for the books.
+!>
+!> Normal damping (Hunt and Crossley, issue 24: a rope dropped on the ground comes to rest).
+!> With alpha (s/m, &obstacle damping), s_bar = (max(s_n, 0) + max(s_1, 0)) / 2 and the
+!> constant scale = 1 / |grad s|^2 at the surface (1 for the plane, 1 / (2 (R + r))^2 for the
+!> sphere and the cylinder), the term
+!>
+!>     f_D = alpha scale psi'(s_bar) ((s_1 - s_n) / h) grad_bar
+!>
+!> is the force k delta^2 alpha (d delta / dt) of Hunt and Crossley's law at the penetration
+!> delta (to first order in delta / (R + r) for the curved obstacles): it opposes the rate of
+!> penetration in proportion to the elastic force, so it vanishes where the contact starts and
+!> ends. Its work on the step is -D_N with D_N = alpha scale psi'(s_bar) (s_1 - s_n)^2 / h >= 0
+!> (grad_bar . (x_1 - x_n) = s_1 - s_n exactly): dissipative by construction, booked with the
+!> friction's.
 module rs_contact_obstacle
     use rs_core_kinds, only: rk
     implicit none
@@ -65,12 +79,17 @@ module rs_contact_obstacle
         !> Friction coefficient and slip velocity of the regularization (m/s).
         real(rk) :: mu = 0.0_rk
         real(rk) :: slip_velocity = 1.0_rk
+        !> Normal damping (Hunt and Crossley): alpha (s/m) and the constant 1 / |grad s|^2 at
+        !> the surface (plane 1, sphere and cylinder 1 / (2 (R + r))^2).
+        real(rk) :: damping = 0.0_rk
+        real(rk) :: damping_scale = 1.0_rk
     end type obstacle_params_t
 
     public :: obstacle_params_init, obstacle_support, obstacle_energy, obstacle_penetration
     public :: obstacle_point_force, obstacle_point_tangent
     public :: obstacle_point_friction, obstacle_point_friction_tangent, obstacle_point_dissipation
     public :: obstacle_point_slip
+    public :: obstacle_point_damping, obstacle_point_damping_tangent
 
 contains
 
@@ -89,6 +108,7 @@ contains
             params%c = stiffness / 3.0_rk
         else
             params%c = stiffness / (24.0_rk * (radius + rod_radius)**3)
+            params%damping_scale = 1.0_rk / (2.0_rk * (radius + rod_radius))**2
         end if
     end function obstacle_params_init
 
@@ -190,33 +210,52 @@ contains
         type(obstacle_params_t), intent(in) :: params
         real(rk), intent(in) :: x_n(3), x_1(3)
         real(rk), intent(out) :: tangent(3, 3)
-        real(rk) :: s_n, s_1, psi_bar, dpsi_bar, g(3), grad_1(3)
-        integer :: i
+        real(rk) :: s_n, s_1, psi_bar, dpsi_bar
         tangent = 0.0_rk
         s_n = obstacle_support(params, x_n)
         s_1 = obstacle_support(params, x_1)
         if (s_n <= 0.0_rk .and. s_1 <= 0.0_rk) return
         call divided_difference(params%c, s_n, s_1, psi_bar, dpsi_bar)
-        g = midpoint_gradient(params, x_n, x_1)
+        call gradient_term_tangent(params, x_n, x_1, dpsi_bar, psi_bar, tangent)
+    end subroutine obstacle_point_tangent
+
+    !> grad s at x: -n (plane), -2 P (x - p) (sphere, cylinder).
+    pure function support_gradient(params, x) result(g)
+        type(obstacle_params_t), intent(in) :: params
+        real(rk), intent(in) :: x(3)
+        real(rk) :: g(3)
         if (params%kind == obstacle_plane) then
-            grad_1 = -params%normal
+            g = -params%normal
         else
-            grad_1 = -2.0_rk * projected(params, x_1)
+            g = -2.0_rk * projected(params, x)
         end if
+    end function support_gradient
+
+    !> d/dx_1 of a term a grad_bar whose factor a changes with s_1 at the rate `along`:
+    !> along grad_bar (grad s(x_1))^T + `across` d grad_bar / d x_1, with `across` = a and
+    !> d grad_bar / d x_1 = -P on a sphere or a cylinder (the midpoint moves by half of x_1),
+    !> 0 on the plane.
+    pure subroutine gradient_term_tangent(params, x_n, x_1, along, across, tangent)
+        type(obstacle_params_t), intent(in) :: params
+        real(rk), intent(in) :: x_n(3), x_1(3), along, across
+        real(rk), intent(out) :: tangent(3, 3)
+        real(rk) :: g(3), grad_1(3)
+        integer :: i
+        g = midpoint_gradient(params, x_n, x_1)
+        grad_1 = support_gradient(params, x_1)
         do i = 1, 3
-            tangent(:, i) = dpsi_bar * g * grad_1(i)
+            tangent(:, i) = along * g * grad_1(i)
         end do
         if (params%kind == obstacle_plane) return
-        ! d grad_bar / d x_1 = -P (the midpoint moves by half of x_1).
         do i = 1, 3
-            tangent(i, i) = tangent(i, i) - psi_bar
+            tangent(i, i) = tangent(i, i) - across
         end do
         if (params%kind == obstacle_cylinder) then
             do i = 1, 3
-                tangent(:, i) = tangent(:, i) + psi_bar * params%normal * params%normal(i)
+                tangent(:, i) = tangent(:, i) + across * params%normal * params%normal(i)
             end do
         end if
-    end subroutine obstacle_point_tangent
+    end subroutine gradient_term_tangent
 
     !> The normal force per length f_N, the unit outward normal n at the midpoint, and the
     !> slip u of a step (module header); f_N = 0 where the point does not touch.
@@ -285,6 +324,55 @@ contains
         length = norm2(slip)
     end function obstacle_point_slip
 
+    !> The normal damping term of a step of length h (module header, Normal damping) and its
+    !> dissipation per length D_N = f_D . (x_1 - x_n) >= 0; zero without damping or contact.
+    pure subroutine obstacle_point_damping(params, x_n, x_1, h, f, dissipation)
+        type(obstacle_params_t), intent(in) :: params
+        real(rk), intent(in) :: x_n(3), x_1(3), h
+        real(rk), intent(out) :: f(3), dissipation
+        real(rk) :: s_n, s_1, factor
+        f = 0.0_rk
+        dissipation = 0.0_rk
+        if (params%damping == 0.0_rk) return
+        s_n = obstacle_support(params, x_n)
+        s_1 = obstacle_support(params, x_1)
+        if (s_n <= 0.0_rk .and. s_1 <= 0.0_rk) return
+        factor = damping_factor(params, s_n, s_1, h)
+        f = (factor * (s_1 - s_n)) * midpoint_gradient(params, x_n, x_1)
+        dissipation = factor * (s_1 - s_n)**2
+    end subroutine obstacle_point_damping
+
+    !> alpha scale psi'(s_bar) / h with s_bar the mean of max(s, 0) at the two ends.
+    pure real(rk) function damping_factor(params, s_n, s_1, h) result(factor)
+        type(obstacle_params_t), intent(in) :: params
+        real(rk), intent(in) :: s_n, s_1, h
+        real(rk) :: s_bar
+        s_bar = 0.5_rk * (max(s_n, 0.0_rk) + max(s_1, 0.0_rk))
+        factor = params%damping * params%damping_scale * 3.0_rk * params%c * s_bar**2 / h
+    end function damping_factor
+
+    !> d f_D / d x_1 (3 x 3) of obstacle_point_damping.
+    pure subroutine obstacle_point_damping_tangent(params, x_n, x_1, h, tangent)
+        type(obstacle_params_t), intent(in) :: params
+        real(rk), intent(in) :: x_n(3), x_1(3), h
+        real(rk), intent(out) :: tangent(3, 3)
+        real(rk) :: s_n, s_1, s_bar, factor, d_factor
+        tangent = 0.0_rk
+        if (params%damping == 0.0_rk) return
+        s_n = obstacle_support(params, x_n)
+        s_1 = obstacle_support(params, x_1)
+        if (s_n <= 0.0_rk .and. s_1 <= 0.0_rk) return
+        factor = damping_factor(params, s_n, s_1, h)
+        ! d factor / d s_1 (s_bar moves by half of s_1 where s_1 > 0).
+        s_bar = 0.5_rk * (max(s_n, 0.0_rk) + max(s_1, 0.0_rk))
+        d_factor = 0.0_rk
+        if (s_1 > 0.0_rk) d_factor = params%damping * params%damping_scale * 3.0_rk * &
+            params%c * s_bar / h
+        ! f_D = factor (s_1 - s_n) grad_bar.
+        call gradient_term_tangent(params, x_n, x_1, d_factor * (s_1 - s_n) + factor, &
+            factor * (s_1 - s_n), tangent)
+    end subroutine obstacle_point_damping_tangent
+
     !> d f_T / d x_1 (3 x 3) of obstacle_point_friction: through f_N, the normal (sphere,
     !> cylinder: it turns with the midpoint) and the slip.
     pure subroutine obstacle_point_friction_tangent(params, x_n, x_1, h, tangent)
@@ -322,7 +410,7 @@ contains
                     projector(:, i) = projector(:, i) - params%normal * params%normal(i)
                 end do
             end if
-            grad_1 = -2.0_rk * projected(params, x_1)
+            grad_1 = support_gradient(params, x_1)
             q = projected(params, 0.5_rk * (x_n + x_1))
             length = norm2(q)
             ! f_N = 2 psi_bar |q|, d|q| / d x_1 = n^T P / 2; n = q / |q| turns by

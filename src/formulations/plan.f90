@@ -222,6 +222,8 @@ contains
         else
             text = text // 'frictionless'
         end if
+        if (obstacle%damping > 0.0_rk) text = text // ', normal damping alpha = ' // &
+            str(obstacle%damping) // ' s/m (Hunt and Crossley)'
         text = text // '; every rod touches it with its contact_radius (&obstacle at line ' // &
             str(obstacle%input_line) // ')'
     end function obstacle_line

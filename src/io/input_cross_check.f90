@@ -773,6 +773,9 @@ contains
                 if (obstacle%mu > 0.0_rk .and. scene%time%quasistatic) call errors%add(here // &
                     'mu: friction acts on the slip velocity of a time step, and a quasistatic ' // &
                     'run has none; set mu = 0 or run dynamically')
+                if (obstacle%damping > 0.0_rk .and. scene%time%quasistatic) call errors%add( &
+                    here // 'damping: it acts on the rate of penetration of a time step, and ' // &
+                    'a quasistatic run has none; set damping = 0 or run dynamically')
                 if (has_normal) then
                     where (obstacle%normal == unset_real) obstacle%normal = 0.0_rk
                     if (norm2(obstacle%normal) == 0.0_rk) then

@@ -780,6 +780,11 @@ contains
                 'this slip velocity the friction force grows linearly from 0 (a smooth stick ' // &
                 'branch: a rod that should stick creeps at a fraction of it).', lower=0.0_rk, &
                 lower_inclusive=.false., example='1e-5'), &
+            spec_v('damping', 'real', 's/m', '0', 'Normal damping alpha of Hunt and ' // &
+                'Crossley''s law: the penalty force k delta^2 becomes k delta^2 (1 + alpha ' // &
+                'd delta/dt), so an impact at the speed v loses about alpha v of its energy ' // &
+                '(0: elastic). Dynamics only (a quasistatic run refuses it); its dissipation is ' // &
+                'booked in series/energy/dissipated.', lower=0.0_rk, example='0.5'), &
             spec_v('displacement', 'real', 'm', '0, 0, 0', 'Translation of the obstacle at ' // &
                 'f(t) = 1: it moves rigidly by f(t) displacement (f the time function; a moving ' // &
                 'obstacle starts where it is given, f(0) = 0). Its work on the rods is booked ' // &

@@ -341,6 +341,9 @@ module rs_model_scene
         !> the regularized law is viscous (rs_contact_obstacle).
         real(rk) :: mu = 0.0_rk
         real(rk) :: slip_velocity = 1.0e-4_rk
+        !> Normal damping alpha (s/m) of Hunt and Crossley's law (rs_contact_obstacle): the
+        !> penalty force k delta^2 grows to k delta^2 (1 + alpha d delta / dt).
+        real(rk) :: damping = 0.0_rk
         !> A moving obstacle translates by f(t) displacement (f the time function, f(0) = 0).
         real(rk) :: displacement(3) = 0.0_rk
         character(len=name_len) :: time_function = 'constant'

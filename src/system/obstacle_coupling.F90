@@ -20,7 +20,8 @@ module rs_system_obstacle_coupling
     use rs_contact_obstacle, only: obstacle_params_t, obstacle_params_init, obstacle_energy, &
         obstacle_penetration, obstacle_point_force, obstacle_point_tangent, obstacle_plane, &
         obstacle_sphere, obstacle_cylinder, obstacle_point_friction, &
-        obstacle_point_friction_tangent, obstacle_point_dissipation, obstacle_point_slip
+        obstacle_point_friction_tangent, obstacle_point_dissipation, obstacle_point_slip, &
+        obstacle_point_damping, obstacle_point_damping_tangent
     use rs_contact_element, only: contact_points
     use rs_model_time_function, only: time_function_t, time_function_from_obstacle
     use rs_system_layout, only: system_layout_t
@@ -136,6 +137,7 @@ contains
                             obstacle%stiffness, layout%members(m)%contact_radius)
                         member%obstacles(o)%mu = obstacle%mu
                         member%obstacles(o)%slip_velocity = obstacle%slip_velocity
+                        member%obstacles(o)%damping = obstacle%damping
                     end associate
                 end do
             end associate
@@ -260,7 +262,7 @@ contains
         logical, intent(in) :: all_rows
         real(rk), intent(inout), optional :: f(:), values(:)
         real(rk) :: x_e(3, max_nodes), y_e(3, max_nodes), p_n(3), p_1(3), force(3), t3(3, 3)
-        real(rk) :: friction(3), t3_friction(3, 3)
+        real(rk) :: friction(3), t3_friction(3, 3), damping(3), d_n
         real(rk) :: shift_n(3, size(this%motions)), shift_1(3, size(this%motions))
         real(rk) :: r(3, max_nodes), tangent(3 * max_nodes, 3 * max_nodes), w, scale, h_m
         integer :: m, e, g, o, a, b, nen, n, i, j, p, rows(3 * max_nodes), cols(3 * max_nodes)
@@ -288,10 +290,16 @@ contains
                                 p_1 - shift_1(:, o), force, touching)
                             if (.not. touching) cycle
                             any_touching = .true.
-                            ! Friction acts on the slip of a time step (none in equilibrium).
+                            ! Friction and damping act on the motion of a time step (none in
+                            ! equilibrium).
                             friction = 0.0_rk
-                            if (.not. static) call obstacle_point_friction(member%obstacles(o), &
-                                p_n - shift_n(:, o), p_1 - shift_1(:, o), h, friction)
+                            if (.not. static) then
+                                call obstacle_point_friction(member%obstacles(o), &
+                                    p_n - shift_n(:, o), p_1 - shift_1(:, o), h, friction)
+                                call obstacle_point_damping(member%obstacles(o), &
+                                    p_n - shift_n(:, o), p_1 - shift_1(:, o), h, damping, d_n)
+                                friction = friction + damping
+                            end if
                             do a = 1, nen
                                 r(:, a) = r(:, a) + (w * member%shape(a, g)) * (force + friction)
                             end do
@@ -300,6 +308,11 @@ contains
                                 p_1 - shift_1(:, o), t3)
                             if (.not. static .and. member%obstacles(o)%mu > 0.0_rk) then
                                 call obstacle_point_friction_tangent(member%obstacles(o), &
+                                    p_n - shift_n(:, o), p_1 - shift_1(:, o), h, t3_friction)
+                                t3 = t3 + t3_friction
+                            end if
+                            if (.not. static .and. member%obstacles(o)%damping > 0.0_rk) then
+                                call obstacle_point_damping_tangent(member%obstacles(o), &
                                     p_n - shift_n(:, o), p_1 - shift_1(:, o), h, t3_friction)
                                 t3 = t3 + t3_friction
                             end if
@@ -402,14 +415,15 @@ contains
         real(rk), intent(in) :: t_n, h, x_n(:), y(:)
         real(rk), intent(inout) :: dissipated(:)
         type(friction_record_t), intent(inout) :: friction(:)
-        real(rk) :: x_e(3, max_nodes), y_e(3, max_nodes), p_n(3), p_1(3), w, f_t(3)
+        real(rk) :: x_e(3, max_nodes), y_e(3, max_nodes), p_n(3), p_1(3), w, f_t(3), d_n
         real(rk) :: shift_n(3, size(this%motions)), shift_1(3, size(this%motions))
         integer :: m, e, g, o, nen
         if (this%static .or. this%equilibrium_steps) return
         call step_shifts(this, t_n, h, shift_n, shift_1)
         do m = 1, size(layout%members)
             associate (member => this%members(m), nodes => layout%members(m)%nodes)
-                if (all(member%obstacles%mu == 0.0_rk)) cycle
+                if (all(member%obstacles%mu == 0.0_rk .and. member%obstacles%damping == 0.0_rk)) &
+                    cycle
                 nen = nodes%degree + 1
                 do e = 1, nodes%n_elements
                     call element_positions(layout, m, e, x_n, y, x_e(:, 1:nen), y_e(:, 1:nen))
@@ -418,9 +432,13 @@ contains
                         p_1 = matmul(y_e(:, 1:nen), member%shape(:, g))
                         w = member%weight(g) * nodes%element_length(e)
                         do o = 1, size(member%obstacles)
-                            if (member%obstacles(o)%mu == 0.0_rk) cycle
                             associate (params => member%obstacles(o), a => p_n - shift_n(:, o), &
                                     b => p_1 - shift_1(:, o))
+                                if (params%damping > 0.0_rk) then
+                                    call obstacle_point_damping(params, a, b, h, f_t, d_n)
+                                    dissipated(m) = dissipated(m) + w * d_n
+                                end if
+                                if (params%mu == 0.0_rk) cycle
                                 dissipated(m) = dissipated(m) + w * &
                                     obstacle_point_dissipation(params, a, b, h)
                                 call obstacle_point_friction(params, a, b, h, f_t)

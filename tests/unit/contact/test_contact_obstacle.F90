@@ -14,7 +14,8 @@ module rs_test_contact_obstacle
     use rs_contact_obstacle, only: obstacle_params_t, obstacle_params_init, obstacle_support, &
         obstacle_energy, obstacle_penetration, obstacle_point_force, obstacle_point_tangent, &
         obstacle_plane, obstacle_sphere, obstacle_cylinder, obstacle_point_friction, &
-        obstacle_point_friction_tangent, obstacle_point_dissipation
+        obstacle_point_friction_tangent, obstacle_point_dissipation, obstacle_point_damping, &
+        obstacle_point_damping_tangent
     implicit none
     private
 
@@ -39,6 +40,7 @@ contains
         call run_test('tangent_fd', test_tangent_fd)
         call run_test('friction_dissipation', test_friction_dissipation)
         call run_test('friction_tangent_fd', test_friction_tangent_fd)
+        call run_test('damping', test_damping)
     end subroutine run_all_tests
 
     !> An obstacle with friction mu = 0.3 and slip velocity 1e-3 m/s.
@@ -286,6 +288,71 @@ contains
         write(text, '(a,es9.2)') '    max FD error / max entry: ', worst
         write(output_unit, '(a)') trim(text)
     end subroutine test_friction_tangent_fd
+
+    !> Normal damping (alpha = 0.5 s/m): f_D . (x_1 - x_n) = D_N >= 0 for random steps (relative
+    !> to |f_D| |dx|), D_N > 0 for a point that moves into the obstacle; the plane's term is
+    !> alpha k delta_bar^2 (d delta / dt) along the normal (Hunt and Crossley) with delta_bar the
+    !> mean penetration; its tangent against central differences.
+    subroutine test_damping()
+        type(obstacle_params_t) :: params
+        real(rk) :: x_n(3), x_1(3), f(3), d, h, step, worst, worst_fd, worst_law, tangent(3, 3)
+        real(rk) :: xp(3), xm(3), fp(3), fm(3), delta_n, delta_1, expected(3)
+        integer :: k, i, j, touched
+        character(len=160) :: text
+        call set_random_seed(16, 1)
+        worst = 0.0_rk
+        worst_fd = 0.0_rk
+        worst_law = 0.0_rk
+        h = 1.0e-4_rk
+        do k = 1, 3
+            params = obstacle(k)
+            params%damping = 0.5_rk
+            touched = 0
+            do i = 1, n_steps
+                x_n = near_surface(params)
+                x_1 = x_n + uniform(0.0_rk, 0.3_rk) * rod_radius * random_unit_vector()
+                call obstacle_point_damping(params, x_n, x_1, h, f, d)
+                if (all(f == 0.0_rk)) cycle
+                touched = touched + 1
+                CHECK_TRUE(d >= 0.0_rk, 'D_N >= 0')
+                worst = max(worst, abs(dot_product(f, x_1 - x_n) - d) / &
+                    (norm2(f) * norm2(x_1 - x_n)))
+                if (k == 1 .and. obstacle_support(params, x_n) > 0.0_rk .and. &
+                        obstacle_support(params, x_1) > 0.0_rk) then
+                    delta_n = obstacle_support(params, x_n)
+                    delta_1 = obstacle_support(params, x_1)
+                    ! The physical force -f_D = alpha k delta_bar^2 (delta_1 - delta_n) / h n.
+                    expected = -params%damping * stiffness * (0.5_rk * (delta_n + delta_1))**2 * &
+                        (delta_1 - delta_n) / h * params%normal
+                    worst_law = max(worst_law, norm2(f - expected) / norm2(expected))
+                end if
+                if (obstacle_support(params, x_1) < 0.1_rk * rod_radius * merge(1.0_rk, &
+                    2.0_rk * (params%radius + rod_radius), k == 1)) cycle
+                call obstacle_point_damping_tangent(params, x_n, x_1, h, tangent)
+                step = 1.0e-7_rk * rod_radius
+                do j = 1, 3
+                    xp = x_1
+                    xm = x_1
+                    xp(j) = xp(j) + step
+                    xm(j) = xm(j) - step
+                    call obstacle_point_damping(params, x_n, xp, h, fp, d)
+                    call obstacle_point_damping(params, x_n, xm, h, fm, d)
+                    worst_fd = max(worst_fd, maxval(abs((fp - fm) / (2.0_rk * step) - &
+                        tangent(:, j))) / maxval(abs(tangent)))
+                end do
+            end do
+            CHECK_TRUE(touched > n_steps / 4, 'a quarter of the steps or more touch')
+        end do
+        ! D_N takes (s_1 - s_n)^2 and f_D . dx (s_1 - s_n) grad_bar . dx: equal in exact
+        ! arithmetic; s_1 - s_n cancels where s ~ (R + r)^2 and the step is small (measured
+        ! 2.7e-12 relative on the sphere and the cylinder).
+        CHECK_TRUE(worst <= 1.0e-10_rk, 'f_D . dx = D_N')
+        CHECK_TRUE(worst_law <= 1.0e-14_rk, 'the plane: Hunt and Crossley')
+        CHECK_TRUE(worst_fd <= fd_rtol, 'd f_D / d x_1 = tangent')
+        write(text, '(a,es9.2,a,es9.2,a,es9.2)') '    f_D . dx - D_N: ', worst, &
+            '; the plane''s law: ', worst_law, '; FD error / max entry: ', worst_fd
+        write(output_unit, '(a)') trim(text)
+    end subroutine test_damping
 
     !> The largest entry of central differences (step h in x_1) minus `tangent`, relative to
     !> its largest entry: of the normal force (time_step 0) or of the friction term of a step
