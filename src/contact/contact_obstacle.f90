@@ -43,7 +43,7 @@
 !> -f_T . (x_1 - x_n) = -D_T with D_T = mu f_N |u|^2 / sqrt(|u|^2 + eta^2) >= 0 (u is the
 !> tangential part of the displacement): the dissipation is non-negative by construction, as
 !> the discrete balance H_{n+1} - H_n = W_n - D_n with D_n >= 0 of methods/ph_director_3d.md
-!> §5.3 item 1 asks, and obstacle_point_dissipation returns it for the books.
+!> §5.3 item 1 asks, and obstacle_point_friction returns it for the books.
 !>
 !> Normal damping (Hunt and Crossley, issue 24: a rope dropped on the ground comes to rest).
 !> With alpha (s/m, &obstacle damping), s_bar = (max(s_n, 0) + max(s_1, 0)) / 2 and the
@@ -56,8 +56,8 @@
 !> delta (to first order in delta / (R + r) for the curved obstacles): it opposes the rate of
 !> penetration in proportion to the elastic force, so it vanishes where the contact starts and
 !> ends. Its work on the step is -D_N with D_N = alpha scale psi'(s_bar) (s_1 - s_n)^2 / h >= 0
-!> (grad_bar . (x_1 - x_n) = s_1 - s_n exactly): dissipative by construction, booked with the
-!> friction's.
+!> (grad_bar . (x_1 - x_n) = s_1 - s_n exactly): dissipative by construction, the D_n >= 0 of the
+!> discrete balance of methods/ph_director_3d.md §5.3 item 1, booked with the friction's.
 module rs_contact_obstacle
     use rs_core_kinds, only: rk
     implicit none
@@ -87,8 +87,7 @@ module rs_contact_obstacle
 
     public :: obstacle_params_init, obstacle_support, obstacle_energy, obstacle_penetration
     public :: obstacle_point_force, obstacle_point_tangent
-    public :: obstacle_point_friction, obstacle_point_friction_tangent, obstacle_point_dissipation
-    public :: obstacle_point_slip
+    public :: obstacle_point_friction, obstacle_point_friction_tangent
     public :: obstacle_point_damping, obstacle_point_damping_tangent
 
 contains
@@ -296,33 +295,19 @@ contains
     end subroutine friction_factor
 
     !> The friction term f_T of a step of length h (module header; zero without friction or
-    !> contact).
-    pure subroutine obstacle_point_friction(params, x_n, x_1, h, f)
+    !> contact); optional: its dissipation per length D_T = f_T . (x_1 - x_n) = factor |u|^2
+    !> >= 0 and the slip |u|, from the same evaluation.
+    pure subroutine obstacle_point_friction(params, x_n, x_1, h, f, dissipation, slip_length)
         type(obstacle_params_t), intent(in) :: params
         real(rk), intent(in) :: x_n(3), x_1(3), h
         real(rk), intent(out) :: f(3)
+        real(rk), intent(out), optional :: dissipation, slip_length
         real(rk) :: factor, slip(3)
         call friction_factor(params, x_n, x_1, h, factor, slip)
         f = factor * slip
+        if (present(dissipation)) dissipation = factor * dot_product(slip, slip)
+        if (present(slip_length)) slip_length = norm2(slip)
     end subroutine obstacle_point_friction
-
-    !> The step's friction dissipation per length D_T = f_T . (x_1 - x_n) >= 0.
-    pure real(rk) function obstacle_point_dissipation(params, x_n, x_1, h) result(d)
-        type(obstacle_params_t), intent(in) :: params
-        real(rk), intent(in) :: x_n(3), x_1(3), h
-        real(rk) :: factor, slip(3)
-        call friction_factor(params, x_n, x_1, h, factor, slip)
-        d = factor * dot_product(slip, slip)
-    end function obstacle_point_dissipation
-
-    !> |u|, the step's slip of a point in contact (0 where it does not touch).
-    pure real(rk) function obstacle_point_slip(params, x_n, x_1) result(length)
-        type(obstacle_params_t), intent(in) :: params
-        real(rk), intent(in) :: x_n(3), x_1(3)
-        real(rk) :: f_normal, normal(3), slip(3)
-        call slip_of_step(params, x_n, x_1, f_normal, normal, slip)
-        length = norm2(slip)
-    end function obstacle_point_slip
 
     !> The normal damping term of a step of length h (module header, Normal damping) and its
     !> dissipation per length D_N = f_D . (x_1 - x_n) >= 0; zero without damping or contact.

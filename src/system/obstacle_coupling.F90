@@ -20,8 +20,7 @@ module rs_system_obstacle_coupling
     use rs_contact_obstacle, only: obstacle_params_t, obstacle_params_init, obstacle_energy, &
         obstacle_penetration, obstacle_point_force, obstacle_point_tangent, obstacle_plane, &
         obstacle_sphere, obstacle_cylinder, obstacle_point_friction, &
-        obstacle_point_friction_tangent, obstacle_point_dissipation, obstacle_point_slip, &
-        obstacle_point_damping, obstacle_point_damping_tangent
+        obstacle_point_friction_tangent, obstacle_point_damping, obstacle_point_damping_tangent
     use rs_contact_element, only: contact_points
     use rs_model_time_function, only: time_function_t, time_function_from_obstacle
     use rs_system_layout, only: system_layout_t
@@ -415,7 +414,8 @@ contains
         real(rk), intent(in) :: t_n, h, x_n(:), y(:)
         real(rk), intent(inout) :: dissipated(:)
         type(friction_record_t), intent(inout) :: friction(:)
-        real(rk) :: x_e(3, max_nodes), y_e(3, max_nodes), p_n(3), p_1(3), w, f_t(3), d_n
+        real(rk) :: x_e(3, max_nodes), y_e(3, max_nodes), p_n(3), p_1(3), w, f_t(3), d_n, d_t
+        real(rk) :: slip
         real(rk) :: shift_n(3, size(this%motions)), shift_1(3, size(this%motions))
         integer :: m, e, g, o, nen
         if (this%static .or. this%equilibrium_steps) return
@@ -439,13 +439,11 @@ contains
                                     dissipated(m) = dissipated(m) + w * d_n
                                 end if
                                 if (params%mu == 0.0_rk) cycle
-                                dissipated(m) = dissipated(m) + w * &
-                                    obstacle_point_dissipation(params, a, b, h)
-                                call obstacle_point_friction(params, a, b, h, f_t)
+                                call obstacle_point_friction(params, a, b, h, f_t, d_t, slip)
+                                dissipated(m) = dissipated(m) + w * d_t
                                 if (all(f_t == 0.0_rk)) cycle
                                 friction(m)%force = friction(m)%force - w * f_t
-                                friction(m)%slip_speed = max(friction(m)%slip_speed, &
-                                    obstacle_point_slip(params, a, b) / h)
+                                friction(m)%slip_speed = max(friction(m)%slip_speed, slip / h)
                             end associate
                         end do
                     end do

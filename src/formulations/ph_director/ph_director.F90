@@ -836,7 +836,8 @@ contains
         real(rk) :: acceleration(3)
         integer :: b, i
         force = 0.0_rk
-        carries = .false.
+        carries = any(this%bodies%node == k)
+        if (.not. carries) return
         acceleration = 0.0_rk
         do i = 1, size(this%loads)
             if (this%loads(i)%gravity) acceleration = acceleration + &
@@ -844,7 +845,6 @@ contains
         end do
         do b = 1, size(this%bodies)
             if (this%bodies(b)%node /= k) cycle
-            carries = .true.
             force = force + ph_director_body_weight(this%bodies(b), acceleration)
         end do
     end subroutine body_forces

@@ -40,7 +40,7 @@ import numpy as np
 
 sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 import run_scene as rs  # noqa: E402
-from slope_friction import centre_of_mass, check_slope  # noqa: E402
+from slope_friction import check_slope, slope_books  # noqa: E402
 
 RADIUS = 0.005
 
@@ -190,31 +190,13 @@ def incline(args, checks, case):
     text, alpha = incline_scene(tan_alpha, t_end)
     path = rs.run(args, text, case)
     r = rs.rod(path, "a")
-    t = r["time"]
-    iterations = r["series/newton/iterations"]
-    c = centre_of_mass(r["position"], 8)
-    travel = c[-1, 0] - c[0, 0]
-    print(f"info: {case}: tan(alpha) = {tan_alpha}, mu = {MU}; Newton iterations "
-          f"{iterations[1:].mean() / 10:.2f} per step (records every 10 steps); travel down "
-          f"the slope {travel * 1e3:.6f} mm in {t[-1]:.3f} s, across {np.ptp(c[:, 1]):.2e} m, "
-          f"normal {np.ptp(c[:, 2]):.2e} m")
-    # --- Energy with friction: H + E_obstacle + the dissipation booked so far - the work of
-    # gravity (computed here from the stored centre of mass) is constant, to the Newton
-    # residual's work: 10 newton_atol, as per step in contact_crossing.py (measured 1.8e-13 J
-    # over the 1000 steps, against the energy scale m g travel = 1.2e-3 J).
-    weight = RHO_A * LENGTH * G * np.array([math.sin(alpha), 0.0, -math.cos(alpha)])
-    gravity_work = (c - c[0]) @ weight
-    dissipated = np.cumsum(r["series/energy/dissipated"])
-    books = r["series/energy/total"] + r["series/contact/energy"] + dissipated - gravity_work
-    print(f"info: dissipated {dissipated[-1]:.6e} J, gravity's work {gravity_work[-1]:.6e} J")
-    checks.check(f"{case}: max |H + E_obstacle + D - W_gravity - (its start)| (J)",
-                 float(np.max(np.abs(books - books[0]))), 1e-11)
-    checks.check(f"{case}: the code's balance error per record (J)",
-                 float(np.max(np.abs(r["series/energy/balance_error"]))), 1e-11)
+    print(f"info: {case}: tan(alpha) = {tan_alpha}, mu = {MU}")
+    t, travel, dissipated = slope_books(checks, case, r, {"a": r}, alpha, RHO_A * LENGTH * G,
+                                        8, "down the slope")
     # Sliding at Coulomb's bound the whole way but the first 1e-4 s: D = mu N travel to the
     # regularization's share (measured 2.4e-6).
     check_slope(checks, case, case == "incline_slide", alpha, MU, SLIP_VELOCITY,
-                RHO_A * LENGTH * G, t[-1], travel, dissipated[-1], 1e-4, t,
+                RHO_A * LENGTH * G, t[-1], travel, dissipated, 1e-4, t,
                 r["series/contact/friction"], r["series/contact/slip_speed"])
 
 

@@ -37,13 +37,6 @@ def crossings(t, s, both=False):
     return np.array(out)
 
 
-def bisect(f, lo, hi):
-    for _ in range(200):
-        mid = 0.5 * (lo + hi)
-        lo, hi = (mid, hi) if f(lo) * f(mid) > 0.0 else (lo, mid)
-    return 0.5 * (lo + hi)
-
-
 def cantilever(args, checks):
     text = rs.read_example(args.source, "tip_mass_cantilever.nml")
     radius, length, young, density = (value(text, n) for n in ("radius", "length", "E", "density"))
@@ -51,7 +44,8 @@ def cantilever(args, checks):
     rho_a = density * math.pi * radius**2
     ei = young * math.pi * radius**4 / 4.0
     mu = mass / (rho_a * length)
-    lam = bisect(lambda l: 1.0 + math.cos(l) * math.cosh(l) + mu * l * (
+    from scipy.optimize import brentq
+    lam = brentq(lambda l: 1.0 + math.cos(l) * math.cosh(l) + mu * l * (
         math.cos(l) * math.sinh(l) - math.sin(l) * math.cosh(l)), 0.5, 1.875104068711961)
     period = 2.0 * math.pi / (lam**2 * math.sqrt(ei / (rho_a * length**4)))
     print(f"info: mu = {mu:.6f}, lambda = {lam:.9f}, Euler-Bernoulli period {period:.9f} s")

@@ -19,7 +19,6 @@ What is checked, from the stored states (not from the code's books):
   (its area against the elastic energy), the same in both cycles (steady), and the moment
   at theta = 0 is not zero (the wires stuck in their slipped positions).
 """
-import math
 import os
 import re
 import sys
@@ -48,11 +47,8 @@ def plate_motion(text, name):
 
 
 def time_function(plate, t):
-    """f(t) of the ramp and the sine (docs/user/input.md, time functions)."""
-    t_on, t_off = plate["t_on"], plate["t_off"]
-    if plate["kind"] == "ramp":
-        return np.clip((t - t_on) / (t_off - t_on), 0.0, 1.0)
-    return np.where(t > t_on, np.sin(2.0 * math.pi * (t - t_on) / (t_off - t_on)), 0.0)
+    """f(t) of a plate's time function (run_scene.time_function, docs/user/input.md)."""
+    return rs.time_function(plate["kind"], t, plate["t_on"], plate["t_off"])
 
 
 def plate_work(fields, plate, end, t):

@@ -14,7 +14,7 @@ module rs_test_contact_obstacle
     use rs_contact_obstacle, only: obstacle_params_t, obstacle_params_init, obstacle_support, &
         obstacle_energy, obstacle_penetration, obstacle_point_force, obstacle_point_tangent, &
         obstacle_plane, obstacle_sphere, obstacle_cylinder, obstacle_point_friction, &
-        obstacle_point_friction_tangent, obstacle_point_dissipation, obstacle_point_damping, &
+        obstacle_point_friction_tangent, obstacle_point_damping, &
         obstacle_point_damping_tangent
     implicit none
     private
@@ -241,8 +241,7 @@ contains
                 call obstacle_point_force(params, x_n, x_1, f, touching)
                 if (.not. touching) cycle
                 touched = touched + 1
-                call obstacle_point_friction(params, x_n, x_1, h, f_t)
-                d = obstacle_point_dissipation(params, x_n, x_1, h)
+                call obstacle_point_friction(params, x_n, x_1, h, f_t, d)
                 worst = max(worst, abs(dot_product(f_t, x_1 - x_n) - d) / &
                     (norm2(f_t) * norm2(x_1 - x_n) + tiny(1.0_rk)))
                 excess = max(excess, norm2(f_t) - params%mu * norm2(f))
