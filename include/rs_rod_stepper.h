@@ -34,6 +34,11 @@ typedef int (*rs_cb_update)(void *ctx, double t_n, double h, const double *x_n, 
 typedef int (*rs_cb_poststep)(void *ctx, double t_n, double h, const double *x_n,
                               const double *x_np1, int newton_its, double fnorm);
 
+/* Admissible: 0 when y is an admissible iterate of the step from x_n, 1 when it is not (a
+   residual at y would report an invalid state). */
+typedef int (*rs_cb_admissible)(void *ctx, double t_n, double h, const double *x_n,
+                                const double *y);
+
 /* What a stepper is built with besides its pattern and callbacks (one struct, filled in
    Fortran as the bind(C) type stepper_traits_t of src/solver/rod_stepper.f90, from the scene's
    &solver values and the formulation's traits, rs_formulations_formulation):
@@ -115,6 +120,14 @@ int rs_stepper_solver_settings(void *handle, double *atol, double *rtol, double 
 /* Since the stepper was created: Jacobians computed (and factored), and accepted steps whose
    Newton residual ended above newton_atol at the rounding floor (include/rs_rodmid.h). */
 int rs_stepper_run_stats(void *handle, int *jacobians, int *floor_steps);
+
+/* The feasible-step filter of the Newton solves (TSRodmidSetAdmissible, include/rs_rodmid.h):
+   each Newton step is shortened until its full step is admissible by `admissible` (on a
+   shared system every rank asks its own rows' part, and the ranks agree). NULL removes it.
+   Newton steps it shortened since the stepper was created: rs_stepper_shortened_steps.
+   Returns 0, or RS_STEPPER_BAD_ARGUMENT without a handle. */
+int rs_stepper_set_admissible(void *handle, rs_cb_admissible admissible);
+int rs_stepper_shortened_steps(void *handle, int *shortened);
 
 /* TSView of the stepper's TS (with its SNES, KSP and PC) into the file `path` (NULL or "":
    standard output). */

@@ -38,6 +38,12 @@ typedef PetscErrorCode (*RsStepVecFn)(PetscReal t_n, PetscReal h, Vec X_n, Vec Y
 typedef PetscErrorCode (*RsStepUpdate)(PetscReal t_n, PetscReal h, Vec X_n, Vec Y, Vec X_np1,
                                        void *ctx);
 
+/* Admissible: *ok false when Y is no admissible iterate of the step from X_n (contact: a
+   pair of contact points would cross the barrier's wall on the way from X_n; the residual
+   then raises a domain error). Collective: every rank gets the same answer. */
+typedef PetscErrorCode (*RsStepAdmissible)(PetscReal t_n, PetscReal h, Vec X_n, Vec Y,
+                                           PetscBool *ok, void *ctx);
+
 /* Register TSRODMID with TSRegister; safe to call any number of times (also after a PETSc
    finalize/initialize cycle). */
 PETSC_EXTERN PetscErrorCode rs_rodmid_register(void);
@@ -52,6 +58,11 @@ PETSC_EXTERN PetscErrorCode TSRodmidSetStepProblem(TS ts, Vec Y_template, Mat J,
                                                    RsStepJacobian jacobian,
                                                    RsStepVecFn predictor, RsStepUpdate update,
                                                    void *ctx);
+/* A feasible-step filter (as in Incremental Potential Contact, Li et al. 2020): before each
+   line search the Newton step is halved (at most 30 times) until its full step is admissible,
+   so an iterate that overshoots into an invalid state shortens the Newton step instead of
+   cutting the time step. NULL: none (the default). May be set after TSSetUp. */
+PETSC_EXTERN PetscErrorCode TSRodmidSetAdmissible(TS ts, RsStepAdmissible admissible);
 /* Maximum number of halvings of one step before the TS reports TS_DIVERGED_NONLINEAR_SOLVE. */
 PETSC_EXTERN PetscErrorCode TSRodmidSetMaxCutbacks(TS ts, PetscInt n);
 /* The current limit of halvings of one step. */
@@ -67,5 +78,7 @@ PETSC_EXTERN PetscErrorCode TSRodmidGetStepStats(TS ts, PetscInt *newton_its, Pe
    iterations and steps while its full step cuts the residual norm at least by the ratio
    (0, the default: a new Jacobian at every iteration). */
 PETSC_EXTERN PetscErrorCode TSRodmidGetRunStats(TS ts, PetscInt *jacobians, PetscInt *floor_steps);
+/* Over the run: Newton steps the feasible-step filter shortened (TSRodmidSetAdmissible). */
+PETSC_EXTERN PetscErrorCode TSRodmidGetShortenedSteps(TS ts, PetscInt *shortened);
 
 #endif

@@ -91,7 +91,7 @@ module rs_contact_element
     implicit none
     private
 
-    public :: contact_element_pair, contact_points
+    public :: contact_element_pair, contact_points, contact_element_swept_clear
     public :: contact_line_force, contact_line_peak_force, contact_line_penetration
 
     ! Relative round-off safety of the bounding-sphere skip, times the coordinate scale.
@@ -251,6 +251,63 @@ contains
         end do
         if (present(closest)) closest = sqrt(d2_min)
     end subroutine contact_element_pair
+
+    !> The swept test of the barrier (rs_contact_potential, The barrier; issue 24 item 1): true
+    !> when no pair of contact points of elements a and b comes within `wall` of each other
+    !> while the nodes move on straight lines from t_n (`xa_n`, `xb_n`) to t_{n+1} (`xa_1`,
+    !> `xb_1`). The points are linear in the nodes, so each point pair's relative position
+    !> r(tau) = r_n + tau (r_1 - r_n) moves on a straight line too and its smallest distance
+    !> over tau in [0, 1] is that of the segment from r_n to r_1 to the origin, in closed form.
+    !> A step that crosses two centrelines takes some point pair within the points' spacing,
+    !> below the wall, so it fails this test, whatever its size. Pairs of elements whose bounding
+    !> spheres at t_n stay further apart than the wall after both elements' largest point motion
+    !> are clear without the point loop.
+    pure logical function contact_element_swept_clear(shape_a, xa_n, xa_1, shape_b, xb_n, &
+            xb_1, wall) result(clear)
+        real(rk), intent(in) :: shape_a(:, :), shape_b(:, :)
+        real(rk), intent(in) :: xa_n(3, size(shape_a, 1)), xa_1(3, size(shape_a, 1))
+        real(rk), intent(in) :: xb_n(3, size(shape_b, 1)), xb_1(3, size(shape_b, 1))
+        real(rk), intent(in) :: wall
+        real(rk) :: lambda_a, lambda_b, origin(3), motion_a, motion_b, wall_safe
+        real(rk) :: pa_n(3), pa_1(3), rn(3), dr(3), tau, length2
+        real(rk) :: points_b_n(3, size(shape_b, 2)), points_b_1(3, size(shape_b, 2))
+        integer :: g, h, i
+        clear = .true.
+        lambda_a = lebesgue_bound(shape_a)
+        lambda_b = lebesgue_bound(shape_b)
+        origin = xa_n(:, 1)
+        motion_a = 0.0_rk
+        do i = 1, size(xa_n, 2)
+            motion_a = max(motion_a, norm2(xa_1(:, i) - xa_n(:, i)))
+        end do
+        motion_b = 0.0_rk
+        do i = 1, size(xb_n, 2)
+            motion_b = max(motion_b, norm2(xb_1(:, i) - xb_n(:, i)))
+        end do
+        wall_safe = wall * (1.0_rk + skip_safety)
+        if (sphere_gap(xa_n, lambda_a, xb_n, lambda_b, origin) - lambda_a * motion_a - &
+            lambda_b * motion_b > wall_safe) return
+        do h = 1, size(shape_b, 2)
+            points_b_n(:, h) = point(xb_n, shape_b(:, h), origin)
+            points_b_1(:, h) = point(xb_1, shape_b(:, h), origin)
+        end do
+        do g = 1, size(shape_a, 2)
+            pa_n = point(xa_n, shape_a(:, g), origin)
+            pa_1 = point(xa_1, shape_a(:, g), origin)
+            do h = 1, size(shape_b, 2)
+                rn = pa_n - points_b_n(:, h)
+                dr = (pa_1 - points_b_1(:, h)) - rn
+                length2 = dot_product(dr, dr)
+                tau = 0.0_rk
+                if (length2 > 0.0_rk) tau = min(1.0_rk, max(0.0_rk, -dot_product(rn, dr) / length2))
+                rn = rn + tau * dr
+                if (dot_product(rn, rn) <= wall**2) then
+                    clear = .false.
+                    return
+                end if
+            end do
+        end do
+    end function contact_element_swept_clear
 
     !> The shape values `shape(degree + 1, m)` of the degree-`degree` Lagrange element
     !> (rs_math_lagrange, nodes ascending) at the m Gauss-Legendre points of the element, and

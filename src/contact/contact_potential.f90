@@ -60,6 +60,28 @@
 !> end in the support does (the broad phase must see pairs at both times: a step is redone if a
 !> new pair enters, DESIGN.md §5).
 !>
+!> The barrier (issue 24 item 1: no tunnelling, ever). psi is bounded (psi(0) = k r_c^2 / 3): a
+!> point pair with more kinetic energy than that passes through, as a rope thrown at another at
+!> 12 m/s did. With a `wall` d_w (contact_params_init; the contact coupling sets it above the
+!> spacing of the contact points, so that two centrelines cannot cross without some point pair
+!> coming closer than d_w) a barrier term joins psi below the barrier distance d_b = r_c / 2:
+!>
+!>     psi_B(d2) = kappa s^3 / u,    s = d_b^2 - d2 > 0,    u = d2 - d_w^2 > 0,
+!>
+!> (0 for s <= 0), kappa = c r_c^2. It is C2 at d_b (psi_B, psi_B', psi_B'' vanish there) and
+!> infinite at the wall, so a state of finite energy keeps every point pair outside d_w; the
+!> coupling's swept test (contact_element_swept_clear) rejects steps whose straight path takes
+!> a pair inside it, so no step jumps the barrier. Below penetrations of half the contact
+!> distance nothing changes (psi_B = 0 exactly: every scene that stays there runs bitwise as
+!> without it). With U = d_b^2 - d_w^2 (u = U - s) the divided difference of psi_B in d2 is,
+!> both points in its support,
+!>
+!>     psi_B_bar = -kappa (s_1^2 u_n + s_n^2 u_1 + U s_n s_1) / (u_n u_1),
+!>
+!> a sum of terms of one sign (no cancellation, exact for d2_1 = d2_n), and with one point
+!> outside -kappa s_in^3 / (u_in (s_in - s_out)) as for psi. It needs u > 0 at both times:
+!> the caller evaluates only states the swept test admitted.
+!>
 !> Friction (regularized Coulomb, issue 24 item 2: the law of rs_contact_obstacle on the relative
 !> motion of the two points). The friction acts in the tangent plane of the contact, whose
 !> normal n is that of the two centrelines, not of the point pair: point pairs at an offset
@@ -116,29 +138,49 @@ module rs_contact_potential
         !> eta = v_s h of the step (m; module header, Friction).
         real(rk) :: mu = 0.0_rk
         real(rk) :: slip_length = 0.0_rk
+        !> The barrier (module header): the wall d_w (0: no barrier), d_w^2, d_b^2,
+        !> U = d_b^2 - d_w^2 and kappa.
+        real(rk) :: wall = 0.0_rk
+        real(rk) :: wall2 = 0.0_rk
+        real(rk) :: barrier2 = 0.0_rk
+        real(rk) :: barrier_span = 0.0_rk
+        real(rk) :: barrier_coefficient = 0.0_rk
     end type contact_params_t
+
+    !> The barrier's distance d_b as a fraction of the contact distance r_c.
+    real(rk), parameter, public :: barrier_fraction = 0.5_rk
 
 contains
 
     !> Parameters for two rods of radii `radius_a`, `radius_b` (> 0), stiffness `stiffness` (> 0)
     !> and an optional `margin` (>= 0, default 0) added to the contact distance. Invalid values
     !> are a programming error of the caller (input validation rejects them first): `ok` is then
-    !> false and `params` is the default (zero force everywhere).
-    pure subroutine contact_params_init(params, radius_a, radius_b, stiffness, ok, margin)
+    !> false and `params` is the default (zero force everywhere). An optional `wall` d_w in
+    !> (0, d_b) adds the barrier (module header); 0 or absent: none.
+    pure subroutine contact_params_init(params, radius_a, radius_b, stiffness, ok, margin, wall)
         type(contact_params_t), intent(out) :: params
         real(rk), intent(in) :: radius_a, radius_b, stiffness
         logical, intent(out) :: ok
-        real(rk), intent(in), optional :: margin
-        real(rk) :: extra
+        real(rk), intent(in), optional :: margin, wall
+        real(rk) :: extra, d_w
         extra = 0.0_rk
         if (present(margin)) extra = margin
+        d_w = 0.0_rk
+        if (present(wall)) d_w = wall
         ok = radius_a > 0.0_rk .and. radius_b > 0.0_rk .and. stiffness > 0.0_rk &
-            .and. extra >= 0.0_rk
+            .and. extra >= 0.0_rk .and. d_w >= 0.0_rk .and. &
+            d_w < barrier_fraction * (radius_a + radius_b + extra)
         if (.not. ok) return
         params%stiffness = stiffness
         params%contact_distance = radius_a + radius_b + extra
         params%support2 = params%contact_distance**2
         params%coefficient = stiffness / (3.0_rk * params%support2**2)
+        if (d_w == 0.0_rk) return
+        params%wall = d_w
+        params%wall2 = d_w**2
+        params%barrier2 = (barrier_fraction * params%contact_distance)**2
+        params%barrier_span = params%barrier2 - params%wall2
+        params%barrier_coefficient = params%coefficient * params%support2
     end subroutine contact_params_init
 
     !> The pair energy psi(d2) = k (r_c^2 - d2)^3 / (3 r_c^4) on the support, 0 outside.
@@ -150,6 +192,8 @@ contains
         s = params%support2 - d2
         psi = 0.0_rk
         if (s > 0.0_rk) psi = params%coefficient * s**3
+        if (d2 < params%barrier2) psi = psi + params%barrier_coefficient * &
+            (params%barrier2 - d2)**3 / (d2 - params%wall2)
     end function contact_psi
 
     !> dpsi/d(d2) = -k (r_c^2 - d2)^2 / r_c^4 on the support (<= 0), 0 outside.
@@ -157,10 +201,15 @@ contains
         real(rk), intent(in) :: d2
         type(contact_params_t), intent(in) :: params
         real(rk) :: dpsi
-        real(rk) :: s
+        real(rk) :: s, u
         s = params%support2 - d2
         dpsi = 0.0_rk
         if (s > 0.0_rk) dpsi = -3.0_rk * params%coefficient * s**2
+        if (d2 < params%barrier2) then
+            s = params%barrier2 - d2
+            u = d2 - params%wall2
+            dpsi = dpsi - params%barrier_coefficient * (3.0_rk * s**2 / u + s**3 / u**2)
+        end if
     end function contact_dpsi
 
     !> d2psi/d(d2)^2 = 2 k (r_c^2 - d2) / r_c^4 on the support (>= 0), 0 outside.
@@ -168,10 +217,16 @@ contains
         real(rk), intent(in) :: d2
         type(contact_params_t), intent(in) :: params
         real(rk) :: d2psi
-        real(rk) :: s
+        real(rk) :: s, u
         s = params%support2 - d2
         d2psi = 0.0_rk
         if (s > 0.0_rk) d2psi = 6.0_rk * params%coefficient * s
+        if (d2 < params%barrier2) then
+            s = params%barrier2 - d2
+            u = d2 - params%wall2
+            d2psi = d2psi + params%barrier_coefficient * (6.0_rk * s / u + 6.0_rk * s**2 / u**2 &
+                + 2.0_rk * s**3 / u**3)
+        end if
     end function contact_d2psi
 
     !> The discrete gradient psi_bar = [psi(d2_1) - psi(d2_n)] / (d2_1 - d2_n), equal to
@@ -193,6 +248,8 @@ contains
         else
             psi_bar = 0.0_rk
         end if
+        if (d2_n < params%barrier2 .or. d2_1 < params%barrier2) psi_bar = psi_bar + &
+            barrier_discrete_gradient(d2_n, d2_1, params)
     end function contact_discrete_gradient
 
     !> d psi_bar / d(d2_1), the derivative of contact_discrete_gradient with respect to its second
@@ -214,7 +271,58 @@ contains
         else
             dpsi_bar = 0.0_rk
         end if
+        if (d2_n < params%barrier2 .or. d2_1 < params%barrier2) dpsi_bar = dpsi_bar + &
+            barrier_discrete_gradient_derivative(d2_n, d2_1, params)
     end function contact_discrete_gradient_derivative
+
+    !> The barrier's divided difference psi_B_bar (module header), for at least one point in
+    !> its support and u > 0 at both times.
+    elemental function barrier_discrete_gradient(d2_n, d2_1, params) result(psi_bar)
+        real(rk), intent(in) :: d2_n, d2_1
+        type(contact_params_t), intent(in) :: params
+        real(rk) :: psi_bar
+        real(rk) :: s_n, s_1, u_n, u_1
+        s_n = params%barrier2 - d2_n
+        s_1 = params%barrier2 - d2_1
+        u_n = d2_n - params%wall2
+        u_1 = d2_1 - params%wall2
+        if (s_n > 0.0_rk .and. s_1 > 0.0_rk) then
+            psi_bar = -params%barrier_coefficient * (s_1**2 * u_n + s_n**2 * u_1 + &
+                params%barrier_span * s_n * s_1) / (u_n * u_1)
+        else if (s_n > 0.0_rk) then
+            psi_bar = -params%barrier_coefficient * s_n**3 / (u_n * (s_n - s_1))
+        else
+            psi_bar = -params%barrier_coefficient * s_1**3 / (u_1 * (s_1 - s_n))
+        end if
+    end function barrier_discrete_gradient
+
+    !> d psi_B_bar / d(d2_1) = -d psi_B_bar / d s_1, branch by branch as
+    !> barrier_discrete_gradient.
+    elemental function barrier_discrete_gradient_derivative(d2_n, d2_1, params) result(dpsi_bar)
+        real(rk), intent(in) :: d2_n, d2_1
+        type(contact_params_t), intent(in) :: params
+        real(rk) :: dpsi_bar
+        real(rk) :: s_n, s_1, u_n, u_1, numerator, kappa, f_1, df_1
+        kappa = params%barrier_coefficient
+        s_n = params%barrier2 - d2_n
+        s_1 = params%barrier2 - d2_1
+        u_n = d2_n - params%wall2
+        u_1 = d2_1 - params%wall2
+        if (s_n > 0.0_rk .and. s_1 > 0.0_rk) then
+            ! N / D with N = s_1^2 u_n + s_n^2 u_1 + U s_n s_1, D = u_n u_1: dN/ds_1 =
+            ! u_n (2 s_1 + s_n), dD/ds_1 = -u_n, so d(N/D)/ds_1 = (dN u_1 + N) / (u_n u_1^2).
+            numerator = s_1**2 * u_n + s_n**2 * u_1 + params%barrier_span * s_n * s_1
+            dpsi_bar = kappa * (u_n * (2.0_rk * s_1 + s_n) * u_1 + numerator) / (u_n * u_1**2)
+        else if (s_n > 0.0_rk) then
+            dpsi_bar = kappa * s_n**3 / (u_n * (s_n - s_1)**2)
+        else
+            ! psi_B_bar = -f(s_1) / (s_1 - s_n) with f = kappa s^3 / u, f' = kappa (3 s^2 / u
+            ! + s^3 / u^2).
+            f_1 = kappa * s_1**3 / u_1
+            df_1 = kappa * (3.0_rk * s_1**2 / u_1 + s_1**3 / u_1**2)
+            dpsi_bar = (df_1 * (s_1 - s_n) - f_1) / (s_1 - s_n)**2
+        end if
+    end function barrier_discrete_gradient_derivative
 
     !> Midpoint contact forces (energy gradients, module header) f_a = 2 psi_bar r_mid and
     !> f_b = -f_a on the points a and b, from their positions at t_n (`xa_n`, `xb_n`) and

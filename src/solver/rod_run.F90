@@ -69,6 +69,7 @@ module rs_solver_rod_run
         !> computed, steps accepted at the rounding floor.
         integer :: jacobians_before = 0
         integer :: floor_steps_before = 0
+        integer :: shortened_before = 0
         !> A bundle (rods coupled by joints, plates or contact): its summary splits the time.
         logical :: bundle = .false.
         !> Wall time in `prepare` (bundles: the contact broad phase and any new stepper).
@@ -309,11 +310,12 @@ contains
         type(error_t), allocatable, intent(out) :: err
         integer, allocatable :: row_ptr(:), cols(:), state_entries(:), unknown_entries(:)
         integer :: owned(4)
-        integer :: jacobians, floor_steps
+        integer :: jacobians, floor_steps, shortened
         call this%system%jacobian_pattern(row_ptr, cols)
-        call this%stepper%run_stats(jacobians, floor_steps)
+        call this%stepper%run_stats(jacobians, floor_steps, shortened)
         this%jacobians_before = this%jacobians_before + jacobians
         this%floor_steps_before = this%floor_steps_before + floor_steps
+        this%shortened_before = this%shortened_before + shortened
         this%context%n_state = this%system%n_state()
         this%context%n_unknown = this%system%n_unknown()
         this%context%n_values = size(cols)
@@ -333,7 +335,12 @@ contains
                 c_funloc(predictor_callback), c_funloc(update_callback), c_funloc(poststep_callback), &
                 c_loc(this%context), stepper_traits(this%solver, this%context%traits), err, &
                 blocks=this%system%solver_blocks())
+            RS_RETURN_IF_ERROR(err)
         end if
+        ! Iterates the system may refuse (contact's barrier): Newton steps are shortened to
+        ! admissible ones instead of the time step being cut (include/rs_rodmid.h).
+        if (this%system%refuses_iterates()) &
+            call this%stepper%set_admissible(c_funloc(admissible_callback), err)
     end subroutine build_stepper
 
     !> What the stepper is built with: the scene's Newton settings (&solver) and the
@@ -551,11 +558,12 @@ contains
         !> No summary line (another rank of a shared system prints it).
         logical, intent(in), optional :: quiet
         real(rk) :: elapsed, assembly
-        integer :: jacobians, floor_steps
+        integer :: jacobians, floor_steps, shortened
         assembly = this%assembly_seconds()
-        call this%stepper%run_stats(jacobians, floor_steps)
+        call this%stepper%run_stats(jacobians, floor_steps, shortened)
         jacobians = this%jacobians_before + jacobians
         floor_steps = this%floor_steps_before + floor_steps
+        shortened = this%shortened_before + shortened
         call this%stepper%destroy()
         if (associated(this%context)) deallocate(this%context)
         if (associated(this%system)) deallocate(this%system)
@@ -573,6 +581,9 @@ contains
         if (floor_steps > 0) call log_info('  ' // this%name() // ': ' // str(floor_steps) // &
             ' steps ended above newton_atol at the rounding floor (Newton run to stagnation: ' // &
             'the residual rounding the unknowns makes; far from the origin, docs/stability.md)')
+        if (shortened > 0) call log_info('  ' // this%name() // ': ' // str(shortened) // &
+            ' Newton steps shortened to stay admissible (the contact barrier''s swept test, ' // &
+            'docs/theory/bundles.md)')
         if (this%bundle) call log_info('  ' // this%name() // ': of that, assembly ' // &
             str_significant(assembly, 4) // ' s, contact search ' // &
             str_significant(this%prepare_seconds, 4) // ' s (' // str(this%repatterns) // &
@@ -599,6 +610,21 @@ contains
         context%assembly_seconds = context%assembly_seconds + (wall_time() - started)
         status = int(state, c_int)
     end function residual_callback
+
+    function admissible_callback(ctx, t_n, h, x_n, y) result(status) bind(C)
+        type(c_ptr), value :: ctx, x_n, y
+        real(c_double), value :: t_n, h
+        integer(c_int) :: status
+        type(callback_context_t), pointer :: context
+        real(rk), pointer :: x_n_(:), y_(:)
+        real(rk) :: started
+        call c_f_pointer(ctx, context)
+        call c_f_pointer(x_n, x_n_, [context%n_state])
+        call c_f_pointer(y, y_, [context%n_unknown])
+        started = wall_time()
+        status = merge(0_c_int, 1_c_int, context%system%step_admissible(t_n, h, x_n_, y_))
+        context%assembly_seconds = context%assembly_seconds + (wall_time() - started)
+    end function admissible_callback
 
     function jacobian_callback(ctx, t_n, h, x_n, y, values) result(status) bind(C)
         type(c_ptr), value :: ctx, x_n, y, values

@@ -33,6 +33,7 @@ typedef struct {
     rs_cb_vec      predictor;
     rs_cb_update   update;
     rs_cb_poststep poststep;
+    rs_cb_admissible admissible; /* the feasible-step filter's test, or NULL */
     void          *ctx;
     fenv_t         caller_env; /* floating-point environment of the Fortran caller */
     /* A system shared by all ranks (DESIGN.md §5: bundles on PETSC_COMM_WORLD): each rank owns
@@ -278,6 +279,36 @@ static PetscErrorCode step_jacobian(PetscReal t_n, PetscReal h, Vec X_n, Vec Y, 
                    "the Jacobian callback failed with status %d at t = %g, h = %g", status,
                    (double)t_n, (double)h);
     }
+    PetscFunctionReturn(0);
+}
+
+/* The feasible-step filter's test (rs_stepper_set_admissible): on a shared system each rank
+   asks its own part, on the gathered X_n and Y, and the ranks agree. */
+static PetscErrorCode step_admissible(PetscReal t_n, PetscReal h, Vec X_n, Vec Y, PetscBool *ok,
+                                      void *ctx)
+{
+    RsStepper         *s      = (RsStepper *)ctx;
+    Vec                x_from = X_n, y_from = Y;
+    const PetscScalar *x, *y;
+    int                status;
+    fenv_t             env;
+
+    PetscFunctionBegin;
+    if (s->distributed) {
+        PetscCall(gather(state_gather(s), X_n, s->x_all));
+        PetscCall(gather(unknown_gather(s), Y, s->y_all));
+        x_from = s->x_all;
+        y_from = s->y_all;
+    }
+    PetscCall(VecGetArrayRead(x_from, &x));
+    PetscCall(VecGetArrayRead(y_from, &y));
+    enter_user(s, &env);
+    status = s->admissible(s->ctx, t_n, h, x, y);
+    leave_user(&env);
+    PetscCall(VecRestoreArrayRead(y_from, &y));
+    PetscCall(VecRestoreArrayRead(x_from, &x));
+    if (s->distributed) PetscCall(agree(s, &status));
+    *ok = status == 0 ? PETSC_TRUE : PETSC_FALSE;
     PetscFunctionReturn(0);
 }
 
@@ -1012,4 +1043,31 @@ int rs_stepper_destroy(void **handle)
     stepper_free((RsStepper *)*handle);
     *handle = NULL;
     return 0;
+}
+
+int rs_stepper_set_admissible(void *handle, rs_cb_admissible admissible)
+{
+    RsStepper     *s = (RsStepper *)handle;
+    PetscErrorCode ierr;
+
+    if (!s) return RS_STEPPER_BAD_ARGUMENT;
+    s->admissible = admissible;
+    enter_petsc(s);
+    ierr = TSRodmidSetAdmissible(s->ts, admissible ? step_admissible : NULL);
+    leave_petsc(s);
+    return (int)ierr;
+}
+
+int rs_stepper_shortened_steps(void *handle, int *shortened)
+{
+    RsStepper     *s = (RsStepper *)handle;
+    PetscInt       n = 0;
+    PetscErrorCode ierr;
+
+    if (!s || !shortened) return RS_STEPPER_BAD_ARGUMENT;
+    enter_petsc(s);
+    ierr = TSRodmidGetShortenedSteps(s->ts, &n);
+    leave_petsc(s);
+    *shortened = (int)n;
+    return (int)ierr;
 }

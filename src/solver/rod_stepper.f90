@@ -29,7 +29,7 @@ module rs_solver_rod_stepper
     public :: petsc_apply_options, petsc_options_text, petsc_log_begin, petsc_event_count, &
         petsc_unused_options
     public :: residual_callback, jacobian_callback, predictor_callback, update_callback, &
-        poststep_callback
+        poststep_callback, admissible_callback
 
     !> Callback status: the state is fine.
     integer(c_int), parameter, public :: callback_ok = 0
@@ -79,6 +79,8 @@ module rs_solver_rod_stepper
         !> Since create: Jacobians computed (each one a numeric factorization), and steps
         !> accepted at the rounding floor above newton_atol (include/rs_rodmid.h).
         procedure :: run_stats => rod_stepper_run_stats
+        !> The feasible-step filter of the Newton solves (include/rs_rod_stepper.h).
+        procedure :: set_admissible => rod_stepper_set_admissible
         !> True between create and destroy.
         procedure :: is_created => rod_stepper_is_created
         !> Free the PETSc objects; safe to call twice.
@@ -100,6 +102,13 @@ module rs_solver_rod_stepper
             real(c_double), value :: t_n, h
             integer(c_int) :: status
         end function jacobian_callback
+        !> 0 when y is an admissible iterate of the step from x_n, 1 when not.
+        function admissible_callback(ctx, t_n, h, x_n, y) result(status) bind(C)
+            import :: c_ptr, c_double, c_int
+            type(c_ptr), value :: ctx, x_n, y
+            real(c_double), value :: t_n, h
+            integer(c_int) :: status
+        end function admissible_callback
         !> The first Newton iterate y: 0 ok, other fatal.
         function predictor_callback(ctx, t_n, h, x_n, y) result(status) bind(C)
             import :: c_ptr, c_double, c_int
@@ -176,6 +185,16 @@ module rs_solver_rod_stepper
             type(c_ptr), value :: handle
             integer(c_int), intent(out) :: jacobians, floor_steps
         end function rs_stepper_run_stats
+        integer(c_int) function rs_stepper_set_admissible(handle, admissible) bind(C)
+            import :: c_int, c_ptr, c_funptr
+            type(c_ptr), value :: handle
+            type(c_funptr), value :: admissible
+        end function rs_stepper_set_admissible
+        integer(c_int) function rs_stepper_shortened_steps(handle, shortened) bind(C)
+            import :: c_int, c_ptr
+            type(c_ptr), value :: handle
+            integer(c_int), intent(out) :: shortened
+        end function rs_stepper_shortened_steps
         integer(c_int) function rs_stepper_view(handle, path) bind(C)
             import :: c_int, c_char, c_ptr
             type(c_ptr), value :: handle
@@ -401,17 +420,35 @@ contains
         RS_CHECK_PETSC(int(ierr), err, 'rod_stepper_view', 'TSView')
     end subroutine rod_stepper_view
 
-    subroutine rod_stepper_run_stats(this, jacobians, floor_steps)
+    !> Since creation: Jacobians factored, steps accepted at the rounding floor and (optional)
+    !> Newton steps the feasible-step filter shortened.
+    subroutine rod_stepper_run_stats(this, jacobians, floor_steps, shortened)
         class(rod_stepper_t), intent(in) :: this
         integer, intent(out) :: jacobians, floor_steps
-        integer(c_int) :: counts(2)
+        integer, intent(out), optional :: shortened
+        integer(c_int) :: counts(3)
         counts = 0
         if (c_associated(this%handle)) then
-            if (rs_stepper_run_stats(this%handle, counts(1), counts(2)) /= 0) counts = 0
+            if (rs_stepper_run_stats(this%handle, counts(1), counts(2)) /= 0) counts(1:2) = 0
+            if (rs_stepper_shortened_steps(this%handle, counts(3)) /= 0) counts(3) = 0
         end if
         jacobians = int(counts(1))
         floor_steps = int(counts(2))
+        if (present(shortened)) shortened = int(counts(3))
     end subroutine rod_stepper_run_stats
+
+    !> Newton steps shortened until `admissible` (a bind(C) function of the rs_cb_admissible
+    !> interface, admissible_callback_t) admits their full step.
+    subroutine rod_stepper_set_admissible(this, admissible, err)
+        class(rod_stepper_t), intent(inout) :: this
+        type(c_funptr), value :: admissible
+        type(error_t), allocatable, intent(out) :: err
+        integer(c_int) :: ierr
+        ierr = rs_stepper_set_admissible(this%handle, admissible)
+        if (ierr /= 0) then
+            RS_SET_ERROR(err, 'rod_stepper_set_admissible', 'the feasible-step filter could not be set (code ' // str(int(ierr)) // ')')
+        end if
+    end subroutine rod_stepper_set_admissible
 
     logical function rod_stepper_is_created(this)
         class(rod_stepper_t), intent(in) :: this

@@ -24,6 +24,9 @@ typedef struct {
     RsStepUpdate   update;
     void          *ctx;
     PetscInt       max_cutbacks;
+    /* The feasible-step filter (TSRodmidSetAdmissible) and the Newton steps it shortened. */
+    RsStepAdmissible admissible;
+    PetscInt         shortened;
     /* Jacobian reuse (-ts_rodmid_reuse_jacobian): 0 is Newton's method, a new Jacobian at
        every iteration; a ratio in (0, 1) keeps the factored Jacobian across iterations and
        steps for as long as its full step cuts the residual norm at least by that ratio. */
@@ -123,6 +126,68 @@ static PetscErrorCode LineSearchPreCheck_RodmidReuse(SNESLineSearch linesearch, 
     PetscFunctionReturn(0);
 }
 
+/* The feasible-step filter (TSRodmidSetAdmissible): the Newton step Y (the iterate becomes
+   X - lambda Y) is halved until X - Y is admissible, so the line search only sees admissible
+   trial points of the full step. At most this many halvings (2^-30: a step far below any
+   resolution); beyond, the line search meets the invalid state and the time step is cut. */
+#define RODMID_MAX_SHORTENINGS 30
+
+/* The pre-check of the line search: the reuse rule (when on), then the filter (when set). */
+static PetscErrorCode LineSearchPreCheck_Rodmid(SNESLineSearch linesearch, Vec X, Vec Y,
+                                                PetscBool *changed, void *ctx)
+{
+    TS_Rodmid *rm = (TS_Rodmid *)((TS)ctx)->data;
+    Vec        W;
+    PetscBool  ok;
+    PetscInt   halvings;
+
+    PetscFunctionBegin;
+    *changed = PETSC_FALSE;
+    if (rm->reuse_ratio > 0.0) PetscCall(LineSearchPreCheck_RodmidReuse(linesearch, X, Y, changed, ctx));
+    if (!rm->admissible) PetscFunctionReturn(0);
+    PetscCall(SNESLineSearchGetVecs(linesearch, NULL, NULL, NULL, &W, NULL));
+    for (halvings = 0;; ++halvings) {
+        PetscCall(VecWAXPY(W, -1.0, Y, X));
+        PetscCall(rm->admissible(rm->t_n, rm->h, rm->X0, W, &ok, rm->ctx));
+        if (ok || halvings == RODMID_MAX_SHORTENINGS) break;
+        PetscCall(VecScale(Y, 0.5));
+    }
+    if (halvings > 0) {
+        *changed = PETSC_TRUE;
+        ++rm->shortened;
+        PetscCall(PetscInfo(linesearch, "Newton step shortened by 2^-%" PetscInt_FMT " to stay admissible\n",
+                            halvings));
+    }
+    PetscFunctionReturn(0);
+}
+
+/* The predictor under the feasible-step filter: a prediction the filter refuses (a thrown rod
+   predicted into another) is pulled back towards the prediction of a zero step (h = 0: the
+   state X_n itself, admissible as an accepted state) by halving, Y = Y_0 + 2^-k (Y_h - Y_0). */
+static PetscErrorCode AdmissiblePrediction(TS ts)
+{
+    TS_Rodmid *rm = (TS_Rodmid *)ts->data;
+    Vec        Y0 = rm->rounding, Yh = rm->rounding_image; /* free until the solve */
+    PetscBool  ok;
+    PetscInt   halvings;
+
+    PetscFunctionBegin;
+    PetscCall(rm->admissible(rm->t_n, rm->h, rm->X0, rm->Y, &ok, rm->ctx));
+    if (ok) PetscFunctionReturn(0);
+    PetscCall(VecCopy(rm->Y, Yh));
+    PetscCall(rm->predictor(rm->t_n, 0.0, rm->X0, Y0, rm->ctx));
+    for (halvings = 1; halvings <= RODMID_MAX_SHORTENINGS; ++halvings) {
+        PetscCall(VecWAXPY(rm->Y, PetscPowReal(0.5, (PetscReal)halvings), Yh, Y0));
+        PetscCall(VecAXPY(rm->Y, -PetscPowReal(0.5, (PetscReal)halvings), Y0));
+        PetscCall(rm->admissible(rm->t_n, rm->h, rm->X0, rm->Y, &ok, rm->ctx));
+        if (ok) break;
+    }
+    if (!ok) PetscCall(VecCopy(Y0, rm->Y));
+    ++rm->shortened;
+    PetscCall(PetscInfo(ts, "prediction pulled back by 2^-%" PetscInt_FMT " to stay admissible\n", halvings));
+    PetscFunctionReturn(0);
+}
+
 /* The residual that rounding the unknowns to working precision makes: ||J u|| with
    u_i = +-eps |Y_i| (signs from a hash of the global index, so the same on any number of
    ranks). No iterate of Newton can get below it, because no closer iterate is representable:
@@ -211,8 +276,10 @@ static PetscErrorCode TSStep_Rodmid(TS ts)
     for (cut = 0;; ++cut) {
         rm->t_n = ts->ptime;
         rm->h   = ts->time_step;
-        if (rm->predictor) PetscCall(rm->predictor(rm->t_n, rm->h, rm->X0, rm->Y, rm->ctx));
-        else PetscCall(VecCopy(rm->X0, rm->Y));
+        if (rm->predictor) {
+            PetscCall(rm->predictor(rm->t_n, rm->h, rm->X0, rm->Y, rm->ctx));
+            if (rm->admissible) PetscCall(AdmissiblePrediction(ts));
+        } else PetscCall(VecCopy(rm->X0, rm->Y));
         PetscCall(SNESSolve(ts->snes, NULL, rm->Y));
         PetscCall(SNESGetConvergedReason(ts->snes, &reason));
         if (reason > 0) {
@@ -287,11 +354,13 @@ static PetscErrorCode TSSetUp_Rodmid(TS ts)
     if (jacobian) PetscCall(SNESSetJacobian(ts->snes, rm->J, rm->J, NULL, NULL));
     else PetscCall(SNESSetJacobian(ts->snes, rm->J, rm->J, SNESTSFormJacobian, ts));
     PetscCall(SNESSetConvergenceTest(ts->snes, SNESConverged_Rodmid, ts, NULL));
-    if (rm->reuse_ratio > 0.0) {
+    if (rm->reuse_ratio > 0.0) PetscCall(SNESSetLagJacobian(ts->snes, -2)); /* the first one is computed */
+    /* The reuse rule and the feasible-step filter in one pre-check; it does nothing when
+       neither is on (the filter may be set after TSSetUp). */
+    {
         SNESLineSearch linesearch;
-        PetscCall(SNESSetLagJacobian(ts->snes, -2)); /* the first one is computed */
         PetscCall(SNESGetLineSearch(ts->snes, &linesearch));
-        PetscCall(SNESLineSearchSetPreCheck(linesearch, LineSearchPreCheck_RodmidReuse, ts));
+        PetscCall(SNESLineSearchSetPreCheck(linesearch, LineSearchPreCheck_Rodmid, ts));
     }
     PetscFunctionReturn(0);
 }
@@ -323,6 +392,8 @@ static PetscErrorCode TSDestroy_Rodmid(TS ts)
     PetscCall(PetscObjectComposeFunction((PetscObject)ts, "TSRodmidGetMaxCutbacks_C", NULL));
     PetscCall(PetscObjectComposeFunction((PetscObject)ts, "TSRodmidGetStepStats_C", NULL));
     PetscCall(PetscObjectComposeFunction((PetscObject)ts, "TSRodmidGetRunStats_C", NULL));
+    PetscCall(PetscObjectComposeFunction((PetscObject)ts, "TSRodmidSetAdmissible_C", NULL));
+    PetscCall(PetscObjectComposeFunction((PetscObject)ts, "TSRodmidGetShortenedSteps_C", NULL));
     PetscFunctionReturn(0);
 }
 
@@ -387,6 +458,24 @@ static PetscErrorCode TSRodmidSetStepProblem_Rodmid(TS ts, Vec Y_template, Mat J
     rm->predictor = predictor;
     rm->update    = update;
     rm->ctx       = ctx;
+    PetscFunctionReturn(0);
+}
+
+static PetscErrorCode TSRodmidSetAdmissible_Rodmid(TS ts, RsStepAdmissible admissible)
+{
+    TS_Rodmid *rm = (TS_Rodmid *)ts->data;
+
+    PetscFunctionBegin;
+    rm->admissible = admissible;
+    PetscFunctionReturn(0);
+}
+
+static PetscErrorCode TSRodmidGetShortenedSteps_Rodmid(TS ts, PetscInt *shortened)
+{
+    TS_Rodmid *rm = (TS_Rodmid *)ts->data;
+
+    PetscFunctionBegin;
+    *shortened = rm->shortened;
     PetscFunctionReturn(0);
 }
 
@@ -462,6 +551,10 @@ static PetscErrorCode TSCreate_Rodmid(TS ts)
                                          TSRodmidGetStepStats_Rodmid));
     PetscCall(PetscObjectComposeFunction((PetscObject)ts, "TSRodmidGetRunStats_C",
                                          TSRodmidGetRunStats_Rodmid));
+    PetscCall(PetscObjectComposeFunction((PetscObject)ts, "TSRodmidSetAdmissible_C",
+                                         TSRodmidSetAdmissible_Rodmid));
+    PetscCall(PetscObjectComposeFunction((PetscObject)ts, "TSRodmidGetShortenedSteps_C",
+                                         TSRodmidGetShortenedSteps_Rodmid));
     PetscFunctionReturn(0);
 }
 
@@ -526,5 +619,22 @@ PetscErrorCode TSRodmidGetRunStats(TS ts, PetscInt *jacobians, PetscInt *floor_s
     PetscValidHeaderSpecific(ts, TS_CLASSID, 1);
     PetscUseMethod(ts, "TSRodmidGetRunStats_C", (TS, PetscInt *, PetscInt *),
                    (ts, jacobians, floor_steps));
+    PetscFunctionReturn(0);
+}
+
+PetscErrorCode TSRodmidSetAdmissible(TS ts, RsStepAdmissible admissible)
+{
+    PetscFunctionBegin;
+    PetscValidHeaderSpecific(ts, TS_CLASSID, 1);
+    PetscTryMethod(ts, "TSRodmidSetAdmissible_C", (TS, RsStepAdmissible), (ts, admissible));
+    PetscFunctionReturn(0);
+}
+
+PetscErrorCode TSRodmidGetShortenedSteps(TS ts, PetscInt *shortened)
+{
+    PetscFunctionBegin;
+    PetscValidHeaderSpecific(ts, TS_CLASSID, 1);
+    PetscValidIntPointer(shortened, 2);
+    PetscUseMethod(ts, "TSRodmidGetShortenedSteps_C", (TS, PetscInt *), (ts, shortened));
     PetscFunctionReturn(0);
 }

@@ -13,6 +13,16 @@
 !> could carry it past another centreline unseen, so its iterates are rejected as invalid
 !> states (the step is halved).
 !>
+!> No tunnelling (issue 24 item 1). Each pair of members has a wall d_w above the spacing of
+!> their contact points (1.2 times the mean of their largest point gaps along an element and
+!> across element ends, at least r_c / 4, at most 0.4 r_c): two centrelines cannot cross without
+!> a pair of contact points coming within d_w. The potential gets its barrier at d_w
+!> (rs_contact_potential, The barrier), infinite there, so no state of finite energy has a pair
+!> inside; and an iterate whose straight path from X_n takes a pair inside
+!> (contact_element_swept_clear) is rejected as an invalid state, so no step jumps over it.
+!> The 1.2 allows elements 20 % longer than in the reference; a rod with too few contact points
+!> for a wall below 0.4 r_c is told so in the log (points_per_element).
+!>
 !> Friction (&contact mu, slip_velocity; issue 24 item 2): the regularized Coulomb law of
 !> rs_contact_potential on every point pair in contact, in dynamic steps (none in the endpoint
 !> solve or in equilibrium steps); each pair's dissipation is booked half on each of its rods.
@@ -25,7 +35,7 @@ module rs_system_contact_coupling
     use rs_assembly_csr_pattern, only: csr_builder_t, csr_pattern_t
     use rs_contact_potential, only: contact_params_t, contact_params_init
     use rs_contact_grid, only: contact_grid_t, reserve_int_2
-    use rs_contact_element, only: contact_element_pair, contact_points
+    use rs_contact_element, only: contact_element_pair, contact_points, contact_element_swept_clear
     use rs_math_lagrange, only: lagrange_shape
     use rs_system_layout, only: system_layout_t
     use rs_system_coupling, only: coupling_t, coupling_record_t, friction_record_t
@@ -35,6 +45,9 @@ module rs_system_contact_coupling
     !> Penetration (fraction of the contact distance) at which the default contact points
     !> resolve the contact patch.
     real(rk), parameter :: reference_penetration = 0.05_rk
+    !> The barrier's wall (module header): at least wall_floor r_c, at most wall_ceiling r_c
+    !> (below the barrier's start r_c / 2), wall_stretch times the points' spacing.
+    real(rk), parameter :: wall_floor = 0.25_rk, wall_ceiling = 0.4_rk, wall_stretch = 1.2_rk
 
     !> A member's contact points: Lagrange shape values (nen, m) and weights on [0, 1], and its
     !> first global segment (element) number in the grid.
@@ -43,6 +56,9 @@ module rs_system_contact_coupling
         !> Derivatives of the shape functions at the points (friction's contact normals).
         real(rk), allocatable :: slope(:, :)
         integer :: first_segment = 0
+        !> The largest distance between neighbouring contact points along the rod (within an
+        !> element, across element ends, twice the end's), in the reference (m).
+        real(rk) :: point_gap = 0.0_rk
     end type contact_member_t
 
     type, extends(coupling_t), public :: contact_coupling_t
@@ -75,8 +91,9 @@ module rs_system_contact_coupling
         real(rk), allocatable :: segment_ends(:, :, :), segment_radius(:)
         integer, allocatable :: segment_rod(:), segment_index(:)
         !> The first step cut because an iterate moved further than the margin allows was
-        !> logged.
+        !> logged; likewise the first cut by the swept test of the barrier.
         logical :: warned_motion = .false.
+        logical :: warned_wall = .false.
     contains
         procedure :: start => contact_start
         procedure :: add_pattern => contact_add_pattern
@@ -110,6 +127,7 @@ contains
         integer :: m, n_points, i, degree
         logical :: ok
         allocate(this%blocks(0))
+        this%refuses_iterates = .true.
         this%joint_ends = joint_ends
         this%stiffness = scene%contact%stiffness
         this%self_contact = scene%contact%self_contact
@@ -140,6 +158,7 @@ contains
                     RS_SET_ERROR(err, 'contact_coupling_init', 'no contact points of degree ' // str(nodes%degree))
                     return
                 end if
+                member%point_gap = longest_element * largest_point_gap(member%shape, nodes%degree)
                 ! Lebesgue constant of the element: bounds the motion of any interpolated point
                 ! by the largest nodal motion.
                 degree = nodes%degree
@@ -177,8 +196,70 @@ contains
         call log_info('bundle contact: stiffness ' // str(this%stiffness) // ' N/m^3, margin ' // &
             str(this%margin) // ' m, skip ' // str(this%skip) // ' elements, ' // &
             trim(merge('with   ', 'without', this%self_contact)) // ' self contact, ' // &
-            friction_text(this))
+            friction_text(this) // ', barrier wall ' // str(pair_wall(this, layout, 1, 1)) // ' m')
+        do m = 1, size(this%members)
+            rc = 2.0_rk * layout%members(m)%contact_radius
+            if (wall_needed(this, layout, m, m) <= wall_ceiling * rc) cycle
+            call log_info('bundle contact: rod ' // str(m) // ' has contact points ' // &
+                str(this%members(m)%point_gap) // ' m apart, too few to keep the barrier''s wall ' // &
+                'below ' // str(wall_ceiling) // ' of the contact distance: centrelines can pass ' // &
+                'between its points; raise &contact points_per_element (docs/theory/bundles.md)')
+        end do
     end subroutine contact_coupling_init
+
+    !> The largest gap between neighbouring contact points of an element of unit length: within
+    !> the element, across its ends to the next element's points, and twice the gap from an end
+    !> to its nearest point (a rod's last points: the crossing can be beyond them). The points'
+    !> reference coordinates are the interpolated nodal coordinates (exact for a linear map).
+    pure real(rk) function largest_point_gap(shape, degree) result(gap)
+        real(rk), intent(in) :: shape(:, :)
+        integer, intent(in) :: degree
+        real(rk) :: at(size(shape, 2))
+        integer :: g, i
+        do g = 1, size(shape, 2)
+            at(g) = 0.0_rk
+            do i = 1, degree + 1
+                at(g) = at(g) + shape(i, g) * real(i - 1, rk) / real(degree, rk)
+            end do
+        end do
+        gap = max(2.0_rk * at(1), 2.0_rk * (1.0_rk - at(size(at))), at(1) + 1.0_rk - at(size(at)))
+        do g = 1, size(at) - 1
+            gap = max(gap, at(g + 1) - at(g))
+        end do
+    end function largest_point_gap
+
+    !> The barrier's wall for members ma and mb without the ceiling (module header).
+    pure real(rk) function wall_needed(this, layout, ma, mb) result(wall)
+        type(contact_coupling_t), intent(in) :: this
+        type(system_layout_t), intent(in) :: layout
+        integer, intent(in) :: ma, mb
+        real(rk) :: rc
+        rc = layout%members(ma)%contact_radius + layout%members(mb)%contact_radius
+        wall = max(wall_floor * rc, wall_stretch * 0.5_rk * (this%members(ma)%point_gap + &
+            this%members(mb)%point_gap))
+    end function wall_needed
+
+    !> The barrier's wall d_w of members ma and mb (module header).
+    pure real(rk) function pair_wall(this, layout, ma, mb) result(wall)
+        type(contact_coupling_t), intent(in) :: this
+        type(system_layout_t), intent(in) :: layout
+        integer, intent(in) :: ma, mb
+        wall = min(wall_needed(this, layout, ma, mb), wall_ceiling * &
+            (layout%members(ma)%contact_radius + layout%members(mb)%contact_radius))
+    end function pair_wall
+
+    !> The potential's parameters of an element pair (member a, element a, member b, element
+    !> b), its barrier included.
+    subroutine pair_params(this, layout, pair, params)
+        type(contact_coupling_t), intent(in) :: this
+        type(system_layout_t), intent(in) :: layout
+        integer, intent(in) :: pair(4)
+        type(contact_params_t), intent(out) :: params
+        logical :: ok
+        call contact_params_init(params, layout%members(pair(1))%contact_radius, &
+            layout%members(pair(3))%contact_radius, this%stiffness, ok, &
+            wall=pair_wall(this, layout, pair(1), pair(3)))
+    end subroutine pair_params
 
     !> Candidate pairs of the state x (the initial state) with twice the margin: the pattern.
     subroutine contact_start(this, layout, x)
@@ -435,13 +516,46 @@ contains
             end do
         end do
         ok = this%lebesgue * largest <= this%motion_limit
-        if (ok .or. this%warned_motion) return
-        call log_info('bundle: at t = ' // str(t_n) // ' a Newton iterate moved a centreline ' // &
-            'point more than ' // str(this%motion_limit) // ' m (the smaller of margin / 2 and ' // &
-            'a quarter of the smallest contact distance), so the step is cut ' // &
-            '(docs/theory/bundles.md)')
-        this%warned_motion = .true.
+        if (.not. ok) then
+            if (this%warned_motion) return
+            call log_info('bundle: at t = ' // str(t_n) // ' a Newton iterate moved a centreline ' // &
+                'point more than ' // str(this%motion_limit) // ' m (the smaller of margin / 2 and ' // &
+                'a quarter of the smallest contact distance): Newton steps are shortened, or the ' // &
+                'time step cut, until none does (docs/theory/bundles.md)')
+            this%warned_motion = .true.
+            return
+        end if
+        ok = swept_clear(this, layout, x_n, y)
+        if (ok .or. this%warned_wall) return
+        call log_info('bundle: at t = ' // str(t_n) // ' a Newton iterate took two contact ' // &
+            'points within the barrier''s wall of each other: Newton steps are shortened, or the ' // &
+            'time step cut, until none does (docs/theory/bundles.md)')
+        this%warned_wall = .true.
     end function contact_admissible
+
+    !> No active pair of this rank's members takes a pair of contact points inside the wall on
+    !> the straight path from x_n to y (contact_element_swept_clear).
+    logical function swept_clear(this, layout, x_n, y) result(clear)
+        type(contact_coupling_t), intent(in) :: this
+        type(system_layout_t), intent(in) :: layout
+        real(rk), intent(in) :: x_n(:), y(:)
+        real(rk) :: xa_n(3, 8), xa_1(3, 8), xb_n(3, 8), xb_1(3, 8)
+        integer :: k, na, nb
+        clear = .true.
+        do k = 1, this%n_active
+            associate (pair => this%active_pairs(:, k))
+                if (.not. (layout%owns_member(pair(1)) .or. layout%owns_member(pair(3)))) cycle
+                na = layout%members(pair(1))%nodes%degree + 1
+                nb = layout%members(pair(3))%nodes%degree + 1
+                call pair_positions(layout, pair, x_n, y, xa_n(:, 1:na), xa_1(:, 1:na), &
+                    xb_n(:, 1:nb), xb_1(:, 1:nb))
+                clear = contact_element_swept_clear(this%members(pair(1))%shape, xa_n(:, 1:na), &
+                    xa_1(:, 1:na), this%members(pair(3))%shape, xb_n(:, 1:nb), xb_1(:, 1:nb), &
+                    pair_wall(this, layout, pair(1), pair(3)))
+                if (.not. clear) return
+            end associate
+        end do
+    end function swept_clear
 
     !> Element positions of a contact pair at t_n (state) and t_{n+1} (unknowns).
     pure subroutine pair_positions(layout, pair, x_n, y, xa_n, xa_1, xb_n, xb_1)
@@ -497,7 +611,7 @@ contains
         type(contact_params_t) :: params
         integer :: k, na, nb, i, j, p, slot, first
         integer :: rows(48), cols(48), n
-        logical :: ok, static
+        logical :: static
         static = this%static .or. this%equilibrium_steps
         scale = merge(2.0_rk, 1.0_rk, static)
         do k = 1, this%n_active
@@ -508,7 +622,7 @@ contains
                         la => layout%members(pair(1)), lb => layout%members(pair(3)))
                     na = la%nodes%degree + 1
                     nb = lb%nodes%degree + 1
-                    call contact_params_init(params, la%contact_radius, lb%contact_radius, this%stiffness, ok)
+                    call pair_params(this, layout, pair, params)
                     ! Friction acts on the slip of a time step (none in equilibrium).
                     if (.not. static) then
                         params%mu = this%mu
@@ -593,7 +707,6 @@ contains
         real(rk) :: energy_n, energy_1, closest
         type(contact_params_t) :: params
         integer :: k, na, nb
-        logical :: ok
         do k = 1, this%n_active
             associate (pair => this%active_pairs(:, k), a => this%members(this%active_pairs(1, k)), &
                     b => this%members(this%active_pairs(3, k)), &
@@ -602,7 +715,7 @@ contains
                     ra => records(this%active_pairs(1, k)), rb => records(this%active_pairs(3, k)))
                 na = la%nodes%degree + 1
                 nb = lb%nodes%degree + 1
-                call contact_params_init(params, la%contact_radius, lb%contact_radius, this%stiffness, ok)
+                call pair_params(this, layout, pair, params)
                 call pair_positions(layout, pair, x, y, xa(:, 1:na), xa_other(:, 1:na), xb(:, 1:nb), &
                     xb_other(:, 1:nb))
                 call contact_element_pair(params, a%shape, a%weight * &
@@ -633,7 +746,6 @@ contains
         real(rk) :: energy_n, energy_1, pair_dissipation, friction_a(3), largest_slip
         type(contact_params_t) :: params
         integer :: k, na, nb
-        logical :: ok
         if (this%mu == 0.0_rk .or. this%static .or. this%equilibrium_steps) return
         do k = 1, this%n_active
             associate (pair => this%active_pairs(:, k), a => this%members(this%active_pairs(1, k)), &
@@ -642,7 +754,7 @@ contains
                     lb => layout%members(this%active_pairs(3, k)))
                 na = la%nodes%degree + 1
                 nb = lb%nodes%degree + 1
-                call contact_params_init(params, la%contact_radius, lb%contact_radius, this%stiffness, ok)
+                call pair_params(this, layout, pair, params)
                 params%mu = this%mu
                 params%slip_length = this%slip_velocity * h
                 call pair_positions(layout, pair, x_n, y, xa_n(:, 1:na), xa_1(:, 1:na), &

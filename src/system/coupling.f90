@@ -42,6 +42,9 @@ module rs_system_coupling
         !> Every step is an equilibrium at t_{n+1} (formulation_traits_t%equilibrium_steps):
         !> the coupling acts at X_{n+1} with the poses of t_{n+1}, as in an endpoint solve.
         logical :: equilibrium_steps = .false.
+        !> The coupling may refuse a Newton iterate (admissible): the solver then shortens
+        !> Newton steps to admissible ones (include/rs_rodmid.h, TSRodmidSetAdmissible).
+        logical :: refuses_iterates = .false.
     contains
         !> About how many Jacobian entries the coupling adds (the pattern builder's first
         !> allocation; it grows if short). Default: none.
@@ -57,7 +60,8 @@ module rs_system_coupling
         !> when the Jacobian pattern must be built again. Default: nothing.
         procedure :: prepare_step => default_prepare_step
         !> An iterate y of the step from x_n is admissible (contact: no point moved further than
-        !> the pairs found at t_n allow). Default: always.
+        !> the pairs found at t_n allow, and no pair of contact points crossed the barrier's
+        !> wall on the way). Default: always.
         procedure :: admissible => default_admissible
         !> Add the coupling's terms to the step residual f or the Jacobian values.
         procedure(residual_interface), deferred :: add_residual

@@ -16,7 +16,7 @@ module rs_test_contact_element
     use rs_contact_potential, only: contact_params_t, contact_params_init, contact_psi, &
         contact_dpsi, contact_point_force
     use rs_contact_element, only: contact_element_pair, contact_points, contact_line_force, &
-        contact_line_peak_force, contact_line_penetration
+        contact_line_peak_force, contact_line_penetration, contact_element_swept_clear
     implicit none
     private
 
@@ -63,7 +63,92 @@ contains
         call run_test('friction_tangent_fd', test_friction_tangent_fd)
         call run_test('friction_balance', test_friction_balance)
         call run_test('friction_coulomb_line', test_friction_coulomb_line)
+        call run_test('swept_crossing', test_swept_crossing)
+        call run_test('swept_against_sampling', test_swept_against_sampling)
     end subroutine run_all_tests
+
+    ! The barrier's swept test (issue 24 item 1) on two straight quadratic elements of length 1
+    ! crossing at right angles, 8 points each (spacing at most 0.2, wall 0.2): a step that carries
+    ! element a from 0.5 above b to 0.5 below it (both ends far outside the wall) is caught; the
+    ! same step beside b (a shifted along b's normal plane by 2), or stopping 0.25 above it, is
+    ! clear; a pair far apart is clear by its spheres.
+    subroutine test_swept_crossing()
+        real(rk) :: shape(3, 8), w(8), xa_n(3, 3), xa_1(3, 3), xb(3, 3), wall
+        logical :: ok, clear
+        integer :: i
+        call contact_points(2, 8, shape, w, ok)
+        wall = 0.2_rk
+        do i = 1, 3
+            xa_n(:, i) = [0.5_rk * real(i - 2, rk), 0.0_rk, 0.5_rk]
+            xb(:, i) = [0.0_rk, 0.5_rk * real(i - 2, rk), 0.0_rk]
+        end do
+        xa_1 = xa_n
+        xa_1(3, :) = -0.5_rk
+        clear = contact_element_swept_clear(shape, xa_n, xa_1, shape, xb, xb, wall)
+        CHECK_TRUE(.not. clear, 'a step through the other centreline is caught')
+        clear = contact_element_swept_clear(shape, xa_1, xa_n, shape, xb, xb, wall)
+        CHECK_TRUE(.not. clear, 'and back')
+        xa_1(3, :) = 0.25_rk
+        clear = contact_element_swept_clear(shape, xa_n, xa_1, shape, xb, xb, wall)
+        CHECK_TRUE(clear, 'a step that stops above the wall is clear')
+        xa_1(3, :) = 0.15_rk
+        clear = contact_element_swept_clear(shape, xa_n, xa_1, shape, xb, xb, wall)
+        CHECK_TRUE(.not. clear, 'a step that ends inside the wall is caught')
+        xa_n(2, :) = 2.0_rk
+        xa_1 = xa_n
+        xa_1(3, :) = -0.5_rk
+        clear = contact_element_swept_clear(shape, xa_n, xa_1, shape, xb, xb, wall)
+        CHECK_TRUE(clear, 'the same step beside the other element is clear')
+        xa_n(2, :) = 20.0_rk
+        xa_1 = xa_n
+        clear = contact_element_swept_clear(shape, xa_n, xa_1, shape, xb, xb, wall)
+        CHECK_TRUE(clear, 'a far pair is clear')
+    end subroutine test_swept_crossing
+
+    ! The swept test against the smallest point distance sampled at 4001 instants of the step,
+    ! on random pairs of a curved quadratic and a linear element and random steps (the exact
+    ! minimum over the step lies within (step / 4000)^2 / 8 of the sampled one times the
+    ! relative speed squared over the distance: cases within 1 % of the wall are not judged).
+    subroutine test_swept_against_sampling()
+        real(rk) :: shape_a(3, 6), shape_b(2, 5), wa(6), wb(5)
+        real(rk) :: xa_n(3, 3), xa_1(3, 3), xb_n(3, 2), xb_1(3, 2), pa(3), pb(3), tau, smallest
+        real(rk) :: wall
+        logical :: ok, clear
+        integer :: trial, k, g, h, judged, caught
+        character(len=120) :: text
+        call contact_points(2, 6, shape_a, wa, ok)
+        CHECK_TRUE(ok, 'quadratic points')
+        call contact_points(1, 5, shape_b, wb, ok)
+        CHECK_TRUE(ok, 'linear points')
+        wall = 0.1_rk
+        judged = 0
+        caught = 0
+        do trial = 1, 400
+            xa_n = reshape(random_vector(9, 1.0_rk), [3, 3])
+            xb_n = reshape(random_vector(6, 1.0_rk), [3, 2])
+            xa_1 = xa_n + reshape(random_vector(9, 0.5_rk), [3, 3])
+            xb_1 = xb_n + reshape(random_vector(6, 0.5_rk), [3, 2])
+            smallest = huge(1.0_rk)
+            do k = 0, 4000
+                tau = real(k, rk) / 4000.0_rk
+                do g = 1, 6
+                    pa = matmul((1.0_rk - tau) * xa_n + tau * xa_1, shape_a(:, g))
+                    do h = 1, 5
+                        pb = matmul((1.0_rk - tau) * xb_n + tau * xb_1, shape_b(:, h))
+                        smallest = min(smallest, norm2(pa - pb))
+                    end do
+                end do
+            end do
+            if (abs(smallest - wall) < 0.01_rk * wall) cycle
+            judged = judged + 1
+            clear = contact_element_swept_clear(shape_a, xa_n, xa_1, shape_b, xb_n, xb_1, wall)
+            CHECK_TRUE(clear .eqv. (smallest > wall), 'swept test = sampled smallest distance')
+            if (.not. clear) caught = caught + 1
+        end do
+        write(text, '(a,i0,a,i0,a)') '    ', judged, ' random steps judged, ', caught, ' caught'
+        write(output_unit, '(a)') trim(text)
+        CHECK_TRUE(caught > 20 .and. judged - caught > 20, 'both verdicts met')
+    end subroutine test_swept_against_sampling
 
     function parameter_set(i) result(params)
         integer, intent(in) :: i

@@ -58,7 +58,184 @@ contains
         call run_test('zero_outside_support', test_zero_outside_support)
         call run_test('point_tangent_fd', test_point_tangent_fd)
         call run_test('pair_tangent_nodal_fd', test_pair_tangent_nodal_fd)
+        call run_test('barrier_discrete_gradient_against_quad', test_barrier_discrete_gradient_against_quad)
+        call run_test('barrier_derivatives_fd', test_barrier_derivatives_fd)
+        call run_test('barrier_absent_above_its_distance', test_barrier_absent_above_its_distance)
+        call run_test('barrier_unbounded_at_wall', test_barrier_unbounded_at_wall)
     end subroutine run_all_tests
+
+    ! The parameter sets with the barrier at the wall 0.3 r_c (below d_b = r_c / 2).
+    function barrier_set(i) result(params)
+        integer, intent(in) :: i
+        type(contact_params_t) :: params
+        type(contact_params_t) :: plain
+        logical :: ok
+        plain = parameter_set(i)
+        if (i == 1) then
+            call contact_params_init(params, 0.5_rk, 0.3_rk, 200.0_rk, ok, &
+                wall=0.3_rk * plain%contact_distance)
+        else
+            call contact_params_init(params, 1.0e-3_rk, 2.5e-3_rk, 3.0e6_rk, ok, margin=1.0e-4_rk, &
+                wall=0.3_rk * plain%contact_distance)
+        end if
+        CHECK_TRUE(ok, 'barrier parameters accepted')
+    end function barrier_set
+
+    ! psi (penalty and barrier) in quadruple precision on a double d2.
+    function psi_quad(d2, params) result(psi)
+        real(rk), intent(in) :: d2
+        type(contact_params_t), intent(in) :: params
+        real(qp) :: psi
+        real(qp) :: s, sb
+        s = real(params%support2, qp) - real(d2, qp)
+        sb = real(params%barrier2, qp) - real(d2, qp)
+        psi = real(params%coefficient, qp) * max(s, 0.0_qp)**3
+        if (sb > 0.0_qp) psi = psi + real(params%barrier_coefficient, qp) * sb**3 / &
+            (real(d2, qp) - real(params%wall2, qp))
+    end function psi_quad
+
+    ! psi_bar with the barrier against [psi(d2_1) - psi(d2_n)] / (d2_1 - d2_n) in quadruple
+    ! precision, for d2 between the wall and beyond r_c and |d2_1 - d2_n| / r_c^2 from 1 down to
+    ! 1e-8 (the quotient of the quadruple psi loses digits below: its psi values carry the
+    ! double inputs exactly, but the difference of two values near the wall grows as 1/u^2);
+    ! psi_bar(d2, d2) = psi'(d2); the barrier's branches (both inside, one inside) all met.
+    subroutine test_barrier_discrete_gradient_against_quad()
+        type(contact_params_t) :: params
+        real(rk) :: rc2, d2_n, d2_1, got, ref, worst, lo, hi
+        integer :: set, i, k, regime
+        character(len=120) :: text
+        worst = 0.0_rk
+        do set = 1, n_sets
+            params = barrier_set(set)
+            rc2 = params%support2
+            lo = params%wall2 * 1.001_rk
+            hi = params%barrier2
+            do regime = 1, 3
+                do k = 0, 8
+                    do i = 1, 30
+                        select case (regime)
+                        case (1)
+                            d2_n = uniform(lo, hi)
+                            d2_1 = d2_n + (hi - lo) * 10.0_rk**(-k) * uniform(-1.0_rk, 1.0_rk)
+                        case (2)
+                            d2_n = uniform(lo, hi)
+                            d2_1 = uniform(hi, 1.1_rk * rc2)
+                        case default
+                            d2_n = uniform(hi, 1.1_rk * rc2)
+                            d2_1 = uniform(lo, hi)
+                        end select
+                        d2_1 = min(max(d2_1, lo), 1.2_rk * rc2)
+                        if (d2_1 == d2_n) cycle
+                        got = contact_discrete_gradient(d2_n, d2_1, params)
+                        ref = real((psi_quad(d2_1, params) - psi_quad(d2_n, params)) / &
+                            (real(d2_1, qp) - real(d2_n, qp)), rk)
+                        CHECK_CLOSE(got, ref, 0.0_rk, 1.0e-14_rk, 'barrier psi_bar = quadruple quotient')
+                        worst = max(worst, abs(got - ref) / abs(ref))
+                        CHECK_TRUE(got < 0.0_rk, 'psi_bar < 0 with the barrier')
+                    end do
+                end do
+            end do
+            do i = 1, 20
+                d2_n = uniform(lo, hi)
+                got = contact_discrete_gradient(d2_n, d2_n, params)
+                CHECK_CLOSE(got, contact_dpsi(d2_n, params), 0.0_rk, 1.0e-14_rk, 'psi_bar(d2, d2) = dpsi(d2) in the barrier')
+            end do
+        end do
+        write(text, '(a,es9.2)') '    max relative error of the barrier''s psi_bar: ', worst
+        write(output_unit, '(a)') trim(text)
+    end subroutine test_barrier_discrete_gradient_against_quad
+
+    ! psi', psi'' and d psi_bar / d d2_1 with the barrier against central differences (steps
+    ! 1e-7 of the barrier's span, on one side of d_b^2).
+    subroutine test_barrier_derivatives_fd()
+        type(contact_params_t) :: params
+        real(rk) :: h, d2, d2_n, lo, hi, fd, exact, worst
+        integer :: set, i, branch
+        character(len=120) :: text
+        worst = 0.0_rk
+        do set = 1, n_sets
+            params = barrier_set(set)
+            lo = params%wall2 + 0.05_rk * params%barrier_span
+            hi = params%barrier2 - 0.01_rk * params%barrier_span
+            h = 1.0e-7_rk * params%barrier_span
+            do i = 1, 100
+                d2 = uniform(lo, hi)
+                fd = (contact_psi(d2 + h, params) - contact_psi(d2 - h, params)) / (2.0_rk * h)
+                exact = contact_dpsi(d2, params)
+                CHECK_CLOSE(fd, exact, 0.0_rk, 1.0e-7_rk, 'barrier dpsi = central difference')
+                worst = max(worst, abs(fd - exact) / abs(exact))
+                fd = (contact_dpsi(d2 + h, params) - contact_dpsi(d2 - h, params)) / (2.0_rk * h)
+                exact = contact_d2psi(d2, params)
+                CHECK_CLOSE(fd, exact, 0.0_rk, 1.0e-7_rk, 'barrier d2psi = central difference')
+                worst = max(worst, abs(fd - exact) / abs(exact))
+                do branch = 1, 3
+                    select case (branch)
+                    case (1)
+                        d2_n = uniform(lo, hi)
+                    case (2)
+                        d2_n = params%barrier2 + uniform(0.01_rk, 1.0_rk) * params%barrier_span
+                    case default
+                        ! Inside at t_n, outside at t_{n+1}: the "leaving" branch.
+                        d2_n = uniform(lo, hi)
+                        d2 = params%barrier2 + uniform(0.01_rk, 0.5_rk) * params%barrier_span
+                    end select
+                    fd = (contact_discrete_gradient(d2_n, d2 + h, params) - &
+                        contact_discrete_gradient(d2_n, d2 - h, params)) / (2.0_rk * h)
+                    exact = contact_discrete_gradient_derivative(d2_n, d2, params)
+                    CHECK_CLOSE(fd, exact, 0.0_rk, 1.0e-7_rk, 'barrier d psi_bar / d d2_1 = central difference')
+                    worst = max(worst, abs(fd - exact) / abs(exact))
+                end do
+            end do
+        end do
+        write(text, '(a,es9.2)') '    max relative FD error of the barrier''s derivatives: ', worst
+        write(output_unit, '(a)') trim(text)
+    end subroutine test_barrier_derivatives_fd
+
+    ! Above the barrier's distance at both times the barrier changes no bit of psi, psi_bar and
+    ! its derivative (scenes that never come that close run bitwise as without it).
+    subroutine test_barrier_absent_above_its_distance()
+        type(contact_params_t) :: plain, params
+        real(rk) :: d2_n, d2_1
+        integer :: set, i
+        logical :: same
+        do set = 1, n_sets
+            plain = parameter_set(set)
+            params = barrier_set(set)
+            do i = 1, 200
+                d2_n = uniform(params%barrier2, 1.2_rk * params%support2)
+                d2_1 = uniform(params%barrier2, 1.2_rk * params%support2)
+                same = contact_psi(d2_n, params) == contact_psi(d2_n, plain)
+                CHECK_TRUE(same, 'psi bitwise')
+                same = contact_discrete_gradient(d2_n, d2_1, params) == &
+                    contact_discrete_gradient(d2_n, d2_1, plain)
+                CHECK_TRUE(same, 'psi_bar bitwise')
+                same = contact_discrete_gradient_derivative(d2_n, d2_1, params) == &
+                    contact_discrete_gradient_derivative(d2_n, d2_1, plain)
+                CHECK_TRUE(same, 'd psi_bar bitwise')
+            end do
+        end do
+    end subroutine test_barrier_absent_above_its_distance
+
+    ! The barrier is infinite at the wall: at d = d_w (1 + 1e-6) a point pair holds more than
+    ! 1e4 times the penalty's whole energy psi(0) = c r_c^6 (its closed form, about 2.3e4 for
+    ! d_w = 0.3 r_c: kappa U^3 / (2 d_w^2 1e-6) / (c r_c^6)), and psi grows without bound.
+    subroutine test_barrier_unbounded_at_wall()
+        type(contact_params_t) :: params, plain
+        real(rk) :: near, nearer, ratio
+        integer :: set
+        character(len=120) :: text
+        do set = 1, n_sets
+            params = barrier_set(set)
+            plain = parameter_set(set)
+            near = contact_psi((params%wall * (1.0_rk + 1.0e-6_rk))**2, params)
+            nearer = contact_psi((params%wall * (1.0_rk + 1.0e-9_rk))**2, params)
+            ratio = near / contact_psi(0.0_rk, plain)
+            CHECK_TRUE(ratio > 1.0e4_rk, 'the barrier holds more than the penalty''s whole energy')
+            CHECK_CLOSE(nearer / near, 1.0e3_rk, 0.0_rk, 1.0e-3_rk, 'psi ~ 1 / (d - d_w) at the wall')
+        end do
+        write(text, '(a,es9.2)') '    psi at 1e-6 from the wall / psi_penalty(0): ', ratio
+        write(output_unit, '(a)') trim(text)
+    end subroutine test_barrier_unbounded_at_wall
 
     function parameter_set(i) result(params)
         integer, intent(in) :: i
