@@ -12,7 +12,7 @@ module rs_io_input_cross_check
     use rs_core_error, only: error_list_t, error_t
     use rs_core_strings, only: str, vector_text, did_you_mean
     use rs_model_scene, only: scene_t, rod_input_t, actuator_input_t, bc_input_t, unset_real, &
-        unset_int, name_len, body_inertia_tensor
+        unset_int, name_len, body_inertia_tensor, inertia_tensor, plate_input_t
     use rs_model_time_function, only: time_function_t, time_function_from_bc, &
         time_function_from_plate, time_function_from_obstacle
     use rs_model_rod_geometry, only: rod_geometry_t, rod_geometry_of, centreline_point
@@ -96,7 +96,8 @@ contains
                     if (geometry_ok(r)) call check_pinned_at_rest(scene, r, bc%end, bc%input_line, errors)
                 end if
                 call check_driven(scene, bc, errors)
-                if (trim(bc%kind) == 'body') call check_body_inertia(scene, bc, errors)
+                if (trim(bc%kind) == 'body') call check_body_inertia(body_inertia_tensor(bc), &
+                    at(scene, bc%input_line) // '&bc inertia, inertia_products', errors)
                 do j = 1, i - 1
                     if (scene%bcs(j)%rod /= bc%rod .or. scene%bcs(j)%end /= bc%end .or. &
                             len_trim(bc%end) == 0) cycle
@@ -134,14 +135,14 @@ contains
     !> semidefinite, each principal moment at most the sum of the other two (the triangle
     !> inequalities, which also make the Euler tensor E = tr(J)/2 I - J of the director form
     !> positive semidefinite: its kinetic energy is never negative).
-    subroutine check_body_inertia(scene, bc, errors)
-        type(scene_t), intent(in) :: scene
-        type(bc_input_t), intent(in) :: bc
+    !> `tensor` of a body on an end or of a floating plate; `here` leads the message.
+    subroutine check_body_inertia(tensor, here, errors)
+        real(rk), intent(in) :: tensor(3, 3)
+        character(len=*), intent(in) :: here
         type(error_list_t), intent(inout) :: errors
-        real(rk) :: tensor(3, 3), euler(3, 3), scale
+        real(rk) :: euler(3, 3), scale
         integer :: i, j
         logical :: semidefinite
-        tensor = body_inertia_tensor(bc)
         euler = -tensor
         do i = 1, 3
             euler(i, i) = euler(i, i) + 0.5_rk * (tensor(1, 1) + tensor(2, 2) + tensor(3, 3))
@@ -156,8 +157,8 @@ contains
             end do
         end do
         semidefinite = semidefinite .and. determinant3(euler) >= -1.0e-12_rk * scale**3
-        if (.not. semidefinite) call errors%add(at(scene, bc%input_line) // &
-            '&bc inertia, inertia_products: not the inertia tensor of a body (a principal ' // &
+        if (.not. semidefinite) call errors%add(here // &
+            ': not the inertia tensor of a body (a principal ' // &
             'moment exceeds the sum of the other two, or the tensor is not positive ' // &
             'semidefinite; the second moments of its mass would be negative)')
     end subroutine check_body_inertia
@@ -606,6 +607,7 @@ contains
                 end if
                 call check_time_function(here, plate%time_function, plate%t_on, plate%t_off, &
                     plate%table_times, plate%table_values, errors)
+                if (plate%mass > 0.0_rk) call check_floating_plate(scene, plate, here, errors)
                 if (all(plate%displacement == 0.0_rk) .and. all(plate%rotation == 0.0_rk)) cycle
                 call time_function_from_plate(plate, f, err)
                 if (allocated(err)) then
@@ -620,6 +622,29 @@ contains
         end do
     end subroutine resolve_plates
 
+
+    !> A floating plate (mass > 0, issue 24 item 4; message prefix `here`): not driven, its
+    !> rods on ph_director (the body lives on its first rod's end), its inertia one of a body.
+    subroutine check_floating_plate(scene, plate, here, errors)
+        type(scene_t), intent(in) :: scene
+        type(plate_input_t), intent(in) :: plate
+        character(len=*), intent(in) :: here
+        type(error_list_t), intent(inout) :: errors
+        integer :: r
+        type(capability_t) :: row
+        if (any(plate%displacement /= 0.0_rk) .or. any(plate%rotation /= 0.0_rk)) &
+            call errors%add(here // 'mass: a plate with a mass floats, moved by its rods, so it ' // &
+            'is not driven: remove displacement and rotation (or the mass, for a driven plate)')
+        r = rod_index(scene, plate%rods(1))
+        if (r > 0) then
+            row = capability_of(trim(scene%rods(r)%formulation))
+            if (.not. row%floating_plates) call errors%add(here // 'mass: floating plates ' // &
+                'are not available for formulation ''' // trim(scene%rods(r)%formulation) // &
+                '''; available for: ph_director (docs/user/capabilities.md)')
+        end if
+        call check_body_inertia(inertia_tensor(plate%inertia, plate%inertia_products), &
+            here // 'inertia, inertia_products', errors)
+    end subroutine check_floating_plate
 
     !> The end of rod `r` tied to plate `p` (message prefix `here`): no &bc but 'free', no
     !> joint, on no earlier plate, and the rod starts at rest.

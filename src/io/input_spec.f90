@@ -656,7 +656,8 @@ contains
         g%description = 'A rigid end plate to which rod ends are tied (ph_director, se3_pg): each ' // &
             'listed end keeps its reference position and orientation relative to the plate. ' // &
             'The plate is fixed, or driven: moved by f(t) displacement and turned by the ' // &
-            'rotation vector f(t) rotation about centre (f the time function). The rods of a ' // &
+            'rotation vector f(t) rotation about centre (f the time function); or, with a mass, ' // &
+            'it floats: a rigid body moved by the rods tied to it (ph_director). The rods of a ' // &
             'plate form one system. A tied end carries no &bc and is in no &joint and on no ' // &
             'other &plate.'
         g%variables = [ &
@@ -671,8 +672,21 @@ contains
                 'tied to the plate (the same for all).', allowed='start|end', required=.true., &
                 example="'end'"), &
             spec_v('centre', 'real', 'm', 'mean of the tied ends', 'Centre of the plate''s ' // &
-                'rotation (inertial components); default: the mean reference position of its ' // &
-                'tied ends.', count=3, example='0, 0, 1'), &
+                'rotation (inertial components), and a floating plate''s centre of mass; ' // &
+                'default: the mean reference position of its tied ends.', count=3, &
+                example='0, 0, 1'), &
+            spec_v('mass', 'real', 'kg', '0', 'Mass of a floating plate: with a mass the plate ' // &
+                'is a rigid body moved by the rods tied to it (its kinetic energy, momenta and ' // &
+                'weight in the books of its first rod; ph_director; docs/theory/ph_director.md, ' // &
+                '"Rigid bodies on ends"), not fixed or driven (no displacement, no rotation). ' // &
+                '0: a fixed or driven plate.', lower=0.0_rk, example='0.2'), &
+            spec_v('inertia', 'real', 'kg m^2', '0, 0, 0', 'A floating plate''s moments of ' // &
+                'inertia about its centre of mass, (I_xx, I_yy, I_zz) in inertial components in ' // &
+                'the reference configuration.', count=3, lower=0.0_rk, example='1e-4, 1e-4, 2e-4'), &
+            spec_v('inertia_products', 'real', 'kg m^2', '0, 0, 0', 'A floating plate''s ' // &
+                'products of inertia (I_yz, I_xz, I_xy) of the same tensor (entries of the ' // &
+                'tensor, not their negatives); the tensor must be one of a body, as for &bc ' // &
+                'kind = ''body''.', count=3, example='0, 0, 0'), &
             spec_v('displacement', 'real', 'm', '0, 0, 0', 'Displacement of the plate at ' // &
                 'f(t) = 1 (inertial components): the plate''s reference pose moved by f(t) ' // &
                 'displacement; a pull is a displacement along the bundle.', count=3, &

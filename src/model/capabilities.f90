@@ -38,6 +38,8 @@ module rs_model_capabilities
         character(len=64) :: joints = ''
         !> Rod ends tied to rigid end plates, fixed or driven (&plate).
         logical :: end_plates = .false.
+        !> A plate with a mass floats: a rigid body moved by its rods (&plate mass; issue 24).
+        logical :: floating_plates = .false.
         !> Rod-rod and self contact (&contact).
         logical :: contact = .false.
         !> A planar formulation: its rods and everything acting on them must lie in one plane

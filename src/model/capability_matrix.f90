@@ -46,7 +46,7 @@ contains
             ' | ' // yes_no(row%viscoelastic, 'generalized Maxwell (`maxwell_*`)') // &
             ' | ' // yes_no(row%actuation, 'pneumatic chambers, tendons (`&actuator`)') // &
             ' | ' // listed(row%joints) // &
-            ' | ' // yes_no(row%end_plates, 'yes: fixed or driven (`&plate`)') // &
+            ' | ' // yes_no(row%end_plates, plates_text(row%floating_plates)) // &
             ' | ' // yes_no(row%contact, 'yes: rod-rod and self (`&contact`), rigid ' // &
             'obstacles (`&obstacle`), with friction') // &
             ' | ' // yes_no(row%quasistatic, 'yes (`&time quasistatic`)') // &
@@ -70,6 +70,14 @@ contains
             text = text // ', ' // trim(names(i))
         end do
     end function listed
+
+    !> The end plates a formulation has (fixed or driven; floating with a mass).
+    function plates_text(floating) result(text)
+        logical, intent(in) :: floating
+        character(len=:), allocatable :: text
+        text = 'yes: fixed or driven (`&plate`)'
+        if (floating) text = 'yes: fixed, driven or floating (`&plate`, `mass`)'
+    end function plates_text
 
     function yes_no(flag, what) result(text)
         logical, intent(in) :: flag

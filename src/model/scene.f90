@@ -12,7 +12,7 @@ module rs_model_scene
     private
 
     public :: load_applies_to, sweep_value_count, sweep_values, sweep_member_count, &
-        sweep_member_indices, step_count, body_inertia_tensor
+        sweep_member_indices, step_count, body_inertia_tensor, inertia_tensor
 
     !> Marks a real variable that was not given and has no default.
     real(rk), parameter, public :: unset_real = huge(1.0_rk)
@@ -275,6 +275,7 @@ module rs_model_scene
     !> relative to the plate; the plate is fixed, or driven: moved by f(t) displacement and
     !> turned by the rotation vector f(t) rotation about `centre` (inertial components; f the
     !> time function). A pull is a displacement along the bundle, a twist a rotation about it.
+    !> A plate with a mass floats (issue 24 item 4): a rigid body moved by the rods tied to it.
     type, public :: plate_input_t
         !> Line of the group in the input file (set by the reader; not an input variable).
         integer :: input_line = 0
@@ -292,6 +293,12 @@ module rs_model_scene
         real(rk) :: t_off = unset_real
         real(rk) :: table_times(max_table) = unset_real
         real(rk) :: table_values(max_table) = unset_real
+        !> A floating plate: its mass (0: fixed or driven), its centre of mass `centre` and its
+        !> inertia tensor about it (diagonal and products, inertial components in the
+        !> reference configuration), as a body on an end (bc_input_t).
+        real(rk) :: mass = 0.0_rk
+        real(rk) :: inertia(3) = 0.0_rk
+        real(rk) :: inertia_products(3) = 0.0_rk
     end type plate_input_t
 
     !> &contact: rod-rod and self contact between all rods of the scene (issue 10, DESIGN.md
@@ -399,17 +406,25 @@ contains
     pure function body_inertia_tensor(bc) result(tensor)
         type(bc_input_t), intent(in) :: bc
         real(rk) :: tensor(3, 3)
-        tensor = 0.0_rk
-        tensor(1, 1) = bc%inertia(1)
-        tensor(2, 2) = bc%inertia(2)
-        tensor(3, 3) = bc%inertia(3)
-        tensor(2, 3) = bc%inertia_products(1)
-        tensor(3, 2) = bc%inertia_products(1)
-        tensor(1, 3) = bc%inertia_products(2)
-        tensor(3, 1) = bc%inertia_products(2)
-        tensor(1, 2) = bc%inertia_products(3)
-        tensor(2, 1) = bc%inertia_products(3)
+        tensor = inertia_tensor(bc%inertia, bc%inertia_products)
     end function body_inertia_tensor
+
+    !> The inertia tensor from its diagonal `inertia` (I_xx, I_yy, I_zz) and its off-diagonal
+    !> `products` (I_yz, I_xz, I_xy): a body on an end, a floating plate.
+    pure function inertia_tensor(inertia, products) result(tensor)
+        real(rk), intent(in) :: inertia(3), products(3)
+        real(rk) :: tensor(3, 3)
+        tensor = 0.0_rk
+        tensor(1, 1) = inertia(1)
+        tensor(2, 2) = inertia(2)
+        tensor(3, 3) = inertia(3)
+        tensor(2, 3) = products(1)
+        tensor(3, 2) = products(1)
+        tensor(1, 3) = products(2)
+        tensor(3, 1) = products(2)
+        tensor(1, 2) = products(3)
+        tensor(2, 1) = products(3)
+    end function inertia_tensor
 
 
     !> Number of steps of the scene's time grid, max(1, ceiling(t_end / dt)) as the run takes

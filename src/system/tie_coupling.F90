@@ -17,7 +17,7 @@ module rs_system_tie_coupling
     use rs_core_kinds, only: rk
     use rs_core_error, only: error_t, set_error
     use rs_core_strings, only: str
-    use rs_model_scene, only: scene_t, unset_real
+    use rs_model_scene, only: scene_t, unset_real, plate_input_t
     use rs_model_time_function, only: time_function_t, time_function_from_plate
     use rs_assembly_csr_pattern, only: csr_builder_t, csr_pattern_t
     use rs_formulations_formulation, only: rod_formulation_t, node_tie_t, max_node_coordinates, &
@@ -37,8 +37,9 @@ module rs_system_tie_coupling
         !> The rows with the pose of the step's load time and of its end (the same for a joint).
         class(node_tie_t), allocatable :: at_force, at_end
         integer :: member_a = 0, node_a = 0, member_b = 0, node_b = 0
-        !> The plate (0 for a joint).
+        !> The plate (0 for a joint); a rigid tie to a floating plate's carrier end (float_plate).
         integer :: plate = 0
+        logical :: floating = .false.
     end type tie_entry_t
 
     type :: plate_t
@@ -124,6 +125,10 @@ contains
         end if
         if (allocated(scene%plates)) then
             do p = 1, size(scene%plates)
+                if (scene%plates(p)%mass > 0.0_rk) then
+                    call float_plate(scene%plates(p), names, layout, makers, ties, n)
+                    cycle
+                end if
                 do i = 1, size(scene%plates(p)%rods)
                     if (len_trim(scene%plates(p)%rods(i)) == 0) cycle
                     m = member_named(names, scene%plates(p)%rods(i))
@@ -160,6 +165,43 @@ contains
             call place(this%plates(this%ties(i)%plate), 0.0_rk, this%ties(i)%at_end)
         end do
     end subroutine tie_coupling_init
+
+    !> A floating plate (&plate mass > 0; issue 24 item 4): its body is on the tied end of its
+    !> first rod (rs_ph_director_body, read with that rod's supports), and every other tied end
+    !> is tied to that end rigidly, keeping its reference offset and relative orientation (the
+    !> rigid joint's rows, whose pivot offset is carried in the section of the other end:
+    !> rs_ph_director_tie). The ties are then joints: no work, and linear and angular momentum
+    !> kept, so the plate and its rods keep energy and momenta in free flight. Ties appended
+    !> to `ties` from entry n + 1; n is updated.
+    subroutine float_plate(plate, names, layout, makers, ties, n)
+        type(plate_input_t), intent(in) :: plate
+        character(len=*), intent(in) :: names(:)
+        type(system_layout_t), intent(in) :: layout
+        type(tie_maker_t), intent(in) :: makers(:)
+        type(tie_entry_t), intent(inout) :: ties(:)
+        integer, intent(inout) :: n
+        integer :: i, carrier, m
+        carrier = member_named(names, plate%rods(1))
+        if (carrier == 0) return
+        do i = 2, size(plate%rods)
+            if (len_trim(plate%rods(i)) == 0) cycle
+            m = member_named(names, plate%rods(i))
+            if (m == 0) cycle
+            n = n + 1
+            associate (tie => ties(n))
+                tie%kind = 'rigid'
+                tie%floating = .true.
+                tie%member_a = carrier
+                tie%member_b = m
+                tie%node_a = end_node(layout, carrier, plate%end)
+                tie%node_b = end_node(layout, m, plate%end)
+                call makers(carrier)%rod%new_tie('rigid', &
+                    layout%members(carrier)%nodes%held(:, tie%node_a), &
+                    layout%members(m)%nodes%held(:, tie%node_b), [0.0_rk, 0.0_rk, 1.0_rk], &
+                    tie%at_force)
+            end associate
+        end do
+    end subroutine float_plate
 
     !> Member index of the rod named `name` (0 if not in the system).
     pure integer function member_named(names, name) result(found)
@@ -534,9 +576,13 @@ contains
     function ties_describe(this) result(text)
         class(tie_coupling_t), intent(in) :: this
         character(len=:), allocatable :: text
-        integer :: n_plate
+        integer :: n_plate, n_floating
         n_plate = count(this%ties%plate > 0)
-        text = str(size(this%ties) - n_plate) // ' joints, ' // str(n_plate) // ' plate ties'
+        n_floating = count(this%ties%floating)
+        text = str(size(this%ties) - n_plate - n_floating) // ' joints, ' // str(n_plate) // &
+            ' plate ties'
+        if (n_floating > 0) text = text // ', ' // str(n_floating) // ' rigid ties to floating ' // &
+            'plates (their bodies on the first rods'' ends)'
     end function ties_describe
 
     pure function joint_ends(this) result(ends)

@@ -23,7 +23,7 @@ module rs_ph_director
     use rs_core_error, only: error_t, set_error
     use rs_core_strings, only: str
     use rs_model_scene, only: scene_t, rod_input_t, unset_real, load_applies_to, &
-        body_inertia_tensor
+        body_inertia_tensor, inertia_tensor
     use rs_model_rod_geometry, only: rod_geometry_t, rod_geometry_of, centreline_point, &
         centreline_frame
     use rs_core_logger, only: log_info, log_warning
@@ -440,6 +440,19 @@ contains
                     RS_SET_ERROR(err, 'read_supports', message)
                     return
                 end select
+            end associate
+        end do
+        ! A floating plate (&plate mass > 0; issue 24 item 4) is a body on the tied end of its
+        ! first rod; the other rods' ends are tied to that end rigidly (rs_system_tie_coupling).
+        if (.not. allocated(scene%plates)) return
+        do i = 1, size(scene%plates)
+            associate (plate => scene%plates(i))
+                if (plate%mass <= 0.0_rk .or. trim(plate%rods(1)) /= this%name) cycle
+                node = merge(1, this%n_nodes, trim(plate%end) == 'start')
+                this%bodies = [this%bodies, ph_director_body_init(node, plate%mass, &
+                    plate%centre - this%fixed_q(1:3, node), &
+                    inertia_tensor(plate%inertia, plate%inertia_products), &
+                    reshape(this%fixed_q(4:12, node), [3, 3]))]
             end associate
         end do
     end subroutine read_supports

@@ -29,7 +29,8 @@ contains
             end_kinds='clamped|free|body', load_places='start|end|distributed|gravity', &
             load_frames='spatial', constraints='none|kirchhoff|inextensible', quasistatic=.true., &
             viscoelastic=.true., actuation=.true., curved_reference=.true., prestressed=.true., &
-            joints='rigid|spherical|revolute', end_plates=.true., contact=.true.)
+            joints='rigid|spherical|revolute', end_plates=.true., floating_plates=.true., &
+            contact=.true.)
         d%default_choice = .true.
         d%system_couplings = .true.
         d%create => create
