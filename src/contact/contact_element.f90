@@ -261,7 +261,10 @@ contains
     !> A step that crosses two centrelines takes some point pair within the points' spacing,
     !> below the wall, so it fails this test, whatever its size. Pairs of elements whose bounding
     !> spheres at t_n stay further apart than the wall after both elements' largest point motion
-    !> are clear without the point loop.
+    !> are clear without the point loop; so are pairs of linear or quadratic elements whose
+    !> chords stay further apart than the wall after the elements' bulges off their chords and
+    !> their largest point motion (the test that clears pairs in line contact, whose bounding
+    !> spheres overlap).
     pure logical function contact_element_swept_clear(shape_a, xa_n, xa_1, shape_b, xb_n, &
             xb_1, wall) result(clear)
         real(rk), intent(in) :: shape_a(:, :), shape_b(:, :)
@@ -287,6 +290,10 @@ contains
         wall_safe = wall * (1.0_rk + skip_safety)
         if (sphere_gap(xa_n, lambda_a, xb_n, lambda_b, origin) - lambda_a * motion_a - &
             lambda_b * motion_b > wall_safe) return
+        if (size(xa_n, 2) <= 3 .and. size(xb_n, 2) <= 3) then
+            if (chord_gap(xa_n, xb_n, origin) - lambda_a * motion_a - lambda_b * motion_b > &
+                wall_safe) return
+        end if
         do h = 1, size(shape_b, 2)
             points_b_n(:, h) = point(xb_n, shape_b(:, h), origin)
             points_b_1(:, h) = point(xb_1, shape_b(:, h), origin)
@@ -457,6 +464,65 @@ contains
             x = x + shape(i) * (nodes(:, i) - origin)
         end do
     end function point
+
+    ! A lower bound of the distance between any point of a linear or quadratic element a and
+    ! any point of element b: the distance of their chords (first to last node) less their
+    ! bulges. A quadratic element is x(xi) = chord(xi) + N_2(xi) b with b = X_2 - (X_1 + X_3)/2
+    ! (N_1 + N_2/2 = (1 - xi)/2), and 0 <= N_2 <= 1, so it lies within |b| of its chord; a
+    ! linear one is its chord. Reduced by the round-off margin of sphere_gap.
+    pure real(rk) function chord_gap(xa, xb, origin) result(gap)
+        real(rk), intent(in) :: xa(:, :), xb(:, :), origin(3)
+        real(rk) :: bulge_a, bulge_b, scale
+        bulge_a = 0.0_rk
+        bulge_b = 0.0_rk
+        if (size(xa, 2) == 3) bulge_a = norm2(xa(:, 2) - 0.5_rk * (xa(:, 1) + xa(:, 3)))
+        if (size(xb, 2) == 3) bulge_b = norm2(xb(:, 2) - 0.5_rk * (xb(:, 1) + xb(:, 3)))
+        scale = max(maxval(abs(xa - spread(origin, 2, size(xa, 2)))), &
+            maxval(abs(xb - spread(origin, 2, size(xb, 2)))))
+        gap = segment_distance(xa(:, 1) - origin, xa(:, size(xa, 2)) - origin, &
+            xb(:, 1) - origin, xb(:, size(xb, 2)) - origin) - bulge_a - bulge_b - &
+            skip_safety * (scale + bulge_a + bulge_b)
+    end function chord_gap
+
+    ! The distance between the segments [p0, p1] and [q0, q1]: the closest points on the two
+    ! lines, clamped to the segments, the clamp of one then redone on the other (the standard
+    ! construction; degenerate segments are points).
+    pure real(rk) function segment_distance(p0, p1, q0, q1) result(distance)
+        real(rk), intent(in) :: p0(3), p1(3), q0(3), q1(3)
+        real(rk) :: u(3), v(3), w(3), a, b, c, d, e, denominator, s, t
+        u = p1 - p0
+        v = q1 - q0
+        w = p0 - q0
+        a = dot_product(u, u)
+        b = dot_product(u, v)
+        c = dot_product(v, v)
+        d = dot_product(u, w)
+        e = dot_product(v, w)
+        if (a <= tiny(1.0_rk) .and. c <= tiny(1.0_rk)) then
+            distance = norm2(w)
+            return
+        end if
+        if (a <= tiny(1.0_rk)) then
+            s = 0.0_rk
+            t = min(1.0_rk, max(0.0_rk, e / c))
+        else if (c <= tiny(1.0_rk)) then
+            t = 0.0_rk
+            s = min(1.0_rk, max(0.0_rk, -d / a))
+        else
+            denominator = a * c - b * b
+            s = 0.0_rk
+            if (denominator > 0.0_rk) s = min(1.0_rk, max(0.0_rk, (b * e - c * d) / denominator))
+            t = (b * s + e) / c
+            if (t < 0.0_rk) then
+                t = 0.0_rk
+                s = min(1.0_rk, max(0.0_rk, -d / a))
+            else if (t > 1.0_rk) then
+                t = 1.0_rk
+                s = min(1.0_rk, max(0.0_rk, (b - d) / a))
+            end if
+        end if
+        distance = norm2(w + s * u - t * v)
+    end function segment_distance
 
     ! Lambda = max_g sum_i |N_i(g)|: |x(g) - c| <= Lambda max_i |X_i - c| for any c, because
     ! sum_i N_i(g) = 1.

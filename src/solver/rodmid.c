@@ -27,6 +27,7 @@ typedef struct {
     /* The feasible-step filter (TSRodmidSetAdmissible) and the Newton steps it shortened. */
     RsStepAdmissible admissible;
     PetscInt         shortened;
+    PetscInt         shortened_in_solve; /* Newton steps shortened in the current solve */
     /* Jacobian reuse (-ts_rodmid_reuse_jacobian): 0 is Newton's method, a new Jacobian at
        every iteration; a ratio in (0, 1) keeps the factored Jacobian across iterations and
        steps for as long as its full step cuts the residual norm at least by that ratio. */
@@ -129,8 +130,15 @@ static PetscErrorCode LineSearchPreCheck_RodmidReuse(SNESLineSearch linesearch, 
 /* The feasible-step filter (TSRodmidSetAdmissible): the Newton step Y (the iterate becomes
    X - lambda Y) is halved until X - Y is admissible, so the line search only sees admissible
    trial points of the full step. At most this many halvings (2^-30: a step far below any
-   resolution); beyond, the line search meets the invalid state and the time step is cut. */
+   resolution); beyond, the line search meets the invalid state and the time step is cut.
+   At most RODMID_MAX_SHORTENED Newton steps of one solve are shortened: an admissible set that
+   holds Newton back step after step has the solution outside it (a load step that moves the
+   rods further than contact's motion limit allows, the seven-wire strand stretched in two
+   steps), and a smaller time step reaches it, where ever shorter Newton steps stalled until
+   the iteration limit (measured: the strand's quasistatic stretch failed after 6 cut-backs of
+   50 shortened iterations each; the thrown and dropped scenes shorten at most 5 per solve). */
 #define RODMID_MAX_SHORTENINGS 30
+#define RODMID_MAX_SHORTENED 8
 
 /* The pre-check of the line search: the reuse rule (when on), then the filter (when set). */
 static PetscErrorCode LineSearchPreCheck_Rodmid(SNESLineSearch linesearch, Vec X, Vec Y,
@@ -144,7 +152,7 @@ static PetscErrorCode LineSearchPreCheck_Rodmid(SNESLineSearch linesearch, Vec X
     PetscFunctionBegin;
     *changed = PETSC_FALSE;
     if (rm->reuse_ratio > 0.0) PetscCall(LineSearchPreCheck_RodmidReuse(linesearch, X, Y, changed, ctx));
-    if (!rm->admissible) PetscFunctionReturn(0);
+    if (!rm->admissible || rm->shortened_in_solve >= RODMID_MAX_SHORTENED) PetscFunctionReturn(0);
     PetscCall(SNESLineSearchGetVecs(linesearch, NULL, NULL, NULL, &W, NULL));
     for (halvings = 0;; ++halvings) {
         PetscCall(VecWAXPY(W, -1.0, Y, X));
@@ -155,6 +163,7 @@ static PetscErrorCode LineSearchPreCheck_Rodmid(SNESLineSearch linesearch, Vec X
     if (halvings > 0) {
         *changed = PETSC_TRUE;
         ++rm->shortened;
+        ++rm->shortened_in_solve;
         PetscCall(PetscInfo(linesearch, "Newton step shortened by 2^-%" PetscInt_FMT " to stay admissible\n",
                             halvings));
     }
@@ -276,6 +285,7 @@ static PetscErrorCode TSStep_Rodmid(TS ts)
     for (cut = 0;; ++cut) {
         rm->t_n = ts->ptime;
         rm->h   = ts->time_step;
+        rm->shortened_in_solve = 0;
         if (rm->predictor) {
             PetscCall(rm->predictor(rm->t_n, rm->h, rm->X0, rm->Y, rm->ctx));
             if (rm->admissible) PetscCall(AdmissiblePrediction(ts));

@@ -66,6 +66,8 @@ module rs_system_rod_system
         !> solver, solver_blocks).
         logical :: quasistatic = .false.
         logical :: joined = .false.
+        !> The system has ties (joints or plates: tie_coupling).
+        logical :: tied = .false.
         integer :: n_rods = 0
         character(len=:), allocatable :: formulation
         !> The energy terms of the last accepted step summed over the rods (the sentinel's).
@@ -218,6 +220,7 @@ contains
             call tie_coupling_init(ties, scene, names, this%layout, makers, err)
             RS_RETURN_IF_ERROR(err)
             if (ties%count_ties() > 0) then
+                this%tied = .true.
                 joint_ends = ties%joint_ends()
                 this%joined = size(joint_ends, 2) > 0
                 n = n + 1
@@ -1038,20 +1041,21 @@ contains
     !>   where the full step converges quadratically (measured on the strand scenes,
     !>   docs/theory/bundles.md); a failed step is still halved by the stepper;
     !> - quasistatic runs end with the endpoint equilibrium, one Newton solve (no continuation);
-    !> - except in quasistatic runs with contact: there the feasible-step filter shortens
-    !>   Newton steps (the contact barrier's swept test), and a shortened step taken whole,
-    !>   without the backtracking's decrease test, raised the residual from 3e-4 to 2.4 at the
-    !>   first touch of the crossing ropes and Newton stalled (docs/theory/bundles.md, "No
-    !>   tunnelling"); with backtracking they converge. Dynamic steps have the mass terms and
-    !>   converge with full steps.
+    !> - except in quasistatic runs with contact and without ties: there the feasible-step
+    !>   filter shortens Newton steps (the contact barrier's swept test), and a shortened step
+    !>   taken whole, without the backtracking's decrease test, raised the residual from 3e-4 to
+    !>   2.4 at the first touch of the crossing ropes and Newton stalled (docs/theory/
+    !>   bundles.md, "No tunnelling"); with backtracking they converge. With ties the scaling
+    !>   above rules (the seven-wire strand's quasistatic stretch needs full steps); dynamic
+    !>   steps have the mass terms and converge with full steps.
     function system_traits(this) result(traits)
         class(rod_system_t), intent(in) :: this
         type(formulation_traits_t) :: traits
         traits = this%members(1)%rod%traits()
         if (this%direct) return
         traits = formulation_traits_t(full_newton=.not. (traits%wants_endpoint_solve .and. &
-            this%refuses_iterates()), wants_endpoint_solve=traits%wants_endpoint_solve, &
-            energy_scheme=traits%energy_scheme)
+            this%refuses_iterates() .and. .not. this%tied), &
+            wants_endpoint_solve=traits%wants_endpoint_solve, energy_scheme=traits%energy_scheme)
     end function system_traits
 
     subroutine system_set_step_problem(this, endpoint, t_load, continue_from)
