@@ -61,7 +61,10 @@ PETSC_EXTERN PetscErrorCode TSRodmidSetStepProblem(TS ts, Vec Y_template, Mat J,
 /* A feasible-step filter (as in Incremental Potential Contact, Li et al. 2020): before each
    line search the Newton step is halved (at most 30 times) until its full step is admissible,
    so an iterate that overshoots into an invalid state shortens the Newton step instead of
-   cutting the time step. NULL: none (the default). May be set after TSSetUp. */
+   cutting the time step; at most 8 Newton steps of one solve are shortened (beyond, the time
+   step is cut: the solution lies outside the admissible set). A prediction it refuses is
+   pulled back towards the prediction of a zero step. NULL: none (the default). May be set
+   after TSSetUp. */
 PETSC_EXTERN PetscErrorCode TSRodmidSetAdmissible(TS ts, RsStepAdmissible admissible);
 /* Maximum number of halvings of one step before the TS reports TS_DIVERGED_NONLINEAR_SOLVE. */
 PETSC_EXTERN PetscErrorCode TSRodmidSetMaxCutbacks(TS ts, PetscInt n);
@@ -78,7 +81,8 @@ PETSC_EXTERN PetscErrorCode TSRodmidGetStepStats(TS ts, PetscInt *newton_its, Pe
    iterations and steps while its full step cuts the residual norm at least by the ratio
    (0, the default: a new Jacobian at every iteration). */
 PETSC_EXTERN PetscErrorCode TSRodmidGetRunStats(TS ts, PetscInt *jacobians, PetscInt *floor_steps);
-/* Over the run: Newton steps the feasible-step filter shortened (TSRodmidSetAdmissible). */
+/* Over the run: Newton steps and predictions the feasible-step filter shortened
+   (TSRodmidSetAdmissible). */
 PETSC_EXTERN PetscErrorCode TSRodmidGetShortenedSteps(TS ts, PetscInt *shortened);
 
 #endif

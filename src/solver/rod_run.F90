@@ -329,6 +329,7 @@ contains
             RS_RETURN_IF_ERROR(err)
             call this%system%needed_entries(state_entries, unknown_entries)
             call this%stepper%set_needed(state_entries, unknown_entries, err)
+            RS_RETURN_IF_ERROR(err)
         else
             call this%stepper%create(this%context%n_state, this%context%n_unknown, row_ptr, cols, &
                 c_funloc(residual_callback), c_funloc(jacobian_callback), &
@@ -582,7 +583,8 @@ contains
             ' steps ended above newton_atol at the rounding floor (Newton run to stagnation: ' // &
             'the residual rounding the unknowns makes; far from the origin, docs/stability.md)')
         if (shortened > 0) call log_info('  ' // this%name() // ': ' // str(shortened) // &
-            ' Newton steps shortened to stay admissible (the contact barrier''s swept test, ' // &
+            ' Newton steps or predictions shortened to stay admissible (contact''s swept test ' // &
+            'and motion limit, ' // &
             'docs/theory/bundles.md)')
         if (this%bundle) call log_info('  ' // this%name() // ': of that, assembly ' // &
             str_significant(assembly, 4) // ' s, contact search ' // &

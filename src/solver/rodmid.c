@@ -185,15 +185,27 @@ static PetscErrorCode AdmissiblePrediction(TS ts)
     if (ok) PetscFunctionReturn(0);
     PetscCall(VecCopy(rm->Y, Yh));
     PetscCall(rm->predictor(rm->t_n, 0.0, rm->X0, Y0, rm->ctx));
+    {
+        /* A prediction that does not depend on h (statics, the condensed step) has nothing to
+           pull back: the solve meets the invalid state and the step is cut. */
+        PetscBool same;
+        PetscCall(VecEqual(Y0, Yh, &same));
+        if (same) PetscFunctionReturn(0);
+    }
     for (halvings = 1; halvings <= RODMID_MAX_SHORTENINGS; ++halvings) {
         PetscCall(VecWAXPY(rm->Y, PetscPowReal(0.5, (PetscReal)halvings), Yh, Y0));
         PetscCall(VecAXPY(rm->Y, -PetscPowReal(0.5, (PetscReal)halvings), Y0));
         PetscCall(rm->admissible(rm->t_n, rm->h, rm->X0, rm->Y, &ok, rm->ctx));
         if (ok) break;
     }
-    if (!ok) PetscCall(VecCopy(Y0, rm->Y));
+    if (!ok) {
+        PetscCall(VecCopy(Y0, rm->Y));
+        PetscCall(PetscInfo(ts, "prediction pulled back to X_n: none between was admissible\n"));
+    } else {
+        PetscCall(PetscInfo(ts, "prediction pulled back by 2^-%" PetscInt_FMT " to stay admissible\n",
+                            halvings));
+    }
     ++rm->shortened;
-    PetscCall(PetscInfo(ts, "prediction pulled back by 2^-%" PetscInt_FMT " to stay admissible\n", halvings));
     PetscFunctionReturn(0);
 }
 

@@ -271,7 +271,43 @@ contains
         call find_pairs(this, layout, x, 2.0_rk * this%margin, wider, n)
         this%pattern_pairs = wider(:, 1:n)
         call find_active_pairs(this, layout, x)
+        ! A start with two contact points inside the barrier's wall has infinite contact
+        ! energy, and every step from it fails the swept test: say so now, not only in
+        ! Newton's failure at the first step.
+        if (.not. start_clear(this, layout, x)) call log_info('bundle contact: the ' // &
+            'initial state has two contact points closer than the barrier''s wall (' // &
+            str(pair_wall(this, layout, 1, 1)) // ' m for the first rods: centrelines that ' // &
+            'nearly cross); no step can start from it: move the rods apart ' // &
+            '(docs/theory/bundles.md, "No tunnelling")')
     end subroutine contact_start
+
+    !> No active pair of the state x has two contact points within the barrier's wall.
+    logical function start_clear(this, layout, x) result(clear)
+        type(contact_coupling_t), intent(in) :: this
+        type(system_layout_t), intent(in) :: layout
+        real(rk), intent(in) :: x(:)
+        real(rk) :: xa(3, 8), xb(3, 8)
+        integer :: k, a, na, nb, first
+        clear = .true.
+        do k = 1, this%n_active
+            associate (pair => this%active_pairs(:, k))
+                na = layout%members(pair(1))%nodes%degree + 1
+                nb = layout%members(pair(3))%nodes%degree + 1
+                first = (pair(2) - 1) * layout%members(pair(1))%nodes%degree
+                do a = 1, na
+                    xa(:, a) = layout%node_state(pair(1), first + a, x, 3)
+                end do
+                first = (pair(4) - 1) * layout%members(pair(3))%nodes%degree
+                do a = 1, nb
+                    xb(:, a) = layout%node_state(pair(3), first + a, x, 3)
+                end do
+                clear = contact_element_swept_clear(this%members(pair(1))%shape, xa(:, 1:na), &
+                    xa(:, 1:na), this%members(pair(3))%shape, xb(:, 1:nb), xb(:, 1:nb), &
+                    pair_wall(this, layout, pair(1), pair(3)))
+                if (.not. clear) return
+            end associate
+        end do
+    end function start_clear
 
     !> The element pairs within the contact distance plus `margin` in the state x (broad phase
     !> of rs_contact_grid over all elements; near neighbours along a rod, pairs next to a joint

@@ -232,7 +232,20 @@ contains
                         if (k > 1) rods = rods // ', '
                         rods = rods // '''' // trim(plate%rods(k)) // ''''
                     end do
-                    if (all(plate%displacement == 0.0_rk) .and. all(plate%rotation == 0.0_rk)) then
+                    if (plate%mass > 0.0_rk) then
+                        drive = 'floating: mass ' // str(plate%mass) // ' ' // &
+                            unit_in_system('kg', units) // ', centre of mass (' // &
+                            vector_text(plate%centre) // '), inertia (' // &
+                            vector_text(plate%inertia) // '), products (' // &
+                            vector_text(plate%inertia_products) // ') ' // &
+                            unit_in_system('kg m^2', units) // ', its body on the first rod''s end ' // &
+                            'and the other ends tied to that end rigidly (6 constraint rows each; ' // &
+                            '&plate at line ' // str(plate%input_line) // ')'
+                        if (len(t) > 0) t = t // '; '
+                        t = t // '''' // trim(plate%name) // ''' at the ''' // trim(plate%end) // &
+                            ''' end of ' // rods // ', ' // drive
+                        cycle
+                    else if (all(plate%displacement == 0.0_rk) .and. all(plate%rotation == 0.0_rk)) then
                         drive = 'fixed'
                     else
                         drive = 'driven: displacement f(t) (' // vector_text(plate%displacement) // &
@@ -390,6 +403,16 @@ contains
                         if (trim(scene%plates(k)%end) /= end_name) cycle
                         if (.not. any(scene%plates(k)%rods == name)) cycle
                         t = 'tied to &plate ''' // trim(scene%plates(k)%name) // ''' (multipliers)'
+                        if (scene%plates(k)%mass > 0.0_rk) then
+                            if (scene%plates(k)%rods(1) == name) then
+                                t = 'carries the body of the floating &plate ''' // &
+                                    trim(scene%plates(k)%name) // ''' (rs_ph_director_body)'
+                            else
+                                t = 'tied rigidly to the end of rod ''' // &
+                                    trim(scene%plates(k)%rods(1)) // ''', which carries the ' // &
+                                    'floating &plate ''' // trim(scene%plates(k)%name) // ''' (multipliers)'
+                            end if
+                        end if
                         return
                     end do
                 end if
