@@ -73,8 +73,10 @@
 !> coupling's swept test (contact_element_swept_clear) rejects steps whose straight path takes
 !> a pair inside it, so no step jumps the barrier. Below penetrations of half the contact
 !> distance nothing changes (psi_B = 0 exactly: every scene that stays there runs bitwise as
-!> without it). With U = d_b^2 - d_w^2 (u = U - s) the divided difference of psi_B in d2 is,
-!> both points in its support,
+!> without it). The barrier enters the step as psi does, through the divided difference in the
+!> squared distance, a quadratic of the positions (the discrete gradient of methods/
+!> ph_director_3d.md §5.3 item 1, exact for any step). With U = d_b^2 - d_w^2 (u = U - s) the
+!> divided difference of psi_B in d2 is, both points in its support,
 !>
 !>     psi_B_bar = -kappa (s_1^2 u_n + s_n^2 u_1 + U s_n s_1) / (u_n u_1),
 !>

@@ -94,6 +94,10 @@ module rs_system_contact_coupling
         !> logged; likewise the first cut by the swept test of the barrier.
         logical :: warned_motion = .false.
         logical :: warned_wall = .false.
+        !> The last iterate found admissible and its step's start: the feasible-step filter
+        !> tests an iterate just before the residual does (contact_admissible), so the second
+        !> test is a comparison, not another pass over the point pairs.
+        real(rk), allocatable :: admitted_x(:), admitted_y(:)
     contains
         procedure :: start => contact_start
         procedure :: add_pattern => contact_add_pattern
@@ -542,6 +546,12 @@ contains
         real(rk), intent(in) :: t_n, x_n(:), y(:)
         real(rk) :: largest
         integer :: m, k
+        if (allocated(this%admitted_y)) then
+            if (size(this%admitted_y) == size(y) .and. size(this%admitted_x) == size(x_n)) then
+                ok = all(y == this%admitted_y) .and. all(x_n == this%admitted_x)
+                if (ok) return
+            end if
+        end if
         ! This rank's members (a shared system agrees on the verdict of all ranks, rod_stepper.c).
         largest = 0.0_rk
         do m = 1, size(layout%members)
@@ -562,7 +572,13 @@ contains
             return
         end if
         ok = swept_clear(this, layout, x_n, y)
-        if (ok .or. this%warned_wall) return
+        if (ok) then
+            ! Kept for the same iterate's next test (allocated again only if the sizes change).
+            this%admitted_x = x_n
+            this%admitted_y = y
+            return
+        end if
+        if (this%warned_wall) return
         call log_info('bundle: at t = ' // str(t_n) // ' a Newton iterate took two contact ' // &
             'points within the barrier''s wall of each other: Newton steps are shortened, or the ' // &
             'time step cut, until none does (docs/theory/bundles.md)')

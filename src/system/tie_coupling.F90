@@ -171,7 +171,9 @@ contains
     !> is tied to that end rigidly, keeping its reference offset and relative orientation (the
     !> rigid joint's rows, whose pivot offset is carried in the section of the other end:
     !> rs_ph_director_tie). The ties are then joints: no work, and linear and angular momentum
-    !> kept, so the plate and its rods keep energy and momenta in free flight. Ties appended
+    !> kept (the quadratic tie rows' exact midpoint gradient, methods/ph_director_3d.md §5.3
+    !> item 2, as for the nodal orthonormality), so the plate and its rods keep energy and
+    !> momenta in free flight. Ties appended
     !> to `ties` from entry n + 1; n is updated.
     subroutine float_plate(plate, names, layout, makers, ties, n)
         type(plate_input_t), intent(in) :: plate

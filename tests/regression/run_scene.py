@@ -45,6 +45,26 @@ def set_variable(text, group, variable, value):
     return text[:start.end()] + body + text[end:]
 
 
+def numbers(text, group, variable):
+    """The values of `variable` (one or several, comma-separated) in the first &group of a
+    scene text."""
+    start = re.search(r"^&" + group + r"\b", text, flags=re.M)
+    body = text[start.end():text.index("\n/", start.end())]
+    value = r"[+\-]?[0-9.][0-9.eEdD+\-]*"
+    found = re.search(r"\b" + variable + r"\s*=\s*(" + value + r"(?:\s*,\s*" + value + r")*)", body)
+    return [float(v.replace("d", "e").replace("D", "e")) for v in found.group(1).split(",")]
+
+
+def number(text, group, variable):
+    """The (first) value of `variable` in the first &group of a scene text."""
+    return numbers(text, group, variable)[0]
+
+
+def cut_backs(log):
+    """The cut-backs of a run, from its summary line ("N rejected (cut-backs)")."""
+    return int(re.search(r"(\d+) rejected \(cut-backs\)", log).group(1))
+
+
 def vector(values):
     return ", ".join(repr(float(v)) for v in values)
 

@@ -29,13 +29,13 @@ angular momentum change per step only by the Newton residual of the step.
 """
 import math
 import os
-import re
 import sys
 
 import numpy as np
 
 sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 import run_scene as rs  # noqa: E402
+from run_scene import number  # noqa: E402
 
 import contact_reference as ref  # noqa: E402
 
@@ -43,12 +43,6 @@ RODS = ("a", "b")
 RADIUS = 0.005
 RC = 2 * RADIUS
 K = 1e10
-
-
-def number(text, group, variable):
-    start = re.search(r"^&" + group + r"\b", text, flags=re.M)
-    body = text[start.end():text.index("\n/", start.end())]
-    return float(re.search(r"\b" + variable + r"\s*=\s*([0-9.eEdD+-]+)", body).group(1))
 
 
 def centreline(nodes, per=16):

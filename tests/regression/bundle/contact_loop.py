@@ -22,16 +22,11 @@ import numpy as np
 
 sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 import run_scene as rs  # noqa: E402
+from run_scene import number  # noqa: E402
 
 ROD = "rope"
 RADIUS = 0.005
 RC = 2 * RADIUS
-
-
-def number(text, group, variable):
-    start = re.search(r"^&" + group + r"\b", text, flags=re.M)
-    body = text[start.end():text.index("\n/", start.end())]
-    return float(re.search(r"\b" + variable + r"\s*=\s*([0-9.eEdD+-]+)", body).group(1))
 
 
 def centreline(nodes, s_nodes, per=16):

@@ -312,9 +312,9 @@ def rope_ground(args, checks):
     text = rs.read_example(args.source, "rope_on_ground.nml")
     path, log = rs.run(args, text, "rope_ground", want_log=True)
     r = rs.rod(path, "rope")
-    rejected = int(re.search(r"(\d+) rejected \(cut-backs\)", log).group(1))
-    length = float(re.search(r"length = ([0-9.eE+-]+)", text).group(1))
-    stiffness = float(re.search(r"stiffness = ([0-9.eE+-]+)", text).group(1))
+    rejected = rs.cut_backs(log)
+    length = rs.number(text, "rod", "length")
+    stiffness = rs.number(text, "obstacle", "stiffness")
     weight = 1000.0 * math.pi * RADIUS**2 * 9.81  # per length, N/m
     mass = weight / 9.81 * length
     positions = r["position"]

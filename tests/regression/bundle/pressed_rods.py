@@ -32,6 +32,7 @@ import numpy as np
 
 sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 import run_scene as rs  # noqa: E402
+from run_scene import number  # noqa: E402
 
 import contact_reference as ref  # noqa: E402
 
@@ -42,13 +43,6 @@ E = 2e11
 EI = E * math.pi * RADIUS**4 / 4
 Q = 1000.0
 K = 3.66e11
-
-
-def number(text, group, variable):
-    """The value of `variable` in the first &group of the scene text."""
-    start = re.search(r"^&" + group + r"\b", text, flags=re.M)
-    body = text[start.end():text.index("\n/", start.end())]
-    return float(re.search(r"\b" + variable + r"\s*=\s*([0-9.eEdD+-]+)", body).group(1))
 
 
 def scaled(text, length, n_elements, points=None):
