@@ -57,6 +57,16 @@ typedef int (*rs_cb_admissible)(void *ctx, double t_n, double h, const double *x
    linear_step: the step problem is affine in Y (seed 004's semi-implicit scheme): the SNES is
      KSPONLY, i.e. one residual, one Jacobian and one linear solve per step, no Newton loop and
      no norms (-snes_type overrides).
+   order: 2, a step of the advance is one midpoint step (with its cut-backs); 4, it is the
+     symmetric composition of five, of p dt, p dt, (1 - 4p) dt, p dt, p dt with
+     p = 1/(4 - 4^(1/3)) (Suzuki 1990: order 4 from any symmetric step of order 2; every
+     sub-step keeps its own balance laws; docs/theory/time_integration.md).
+   adaptive: the steps inside each advance are chosen by PETSc's TSAdapt (basic; -ts_adapt_*
+     options override) from a local error estimate (rs_stepper_set_breakpoints,
+     docs/theory/time_integration.md): atol and rtol weigh the state's entries
+     (TSErrorWeightedNorm), dt_min and dt_max bound the step, dt_initial is the first one.
+     A Newton failure rejects the step like an error that is too large (rodmid then does not
+     halve on its own); max_cutbacks bounds the failures in a row.
    The field order is the Fortran type's: change both together. */
 struct rs_stepper_traits {
     double newton_atol;
@@ -68,6 +78,13 @@ struct rs_stepper_traits {
     bool   banded_unknowns;
     bool   full_newton;
     bool   linear_step;
+    int    order;
+    bool   adaptive;
+    double atol;
+    double rtol;
+    double dt_min;
+    double dt_max;
+    double dt_initial;
 };
 
 /* Create a stepper. row_ptr (n_unknown + 1 entries) and cols give the CSR pattern of dF/dY,
@@ -128,6 +145,18 @@ int rs_stepper_run_stats(void *handle, int *jacobians, int *floor_steps);
    Returns 0, or RS_STEPPER_BAD_ARGUMENT without a handle. */
 int rs_stepper_set_admissible(void *handle, rs_cb_admissible admissible);
 int rs_stepper_shortened_steps(void *handle, int *shortened);
+
+/* Adaptive steppers (traits.adaptive): the times where a load's time function has a kink or a
+   jump (pulse and ramp ends, a hat's peak, table knots), which the steps hit exactly and across
+   which the error estimate starts afresh; n of them, any order, copied. */
+int rs_stepper_set_breakpoints(void *handle, int n, const double *times);
+/* Adaptive steppers: the state entries whose local error is controlled (weigh[i] != 0, n =
+   n_state entries of the whole state, 0-based as X); the others (midpoint multipliers and
+   stresses, jumping rotation vectors) are left out of the error norm. Default: all. */
+int rs_stepper_set_error_entries(void *handle, int n, const int *weigh);
+/* Adaptive steppers: steps the error control rejected over the run (Newton failures count as
+   cut-backs), and the smallest and largest accepted steps (0 before any). */
+int rs_stepper_adaptive_stats(void *handle, int *rejected, double *h_smallest, double *h_largest);
 
 /* TSView of the stepper's TS (with its SNES, KSP and PC) into the file `path` (NULL or "":
    standard output). */

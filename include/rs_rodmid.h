@@ -44,6 +44,13 @@ typedef PetscErrorCode (*RsStepUpdate)(PetscReal t_n, PetscReal h, Vec X_n, Vec 
 typedef PetscErrorCode (*RsStepAdmissible)(PetscReal t_n, PetscReal h, Vec X_n, Vec Y,
                                            PetscBool *ok, void *ctx);
 
+/* The weighted norm of the local error of the step just taken (ts->vec_sol against the state
+   before it; TSErrorWeightedNorm with the TS's tolerances), and its order in h (the exponent
+   of h in the local error, so the controller's step factor is wlte^(-1/order)); wlte < 0: no
+   estimate for this step (the step is accepted as it is). */
+typedef PetscErrorCode (*RsStepErrorEstimate)(TS ts, NormType type, PetscInt *order,
+                                              PetscReal *wlte, void *ctx);
+
 /* Register TSRODMID with TSRegister; safe to call any number of times (also after a PETSc
    finalize/initialize cycle). */
 PETSC_EXTERN PetscErrorCode rs_rodmid_register(void);
@@ -66,6 +73,11 @@ PETSC_EXTERN PetscErrorCode TSRodmidSetStepProblem(TS ts, Vec Y_template, Mat J,
    pulled back towards the prediction of a zero step. NULL: none (the default). May be set
    after TSSetUp. */
 PETSC_EXTERN PetscErrorCode TSRodmidSetAdmissible(TS ts, RsStepAdmissible admissible);
+/* The local error estimate TSAdaptChoose uses (ts->ops->evaluatewlte, so PETSc's adaptors
+   basic and dsp choose the steps): a rodmid step alone cannot estimate its error, the caller
+   that composes and keeps the accepted states can. NULL: none (TSEvaluateWLTE reports no
+   estimate). */
+PETSC_EXTERN PetscErrorCode TSRodmidSetErrorEstimate(TS ts, RsStepErrorEstimate estimate, void *ctx);
 /* Maximum number of halvings of one step before the TS reports TS_DIVERGED_NONLINEAR_SOLVE. */
 PETSC_EXTERN PetscErrorCode TSRodmidSetMaxCutbacks(TS ts, PetscInt n);
 /* The current limit of halvings of one step. */

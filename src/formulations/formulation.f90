@@ -196,6 +196,12 @@ module rs_formulations_formulation
         !> Kinetic energy of x and, with `from`, the largest rotation of a cross-section from
         !> `from` to x (state_measures_t); default: neither reported.
         procedure :: state_measures => default_state_measures
+        !> The state entries whose local error adaptive steps control (weigh, n_state): those
+        !> that are values at the step's end, smooth in time. Not multipliers or stresses held
+        !> at the midpoint (placed at t_{n+1/2}, they would spoil the divided differences of the
+        !> estimate when the step changes), nor coordinates that jump (se3_pg's complemented
+        !> rotation vectors). Default: every entry.
+        procedure :: error_entries => default_error_entries
         !> Where the coordinates of the nodes are (rod_nodes_t), for couplings; default: no
         !> node access.
         procedure :: nodes => default_nodes
@@ -332,6 +338,12 @@ contains
         type(state_measures_t) :: measures
         measures = state_measures_t()
     end function default_state_measures
+
+    subroutine default_error_entries(this, weigh)
+        class(rod_formulation_t), intent(in) :: this
+        logical, intent(out) :: weigh(:)
+        weigh = .true.
+    end subroutine default_error_entries
 
     function default_nodes(this) result(nodes)
         class(rod_formulation_t), intent(in) :: this

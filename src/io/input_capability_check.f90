@@ -474,6 +474,17 @@ contains
             if (scene%time%relaxation .and. .not. row%relaxation) call errors%add(at(scene, 0) // &
                 '&time relaxation: statics by damped dynamics is not available for ' // what // &
                 ' (rod ''' // trim(rod%name) // ''')' // see_matrix)
+            if (scene%time%order == 4 .and. .not. row%order_4) call errors%add(at(scene, &
+                scene%time%input_line) // '&time order: 4 is not available for ' // what // ' (rod ''' // trim(rod%name) // &
+                '''): its step is not symmetric, so composing it gains no order' // see_matrix)
+            if (scene%time%adaptive .and. .not. row%adaptive) call errors%add(at(scene, &
+                scene%time%input_line) // '&time adaptive: error-controlled steps are not available for ' // what // &
+                ' (rod ''' // trim(rod%name) // ''')' // see_matrix)
+            if (trim(scene%time%scheme) == 'generalized_alpha' .and. .not. row%generalized_alpha) &
+                call errors%add(at(scene, scene%time%input_line) // '&time scheme: ' // &
+                '''generalized_alpha'' is not ' // &
+                'available for ' // what // ' (rod ''' // trim(rod%name) // '''); use ' // &
+                'scheme = ''midpoint''' // see_matrix)
             do j = 1, size(scene%bcs)
                 associate (bc => scene%bcs(j))
                     if (bc%rod /= rod%name .or. len_trim(bc%kind) == 0) cycle

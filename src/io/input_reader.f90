@@ -137,6 +137,8 @@ contains
         plate%input_line = chunk%line
         sweep%input_line = chunk%line
         obstacle%input_line = chunk%line
+        ! The single &time lives in `scene`: its line places the messages about its scheme.
+        if (group%name == 'time') scene%time%input_line = chunk%line
         if (group%name == 'contact') then
             ! The single &contact lives in `scene`; its presence turns contact on.
             scene%contact%given = .true.

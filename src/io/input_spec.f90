@@ -231,8 +231,51 @@ contains
                 lower=0.0_rk, lower_inclusive=.false., required=.true., example='2.0'), &
             spec_v('dt', 'real', 's', '(required)', 'Time step (halved on Newton failure, see &solver).', &
                 lower=0.0_rk, lower_inclusive=.false., required=.true., example='1e-3'), &
-            spec_v('scheme', 'string', '-', "'midpoint'", 'Time integrator.', allowed='midpoint', &
-                example="'midpoint'"), &
+            spec_v('scheme', 'string', '-', "'midpoint'", 'Time integrator of the dynamics: ' // &
+                '''midpoint'', the implicit midpoint rule of every formulation (its energy-' // &
+                'consistent form where the formulation has one); ''generalized_alpha'', the ' // &
+                'first-order generalized-alpha method of Jansen, Whiting and Hulbert (2000) that ' // &
+                'seed 002 runs se3_pg with: second order, its high frequencies damped to rho_inf ' // &
+                'per step (docs/theory/se3_pg.md, "Generalized-alpha"). generalized_alpha only ' // &
+                'for se3_pg dynamics (docs/user/capabilities.md), with order 2, and not with ' // &
+                'joints, plates, contact or obstacles.', allowed='midpoint|generalized_alpha', &
+                example="'generalized_alpha'"), &
+            spec_v('rho_inf', 'real', '-', '0.9', 'Spectral radius of the generalized-alpha ' // &
+                'step at infinite frequency: 1 damps nothing (the midpoint rule), 0 damps the ' // &
+                'highest frequencies in one step; alpha_m = (3 - rho_inf) / (2 (1 + rho_inf)), ' // &
+                'alpha_f = 1 / (1 + rho_inf), gamma = 1/2 + alpha_m - alpha_f. Seed 002 uses 0.9.', &
+                lower=0.0_rk, upper=1.0_rk, only_if='scheme=generalized_alpha', example='0.5'), &
+            spec_v('order', 'integer', '-', '2', 'Order of the time integrator: 2, the midpoint ' // &
+                'step; 4, each step of dt the composition of five midpoint steps of p dt, p dt, ' // &
+                '(1 - 4p) dt, p dt, p dt with p = 1 / (4 - 4^(1/3)) (Suzuki''s composition: ' // &
+                'symmetric, so order 4; every sub-step keeps its exact energy balance, momenta and ' // &
+                'constraints, and all sub-steps stay inside the step; ' // &
+                'docs/theory/time_integration.md). Not with what a negative sub-step cannot do: ' // &
+                'Maxwell branches, friction, normal damping, quasistatics, relaxation, ' // &
+                'se3_strand.', lower=2.0_rk, upper=4.0_rk, &
+                example='4'), &
+            spec_v('adaptive', 'logical', '-', '.false.', 'Error-controlled time steps (PETSc''s ' // &
+                'TSAdapt on a divided-difference estimate of the local error; ' // &
+                'docs/theory/time_integration.md): dt becomes the record interval; the steps ' // &
+                'inside it keep the local error of the nodes'' positions within atol + rtol |x|, ' // &
+                'and hit record times and load kinks exactly; a Newton failure cuts the step. ' // &
+                'Every step is a midpoint (or order-4) step with its exact balances. Not with ' // &
+                'contact, quasistatics, relaxation, se3_strand or generalized-alpha.', &
+                example='.true.'), &
+            spec_v('rtol', 'real', '-', '1e-6', 'Relative tolerance of the adaptive steps'' ' // &
+                'local error, per state entry.', lower=0.0_rk, example='1e-5'), &
+            spec_v('atol', 'real', 'state', '1e-9', 'Absolute tolerance of the adaptive steps'' ' // &
+                'local error, per state entry (in the unit of each entry: m, m/s, N, ...).', &
+                lower=0.0_rk, example='1e-8'), &
+            spec_v('dt_min', 'real', 's', '1e-12 t_end', 'Smallest adaptive step; a step there ' // &
+                'is accepted whatever its error.', lower=0.0_rk, lower_inclusive=.false., &
+                example='1e-9'), &
+            spec_v('dt_max', 'real', 's', 'dt', 'Largest adaptive step (at most dt, the record ' // &
+                'interval).', lower=0.0_rk, lower_inclusive=.false., example='1e-2'), &
+            spec_v('dt_initial', 'real', 's', 'dt / 100', 'First adaptive step (the error ' // &
+                'estimate needs two accepted steps, four at order 4, before it controls: also ' // &
+                'the step after each load kink).', lower=0.0_rk, lower_inclusive=.false., &
+                example='1e-5'), &
             spec_v('quasistatic', 'logical', '-', '.false.', &
                 'No inertia (mass terms dropped): time is a load factor (t_end usually 1). The ' // &
                 'loads are stepped with midpoint steps between an equilibrium solve at t = 0 ' // &

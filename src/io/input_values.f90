@@ -67,7 +67,133 @@ contains
         if (.not. scene%time%quasistatic .and. .not. scene%time%equilibrium_solves) &
             call errors%add(at(scene, 0) // '&time equilibrium_solves: .false. given, but ' // &
             'a dynamic run solves no equilibrium; it is only used with quasistatic = .true.')
+        call check_order(scene, errors)
+        call check_adaptive(scene, errors)
+        call check_scheme(scene, errors)
     end subroutine check_relaxation
+
+    !> &time adaptive (issue 25 item 2): its tolerances and step bounds, the scenes it cannot
+    !> step (a load path, relaxation, contact: contact's pairs and motion limit are set per
+    !> record interval), and its variables given without it (they would be silently ignored).
+    subroutine check_adaptive(scene, errors)
+        type(scene_t), intent(in) :: scene
+        type(error_list_t), intent(inout) :: errors
+        type(time_input_t) :: defaults
+        character(len=:), allocatable :: here
+        logical :: contact
+        here = at(scene, scene%time%input_line) // '&time adaptive: '
+        associate (time => scene%time)
+            if (.not. time%adaptive) then
+                if (time%rtol /= defaults%rtol .or. time%atol /= defaults%atol .or. &
+                        time%dt_min /= unset_real .or. time%dt_max /= unset_real .or. &
+                        time%dt_initial /= unset_real) call errors%add(at(scene, scene%time%input_line) // &
+                    '&time rtol, atol, dt_min, dt_max, dt_initial: given, but they are only ' // &
+                    'used with adaptive = .true.; remove them or set adaptive')
+                return
+            end if
+            if (time%quasistatic) call errors%add(here // 'a quasistatic load path has no ' // &
+                'local error in time to control; use fixed steps')
+            if (time%relaxation) call errors%add(here // 'relaxation runs to rest, not along a ' // &
+                'path whose error could be controlled; use fixed steps')
+            contact = scene%contact%given
+            if (allocated(scene%obstacles)) contact = contact .or. size(scene%obstacles) > 0
+            if (contact) call errors%add(here // 'not with contact (&contact, &obstacle): its ' // &
+                'pairs and motion limit are set for a whole record interval; use fixed steps')
+            if (time%rtol == 0.0_rk .and. time%atol == 0.0_rk) call errors%add(here // &
+                'rtol and atol are both 0: no error is small enough')
+            if (time%dt_max /= unset_real .and. time%dt /= unset_real) then
+                if (time%dt_max > time%dt) call errors%add(at(scene, scene%time%input_line) // '&time dt_max: ' // &
+                    str(time%dt_max) // ' is larger than dt = ' // str(time%dt) // ', the ' // &
+                    'record interval no step crosses')
+            end if
+            if (time%dt_initial /= unset_real .and. time%dt_max /= unset_real) then
+                if (time%dt_initial > time%dt_max) call errors%add(at(scene, scene%time%input_line) // &
+                    '&time dt_initial: ' // str(time%dt_initial) // ' is larger than dt_max = ' // &
+                    str(time%dt_max))
+            end if
+            if (time%dt_min /= unset_real .and. time%dt_initial /= unset_real) then
+                if (time%dt_min > time%dt_initial) call errors%add(at(scene, scene%time%input_line) // &
+                    '&time dt_min: ' // str(time%dt_min) // ' is larger than dt_initial = ' // &
+                    str(time%dt_initial))
+            end if
+        end associate
+    end subroutine check_adaptive
+
+    !> &time scheme = 'generalized_alpha' (issue 25 item 3): the dynamics of se3_pg (which
+    !> formulations have it is their capability, rs_io_input_capability_check). It is a scheme
+    !> of its own, not a midpoint step: no composition to order 4, no load path, no relaxation;
+    !> and the couplings of the system layer are midpoint terms (ties' forces at the
+    !> midpoint, contact's discrete gradients, docs/theory/bundles.md), which would act at
+    !> the wrong time of its stage (docs/theory/se3_pg.md, "Generalized-alpha").
+    subroutine check_scheme(scene, errors)
+        type(scene_t), intent(in) :: scene
+        type(error_list_t), intent(inout) :: errors
+        character(len=:), allocatable :: here
+        logical :: joined, plated, obstacles
+        if (trim(scene%time%scheme) /= 'generalized_alpha') return
+        here = at(scene, scene%time%input_line) // '&time scheme: ''generalized_alpha'' '
+        if (scene%time%order /= 2) call errors%add(here // 'is second order and not a ' // &
+            'midpoint step that order = ' // str(scene%time%order) // ' could compose; ' // &
+            'remove order or use scheme = ''midpoint''')
+        if (scene%time%quasistatic) call errors%add(here // 'integrates dynamics; a ' // &
+            'quasistatic run has none (its load steps are equilibria): remove scheme or ' // &
+            'quasistatic')
+        if (scene%time%relaxation) call errors%add(here // 'is not for relaxation (damped ' // &
+            'dynamics towards statics): use scheme = ''midpoint''')
+        if (scene%time%adaptive) call errors%add(here // 'carries its rates from step to ' // &
+            'step for the step it was taken with; a step changed at every step would lose its ' // &
+            'order: use fixed steps or scheme = ''midpoint''')
+        joined = .false.
+        if (allocated(scene%joints)) joined = size(scene%joints) > 0
+        plated = .false.
+        if (allocated(scene%plates)) plated = size(scene%plates) > 0
+        obstacles = .false.
+        if (allocated(scene%obstacles)) obstacles = size(scene%obstacles) > 0
+        if (joined .or. plated .or. scene%contact%given .or. obstacles) call errors%add(here // &
+            'is not available with &joint, &plate, &contact or &obstacle: their forces are ' // &
+            'midpoint terms of the system layer and would act at the wrong time of its ' // &
+            'stage; use scheme = ''midpoint''')
+    end subroutine check_scheme
+
+    !> &time order (issue 25 item 1): 2 or 4; order 4 takes a negative sub-step, which a
+    !> dissipative term would turn into an energy source, and which a load path or a
+    !> relaxation cannot take.
+    subroutine check_order(scene, errors)
+        type(scene_t), intent(in) :: scene
+        type(error_list_t), intent(inout) :: errors
+        character(len=:), allocatable :: here
+        integer :: i
+        here = at(scene, scene%time%input_line) // '&time order: 4 '
+        if (scene%time%order /= 2 .and. scene%time%order /= 4) call errors%add(at(scene, &
+            scene%time%input_line) // &
+            '&time order: ' // str(scene%time%order) // '; allowed: 2 (the midpoint step) or 4 ' // &
+            '(Suzuki''s five-stage composition of midpoint steps)')
+        if (scene%time%order /= 4) return
+        if (scene%time%quasistatic) call errors%add(here // 'composes steps in time with a ' // &
+            'negative sub-step; a quasistatic load path has no dynamics to compose: use order 2')
+        if (scene%time%relaxation) call errors%add(here // 'is not for relaxation (damped ' // &
+            'dynamics towards statics): use order 2')
+        do i = 1, size(scene%rods)
+            associate (rod => scene%rods(i))
+                if (any(rod%maxwell_fraction /= unset_real)) call errors%add(at(scene, &
+                    rod%input_line) // '&rod ''' // trim(rod%name) // ''' maxwell_fraction: ' // &
+                    'Maxwell branches dissipate, and order 4''s negative sub-step would make ' // &
+                    'them an energy source; use &time order = 2')
+            end associate
+        end do
+        if (scene%contact%given .and. scene%contact%mu > 0.0_rk) call errors%add(here // &
+            'with &contact mu > 0: friction dissipates, and the negative sub-step would make ' // &
+            'it an energy source; use order 2')
+        if (allocated(scene%obstacles)) then
+            do i = 1, size(scene%obstacles)
+                if (scene%obstacles(i)%mu > 0.0_rk .or. scene%obstacles(i)%damping > 0.0_rk) &
+                    call errors%add(at(scene, scene%obstacles(i)%input_line) // '&obstacle ''' // &
+                    trim(scene%obstacles(i)%name) // ''': friction and normal damping ' // &
+                    'dissipate, and &time order = 4''s negative sub-step would make them an ' // &
+                    'energy source; use order 2')
+            end do
+        end if
+    end subroutine check_order
 
 
     !> 'out/<scene name>.h5' for scene file '<dir>/<scene name>.nml'.

@@ -47,6 +47,14 @@ module rs_model_capabilities
         logical :: planar = .false.
         !> Statics by damped dynamics (&time relaxation = .true.).
         logical :: relaxation = .false.
+        !> Its step is symmetric, so Suzuki's composition of it is of order 4 (&time order = 4;
+        !> docs/theory/time_integration.md).
+        logical :: order_4 = .false.
+        !> Error-controlled steps (&time adaptive): a Newton-based step whose state is smooth in
+        !> time, so that divided differences of it estimate the local error.
+        logical :: adaptive = .false.
+        !> Dynamics with the generalized-alpha scheme (&time scheme = 'generalized_alpha').
+        logical :: generalized_alpha = .false.
         !> How a driven end (&bc kind = 'driven') is prescribed: 'pose' (displacement and
         !> rotation), 'velocity' (velocity and angular_velocity; several &bc on one end add
         !> up), or blank when it has no driven ends.

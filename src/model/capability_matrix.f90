@@ -24,7 +24,8 @@ contains
         text = '| formulation | ends | ends at s = L, if other | driven ends by | end loads | ' // &
             'distributed loads, gravity | curved reference | prestressed | constraints | ' // &
             'viscoelasticity | actuation | joints | end plates | contact | quasistatics | ' // &
-            'relaxation | planar |' // nl // '|' // repeat('---|', 17)
+            'relaxation | order 4 in time | adaptive steps | generalized-α | planar |' // nl // &
+            '|' // repeat('---|', 20)
         do i = 1, size(rows)
             if (rows(i)%available) text = text // nl // row_markdown(rows(i))
         end do
@@ -51,6 +52,9 @@ contains
             'obstacles (`&obstacle`), with friction') // &
             ' | ' // yes_no(row%quasistatic, 'yes (`&time quasistatic`)') // &
             ' | ' // yes_no(row%relaxation, 'yes (`&time relaxation`)') // &
+            ' | ' // yes_no(row%order_4, 'yes (`&time order = 4`)') // &
+            ' | ' // yes_no(row%adaptive, 'yes (`&time adaptive`)') // &
+            ' | ' // yes_no(row%generalized_alpha, 'yes (`&time scheme`, `rho_inf`)') // &
             ' | ' // yes_no(row%planar, 'yes: rods and loads in one plane') // ' |'
     end function row_markdown
 

@@ -60,7 +60,22 @@ module rs_model_scene
     type, public :: time_input_t
         real(rk) :: t_end = unset_real
         real(rk) :: dt = unset_real
+        !> 'midpoint' or 'generalized_alpha' (se3_pg; issue 25 item 3) with its rho_inf.
         character(len=name_len) :: scheme = 'midpoint'
+        real(rk) :: rho_inf = 0.9_rk
+        !> Order of the time integrator (issue 25 item 1): 2, the midpoint step; 4, Suzuki's
+        !> composition of five midpoint steps (docs/theory/time_integration.md).
+        integer :: order = 2
+        !> Error-controlled steps (issue 25 item 2): dt is then the record interval, the steps
+        !> inside it are chosen from the local error, weighed by rtol and atol, between dt_min
+        !> and dt_max, starting from dt_initial (defaults: dt_max = dt, dt_initial = dt / 100,
+        !> dt_min = 1e-12 t_end, set by the input's defaults pass).
+        logical :: adaptive = .false.
+        real(rk) :: rtol = 1.0e-6_rk
+        real(rk) :: atol = 1.0e-9_rk
+        real(rk) :: dt_min = unset_real
+        real(rk) :: dt_max = unset_real
+        real(rk) :: dt_initial = unset_real
         logical :: quasistatic = .false.
         !> Quasistatics: the equilibrium solves at t = 0 and t_end around the midpoint load steps
         !> (DESIGN.md §3); .false. leaves the midpoint load path alone (seed 001's pseudo-time
@@ -71,6 +86,8 @@ module rs_model_scene
         !> the latest time).
         logical :: relaxation = .false.
         real(rk) :: kinetic_energy_tol = 1.0e-12_rk
+        !> Line of the &time group (set by the reader; not an input variable).
+        integer :: input_line = 0
     end type time_input_t
 
     !> &solver: Newton's stopping rule, cut-backs and PETSc options (DESIGN.md §3).

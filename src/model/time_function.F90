@@ -20,12 +20,12 @@ module rs_model_time_function
     use rs_core_kinds, only: rk
     use rs_core_error, only: error_t, set_error
     use rs_model_scene, only: load_input_t, actuator_input_t, bc_input_t, plate_input_t, &
-        obstacle_input_t, unset_real
+        obstacle_input_t, scene_t, unset_real
     implicit none
     private
 
     public :: time_function_from_load, time_function_from_actuator, time_function_from_bc
-    public :: time_function_from_plate, time_function_from_obstacle
+    public :: time_function_from_plate, time_function_from_obstacle, scene_time_kinks
 
     !> The names `time_function_from_load`, `time_function_from_actuator` and
     !> `time_function_from_bc` accept.
@@ -42,6 +42,7 @@ module rs_model_time_function
         real(rk), allocatable :: times(:), values(:)
     contains
         procedure :: value => time_function_value
+        procedure :: kinks => time_function_kinks
     end type time_function_t
 
 contains
@@ -135,6 +136,67 @@ contains
             RS_SET_ERROR(err, routine, 'time function needs t_off > t_on')
         end if
     end subroutine time_function_from_parts
+
+    !> The times where f or one of its first two derivatives jumps: the ends of a ramp, a pulse
+    !> (its curvature) and a hat and the hat's peak, the start of a sine, a table's knots. An
+    !> adaptive stepper hits them exactly and starts its error estimate afresh there.
+    pure function time_function_kinks(this) result(times)
+        class(time_function_t), intent(in) :: this
+        real(rk), allocatable :: times(:)
+        select case (this%kind)
+        case (kind_ramp, kind_pulse)
+            times = [this%t_on, this%t_off]
+        case (kind_hat)
+            times = [this%t_on, 0.5_rk * (this%t_on + this%t_off), this%t_off]
+        case (kind_sine)
+            times = [this%t_on]
+        case (kind_table)
+            times = this%times
+        case default
+            allocate(times(0))
+        end select
+    end function time_function_kinks
+
+    !> The kinks of every time function of a checked scene (loads, actuators, driven ends and
+    !> plates, moving obstacles), in no particular order.
+    function scene_time_kinks(scene) result(times)
+        type(scene_t), intent(in) :: scene
+        real(rk), allocatable :: times(:)
+        type(time_function_t) :: tf
+        type(error_t), allocatable :: err
+        integer :: i
+        allocate(times(0))
+        if (allocated(scene%loads)) then
+            do i = 1, size(scene%loads)
+                call time_function_from_load(scene%loads(i), tf, err)
+                if (.not. allocated(err)) times = [times, tf%kinks()]
+            end do
+        end if
+        if (allocated(scene%actuators)) then
+            do i = 1, size(scene%actuators)
+                call time_function_from_actuator(scene%actuators(i), tf, err)
+                if (.not. allocated(err)) times = [times, tf%kinks()]
+            end do
+        end if
+        if (allocated(scene%bcs)) then
+            do i = 1, size(scene%bcs)
+                call time_function_from_bc(scene%bcs(i), tf, err)
+                if (.not. allocated(err)) times = [times, tf%kinks()]
+            end do
+        end if
+        if (allocated(scene%plates)) then
+            do i = 1, size(scene%plates)
+                call time_function_from_plate(scene%plates(i), tf, err)
+                if (.not. allocated(err)) times = [times, tf%kinks()]
+            end do
+        end if
+        if (allocated(scene%obstacles)) then
+            do i = 1, size(scene%obstacles)
+                call time_function_from_obstacle(scene%obstacles(i), tf, err)
+                if (.not. allocated(err)) times = [times, tf%kinks()]
+            end do
+        end if
+    end function scene_time_kinks
 
     !> f(t).
     pure real(rk) function time_function_value(this, t) result(f)

@@ -8,7 +8,7 @@
 !> PETSc calls back into the system through `bind(C)` procedures that receive a plain context
 !> holding a pointer to the system (DESIGN.md §3); they wrap the raw arrays and call it.
 module rs_solver_rod_run
-    use, intrinsic :: iso_c_binding, only: c_int, c_double, c_ptr, c_funloc, c_loc, c_f_pointer
+    use, intrinsic :: iso_c_binding, only: c_int, c_bool, c_double, c_ptr, c_funloc, c_loc, c_f_pointer
     use rs_core_kinds, only: rk
     use rs_core_error, only: error_t, set_error
     use rs_core_logger, only: log_info
@@ -20,7 +20,8 @@ module rs_solver_rod_run
     use rs_formulations_energy_sentinel, only: energy_sentinel_t
     use rs_system_rod_system, only: rod_system_t
     use rs_solver_rod_stepper, only: rod_stepper_t, stepper_traits_t
-    use rs_model_scene, only: solver_input_t
+    use rs_model_scene, only: solver_input_t, time_input_t, unset_real
+    use rs_model_time_function, only: scene_time_kinks
     use rs_parallel_mpi_env, only: world_rank, world_size
     use rs_parallel_metis, only: partition_graph
     use rs_formulations_registry, only: is_bundle
@@ -63,6 +64,12 @@ module rs_solver_rod_run
         logical :: shared = .false.
         !> The scene's solver settings, to build the stepper again when the pattern changes.
         type(solver_input_t) :: solver
+        !> The scene's time stepping (&time: order, adaptive steps and their tolerances).
+        type(time_input_t) :: time
+        !> Adaptive steps: the load kinks they hit exactly (scene_time_kinks).
+        real(rk), allocatable :: kinks(:)
+        !> Adaptive steps: the steps taken over the run (the records are steps_done).
+        integer :: adaptive_steps = 0
         !> Times the stepper was built again for a new Jacobian pattern (contact pairs).
         integer :: repatterns = 0
         !> Counted by the steppers of this runner that were replaced (pattern changes): Jacobians
@@ -131,6 +138,8 @@ contains
         logical, intent(in), optional :: shared
         this%rods = rods
         this%solver = scene%solver
+        this%time = scene%time
+        if (scene%time%adaptive) this%kinks = scene_time_kinks(scene)
         this%shared = .false.
         if (present(shared)) this%shared = shared .and. world_size() > 1
         this%bundle = is_bundle(scene, rods)
@@ -309,6 +318,7 @@ contains
         type(rod_runner_t), intent(inout) :: this
         type(error_t), allocatable, intent(out) :: err
         integer, allocatable :: row_ptr(:), cols(:), state_entries(:), unknown_entries(:)
+        logical, allocatable :: weigh(:)
         integer :: owned(4)
         integer :: jacobians, floor_steps, shortened
         call this%system%jacobian_pattern(row_ptr, cols)
@@ -324,7 +334,7 @@ contains
             call this%stepper%create(this%context%n_state, this%context%n_unknown, row_ptr, cols, &
                 c_funloc(residual_callback), c_funloc(jacobian_callback), &
                 c_funloc(predictor_callback), c_funloc(update_callback), c_funloc(poststep_callback), &
-                c_loc(this%context), stepper_traits(this%solver, this%context%traits), err, &
+                c_loc(this%context), stepper_traits(this%solver, this%context%traits, this%time), err, &
                 owned=owned, blocks=this%system%solver_blocks())
             RS_RETURN_IF_ERROR(err)
             call this%system%needed_entries(state_entries, unknown_entries)
@@ -334,27 +344,48 @@ contains
             call this%stepper%create(this%context%n_state, this%context%n_unknown, row_ptr, cols, &
                 c_funloc(residual_callback), c_funloc(jacobian_callback), &
                 c_funloc(predictor_callback), c_funloc(update_callback), c_funloc(poststep_callback), &
-                c_loc(this%context), stepper_traits(this%solver, this%context%traits), err, &
+                c_loc(this%context), stepper_traits(this%solver, this%context%traits, this%time), err, &
                 blocks=this%system%solver_blocks())
             RS_RETURN_IF_ERROR(err)
         end if
         ! Iterates the system may refuse (contact's barrier): Newton steps are shortened to
         ! admissible ones instead of the time step being cut (include/rs_rodmid.h).
-        if (this%system%refuses_iterates()) &
+        if (this%system%refuses_iterates()) then
             call this%stepper%set_admissible(c_funloc(admissible_callback), err)
+            RS_RETURN_IF_ERROR(err)
+        end if
+        if (this%time%adaptive) then
+            call this%stepper%set_breakpoints(this%kinks, err)
+            RS_RETURN_IF_ERROR(err)
+            allocate(weigh(this%context%n_state))
+            call this%system%error_entries(weigh)
+            call this%stepper%set_error_entries(weigh, err)
+        end if
     end subroutine build_stepper
 
     !> What the stepper is built with: the scene's Newton settings (&solver) and the
     !> formulation's solver flags, as the one C struct of include/rs_rod_stepper.h.
-    pure function stepper_traits(solver, traits) result(stepper)
+    !> The adaptive steps' bounds default to dt_max = dt (the record interval),
+    !> dt_initial = min(dt / 100, dt_max) and dt_min = min(1e-12 t_end, dt_initial).
+    pure function stepper_traits(solver, traits, time) result(stepper)
         type(solver_input_t), intent(in) :: solver
         type(formulation_traits_t), intent(in) :: traits
+        type(time_input_t), intent(in) :: time
         type(stepper_traits_t) :: stepper
+        real(rk) :: dt_max, dt_initial, dt_min
+        dt_max = merge(time%dt, time%dt_max, time%dt_max == unset_real)
+        dt_initial = merge(min(0.01_rk * time%dt, dt_max), time%dt_initial, &
+            time%dt_initial == unset_real)
+        dt_min = merge(min(1.0e-12_rk * time%t_end, dt_initial), time%dt_min, &
+            time%dt_min == unset_real)
         stepper = stepper_traits_t(newton_atol=solver%newton_atol, &
             newton_rtol=solver%newton_rtol, jacobian_reuse=solver%jacobian_reuse, &
             max_newton=solver%max_newton, max_cutbacks=solver%max_cutbacks, &
             native_lu=traits%native_lu, banded_unknowns=traits%banded_unknowns, &
-            full_newton=traits%full_newton, linear_step=traits%linear_step)
+            full_newton=traits%full_newton, linear_step=traits%linear_step, &
+            order=int(time%order, c_int), adaptive=logical(time%adaptive, c_bool), &
+            atol=time%atol, rtol=time%rtol, dt_min=dt_min, dt_max=dt_max, &
+            dt_initial=dt_initial)
     end function stepper_traits
 
     !> Before a step from x: the formulation refreshes what the step needs (contact pairs) and
@@ -420,6 +451,7 @@ contains
         this%solve_seconds = this%solve_seconds + (wall_time() - started)
         this%total_iterations = this%total_iterations + iterations
         this%total_cutbacks = this%total_cutbacks + cutbacks
+        this%adaptive_steps = this%adaptive_steps + substeps
         if (.not. allocated(this%err) .and. this%context%sentinel%tripped) then
             ! The state that shows the energy created is recorded, with its balance error.
             RS_SET_ERROR(this%err, 'rod_runner%advance', this%context%sentinel%message())
@@ -559,9 +591,11 @@ contains
         !> No summary line (another rank of a shared system prints it).
         logical, intent(in), optional :: quiet
         real(rk) :: elapsed, assembly
-        integer :: jacobians, floor_steps, shortened
+        integer :: jacobians, floor_steps, shortened, rejected
+        real(rk) :: h_smallest, h_largest
         assembly = this%assembly_seconds()
         call this%stepper%run_stats(jacobians, floor_steps, shortened)
+        call this%stepper%adaptive_stats(rejected, h_smallest, h_largest)
         jacobians = this%jacobians_before + jacobians
         floor_steps = this%floor_steps_before + floor_steps
         shortened = this%shortened_before + shortened
@@ -579,6 +613,12 @@ contains
             str_significant(elapsed / max(1, this%steps_done), 4) // ' s, per Newton ' // &
             'iteration ' // str_significant(elapsed / max(1, this%total_iterations), 4) // ' s; ' // &
             str(jacobians) // ' Jacobians factored')
+        if (this%time%adaptive) call log_info('  ' // this%name() // ': adaptive steps: ' // &
+            str(this%adaptive_steps) // ' accepted, ' // str(rejected) // ' rejected by the ' // &
+            'error control, ' // str(this%total_cutbacks) // ' cut by Newton failures; steps ' // &
+            'from ' // str_significant(h_smallest, 3) // ' to ' // str_significant(h_largest, 3) // &
+            ' s (rtol ' // str_significant(this%time%rtol, 3) // ', atol ' // &
+            str_significant(this%time%atol, 3) // ')')
         if (floor_steps > 0) call log_info('  ' // this%name() // ': ' // str(floor_steps) // &
             ' steps ended above newton_atol at the rounding floor (Newton run to stagnation: ' // &
             'the residual rounding the unknowns makes; far from the origin, docs/stability.md)')

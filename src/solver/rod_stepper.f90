@@ -58,6 +58,18 @@ module rs_solver_rod_stepper
         logical(c_bool) :: full_newton = .false.
         !> The step problem is affine in y: one linear solve per step, no Newton loop.
         logical(c_bool) :: linear_step = .false.
+        !> Order of the time integrator (&time order): 2, one midpoint step per step; 4, the
+        !> five-stage composition of midpoint steps (include/rs_rod_stepper.h).
+        integer(c_int) :: order = 2
+        !> Error-controlled steps (&time adaptive): the steps inside an advance are PETSc
+        !> TSAdapt's, from the local error weighed by atol and rtol, in [dt_min, dt_max],
+        !> starting from dt_initial (include/rs_rod_stepper.h).
+        logical(c_bool) :: adaptive = .false.
+        real(c_double) :: atol = 0.0_c_double
+        real(c_double) :: rtol = 0.0_c_double
+        real(c_double) :: dt_min = 0.0_c_double
+        real(c_double) :: dt_max = 0.0_c_double
+        real(c_double) :: dt_initial = 0.0_c_double
     end type stepper_traits_t
 
     !> One rod's stepper: a handle to the C object and the state length it expects.
@@ -81,6 +93,12 @@ module rs_solver_rod_stepper
         procedure :: run_stats => rod_stepper_run_stats
         !> The feasible-step filter of the Newton solves (include/rs_rod_stepper.h).
         procedure :: set_admissible => rod_stepper_set_admissible
+        !> Adaptive steppers: the load kinks their steps hit (rs_stepper_set_breakpoints).
+        procedure :: set_breakpoints => rod_stepper_set_breakpoints
+        !> Adaptive steppers: the state entries whose local error is controlled.
+        procedure :: set_error_entries => rod_stepper_set_error_entries
+        !> Adaptive steppers: steps rejected by the error control, smallest and largest step.
+        procedure :: adaptive_stats => rod_stepper_adaptive_stats
         !> True between create and destroy.
         procedure :: is_created => rod_stepper_is_created
         !> Free the PETSc objects; safe to call twice.
@@ -195,6 +213,25 @@ module rs_solver_rod_stepper
             type(c_ptr), value :: handle
             integer(c_int), intent(out) :: shortened
         end function rs_stepper_shortened_steps
+        integer(c_int) function rs_stepper_set_breakpoints(handle, n, times) bind(C)
+            import :: c_int, c_ptr, c_double
+            type(c_ptr), value :: handle
+            integer(c_int), value :: n
+            real(c_double), intent(in) :: times(*)
+        end function rs_stepper_set_breakpoints
+        integer(c_int) function rs_stepper_set_error_entries(handle, n, weigh) bind(C)
+            import :: c_int, c_ptr
+            type(c_ptr), value :: handle
+            integer(c_int), value :: n
+            integer(c_int), intent(in) :: weigh(*)
+        end function rs_stepper_set_error_entries
+        integer(c_int) function rs_stepper_adaptive_stats(handle, rejected, h_smallest, &
+                h_largest) bind(C)
+            import :: c_int, c_ptr, c_double
+            type(c_ptr), value :: handle
+            integer(c_int), intent(out) :: rejected
+            real(c_double), intent(out) :: h_smallest, h_largest
+        end function rs_stepper_adaptive_stats
         integer(c_int) function rs_stepper_view(handle, path) bind(C)
             import :: c_int, c_char, c_ptr
             type(c_ptr), value :: handle
@@ -449,6 +486,54 @@ contains
             RS_SET_ERROR(err, 'rod_stepper_set_admissible', 'the feasible-step filter could not be set (code ' // str(int(ierr)) // ')')
         end if
     end subroutine rod_stepper_set_admissible
+
+    !> The times an adaptive stepper's steps hit exactly (load kinks, scene_time_kinks).
+    subroutine rod_stepper_set_breakpoints(this, times, err)
+        class(rod_stepper_t), intent(inout) :: this
+        real(rk), intent(in) :: times(:)
+        type(error_t), allocatable, intent(out) :: err
+        real(c_double) :: copy(max(size(times), 1))
+        integer(c_int) :: ierr
+        copy = 0.0_c_double
+        copy(1:size(times)) = real(times, c_double)
+        ierr = rs_stepper_set_breakpoints(this%handle, int(size(times), c_int), copy)
+        if (ierr /= 0) then
+            RS_SET_ERROR(err, 'rod_stepper_set_breakpoints', 'the load kinks could not be set')
+        end if
+    end subroutine rod_stepper_set_breakpoints
+
+    !> The state entries (weigh, the whole state) whose local error an adaptive stepper
+    !> controls (rs_formulations_formulation's error_entries).
+    subroutine rod_stepper_set_error_entries(this, weigh, err)
+        class(rod_stepper_t), intent(inout) :: this
+        logical, intent(in) :: weigh(:)
+        type(error_t), allocatable, intent(out) :: err
+        integer(c_int) :: ierr
+        ierr = rs_stepper_set_error_entries(this%handle, int(size(weigh), c_int), &
+            merge(1_c_int, 0_c_int, weigh))
+        if (ierr /= 0) then
+            RS_SET_ERROR(err, 'rod_stepper_set_error_entries', 'the controlled entries could not be set')
+        end if
+    end subroutine rod_stepper_set_error_entries
+
+    !> Since creation, for an adaptive stepper: steps the error control rejected, the smallest
+    !> and largest accepted steps (0 before any).
+    subroutine rod_stepper_adaptive_stats(this, rejected, h_smallest, h_largest)
+        class(rod_stepper_t), intent(in) :: this
+        integer, intent(out) :: rejected
+        real(rk), intent(out) :: h_smallest, h_largest
+        integer(c_int) :: count
+        real(c_double) :: smallest, largest
+        count = 0
+        smallest = 0.0_c_double
+        largest = 0.0_c_double
+        if (c_associated(this%handle)) then
+            if (rs_stepper_adaptive_stats(this%handle, count, smallest, largest) /= 0) count = 0
+        end if
+        rejected = int(count)
+        h_smallest = real(smallest, rk)
+        h_largest = real(largest, rk)
+    end subroutine rod_stepper_adaptive_stats
 
     logical function rod_stepper_is_created(this)
         class(rod_stepper_t), intent(in) :: this

@@ -26,6 +26,9 @@ typedef struct {
     PetscInt       max_cutbacks;
     /* The feasible-step filter (TSRodmidSetAdmissible) and the Newton steps it shortened. */
     RsStepAdmissible admissible;
+    /* The local error estimate of TSEvaluateWLTE (TSRodmidSetErrorEstimate), or NULL. */
+    RsStepErrorEstimate estimate;
+    void               *estimate_ctx;
     PetscInt         shortened;
     PetscInt         shortened_in_solve; /* Newton steps shortened in the current solve */
     /* Jacobian reuse (-ts_rodmid_reuse_jacobian): 0 is Newton's method, a new Jacobian at
@@ -416,6 +419,7 @@ static PetscErrorCode TSDestroy_Rodmid(TS ts)
     PetscCall(PetscObjectComposeFunction((PetscObject)ts, "TSRodmidGetRunStats_C", NULL));
     PetscCall(PetscObjectComposeFunction((PetscObject)ts, "TSRodmidSetAdmissible_C", NULL));
     PetscCall(PetscObjectComposeFunction((PetscObject)ts, "TSRodmidGetShortenedSteps_C", NULL));
+    PetscCall(PetscObjectComposeFunction((PetscObject)ts, "TSRodmidSetErrorEstimate_C", NULL));
     PetscFunctionReturn(0);
 }
 
@@ -492,6 +496,27 @@ static PetscErrorCode TSRodmidSetAdmissible_Rodmid(TS ts, RsStepAdmissible admis
     PetscFunctionReturn(0);
 }
 
+static PetscErrorCode TSRodmidSetErrorEstimate_Rodmid(TS ts, RsStepErrorEstimate estimate, void *ctx)
+{
+    TS_Rodmid *rm = (TS_Rodmid *)ts->data;
+
+    PetscFunctionBegin;
+    rm->estimate     = estimate;
+    rm->estimate_ctx = ctx;
+    PetscFunctionReturn(0);
+}
+
+/* TSEvaluateWLTE: the caller's estimate (TSRodmidSetErrorEstimate), or none. */
+static PetscErrorCode TSEvaluateWLTE_Rodmid(TS ts, NormType type, PetscInt *order, PetscReal *wlte)
+{
+    TS_Rodmid *rm = (TS_Rodmid *)ts->data;
+
+    PetscFunctionBegin;
+    *wlte = -1.0;
+    if (rm->estimate) PetscCall(rm->estimate(ts, type, order, wlte, rm->estimate_ctx));
+    PetscFunctionReturn(0);
+}
+
 static PetscErrorCode TSRodmidGetShortenedSteps_Rodmid(TS ts, PetscInt *shortened)
 {
     TS_Rodmid *rm = (TS_Rodmid *)ts->data;
@@ -558,6 +583,7 @@ static PetscErrorCode TSCreate_Rodmid(TS ts)
     ts->ops->destroy        = TSDestroy_Rodmid;
     ts->ops->setfromoptions = TSSetFromOptions_Rodmid;
     ts->ops->view           = TSView_Rodmid;
+    ts->ops->evaluatewlte   = TSEvaluateWLTE_Rodmid;
     ts->ops->snesfunction   = SNESTSFormFunction_Rodmid;
     ts->ops->snesjacobian   = SNESTSFormJacobian_Rodmid;
     ts->default_adapt_type  = TSADAPTNONE;
@@ -577,6 +603,8 @@ static PetscErrorCode TSCreate_Rodmid(TS ts)
                                          TSRodmidSetAdmissible_Rodmid));
     PetscCall(PetscObjectComposeFunction((PetscObject)ts, "TSRodmidGetShortenedSteps_C",
                                          TSRodmidGetShortenedSteps_Rodmid));
+    PetscCall(PetscObjectComposeFunction((PetscObject)ts, "TSRodmidSetErrorEstimate_C",
+                                         TSRodmidSetErrorEstimate_Rodmid));
     PetscFunctionReturn(0);
 }
 
@@ -649,6 +677,15 @@ PetscErrorCode TSRodmidSetAdmissible(TS ts, RsStepAdmissible admissible)
     PetscFunctionBegin;
     PetscValidHeaderSpecific(ts, TS_CLASSID, 1);
     PetscTryMethod(ts, "TSRodmidSetAdmissible_C", (TS, RsStepAdmissible), (ts, admissible));
+    PetscFunctionReturn(0);
+}
+
+PetscErrorCode TSRodmidSetErrorEstimate(TS ts, RsStepErrorEstimate estimate, void *ctx)
+{
+    PetscFunctionBegin;
+    PetscValidHeaderSpecific(ts, TS_CLASSID, 1);
+    PetscTryMethod(ts, "TSRodmidSetErrorEstimate_C", (TS, RsStepErrorEstimate, void *),
+                   (ts, estimate, ctx));
     PetscFunctionReturn(0);
 }
 

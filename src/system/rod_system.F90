@@ -100,6 +100,8 @@ module rs_system_rod_system
         procedure :: traits => system_traits
         procedure :: set_step_problem => system_set_step_problem
         procedure :: state_measures => system_state_measures
+        !> The members' error entries (rs_formulations_formulation); coupling unknowns are not.
+        procedure :: error_entries => system_error_entries
         !> Before each step from X_n: the couplings refresh what the step needs (contact
         !> pairs); `repattern` when the Jacobian pattern changed.
         procedure :: prepare_step => system_prepare_step
@@ -518,6 +520,23 @@ contains
             call this%pattern%zero_based(row_ptr, cols)
         end if
     end subroutine system_jacobian_pattern
+
+    subroutine system_error_entries(this, weigh)
+        class(rod_system_t), intent(in) :: this
+        logical, intent(out) :: weigh(:)
+        integer :: m
+        if (this%direct) then
+            call this%members(1)%rod%error_entries(weigh)
+            return
+        end if
+        weigh = .false.
+        do m = 1, size(this%members)
+            associate (place => this%layout%members(m))
+                call this%members(m)%rod%error_entries(weigh(place%state_offset + 1: &
+                    place%state_offset + place%n_state))
+            end associate
+        end do
+    end subroutine system_error_entries
 
     !> Each member's initial state; coupling unknowns (multipliers) start at zero.
     subroutine system_initial_state(this, x)

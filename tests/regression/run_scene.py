@@ -23,6 +23,18 @@ def common_arguments(description):
     return parser
 
 
+def run_cases(description, cases):
+    """The main program of a test script with several cases: the common arguments and a case
+    name, then that case, cases[name](args, checks), and the verdict of its checks as the exit
+    status."""
+    parser = common_arguments(description)
+    parser.add_argument("case", choices=list(cases))
+    args = parser.parse_args()
+    checks = Checks()
+    cases[args.case](args, checks)
+    checks.finish()
+
+
 def read_example(source, name):
     with open(os.path.join(source, "input", name), encoding="utf-8") as f:
         return f.read()

@@ -171,6 +171,7 @@ module rs_ph_director
         procedure :: set_step_problem => ph_director_set_step_problem
         procedure :: state_measures => ph_director_state_measures
         procedure :: nodes => ph_director_nodes
+        procedure :: error_entries => ph_director_error_entries
         procedure :: new_tie => ph_director_new_tie
         procedure :: unpack
         procedure :: element_nodes
@@ -711,6 +712,22 @@ contains
             values(scatter%position(n)) = values(scatter%position(n)) + block(scatter%local(n))
         end do
     end subroutine scatter_block
+
+    !> The nodes' positions and directors (q: the node kernel's 1:12). Not their velocities:
+    !> the midpoint rule fixes only v_{n+1/2} = (v_n + v_{n+1})/2, so the step-end velocities
+    !> carry an undamped (-1)^n component that no position sees and that the divided
+    !> differences would take for an O(1) error at any h (measured: the flying spaghetti's
+    !> director velocities drove the steps to dt_min). Nor the orthonormality multipliers
+    !> (25:30) and the element stresses, midpoint values.
+    subroutine ph_director_error_entries(this, weigh)
+        class(ph_director_t), intent(in) :: this
+        logical, intent(out) :: weigh(:)
+        integer :: k
+        weigh = .false.
+        do k = 1, this%n_nodes
+            if (this%node_dof(1, k) > 0) weigh(this%node_dof(1:12, k)) = .true.
+        end do
+    end subroutine ph_director_error_entries
 
     pure integer function ph_director_n_dofs(this)
         class(ph_director_t), intent(in) :: this

@@ -47,7 +47,7 @@ contains
             end_kinds='clamped|pinned|free', load_places='start|end|distributed|gravity', &
             load_frames='spatial', constraints='none', quasistatic=.true., &
             viscoelastic=.false., actuation=.false., curved_reference=.false., &
-            joints='revolute|rigid', planar=.true.)
+            joints='revolute|rigid', planar=.true., order_4=.true., adaptive=.true.)
         d%create => create
         d%plan_lines => plan_lines
         d%check_rod => check_planar_rod

@@ -8,18 +8,30 @@
 !> Unknowns per node (§5.1): q_i = (I r_i, psi_i), the position and the total rotation vector,
 !> A_i = Exp(psi_i) with the K basis (e_x^K, e_y^K, e_z^K) = (d3, d1, d2) of rodsolve's
 !> directors (d3 along the rod). Velocities u_i = (I v_i, K_i omega_i). After every accepted
-!> step `update` replaces a rotation vector longer than pi by its complement (eq. 40), never
-!> inside Newton; the step then starts from |psi| <= pi, far from the singularities of T^{-1}
-!> at 2 pi k (docs/theory/se3_pg.md).
+!> step `update` replaces a rotation vector longer than pi (1.25 pi with generalized-alpha,
+!> complement_angle) by its complement (eq. 40), never inside Newton; the step then starts
+!> far from the singularities of T^{-1} at 2 pi k (docs/theory/se3_pg.md).
 !>
 !> Two step problems share the assembly:
 !> - statics (&time quasistatic; methods §7.2): Newton on g_int(q) = f_ext(q, lambda) at the load
 !>   factor lambda = t_{n+1}, the increments cut back by the stepper on failure and grown
 !>   again on the remaining load;
-!> - dynamics: the implicit midpoint rule on q' = B(q) u, M u' = f_ext - g_int - f_gyr (eqs.
-!>   49-50; methods §7.4) with u_{n+1/2} = B(q_{n+1/2})^{-1} (q_{n+1} - q_n) / h eliminated, so
-!>   the unknowns are q_{n+1}. The midpoint rule does not keep the energy of this nonlinear
-!>   element exactly (§7.4): the balance error is reported and measured.
+!> - dynamics: q' = B(q) u, M u' = f_ext - g_int - f_gyr (eqs. 49-50) by one of two schemes of
+!>   rs_formulations_generalized_alpha (&time scheme), both with the unknowns q_{n+1}:
+!>   the implicit midpoint rule (methods §7.4), or the first-order generalized-alpha method of
+!>   the paper (methods §7.3, Jansen, Whiting & Hulbert 2000) on y = (q, u). The stage rate
+!>   q'_{n+alpha_m} and value q_{n+alpha_f} follow from q_{n+1} and the history; the kinematic
+!>   equation at the stage, q'_{n+alpha_m} = B(q_{n+alpha_f}) u_{n+alpha_f}, gives the stage
+!>   velocity, which is eliminated with u_{n+1} and u'_{n+alpha_m} (`stage_velocity`), so
+!>   Newton solves the 6 equations of motion per free node at the stage,
+!>   M u'_{n+alpha_m} + g_int(q_{n+alpha_f}) + f_gyr(u_{n+alpha_f}) = f_ext(q_{n+alpha_f},
+!>   t_n + alpha_f h). The midpoint rule is the case alpha_m = alpha_f = gamma = 1/2, which
+!>   reads no history. Neither keeps the energy of this nonlinear element exactly (§7.4):
+!>   the balance error is reported and measured; generalized-alpha damps the high frequencies
+!>   by design (docs/theory/se3_pg.md, "Generalized-alpha").
+!>
+!> State X: q = (r_k, psi_k) for the nodes k, then u = (v_k, omega_k); with generalized-alpha
+!> also the history y'_n: q'_n = (r'_k, psi'_k), then u'_n = (v'_k, omega'_k), each 6 per node.
 !>
 !> Supports eliminate unknowns: clamped fixes r and psi, pinned fixes r (the heavy top's
 !> spherical joint), driven prescribes r and psi (a clamp moved and turned in time, e.g. the
@@ -43,7 +55,11 @@ module rs_se3_pg
         step_energy_t
     use rs_se3_pg_tie, only: se3_pg_node_tie_t, se3_pg_node_tie
     use rs_se3_pg_element, only: se3_strains, se3_internal_force, se3_internal_tangent, &
-        se3_element_mass, se3_gyroscopic, follower_force, dead_moment, se3_strain_energy
+        se3_element_mass, se3_gyroscopic, follower_force, dead_moment, se3_strain_energy, &
+        se3_mass_solve
+    use rs_formulations_generalized_alpha, only: generalized_alpha_t, generalized_alpha, &
+        midpoint_scheme
+    use rs_formulations_energy_sentinel, only: energy_dissipative
     implicit none
     private
 
@@ -71,6 +87,9 @@ module rs_se3_pg
         integer :: n_elements = 0, n_nodes = 0
         real(rk) :: length = 0.0_rk
         logical :: statics = .false.
+        !> The time scheme of the dynamics: the midpoint rule, or generalized-alpha, whose
+        !> history y'_n the state carries (methods §7.3).
+        type(generalized_alpha_t) :: scheme
         !> K-basis stiffnesses (EA, GA1, GA2, GJ, EI1, EI2), mass per length, K-basis inertia
         !> (rhoI1 + rhoI2, rhoI1, rhoI2) (methods §3.3, §3.5 with (x, y, z) = (d3, d1, d2)).
         real(rk) :: stiffness(6) = 0.0_rk, rho_a = 0.0_rk, inertia(3) = 0.0_rk
@@ -107,8 +126,10 @@ module rs_se3_pg
         procedure :: describe => se3_describe
         procedure :: traits => se3_traits
         procedure :: nodes => se3_nodes
+        procedure :: error_entries => se3_error_entries
         procedure :: new_tie => se3_new_tie
-        procedure, private :: full_q, nodal_loads, energies, midpoint_velocity, set_drives
+        procedure, private :: full_q, nodal_loads, energies, stage_velocity, set_drives, &
+            rate_of, stage_q, initial_rates
     end type se3_pg_t
 
 contains
@@ -131,6 +152,9 @@ contains
             this%n_nodes = rod%n_elements + 1
             this%length = rod%length
             this%statics = scene%time%quasistatic
+            this%scheme = midpoint_scheme()
+            if (.not. this%statics .and. trim(scene%time%scheme) == 'generalized_alpha') &
+                this%scheme = generalized_alpha(scene%time%rho_inf)
             this%stiffness = [rod%EA, rod%GA1, rod%GA2, rod%GJ, rod%EI1, rod%EI2]
             this%rho_a = rod%rhoA
             this%inertia = [rod%rhoI1 + rod%rhoI2, rod%rhoI1, rod%rhoI2]
@@ -148,7 +172,45 @@ contains
         call build_pattern(this)
         allocate(this%q_1(6, this%n_nodes), this%f_ext(6, this%n_nodes), &
             this%k_ext(6, 6, this%n_nodes))
+        if (this%scheme%history) call this%initial_rates()
     end subroutine se3_init
+
+    !> The history y'_0 of generalized-alpha, consistent with the equations of motion at the
+    !> initial state (its first step then has the scheme's order): q'_0 = B(q_0) u_0 = (v, T^{-1}
+    !> (psi) omega) per node, and u'_0 from M u'_0 = f_ext(q_0, 0) - g_int(q_0) - f_gyr(u_0) on
+    !> the free rows, solved with the constant mass matrix (se3_mass_solve). A support's rows
+    !> have u' = 0: a clamp and a pin do not accelerate; a driven end's acceleration at t = 0 is
+    !> taken as zero too (exact for every time function but a pulse that starts at t = 0, which
+    !> the time functions' values alone do not give; docs/theory/se3_pg.md).
+    subroutine initial_rates(this)
+        class(se3_pg_t), intent(inout) :: this
+        real(rk) :: q(6, this%n_nodes), u(6, this%n_nodes), rows(6, this%n_nodes), g(12)
+        real(rk) :: kg(12, 12), accel(6, this%n_nodes), u_e(12), q_e(12)
+        integer :: k, e, n
+        n = this%n_nodes
+        q = reshape(this%initial(1:6 * n), [6, n])
+        u = reshape(this%initial(6 * n + 1:12 * n), [6, n])
+        rows = 0.0_rk
+        do e = 1, this%n_elements
+            q_e = [q(:, e), q(:, e + 1)]
+            u_e = [u(:, e), u(:, e + 1)]
+            call se3_internal_force(this%element_length(e), this%stiffness, this%eps_ref(:, e), &
+                q_e, g)
+            rows(:, e:e + 1) = rows(:, e:e + 1) - reshape(g, [6, 2])
+            call se3_gyroscopic(this%element_length(e), this%inertia, u_e, g, kg)
+            rows(:, e:e + 1) = rows(:, e:e + 1) - reshape(g, [6, 2])
+        end do
+        call this%nodal_loads(0.0_rk, q, .false.)
+        rows = rows + this%f_ext
+        call se3_mass_solve(this%element_length, this%rho_a, this%inertia, this%unknown_of > 0, &
+            rows, accel)
+        do k = 1, n
+            this%initial(12 * n + 6 * (k - 1) + 1:12 * n + 6 * (k - 1) + 3) = u(1:3, k)
+            this%initial(12 * n + 6 * (k - 1) + 4:12 * n + 6 * k) = &
+                matmul(tinv(q(4:6, k)), u(4:6, k))
+        end do
+        this%initial(18 * n + 1:24 * n) = reshape(accel, [6 * n])
+    end subroutine initial_rates
 
     !> Nodal reference poses from the centreline and its frame (rs_model_rod_geometry), the
     !> elements' reference lengths l_e = |theta_v(Q)| and strains theta(Q) / l_e (methods §5.3:
@@ -341,9 +403,23 @@ contains
 
     ! ---- Sizes, state, predictor, update ----------------------------------------------------
 
+    !> The nodes' positions r. Not the rotation vectors psi, which the complement update makes
+    !> jump, nor the step-end velocities u, which the midpoint rule leaves with an undamped
+    !> (-1)^n component (only u_{n+1/2} is fixed; ph_director_error_entries).
+    subroutine se3_error_entries(this, weigh)
+        class(se3_pg_t), intent(in) :: this
+        logical, intent(out) :: weigh(:)
+        integer :: k
+        weigh = .false.
+        do k = 1, this%n_nodes
+            weigh(6 * (k - 1) + 1:6 * (k - 1) + 3) = .true.
+        end do
+    end subroutine se3_error_entries
+
+    !> 12 per node (q, u); 24 with the history (q', u') of generalized-alpha.
     pure integer function se3_n_state(this)
         class(se3_pg_t), intent(in) :: this
-        se3_n_state = 12 * this%n_nodes
+        se3_n_state = merge(24, 12, this%scheme%history) * this%n_nodes
     end function se3_n_state
 
     pure integer function se3_n_unknown(this)
@@ -434,79 +510,170 @@ contains
         end do
     end subroutine se3_predictor
 
-    !> X_{n+1}: q from Y; u_{n+1} = 2 u_{n+1/2} - u_n (dynamics; zero in statics); then the
-    !> complement of every rotation vector longer than pi (methods eq. 40), which changes the
-    !> coordinates, not the rotation, so u (K components) stays.
+    !> X_{n+1}: q from Y; u_{n+1} from the stage velocity, u_n + (u_{n+alpha_f} - u_n) /
+    !> alpha_f (the midpoint rule: 2 u_{n+1/2} - u_n; zero in statics); with generalized-alpha
+    !> the history of the next step, q'_{n+1} and u'_{n+1} from the update formula (methods
+    !> §7.3). Then the complement of every rotation vector longer than complement_angle (pi;
+    !> 1.25 pi with generalized-alpha) (methods eq. 40), which changes the coordinates, not the
+    !> rotation, so u (K components) stays and psi' is carried to the new chart
+    !> (rate_in_complement).
     subroutine se3_update(this, t_n, h, x_n, y, x_1)
         class(se3_pg_t), intent(inout) :: this
         real(rk), intent(in) :: t_n, h, x_n(:), y(:)
         real(rk), intent(out) :: x_1(:)
-        real(rk) :: u_mid(6)
-        integer :: k, at, au
+        real(rk) :: u_stage(6), psi(3)
+        integer :: k, at, au, aq, aa, n
         call this%set_drives(t_n + h, x_n)
         call this%full_q(x_n, y, this%q_1)
-        do k = 1, this%n_nodes
+        n = this%n_nodes
+        do k = 1, n
             at = 6 * (k - 1)
-            au = 6 * this%n_nodes + at
+            au = 6 * n + at
+            aq = 12 * n + at
+            aa = 18 * n + at
             if (this%statics) then
                 x_1(au + 1:au + 6) = 0.0_rk
             else
-                u_mid = this%midpoint_velocity(h, x_n(at + 1:at + 6), this%q_1(:, k))
-                x_1(au + 1:au + 6) = 2.0_rk * u_mid - x_n(au + 1:au + 6)
+                u_stage = this%stage_velocity(h, x_n, k, this%q_1(:, k))
+                x_1(au + 1:au + 6) = this%scheme%end_from_stage(x_n(au + 1:au + 6), u_stage)
+            end if
+            if (this%scheme%history) then
+                x_1(aq + 1:aq + 6) = this%scheme%end_rate(h, x_n(at + 1:at + 6), this%q_1(:, k), &
+                    x_n(aq + 1:aq + 6))
+                x_1(aa + 1:aa + 6) = this%scheme%end_rate(h, x_n(au + 1:au + 6), &
+                    x_1(au + 1:au + 6), x_n(aa + 1:aa + 6))
             end if
             x_1(at + 1:at + 3) = this%q_1(1:3, k)
-            x_1(at + 4:at + 6) = complement_rotation_vector(this%q_1(4:6, k))
+            psi = this%q_1(4:6, k)
+            if (norm2(psi) > complement_angle(this%scheme)) psi = complement_rotation_vector(psi)
+            x_1(at + 4:at + 6) = psi
+            if (this%scheme%history .and. any(psi /= this%q_1(4:6, k))) &
+                x_1(aq + 4:aq + 6) = rate_in_complement(this%q_1(4:6, k), x_1(aq + 4:aq + 6), &
+                (0.5_rk - this%scheme%gamma) * h)
         end do
     end subroutine se3_update
 
-    !> u_{n+1/2} = B(q_{n+1/2})^{-1} (q_{n+1} - q_n) / h = (dr / h, T(psi_mid) dpsi / h).
-    pure function midpoint_velocity(this, h, q_n, q_1) result(u)
+    !> The angle beyond which `update` takes the complement of a rotation vector (methods eq.
+    !> 40): pi for the midpoint rule, whose step reads no history, so the chart may change at
+    !> every step. Generalized-alpha's history psi' is carried to the new chart only to second
+    !> order (rate_in_complement), so every change of chart perturbs the next steps a little;
+    !> a node whose rotation angle hovers about pi (the heavy top's during the middle of a
+    !> precession: the angle of a half turn about the vertical composed with any spin is pi)
+    !> would change chart at nearly every step, and at h = 1e-3 these perturbations excite its
+    !> bending-shear modes (max |E - E0| over 5 precessions 0.29 E0 at rho_inf = 0.9, 0.018 E0
+    !> with this threshold; docs/theory/se3_pg.md). So its threshold is pi + pi/4: the
+    !> complement is then shorter than 3 pi/4, and the chart changes back only after a quarter
+    !> turn; |psi| stays far from the singularity of T^{-1} at 2 pi.
+    pure real(rk) function complement_angle(scheme)
+        type(generalized_alpha_t), intent(in) :: scheme
+        complement_angle = merge(1.25_rk * pi, pi, scheme%history)
+    end function complement_angle
+
+    !> psi' carried to the complement chart: the derivative of the chart change, D psi_c / D psi
+    !> = T^{-1}(psi_c) T(psi) (both charts give the same body rate T psi'), taken at psi_d = psi
+    !> + d psi', where d = (1/2 - gamma) h: generalized-alpha's y'_n approximates y' at t_n + d
+    !> to second order (its update and stage equations are then exact to O(h^3)), so the map
+    !> keeps that order; at psi itself it would leave an O(h) error in the history at every
+    !> change of chart (measured on the heavy top at h = 1e-3 with the threshold pi, the charts
+    !> changing at nearly every step: max |E - E0| over 5 precessions 0.29 E0 at psi, 0.15 E0 at
+    !> psi_d; with complement_angle's threshold 0.0185 and 0.0183 E0).
+    pure function rate_in_complement(psi, rate, d) result(rate_c)
+        real(rk), intent(in) :: psi(3), rate(3), d
+        real(rk) :: rate_c(3)
+        real(rk) :: psi_d(3), turns
+        psi_d = psi + d * rate
+        turns = real(nint(norm2(psi) / (2.0_rk * pi)), rk)
+        rate_c = matmul(tinv(psi_d * (1.0_rk - 2.0_rk * pi * turns / norm2(psi_d))), &
+            matmul(tangent_so3(psi_d), rate))
+    end function rate_in_complement
+
+    !> The history rate of node k in x (which = 1: q', 2: u'); zero without a history (the
+    !> midpoint rule reads none).
+    pure function rate_of(this, x, k, which) result(rate)
         class(se3_pg_t), intent(in) :: this
-        real(rk), intent(in) :: h, q_n(6), q_1(6)
+        real(rk), intent(in) :: x(:)
+        integer, intent(in) :: k, which
+        real(rk) :: rate(6)
+        integer :: at
+        rate = 0.0_rk
+        if (.not. this%scheme%history) return
+        at = 6 * this%n_nodes * (1 + which) + 6 * (k - 1)
+        rate = x(at + 1:at + 6)
+    end function rate_of
+
+    !> The stage velocity of node k, u_{n+alpha_f} = B(q_{n+alpha_f})^{-1} q'_{n+alpha_m} =
+    !> (r'_{n+alpha_m}, T(psi_{n+alpha_f}) psi'_{n+alpha_m}) (methods eq. 39 at the stage),
+    !> from q_n and the history in x_n and q_1 = q_{n+1}; the midpoint rule: (dr / h,
+    !> T(psi_mid) dpsi / h).
+    pure function stage_velocity(this, h, x_n, k, q_1) result(u)
+        class(se3_pg_t), intent(in) :: this
+        real(rk), intent(in) :: h, x_n(:), q_1(6)
+        integer, intent(in) :: k
         real(rk) :: u(6)
-        u(1:3) = (q_1(1:3) - q_n(1:3)) / h
-        u(4:6) = matmul(tangent_so3(0.5_rk * (q_n(4:6) + q_1(4:6))), q_1(4:6) - q_n(4:6)) / h
-    end function midpoint_velocity
+        real(rk) :: rate(6)
+        associate (q_n => x_n(6 * (k - 1) + 1:6 * k))
+            rate = this%scheme%stage_rate(h, q_n, q_1, this%rate_of(x_n, k, 1))
+            u(1:3) = rate(1:3)
+            u(4:6) = matmul(tangent_so3(this%scheme%stage_value(q_n(4:6), q_1(4:6))), rate(4:6))
+        end associate
+    end function stage_velocity
+
+    !> The stage coordinates q_{n+alpha_f} of all nodes (statics: q_{n+1} itself).
+    pure subroutine stage_q(this, x_n, q_1, q_at)
+        class(se3_pg_t), intent(in) :: this
+        real(rk), intent(in) :: x_n(:), q_1(:, :)
+        real(rk), intent(out) :: q_at(:, :)
+        integer :: k
+        if (this%statics) then
+            q_at = q_1
+            return
+        end if
+        do k = 1, this%n_nodes
+            q_at(:, k) = this%scheme%stage_value(x_n(6 * (k - 1) + 1:6 * k), q_1(:, k))
+        end do
+    end subroutine stage_q
+
+    !> The time of the step's forces: t_{n+1} in statics, else t_n + alpha_f h.
+    pure real(rk) function force_time(this, t_n, h)
+        type(se3_pg_t), intent(in) :: this
+        real(rk), intent(in) :: t_n, h
+        force_time = merge(t_n + h, t_n + this%scheme%alpha_f * h, this%statics)
+    end function force_time
 
     ! ---- The step problem -------------------------------------------------------------------
 
     !> F(Y) in the virtual-displacement rows (I dr_i, K_i dphi_i) of the free unknowns:
-    !> statics g_int(q) - f_ext(q, t_{n+1}); dynamics M (u_{n+1} - u_n) / h + g_int(q_mid) +
-    !> f_gyr(u_mid) - f_ext(q_mid, t_{n+1/2}) (methods eqs. 42-45, 49-51).
+    !> statics g_int(q) - f_ext(q, t_{n+1}); dynamics, at the stage (methods eqs. 42-45,
+    !> 49-51, §7.3), M u'_{n+alpha_m} + g_int(q_{n+alpha_f}) + f_gyr(u_{n+alpha_f}) -
+    !> f_ext(q_{n+alpha_f}, t_n + alpha_f h), with u_{n+1} = u_n + (u_{n+alpha_f} - u_n) /
+    !> alpha_f and u'_{n+alpha_m} from u_n, u_{n+1} and u'_n; the midpoint rule: M (u_{n+1} -
+    !> u_n) / h + g_int(q_mid) + f_gyr(u_mid) - f_ext(q_mid, t_{n+1/2}).
     subroutine se3_step_residual(this, t_n, h, x_n, y, f, status)
         class(se3_pg_t), intent(inout) :: this
         real(rk), intent(in) :: t_n, h, x_n(:), y(:)
         real(rk), intent(out) :: f(:)
         integer, intent(out) :: status
-        real(rk) :: q_e(12), g(12), m(12, 12), u_n(12), u_mid(12), u_1(12), gyr(12), kg(12, 12)
+        real(rk) :: q_e(12), g(12), m(12, 12), u_stage(12), accel(12), gyr(12), kg(12, 12)
         real(rk) :: q_at(6, this%n_nodes), rows(6, this%n_nodes)
         integer :: e, k, i
         call this%set_drives(t_n + h, x_n)
         call this%full_q(x_n, y, this%q_1)
-        if (this%statics) then
-            q_at = this%q_1
-        else
-            q_at = 0.5_rk * (reshape(x_n(1:6 * this%n_nodes), [6, this%n_nodes]) + this%q_1)
-        end if
+        call this%stage_q(x_n, this%q_1, q_at)
         rows = 0.0_rk
         do e = 1, this%n_elements
             q_e = [q_at(:, e), q_at(:, e + 1)]
             call se3_internal_force(this%element_length(e), this%stiffness, this%eps_ref(:, e), &
                 q_e, g)
             if (.not. this%statics) then
-                u_n = x_n(6 * this%n_nodes + 6 * (e - 1) + 1:6 * this%n_nodes + 6 * (e + 1))
-                u_mid(1:6) = this%midpoint_velocity(h, x_n(6 * (e - 1) + 1:6 * e), this%q_1(:, e))
-                u_mid(7:12) = this%midpoint_velocity(h, x_n(6 * e + 1:6 * (e + 1)), &
-                    this%q_1(:, e + 1))
-                u_1 = 2.0_rk * u_mid - u_n
+                call stage_motion(this, h, x_n, e, u_stage, accel)
                 call se3_element_mass(this%element_length(e), this%rho_a, this%inertia, m)
-                call se3_gyroscopic(this%element_length(e), this%inertia, u_mid, gyr, kg)
-                g = g + matmul(m, u_1 - u_n) / h + gyr
+                call se3_gyroscopic(this%element_length(e), this%inertia, u_stage, gyr, kg)
+                g = g + matmul(m, accel) + gyr
             end if
             rows(:, e) = rows(:, e) + g(1:6)
             rows(:, e + 1) = rows(:, e + 1) + g(7:12)
         end do
-        call this%nodal_loads(merge(t_n + h, t_n + 0.5_rk * h, this%statics), q_at, .false.)
+        call this%nodal_loads(force_time(this, t_n, h), q_at, .false.)
         rows = rows - this%f_ext
         do k = 1, this%n_nodes
             do i = 1, 6
@@ -517,29 +684,45 @@ contains
         if (any(f /= f)) status = state_invalid
     end subroutine se3_step_residual
 
+    !> The stage velocities u_{n+alpha_f} and accelerations u'_{n+alpha_m} of element e's two
+    !> nodes (12 each), from x_n and q_{n+1} (this%q_1).
+    pure subroutine stage_motion(this, h, x_n, e, u_stage, accel)
+        type(se3_pg_t), intent(in) :: this
+        real(rk), intent(in) :: h, x_n(:)
+        integer, intent(in) :: e
+        real(rk), intent(out) :: u_stage(12), accel(12)
+        integer :: node, k, au
+        do node = 0, 1
+            k = e + node
+            au = 6 * this%n_nodes + 6 * (k - 1)
+            associate (u_n => x_n(au + 1:au + 6), u_s => u_stage(6 * node + 1:6 * node + 6))
+                u_s = this%stage_velocity(h, x_n, k, this%q_1(:, k))
+                accel(6 * node + 1:6 * node + 6) = this%scheme%stage_rate(h, u_n, &
+                    this%scheme%end_from_stage(u_n, u_s), this%rate_of(x_n, k, 2))
+            end associate
+        end do
+    end subroutine stage_motion
+
     !> dF/dY: the element tangents of methods §6.4 (analytic, checked against finite differences
     !> in tests/unit/formulations/test_se3_pg_element), the follower and dead load tangents,
-    !> and in dynamics the chain through q_mid (factor 1/2) and u_mid, u_{n+1} (the blocks
-    !> d u_mid / d q_{n+1} = diag(1/h, (T(psi_mid) + 1/2 dT[dpsi]) / h)).
+    !> and in dynamics the chain through q_{n+alpha_f} (factor alpha_f) and the stage velocity
+    !> (stage_velocity_jacobian), with d u'_{n+alpha_m} / d u_{n+alpha_f} = alpha_m / (h gamma
+    !> alpha_f) (the midpoint rule: 2 / h); checked against central differences in
+    !> tests/unit/formulations/test_se3_pg.
     subroutine se3_step_jacobian(this, t_n, h, x_n, y, values, status)
         class(se3_pg_t), intent(inout) :: this
         real(rk), intent(in) :: t_n, h, x_n(:), y(:)
         real(rk), intent(out) :: values(:)
         integer, intent(out) :: status
-        real(rk) :: q_e(12), k(12, 12), m(12, 12), kg(12, 12), gyr(12), u_mid(12), du(12, 12)
-        real(rk) :: du_node(6, 6)
+        real(rk) :: q_e(12), k(12, 12), m(12, 12), kg(12, 12), gyr(12), u_stage(12), du(12, 12)
+        real(rk) :: du_node(6, 6), accel(12)
         real(rk) :: q_at(6, this%n_nodes), scale
         integer :: e, i, j, node
         call this%set_drives(t_n + h, x_n)
         call this%full_q(x_n, y, this%q_1)
-        if (this%statics) then
-            q_at = this%q_1
-            scale = 1.0_rk
-        else
-            q_at = 0.5_rk * (reshape(x_n(1:6 * this%n_nodes), [6, this%n_nodes]) + this%q_1)
-            scale = 0.5_rk
-        end if
-        call this%nodal_loads(merge(t_n + h, t_n + 0.5_rk * h, this%statics), q_at, .true.)
+        call this%stage_q(x_n, this%q_1, q_at)
+        scale = merge(1.0_rk, this%scheme%alpha_f, this%statics)
+        call this%nodal_loads(force_time(this, t_n, h), q_at, .true.)
         values = 0.0_rk
         do e = 1, this%n_elements
             q_e = [q_at(:, e), q_at(:, e + 1)]
@@ -557,15 +740,15 @@ contains
             if (.not. this%statics) then
                 du = 0.0_rk
                 do node = 0, 1
-                    call midpoint_velocity_jacobian(h, x_n(6 * (e + node - 1) + 1:6 * (e + node)), &
-                        this%q_1(:, e + node), du_node)
+                    call stage_velocity_jacobian(this%scheme, h, &
+                        x_n(6 * (e + node - 1) + 1:6 * (e + node)), this%q_1(:, e + node), &
+                        this%rate_of(x_n, e + node, 1), du_node)
                     du(6 * node + 1:6 * node + 6, 6 * node + 1:6 * node + 6) = du_node
-                    u_mid(6 * node + 1:6 * node + 6) = this%midpoint_velocity(h, &
-                        x_n(6 * (e + node - 1) + 1:6 * (e + node)), this%q_1(:, e + node))
                 end do
+                call stage_motion(this, h, x_n, e, u_stage, accel)
                 call se3_element_mass(this%element_length(e), this%rho_a, this%inertia, m)
-                call se3_gyroscopic(this%element_length(e), this%inertia, u_mid, gyr, kg)
-                k = k + matmul(2.0_rk / h * m + kg, du)
+                call se3_gyroscopic(this%element_length(e), this%inertia, u_stage, gyr, kg)
+                k = k + matmul(this%scheme%stage_rate_factor(h) / this%scheme%alpha_f * m + kg, du)
             end if
             do j = 1, 12
                 do i = 1, 12
@@ -578,25 +761,29 @@ contains
         if (any(values /= values)) status = state_invalid
     end subroutine se3_step_jacobian
 
-    !> d u_mid / d q_{n+1} of one node (6 x 6): dr/h, and (T(psi_m) + 1/2 sum_k dT/dpsi_k dpsi
-    !> e_k^T) / h for the rotation, psi_m = (psi_n + psi_1) / 2, dpsi = psi_1 - psi_n.
-    pure subroutine midpoint_velocity_jacobian(h, q_n, q_1, du)
-        real(rk), intent(in) :: h, q_n(6), q_1(6)
+    !> d u_{n+alpha_f} / d q_{n+1} of one node (6 x 6) for `stage_velocity`: c = alpha_m / (h
+    !> gamma) on the positions, and c T(psi_s) + alpha_f sum_k dT/dpsi_k(psi_s) psi'_s e_k^T on
+    !> the rotation, psi_s = psi_{n+alpha_f}, psi'_s = psi'_{n+alpha_m} (the midpoint rule:
+    !> (T(psi_mid) + 1/2 sum_k dT/dpsi_k dpsi e_k^T) / h).
+    pure subroutine stage_velocity_jacobian(scheme, h, q_n, q_1, rate_n, du)
+        type(generalized_alpha_t), intent(in) :: scheme
+        real(rk), intent(in) :: h, q_n(6), q_1(6), rate_n(6)
         real(rk), intent(out) :: du(6, 6)
-        real(rk) :: dt(3, 3, 3), dpsi(3)
-        integer :: c
+        real(rk) :: dt(3, 3, 3), rate(6), psi_s(3), c
+        integer :: j
+        c = scheme%stage_rate_factor(h)
+        rate = scheme%stage_rate(h, q_n, q_1, rate_n)
+        psi_s = scheme%stage_value(q_n(4:6), q_1(4:6))
         du = 0.0_rk
-        du(1, 1) = 1.0_rk / h
-        du(2, 2) = 1.0_rk / h
-        du(3, 3) = 1.0_rk / h
-        dpsi = q_1(4:6) - q_n(4:6)
-        dt = tangent_so3_derivative(0.5_rk * (q_n(4:6) + q_1(4:6)))
-        du(4:6, 4:6) = tangent_so3(0.5_rk * (q_n(4:6) + q_1(4:6)))
-        do c = 1, 3
-            du(4:6, 3 + c) = du(4:6, 3 + c) + 0.5_rk * matmul(dt(:, :, c), dpsi)
+        do j = 1, 3
+            du(j, j) = c
         end do
-        du(4:6, 4:6) = du(4:6, 4:6) / h
-    end subroutine midpoint_velocity_jacobian
+        dt = tangent_so3_derivative(psi_s)
+        du(4:6, 4:6) = c * tangent_so3(psi_s)
+        do j = 1, 3
+            du(4:6, 3 + j) = du(4:6, 3 + j) + scheme%alpha_f * matmul(dt(:, :, j), rate(4:6))
+        end do
+    end subroutine stage_velocity_jacobian
 
     !> The loads at time t on the nodes at poses q (f_ext, rows I dr and K dphi) and, if
     !> `tangent`, their derivatives d f_ext / d q per node (k_ext): follower forces A(psi) b_K,
@@ -645,10 +832,11 @@ contains
     ! ---- After a step -------------------------------------------------------------------------
 
     !> The energy terms of the step (terms(1)): the work of the loads over the step,
-    !> f_ext(q_mid, t_mid) . (dr, T(psi_mid) dpsi) per node (statics: at t_{n+1} and q_{n+1}),
-    !> and H_n, H_{n+1}, whose balance H_{n+1} - H_n - W the record ledger sums. The midpoint
-    !> rule does not make it vanish for this element (methods §7.4); it measures the scheme's
-    !> energy error.
+    !> f_ext(q_s, t_s) . (dr, T(psi_s) dpsi) per node at the stage (q_{n+alpha_f}, t_n +
+    !> alpha_f h; the midpoint rule's midpoint; statics: at t_{n+1} and q_{n+1}), and H_n,
+    !> H_{n+1}, whose balance H_{n+1} - H_n - W the record ledger sums. Neither scheme makes
+    !> it vanish for this element (methods §7.4); it measures the scheme's energy error, and
+    !> generalized-alpha's numerical dissipation.
     subroutine se3_accept_step(this, t_n, h, x_n, x_1, terms)
         class(se3_pg_t), intent(inout) :: this
         real(rk), intent(in) :: t_n, h, x_n(:), x_1(:)
@@ -663,8 +851,8 @@ contains
         do k = 1, this%n_nodes
             q_1(4:6, k) = nearest_rotation_vector(q_1(4:6, k), q_n(4:6, k))
         end do
-        q_at = merge(q_1, 0.5_rk * (q_n + q_1), this%statics)
-        call this%nodal_loads(merge(t_n + h, t_n + 0.5_rk * h, this%statics), q_at, .false.)
+        call this%stage_q(x_n, q_1, q_at)
+        call this%nodal_loads(force_time(this, t_n, h), q_at, .false.)
         work = 0.0_rk
         do k = 1, this%n_nodes
             ds(1:3) = q_1(1:3, k) - q_n(1:3, k)
@@ -773,21 +961,29 @@ contains
     function se3_describe(this) result(text)
         class(se3_pg_t), intent(in) :: this
         character(len=:), allocatable :: text
-        text = 'rod ''' // this%name // ''': se3_pg (' // trim(merge('statics ', 'dynamics', &
-            this%statics)) // '), ' // str(this%n_elements) // ' two-node SE(3) elements, ' // &
+        character(len=:), allocatable :: problem
+        problem = 'statics'
+        if (.not. this%statics) problem = 'dynamics, midpoint rule'
+        if (this%scheme%history) problem = 'dynamics, generalized-alpha, rho_inf = ' // &
+            str(this%scheme%rho_inf)
+        text = 'rod ''' // this%name // ''': se3_pg (' // problem // '), ' // &
+            str(this%n_elements) // ' two-node SE(3) elements, ' // &
             str(this%n_y) // ' Newton unknowns, ' // str(this%pattern%nnz()) // &
             ' Jacobian non-zeros'
     end function se3_describe
 
     !> The traits of se3_pg: plain Newton-Raphson, as the paper (methods §7.2): the stiffness
     !> ratios of slender rods (shear l GA against bending EI / l) make PETSc's backtracking cut
-    !> nearly every step. Everything else keeps its default (no endpoint solve, energy
-    !> unchecked, the chain LU).
+    !> nearly every step. Everything else keeps its default (no endpoint solve, the chain LU),
+    !> and the energy: the midpoint rule may create some (methods §7.4, unchecked), while
+    !> generalized-alpha is stable and damps, so its sentinel is the dissipative one (energy
+    !> created on the scale of all the energy the rod held: a blown-up run).
     pure function se3_traits(this) result(traits)
         class(se3_pg_t), intent(in) :: this
         type(formulation_traits_t) :: traits
         traits%full_newton = .true.
         traits%equilibrium_steps = this%statics
+        if (this%scheme%history) traits%energy_scheme = energy_dissipative
     end function se3_traits
 
     !> The node table for couplings (rs_formulations_formulation): coordinates q = (r, psi),

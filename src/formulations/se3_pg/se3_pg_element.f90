@@ -42,7 +42,7 @@ module rs_se3_pg_element
     private
 
     public :: se3_strains, se3_internal_force, se3_internal_tangent, se3_internal_force_tangent
-    public :: se3_strain_energy, se3_element_mass, se3_gyroscopic
+    public :: se3_strain_energy, se3_element_mass, se3_gyroscopic, se3_mass_solve
     public :: se3_kinematics, tinv_times_derivative, follower_force, dead_moment
     public :: se3_element_twist
 
@@ -202,6 +202,49 @@ contains
             m(i + 6, i) = m(i, i + 6)
         end do
     end subroutine se3_element_mass
+
+    !> Accelerations a(6, nodes) with M a = rows on the free coordinates (free(i, k)) and a = 0
+    !> on the others, M the assembled consistent mass matrix of `se3_element_mass` on elements
+    !> of lengths l(:) (nodes = size(l) + 1). M is (1D consistent mass) x blockdiag(rho_a 1_3,
+    !> diag(inertia)), so each of the six coordinates is its own tridiagonal system over the
+    !> nodes, with diagonal sum of l_e / 3 and neighbours l_e / 6 (times the coordinate's mass):
+    !> the Thomas algorithm solves it without pivoting, as it is diagonally dominant; a held
+    !> coordinate splits the chain (its row becomes a = 0). For the initial history of
+    !> generalized-alpha (rs_se3_pg initial_rates).
+    pure subroutine se3_mass_solve(l, rho_a, inertia, free, rows, a)
+        real(rk), intent(in) :: l(:), rho_a, inertia(3)
+        logical, intent(in) :: free(:, :)
+        real(rk), intent(in) :: rows(:, :)
+        real(rk), intent(out) :: a(:, :)
+        ! Element lengths padded with zero beyond both ends: node k touches lengths(k - 1, k).
+        real(rk) :: lengths(0:size(l) + 1), diagonal(size(l) + 1), coupling(size(l)), node(6)
+        real(rk) :: rhs(size(l) + 1), factor
+        integer :: i, k, n
+        n = size(l) + 1
+        lengths = 0.0_rk
+        lengths(1:n - 1) = l
+        node = [rho_a, rho_a, rho_a, inertia]
+        do i = 1, 6
+            ! Row k: diagonal(k) a_k + coupling(k - 1) a_{k-1} + coupling(k) a_{k+1} = rhs(k).
+            do k = 1, n
+                diagonal(k) = merge(node(i) * (lengths(k - 1) + lengths(k)) / 3.0_rk, 1.0_rk, &
+                    free(i, k))
+                rhs(k) = merge(rows(i, k), 0.0_rk, free(i, k))
+            end do
+            do k = 1, n - 1
+                coupling(k) = merge(node(i) * l(k) / 6.0_rk, 0.0_rk, free(i, k) .and. free(i, k + 1))
+            end do
+            do k = 2, n
+                factor = coupling(k - 1) / diagonal(k - 1)
+                diagonal(k) = diagonal(k) - factor * coupling(k - 1)
+                rhs(k) = rhs(k) - factor * rhs(k - 1)
+            end do
+            a(i, n) = rhs(n) / diagonal(n)
+            do k = n - 1, 1, -1
+                a(i, k) = (rhs(k) - coupling(k) * a(i, k + 1)) / diagonal(k)
+            end do
+        end do
+    end subroutine se3_mass_solve
 
     !> Gyroscopic force g(12) = f_e^gyr of methods §6.3 for a centroidal section, in delta-s
     !> space: rotation rows of node i l sum_g w_g N_i(t_g) omega x (K I_rho0 omega) with

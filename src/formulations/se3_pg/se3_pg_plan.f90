@@ -40,6 +40,14 @@ contains
             if (scene%time%quasistatic) then
                 call add('statics: Newton at each load factor t (methods §7.2), full steps, ' // &
                     'increments halved on failure; complement rotation vectors after each increment')
+            else if (trim(scene%time%scheme) == 'generalized_alpha') then
+                call add('dynamics: generalized-alpha (Jansen, Whiting & Hulbert 2000; methods §7.3) ' // &
+                    'on q'' = B(q) u, M u'' = f with rho_inf = ' // &
+                    str(scene%time%rho_inf) // ', the equations at the stage ' // &
+                    't_n + alpha_f h, u eliminated; the history q'', u'' in the state (24 numbers ' // &
+                    'per node), the initial one from the equations at t = 0; complement rotation ' // &
+                    'vectors beyond 1.25 pi after each step; numerical dissipation of the high ' // &
+                    'frequencies by design (the energy balance shows it with the element''s error)')
             else
                 call add('dynamics: implicit midpoint rule on q'' = B(q) u, M u'' = f (methods §7.4), ' // &
                     'u eliminated; complement rotation vectors after each step; the energy balance ' // &

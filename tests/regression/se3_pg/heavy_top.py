@@ -272,15 +272,5 @@ def time_order(args, checks):
                          abs(limit - STIFF_MAX_DISTANCE), 3e-6)
 
 
-def main():
-    parser = rs.common_arguments(__doc__)
-    cases = {"stiff": stiff, "soft": soft, "energy": energy, "time_order": time_order}
-    parser.add_argument("case", choices=list(cases))
-    args = parser.parse_args()
-    checks = rs.Checks()
-    cases[args.case](args, checks)
-    checks.finish()
-
-
 if __name__ == "__main__":
-    main()
+    rs.run_cases(__doc__, {"stiff": stiff, "soft": soft, "energy": energy, "time_order": time_order})

@@ -23,7 +23,8 @@ module rs_test_se3_pg_element
     use rs_math_quadrature, only: gauss_legendre_interval
     use rs_se3_pg_element, only: se3_strains, se3_internal_force, se3_internal_tangent, &
         se3_internal_force_tangent, se3_strain_energy, se3_element_mass, se3_gyroscopic, &
-        se3_kinematics, tinv_times_derivative, follower_force, dead_moment, se3_element_twist
+        se3_kinematics, tinv_times_derivative, follower_force, dead_moment, se3_element_twist, &
+        se3_mass_solve
     implicit none
     private
 
@@ -54,6 +55,7 @@ contains
     subroutine run_all_tests()
         call set_random_seed(20250611, 7919)
         call run_test('element_mass', test_element_mass)
+        call run_test('mass_solve', test_mass_solve)
         call run_test('quarter_circle', test_quarter_circle)
         call run_test('constant_strain', test_constant_strain)
         call run_test('hand_cases', test_hand_cases)
@@ -331,6 +333,38 @@ contains
         end do
         CHECK_CLOSE(m, expected, 1.0e-15_rk, 0.0_rk, 'mass = 2-point Gauss integral')
     end subroutine test_element_mass
+
+    ! se3_mass_solve on 5 elements of random lengths with some coordinates held (a clamped first
+    ! node, a held y at node 3, a held rotation at the last node): the assembled M (from
+    ! se3_element_mass) times a equals the right-hand side on the free rows to round-off, and
+    ! a = 0 on the held ones.
+    subroutine test_mass_solve()
+        integer, parameter :: n_el = 5, n = n_el + 1
+        real(rk) :: l(n_el), rhs(6, n), a(6, n), m(12, 12), product(6, n), inertia(3), rho_a
+        logical :: free(6, n), ok
+        integer :: e
+        call random_number(l)
+        l = 0.2_rk + l
+        call random_number(rhs)
+        rhs = rhs - 0.5_rk
+        rho_a = 3.0_rk
+        inertia = [0.02_rk, 0.01_rk, 0.015_rk]
+        free = .true.
+        free(:, 1) = .false.
+        free(2, 3) = .false.
+        free(4:6, n) = .false.
+        call se3_mass_solve(l, rho_a, inertia, free, rhs, a)
+        product = 0.0_rk
+        do e = 1, n_el
+            call se3_element_mass(l(e), rho_a, inertia, m)
+            product(:, e:e + 1) = product(:, e:e + 1) + reshape(matmul(m, [a(:, e), a(:, e + 1)]), &
+                [6, 2])
+        end do
+        ok = all(abs(product - rhs) <= 1.0e-14_rk .or. .not. free)
+        CHECK_TRUE(ok, 'M a = rhs on the free rows')
+        ok = all(a == 0.0_rk .or. free)
+        CHECK_TRUE(ok, 'a = 0 on the held coordinates')
+    end subroutine test_mass_solve
 
     ! Fig. 2 (methods §8.1, §13 item 6, §14.0): node a at the origin with psi_a = (0, -pi/2, 0),
     ! node b at (1, 0, 1) with psi_b = 0, l = 1: theta = (pi/2, 0, 0, 0, pi/2, 0), so gamma =

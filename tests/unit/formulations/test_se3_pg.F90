@@ -1,0 +1,305 @@
+#include "rs_assert.h"
+!> Unit tests of rs_se3_pg's dynamics with the generalized-alpha scheme (&time scheme =
+!> 'generalized_alpha'; methods/se3_petrov_galerkin.md §7.3, docs/theory/se3_pg.md), on scenes
+!> parsed here (a spinning rod pinned at its start, with dead and follower end loads, a load per
+!> length and gravity, so that every term of the step enters):
+!> - the assembled step Jacobian equals central differences of the step residual, at a state
+!>   with a random history (rho_inf = 0.6 and 0.9), and Newton on the step converges
+!>   quadratically;
+!> - rho_inf = 1 is the midpoint rule: the same residual, Jacobian and new q, u as scheme =
+!>   'midpoint' whatever the history;
+!> - the initial history y'_0 is consistent: r' = v and T(psi) psi' = omega per node, and M u'_0 =
+!>   f_ext - g_int - f_gyr on the free rows (M, g_int and f_gyr from the element kernels, the
+!>   loads written here), u'_0 = 0 on the pin;
+!> - the complement update after a step that turns a rotation vector past 1.25 pi carries psi' to
+!>   the new chart with the same body rate, Exp(psi_c) = Exp(psi); past pi only, the chart stays.
+module rs_test_se3_pg
+    use rs_core_kinds, only: rk, pi
+    use rs_core_error, only: error_t, error_list_t
+    use rs_test_assert, only: run_test, assert_true, assert_close, assert_equal
+    use rs_test_random, only: set_random_seed
+    use rs_test_formulation_fixture, only: central_differences, dense_jacobian
+    use rs_model_scene, only: scene_t
+    use rs_io_input_file, only: parse_scene
+    use rs_formulations_formulation, only: state_valid
+    use rs_math_so3, only: exp_so3, tangent_so3, complement_rotation_vector
+    use rs_se3_pg, only: se3_pg_t
+    use rs_se3_pg_element, only: se3_element_mass, se3_gyroscopic, se3_internal_force
+    implicit none
+    private
+
+    public :: run_all_tests
+
+    character(len=*), parameter :: nl = new_line('a')
+    real(rk), parameter :: t_n = 0.3_rk, h = 0.05_rk
+    !> The scene's gravity, end force and rod data (used by the initial-history test).
+    real(rk), parameter :: gravity(3) = [0.0_rk, 0.0_rk, -9.81_rk], end_force(3) = &
+        [0.5_rk, 0.2_rk, -1.0_rk], rho_a = 1.0_rk, inertia(3) = [0.25_rk, 0.1_rk, 0.15_rk]
+
+contains
+
+    subroutine run_all_tests()
+        call set_random_seed(20261127, 17)
+        call run_test('jacobian_matches_differences', test_jacobian)
+        call run_test('newton_converges_quadratically', test_newton)
+        call run_test('rho_inf_1_is_the_midpoint_rule', test_midpoint_limit)
+        call run_test('initial_history_is_consistent', test_initial_history)
+        call run_test('complement_carries_the_history', test_complement_history)
+    end subroutine run_all_tests
+
+    !> A rod of 4 elements along x, pinned at its start and spinning about (0.4, -0.3, 2) through
+    !> it; `scheme` is the &time line's tail; `all_loads` adds follower and dead end moments and a
+    !> load per length to gravity and the dead end force.
+    function scene_text(scheme, all_loads) result(text)
+        character(len=*), intent(in) :: scheme
+        logical, intent(in) :: all_loads
+        character(len=:), allocatable :: text
+        text = '&time t_end = 1, dt = 0.05' // scheme // ' /' // nl // &
+            "&rod name = 'beam', formulation = 'se3_pg', n_elements = 4, length = 2," // nl // &
+            '     EA = 1e3, GA1 = 5e2, GA2 = 5e2, EI1 = 2, EI2 = 3, GJ = 1.5,' // nl // &
+            '     rhoA = 1, rhoI1 = 0.1, rhoI2 = 0.15, angular_velocity = 0.4, -0.3, 2.0,' // nl // &
+            '     rotation_center = 0, 0, 0 /' // nl // &
+            "&bc rod = 'beam', end = 'start', kind = 'pinned' /" // nl // &
+            "&load rod = 'beam', where = 'end', force = 0.5, 0.2, -1.0 /" // nl // &
+            "&load where = 'gravity', acceleration = 0, 0, -9.81 /" // nl
+        if (all_loads) text = text // &
+            "&load rod = 'beam', where = 'end', moment = 0.1, 0.4, 0, frame = 'follower'," // nl // &
+            '      force = 0, 0.3, 0.2 /' // nl // &
+            "&load rod = 'beam', where = 'end', moment = 0, 0.2, -0.1 /" // nl // &
+            "&load rod = 'beam', where = 'distributed', force = 0, 0.1, -0.2 /" // nl
+    end function scene_text
+
+    subroutine build(rod, text, ok)
+        type(se3_pg_t), intent(inout) :: rod
+        character(len=*), intent(in) :: text
+        logical, intent(out) :: ok
+        type(scene_t) :: scene
+        type(error_list_t) :: errors
+        type(error_t), allocatable :: err
+        call parse_scene(text, 'spinning.nml', scene, errors)
+        CHECK_EQUAL(errors%count, 0, 'the scene parses: ' // errors%joined())
+        ok = errors%count == 0
+        if (.not. ok) return
+        call rod%init(scene, [1], err)
+        CHECK_TRUE(.not. allocated(err), 'init')
+        ok = .not. allocated(err)
+    end subroutine build
+
+    !> The initial state moved by a random 0.05 in every entry (history included) and the
+    !> predicted unknown moved by a random 0.01: no term vanishes by the symmetry of the start.
+    subroutine perturbed_step(rod, x_n, y)
+        type(se3_pg_t), intent(inout) :: rod
+        real(rk), allocatable, intent(out) :: x_n(:), y(:)
+        real(rk), allocatable :: noise(:)
+        allocate(x_n(rod%n_state()), y(rod%n_unknown()), noise(rod%n_state()))
+        call rod%initial_state(x_n)
+        call random_number(noise)
+        x_n = x_n + 0.05_rk * (noise - 0.5_rk)
+        call rod%predictor(t_n, h, x_n, y)
+        call random_number(noise)
+        y = y + 0.01_rk * (noise(1:size(y)) - 0.5_rk)
+    end subroutine perturbed_step
+
+    !> Central differences with step 1e-6 agree to round-off over the step (residuals of size
+    !> M / h^2 ~ 1e3 times 1e-16 / 1e-6); the bound 1e-8 is that of the conformance test
+    !> (test_formulations_conformance), far below a missing term (the history's share of the
+    !> stage velocity's derivative is alpha_f dT[psi'] ~ 1e-2 of the mass term here).
+    subroutine test_jacobian()
+        call check_jacobian('0.6')
+        call check_jacobian('0.9')
+    end subroutine test_jacobian
+
+    subroutine check_jacobian(rho_text)
+        character(len=*), intent(in) :: rho_text
+        type(se3_pg_t) :: rod
+        real(rk), allocatable :: x_n(:), y(:), values(:), dense(:, :), difference(:, :)
+        integer, allocatable :: row_ptr(:), cols(:)
+        real(rk) :: worst
+        integer :: status
+        logical :: ok
+        call build(rod, scene_text(", scheme = 'generalized_alpha', rho_inf = " // rho_text, &
+            .true.), ok)
+        if (.not. ok) return
+        CHECK_EQUAL(rod%n_state(), 24 * 5, 'the state carries q, u, q'' and u'' per node')
+        call perturbed_step(rod, x_n, y)
+        call rod%jacobian_pattern(row_ptr, cols)
+        allocate(values(size(cols)))
+        call rod%step_jacobian(t_n, h, x_n, y, values, status)
+        CHECK_EQUAL(status, state_valid, 'Jacobian status')
+        dense = dense_jacobian(row_ptr, cols, values)
+        difference = central_differences(rod, t_n, h, x_n, y, 1.0e-6_rk)
+        worst = maxval(abs(difference - dense)) / maxval(abs(difference))
+        write(*, '(a,es10.3)') '  rho_inf = ' // rho_text // ': relative difference ', worst
+        CHECK_TRUE(worst <= 1.0e-8_rk, 'assembled Jacobian = central differences')
+    end subroutine check_jacobian
+
+    !> Newton with the assembled Jacobian (LAPACK's dense LU) from the predictor:
+    !> the residual reaches 1e-9 of its first value within 5 iterations, and the last reduction
+    !> above that floor is quadratic, log(r_k / r_{k-1}) / log(r_{k-1} / r_{k-2}) >= 1.8 (the
+    !> first iterations are not yet in the quadratic regime: 85 -> 0.28 -> 3e-3 -> 5e-10 here,
+    !> the last rate 3.4).
+    subroutine test_newton()
+        type(se3_pg_t) :: rod
+        real(rk), allocatable :: x_n(:), y(:), values(:), dense(:, :), f(:)
+        integer, allocatable :: row_ptr(:), cols(:), pivots(:)
+        real(rk) :: norms(0:8), rate
+        integer :: k, status, n, info
+        logical :: ok
+        call build(rod, scene_text(", scheme = 'generalized_alpha', rho_inf = 0.9", .true.), ok)
+        if (.not. ok) return
+        call perturbed_step(rod, x_n, y)
+        call rod%predictor(t_n, h, x_n, y)
+        n = rod%n_unknown()
+        call rod%jacobian_pattern(row_ptr, cols)
+        allocate(values(size(cols)), f(n), pivots(n))
+        norms = 0.0_rk
+        do k = 0, 8
+            call rod%step_residual(t_n, h, x_n, y, f, status)
+            norms(k) = norm2(f)
+            if (norms(k) <= 1.0e-9_rk * norms(0)) exit
+            call rod%step_jacobian(t_n, h, x_n, y, values, status)
+            dense = dense_jacobian(row_ptr, cols, values)
+            call dgesv(n, 1, dense, n, pivots, f, n, info)
+            CHECK_EQUAL(info, 0, 'dense LU of the step Jacobian')
+            y = y - f
+        end do
+        k = min(k, 8)
+        write(*, '(a,9es10.2)') '  residual norms:', norms(0:k)
+        CHECK_TRUE(k <= 5, 'Newton reaches 1e-9 of the first residual in 5 iterations')
+        if (k < 3) return
+        rate = log(norms(k) / norms(k - 1)) / log(norms(k - 1) / norms(k - 2))
+        write(*, '(a,f6.2)') '  rate of the last iteration: ', rate
+        CHECK_TRUE(rate >= 1.8_rk, 'quadratic convergence')
+    end subroutine test_newton
+
+    !> rho_inf = 1 reads no history: residual, Jacobian and X_{n+1}'s q and u equal the
+    !> midpoint rule's, to round-off of the reordered arithmetic (1e-12 relative).
+    subroutine test_midpoint_limit()
+        type(se3_pg_t) :: alpha, midpoint
+        real(rk), allocatable :: x_n(:), y(:), f_a(:), f_m(:), v_a(:), v_m(:), x_a(:), x_m(:)
+        integer, allocatable :: row_ptr(:), cols(:)
+        integer :: status, n
+        logical :: ok
+        call build(alpha, scene_text(", scheme = 'generalized_alpha', rho_inf = 1", .true.), ok)
+        if (.not. ok) return
+        call build(midpoint, scene_text('', .true.), ok)
+        if (.not. ok) return
+        call perturbed_step(alpha, x_n, y)
+        n = midpoint%n_state()
+        allocate(f_a(size(y)), f_m(size(y)), x_a(alpha%n_state()), x_m(n))
+        call alpha%step_residual(t_n, h, x_n, y, f_a, status)
+        call midpoint%step_residual(t_n, h, x_n(1:n), y, f_m, status)
+        CHECK_TRUE(maxval(abs(f_a - f_m)) <= 1.0e-12_rk * maxval(abs(f_m)), 'the same residual')
+        call alpha%jacobian_pattern(row_ptr, cols)
+        allocate(v_a(size(cols)), v_m(size(cols)))
+        call alpha%step_jacobian(t_n, h, x_n, y, v_a, status)
+        call midpoint%step_jacobian(t_n, h, x_n(1:n), y, v_m, status)
+        CHECK_TRUE(maxval(abs(v_a - v_m)) <= 1.0e-12_rk * maxval(abs(v_m)), 'the same Jacobian')
+        call alpha%update(t_n, h, x_n, y, x_a)
+        call midpoint%update(t_n, h, x_n(1:n), y, x_m)
+        ok = maxval(abs(x_a(1:n) - x_m)) <= 1.0e-12_rk * maxval(abs(x_m))
+        CHECK_TRUE(ok, 'the same q_{n+1} and u_{n+1}')
+    end subroutine test_midpoint_limit
+
+    !> y'_0 against the equations of motion at t = 0, written here from the kernels: M and
+    !> f_gyr per element (se3_element_mass, se3_gyroscopic), g_int (zero in the stress-free
+    !> start, se3_internal_force), gravity rho_a g l_e / 2 per node of each element and the
+    !> dead end force. Tolerance: round-off of forces of size 10 (1e-12).
+    subroutine test_initial_history()
+        type(se3_pg_t) :: rod
+        real(rk), allocatable :: x(:)
+        real(rk) :: m_e(12, 12), g(12), kg(12, 12), q(6, 5), u(6, 5), rate(6, 5), accel(6, 5)
+        real(rk) :: rows(6, 5), inertial(6, 5), l
+        integer :: k, e, n
+        logical :: ok
+        call build(rod, scene_text(", scheme = 'generalized_alpha'", .false.), ok)
+        if (.not. ok) return
+        n = 5
+        allocate(x(rod%n_state()))
+        call rod%initial_state(x)
+        q = reshape(x(1:30), [6, n])
+        u = reshape(x(31:60), [6, n])
+        rate = reshape(x(61:90), [6, n])
+        accel = reshape(x(91:120), [6, n])
+        do k = 1, n
+            CHECK_TRUE(all(abs(rate(1:3, k) - u(1:3, k)) <= 1.0e-14_rk), 'r'' = v')
+            ok = all(abs(matmul(tangent_so3(q(4:6, k)), rate(4:6, k)) - u(4:6, k)) <= 1.0e-13_rk)
+            CHECK_TRUE(ok, 'T(psi) psi'' = omega')
+        end do
+        CHECK_TRUE(all(accel(1:3, 1) == 0.0_rk), 'the pin does not accelerate')
+        rows = 0.0_rk
+        inertial = 0.0_rk
+        l = 2.0_rk / 4.0_rk
+        do e = 1, 4
+            call se3_element_mass(l, rho_a, inertia, m_e)
+            inertial(:, e:e + 1) = inertial(:, e:e + 1) + reshape(matmul(m_e, &
+                [accel(:, e), accel(:, e + 1)]), [6, 2])
+            call se3_gyroscopic(l, inertia, [u(:, e), u(:, e + 1)], g, kg)
+            rows(:, e:e + 1) = rows(:, e:e + 1) - reshape(g, [6, 2])
+            call se3_internal_force(l, [1.0e3_rk, 5.0e2_rk, 5.0e2_rk, 1.5_rk, 2.0_rk, 3.0_rk], &
+                [1.0_rk, 0.0_rk, 0.0_rk, 0.0_rk, 0.0_rk, 0.0_rk], [q(:, e), q(:, e + 1)], g)
+            rows(:, e:e + 1) = rows(:, e:e + 1) - reshape(g, [6, 2])
+            rows(1:3, e) = rows(1:3, e) + rho_a * gravity * 0.5_rk * l
+            rows(1:3, e + 1) = rows(1:3, e + 1) + rho_a * gravity * 0.5_rk * l
+        end do
+        rows(1:3, n) = rows(1:3, n) + end_force
+        ok = maxval(abs(inertial(4:6, 1) - rows(4:6, 1))) <= 1.0e-12_rk
+        CHECK_TRUE(ok, 'M u''_0 = f on the pin''s rotation rows')
+        ok = maxval(abs(inertial(:, 2:n) - rows(:, 2:n))) <= 1.0e-12_rk
+        CHECK_TRUE(ok, 'M u''_0 = f_ext - g_int - f_gyr on the free rows')
+        ok = maxval(abs(u(4:6, :))) > 1.0_rk .and. maxval(abs(rows(4:6, 2:n))) > 1.0e-2_rk
+        CHECK_TRUE(ok, 'the test is not trivial: the rod spins and f_gyr acts')
+    end subroutine test_initial_history
+
+    !> The last node's rotation vector at 1.25 pi - 0.05 about its axis, turned to 1.25 pi + 0.05
+    !> by the step (generalized-alpha's threshold of the complement, rs_se3_pg complement_angle):
+    !> X_{n+1} holds its complement, and psi' the same body rate in the new chart at psi_d = psi
+    !> + d psi', d = (1/2 - gamma) h (the time whose rate psi' approximates): T(psi_d,c) psi'_c =
+    !> T(psi_d) psi'. Below the threshold (pi + 0.05) the chart stays.
+    subroutine test_complement_history()
+        type(se3_pg_t) :: rod
+        real(rk), allocatable :: x_n(:), y(:), x_1(:)
+        real(rk) :: axis(3), psi_1(3), rate_1(3), psi_c(3), rate_c(3), psi_d(3), d
+        integer :: at, aq, n
+        logical :: ok
+        call build(rod, scene_text(", scheme = 'generalized_alpha', rho_inf = 0.9", .true.), ok)
+        if (.not. ok) return
+        call perturbed_step(rod, x_n, y)
+        n = 5
+        at = 6 * (n - 1)
+        aq = 12 * n + at
+        axis = [0.3_rk, -0.5_rk, 0.8_rk] / norm2([0.3_rk, -0.5_rk, 0.8_rk])
+        allocate(x_1(rod%n_state()))
+        x_n(at + 4:at + 6) = (pi - 0.05_rk) * axis
+        y(rod%unknown_of(4:6, n)) = (pi + 0.05_rk) * axis
+        call rod%update(t_n, h, x_n, y, x_1)
+        ok = all(x_1(at + 4:at + 6) == (pi + 0.05_rk) * axis)
+        CHECK_TRUE(ok, 'just beyond pi, the chart stays')
+        x_n(at + 4:at + 6) = (1.25_rk * pi - 0.05_rk) * axis
+        psi_1 = (1.25_rk * pi + 0.05_rk) * axis + [1.0e-3_rk, -2.0e-3_rk, 0.5e-3_rk]
+        y(rod%unknown_of(4:6, n)) = psi_1
+        call rod%update(t_n, h, x_n, y, x_1)
+        rate_1 = rod%scheme%end_rate(h, x_n(at + 4:at + 6), psi_1, x_n(aq + 4:aq + 6))
+        psi_c = x_1(at + 4:at + 6)
+        rate_c = x_1(aq + 4:aq + 6)
+        ok = all(psi_c == complement_rotation_vector(psi_1)) .and. norm2(psi_c) < pi
+        CHECK_TRUE(ok, 'the rotation vector is complemented')
+        CHECK_TRUE(maxval(abs(exp_so3(psi_c) - exp_so3(psi_1))) <= 1.0e-14_rk, 'the same rotation')
+        d = (0.5_rk - rod%scheme%gamma) * h
+        psi_d = psi_1 + d * rate_1
+        ok = maxval(abs(matmul(tangent_so3(complement_rotation_vector(psi_d)), rate_c) - &
+            matmul(tangent_so3(psi_d), rate_1))) <= 1.0e-12_rk * norm2(rate_1)
+        CHECK_TRUE(ok, 'T(psi_d,c) psi''_c = T(psi_d) psi''')
+        ok = maxval(abs(rate_c - rate_1)) > 1.0e-3_rk * norm2(rate_1)
+        CHECK_TRUE(ok, 'the test is not trivial: psi'' changes with the chart')
+    end subroutine test_complement_history
+
+end module rs_test_se3_pg
+
+program test_se3_pg
+    use rs_test_assert, only: finish_tests
+    use rs_test_se3_pg, only: run_all_tests
+    implicit none
+    call run_all_tests()
+    call finish_tests()
+end program test_se3_pg
