@@ -307,7 +307,8 @@ def error(bench, value, reference):
 
 def point_name(bench, point):
     dt = "qs" if point.dt is None else f"{point.dt:.6g}"
-    return f"{bench.key}_{re.sub(r'\W+', '_', point.formulation)}_{point.n}_{dt}"
+    label = re.sub(r"\W+", "_", point.formulation)
+    return f"{bench.key}_{label}_{point.n}_{dt}"
 
 
 def reference(args, bench):
