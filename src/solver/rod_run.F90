@@ -66,7 +66,8 @@ module rs_solver_rod_run
         type(solver_input_t) :: solver
         !> The scene's time stepping (&time: order, adaptive steps and their tolerances).
         type(time_input_t) :: time
-        !> Adaptive steps: the load kinks they hit exactly (scene_time_kinks).
+        !> Adaptive steps: the load kinks they hit exactly (scene_time_kinks: the whole scene's,
+        !> also those of other systems' loads, which only add step ends).
         real(rk), allocatable :: kinks(:)
         !> Adaptive steps: the steps taken over the run (the records are steps_done).
         integer :: adaptive_steps = 0

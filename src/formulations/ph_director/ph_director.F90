@@ -714,7 +714,8 @@ contains
     end subroutine scatter_block
 
     !> The nodes' positions and directors (q: the node kernel's 1:12). Not their velocities:
-    !> the midpoint rule fixes only v_{n+1/2} = (v_n + v_{n+1})/2, so the step-end velocities
+    !> the midpoint rule fixes only v_{n+1/2} = (v_n + v_{n+1})/2 (the kinematic rows
+    !> h v_mid = q_{n+1} - q_n, methods/ph_director_3d.md §5.2), so the step-end velocities
     !> carry an undamped (-1)^n component that no position sees and that the divided
     !> differences would take for an O(1) error at any h (measured: the flying spaghetti's
     !> director velocities drove the steps to dt_min). Nor the orthonormality multipliers

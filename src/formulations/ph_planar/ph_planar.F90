@@ -125,6 +125,7 @@ module rs_ph_planar
     contains
         procedure :: init => planar_init
         procedure :: n_state => planar_n_state
+        procedure :: error_entries => planar_error_entries
         procedure :: n_unknown => planar_n_unknown
         procedure :: jacobian_pattern => planar_jacobian_pattern
         procedure :: initial_state => planar_initial_state
@@ -526,6 +527,21 @@ contains
     end subroutine local_unknowns
 
     ! ---- Sizes and state --------------------------------------------------------------------
+
+    !> The nodal coordinates q (x_n(1:n_q)), for adaptive steps. Not the velocities: the update
+    !> sets v_{n+1} = 2 (q_{n+1} - q_n)/h - v_n (methods/ph_planar.md §4.3), which keeps an
+    !> undamped (-1)^n component no coordinate sees; weighed, it made every step of the planar
+    !> spaghetti look wrong and drove the steps below Newton's reach. Nor the strain history,
+    !> nor the angles theta when the update wraps them by 2 pi (wrap_theta: a jump, and a
+    !> rejection cascade at t = 4.16 on the spinning spaghetti); their error shows in the
+    !> positions of the nodes next to them.
+    subroutine planar_error_entries(this, weigh)
+        class(ph_planar_t), intent(in) :: this
+        logical, intent(out) :: weigh(:)
+        weigh = .false.
+        weigh(1:this%n_q) = .true.
+        if (this%wrap_theta) weigh(this%theta_dofs) = .false.
+    end subroutine planar_error_entries
 
     pure integer function planar_n_state(this)
         class(ph_planar_t), intent(in) :: this

@@ -405,7 +405,8 @@ contains
 
     !> The nodes' positions r. Not the rotation vectors psi, which the complement update makes
     !> jump, nor the step-end velocities u, which the midpoint rule leaves with an undamped
-    !> (-1)^n component (only u_{n+1/2} is fixed; ph_director_error_entries).
+    !> (-1)^n component (only u_{n+1/2} is fixed, q_{n+1} = q_n + h B(q_{n+1/2}) u_{n+1/2},
+    !> methods/se3_petrov_galerkin.md §7.4; ph_director_error_entries).
     subroutine se3_error_entries(this, weigh)
         class(se3_pg_t), intent(in) :: this
         logical, intent(out) :: weigh(:)
