@@ -9,7 +9,7 @@ module rs_io_input_capability_check
     use rs_core_kinds, only: rk
     use rs_core_error, only: error_list_t
     use rs_core_strings, only: str, split_list
-    use rs_model_scene, only: scene_t, rod_input_t, bc_input_t, unset_real, unset_int
+    use rs_model_scene, only: scene_t, rod_input_t, bc_input_t, unset_real, unset_int, rod_is_damped
     use rs_model_capabilities, only: capability_t, lists_name, end_kinds_at
     use rs_model_planarity, only: plane_t, plane_of_rods, plane_text
     use rs_model_coupling, only: coupled_systems
@@ -359,8 +359,6 @@ contains
             given = rod%external_damping /= 0.0_rk
         case ('internal_damping')
             given = rod%internal_damping /= 0.0_rk
-        case ('kelvin_voigt_time')
-            given = rod%kelvin_voigt_time /= 0.0_rk
         case default
             given = .false.
             if (present(known)) known = .false.
@@ -460,6 +458,9 @@ contains
                 at(scene, rod%input_line) // '&rod maxwell_fraction: Maxwell branches ' // &
                 '(viscoelasticity) are not available for ' // what // ' (rod ''' // trim(rod%name) // &
                 ''')' // see_matrix)
+            if (rod_is_damped(rod) .and. .not. row%damping) call errors%add(at(scene, &
+                rod%input_line) // '&rod kelvin_voigt_time, drag, angular_drag: damping is not ' // &
+                'available for ' // what // ' (rod ''' // trim(rod%name) // ''')' // see_matrix)
             if (trim(rod%geometry) /= 'straight' .and. .not. row%curved_reference) call errors%add( &
                 at(scene, rod%input_line) // '&rod geometry: a curved reference (''' // &
                 trim(rod%geometry) // ''') is not available for ' // what // ' (rod ''' // &

@@ -531,10 +531,20 @@ contains
                 'viscous stress, it is not guaranteed to dissipate (methods/se3_strands.md ' // &
                 '§2.6); kelvin_voigt_time is the safe alternative.', lower=0.0_rk, example='1e-4'), &
             spec_v('kelvin_voigt_time', 'real', 's', '0', &
-                'se3_strand only (an error for any other formulation): Kelvin-Voigt viscosity, ' // &
-                'the viscous stress kelvin_voigt_time A dU/dt (A the stiffness matrix, U the ' // &
-                'strains) added to the elastic stress inside the divergence; provably ' // &
-                'dissipative (methods/se3_strands.md §2.6).', lower=0.0_rk, example='1e-3'), &
+                'Kelvin-Voigt viscosity: the viscous stress tau_i k_i d(strain_i)/dt added to ' // &
+                'each elastic stress component, k_i the stiffnesses. One value for all six ' // &
+                'components or six in the order EA, GA1, GA2, EI1, EI2, GJ (the planar ' // &
+                'formulations read EA, their shear and their bending entry). It dissipates ' // &
+                'in every step and enters the energy balance (docs/theory/damping.md).', &
+                count=1, max_count=6, lower=0.0_rk, example='1e-3'), &
+            spec_v('drag', 'real', 'N s/m^2', '0', &
+                'External drag: the force -drag v per length against the centreline velocity v ' // &
+                '(a rod moving through a viscous medium; docs/theory/damping.md).', &
+                lower=0.0_rk, example='0.5'), &
+            spec_v('angular_drag', 'real', 'N s', '0', &
+                'External angular drag: the moment -angular_drag w per length against the ' // &
+                'angular velocity w of the sections (docs/theory/damping.md).', lower=0.0_rk, &
+                example='1e-4'), &
             spec_v('free_end', 'string', '-', "'balanced'", &
                 'se3_strand only (an error for any other formulation): the free end''s half ' // &
                 'cell. ''balanced'' takes the ad^T term of its one segment in full, so an end ' // &

@@ -10,7 +10,8 @@ module rs_io_input_values
     use rs_core_kinds, only: rk
     use rs_core_error, only: error_list_t
     use rs_core_strings, only: str, vector_text, str_significant
-    use rs_model_scene, only: scene_t, rod_input_t, time_input_t, unset_real, section_derived_names
+    use rs_model_scene, only: scene_t, rod_input_t, time_input_t, unset_real, section_derived_names, &
+        rod_is_damped
     use rs_model_rod_geometry, only: rod_geometry_t, straight_geometry, helix_geometry, &
         polyline_geometry, centreline_tangent, default_normal
     use rs_model_section, only: section_properties_t, circle_section, tube_section, &
@@ -179,6 +180,10 @@ contains
                     rod%input_line) // '&rod ''' // trim(rod%name) // ''' maxwell_fraction: ' // &
                     'Maxwell branches dissipate, and order 4''s negative sub-step would make ' // &
                     'them an energy source; use &time order = 2')
+                if (rod_is_damped(rod)) call errors%add(at(scene, rod%input_line) // &
+                    '&rod ''' // trim(rod%name) // ''' kelvin_voigt_time, drag, angular_drag: ' // &
+                    'damping dissipates, and order 4''s negative sub-step would make it an ' // &
+                    'energy source; use &time order = 2')
             end associate
         end do
         if (scene%contact%given .and. scene%contact%mu > 0.0_rk) call errors%add(here // &
@@ -267,6 +272,11 @@ contains
                     'but a quasistatic run (&time quasistatic) has no inertia; allowed: 0, 0, 0')
             end if
             call resolve_maxwell(rod, here, errors)
+            call resolve_kelvin_voigt(rod, here, errors)
+            if (scene%time%quasistatic .and. rod_is_damped(rod)) call errors%add(here // &
+                'kelvin_voigt_time, drag, angular_drag: a quasistatic run (&time quasistatic) ' // &
+                'follows a load path whose parameter is not a physical time, so viscous ' // &
+                'damping has no rate to act on; remove them or run dynamics')
             call resolve_stiffness(rod, here, errors)
             if (.not. scene%time%quasistatic) call check_inertia(rod, here, errors)
         end associate
@@ -456,6 +466,29 @@ contains
                 ' is not given but a later one is; Maxwell branches are numbered from 1 without gaps')
         end function no_gap
     end subroutine resolve_maxwell
+
+    !> Kelvin-Voigt time constants (docs/theory/damping.md): none given is no viscosity, one
+    !> is every component's, six are (EA, GA1, GA2, EI1, EI2, GJ)'s; any other count is an
+    !> error, since the reader could not tell which components were meant.
+    subroutine resolve_kelvin_voigt(rod, here, errors)
+        type(rod_input_t), intent(inout) :: rod
+        character(len=*), intent(in) :: here
+        type(error_list_t), intent(inout) :: errors
+        integer :: n
+        n = leading_count(rod%kelvin_voigt_time)
+        if (any(rod%kelvin_voigt_time(n + 1:) /= unset_real) .or. (n > 1 .and. n < 6)) then
+            call errors%add(here // 'kelvin_voigt_time: ' // &
+                str(count(rod%kelvin_voigt_time /= unset_real)) // ' value(s) given; give one ' // &
+                '(every stress component) or six (EA, GA1, GA2, EI1, EI2, GJ in this order)')
+            return
+        end if
+        select case (n)
+        case (0)
+            rod%kelvin_voigt_time = 0.0_rk
+        case (1)
+            rod%kelvin_voigt_time = rod%kelvin_voigt_time(1)
+        end select
+    end subroutine resolve_kelvin_voigt
 
     !> Stiffnesses and inertias: given directly (section = 'none'), or from section and material.
     subroutine resolve_stiffness(rod, here, errors)

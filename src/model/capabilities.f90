@@ -28,6 +28,9 @@ module rs_model_capabilities
         logical :: quasistatic = .false.
         !> Generalized-Maxwell branches (&rod maxwell_*).
         logical :: viscoelastic = .false.
+        !> Kelvin-Voigt viscous stress and external drag (&rod kelvin_voigt_time, drag,
+        !> angular_drag; docs/theory/damping.md).
+        logical :: damping = .false.
         !> Pneumatic chambers and tendons (&actuator).
         logical :: actuation = .false.
         !> A curved stress-free reference (&rod geometry = 'helix' or 'polyline').

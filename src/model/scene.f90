@@ -12,7 +12,7 @@ module rs_model_scene
     private
 
     public :: load_applies_to, sweep_value_count, sweep_values, sweep_member_count, &
-        sweep_member_indices, step_count, body_inertia_tensor, inertia_tensor
+        sweep_member_indices, step_count, body_inertia_tensor, inertia_tensor, rod_is_damped
 
     !> Marks a real variable that was not given and has no default.
     real(rk), parameter, public :: unset_real = huge(1.0_rk)
@@ -180,12 +180,19 @@ module rs_model_scene
         real(rk) :: maxwell_tau_E(max_branches) = unset_real
         real(rk) :: maxwell_tau_G(max_branches) = unset_real
         !> se3_strand only (seed 004 eq. 7, methods/se3_strands.md §2.5-2.6): the external drag
-        !> D_ex = external_damping I6 (body force -D_ex V), the internal dissipation
-        !> D_in = internal_damping I6 (body force -D_in dU/dt, not sign-definite) and the
-        !> Kelvin-Voigt viscous stress kelvin_voigt_time A dU/dt added to the elastic stress.
+        !> D_ex = external_damping I6 (body force -D_ex V) and the internal dissipation
+        !> D_in = internal_damping I6 (body force -D_in dU/dt, not sign-definite).
         real(rk) :: external_damping = 0.0_rk
         real(rk) :: internal_damping = 0.0_rk
-        real(rk) :: kelvin_voigt_time = 0.0_rk
+        !> Damping of every formulation that has it (capability_t damping; issue 26 item 1):
+        !> the Kelvin-Voigt viscous stress tau_i k_i d(strain_i)/dt added to each elastic stress
+        !> component i, with the time constants in the order of the stiffnesses
+        !> (EA, GA1, GA2, EI1, EI2, GJ) (one value given: all six; resolved to 0 when none is);
+        !> and the external drag, the force -drag v per length against the centreline velocity
+        !> v and the moment -angular_drag w per length against the angular velocity w.
+        real(rk) :: kelvin_voigt_time(6) = unset_real
+        real(rk) :: drag = 0.0_rk
+        real(rk) :: angular_drag = 0.0_rk
         !> se3_strand only: the free end's half cell (docs/theory/se3_strand.md, "The free
         !> end"): 'balanced' (its segment's ad^T term in full: no spurious end moment) or
         !> 'paper' (seed 004's average with the ghost segment, for its h^2 tip table);
@@ -416,6 +423,14 @@ module rs_model_scene
     end type scene_t
 
 contains
+
+    !> The rod has Kelvin-Voigt viscosity or external drag (given and not zero; an unresolved
+    !> kelvin_voigt_time entry counts as given).
+    pure logical function rod_is_damped(rod)
+        type(rod_input_t), intent(in) :: rod
+        rod_is_damped = any(rod%kelvin_voigt_time /= 0.0_rk) .or. rod%drag /= 0.0_rk .or. &
+            rod%angular_drag /= 0.0_rk
+    end function rod_is_damped
 
     !> The inertia tensor of the body of a &bc (kind = 'body') about its centre of mass,
     !> inertial components in the reference configuration: diagonal `inertia`, off-diagonal

@@ -82,7 +82,12 @@ module rs_se3_strand
         real(rk) :: stiff(6) = 0.0_rk, stiff_inv(6) = 0.0_rk
         !> Relaxed strains per segment, -1..N (ghosts repeat their neighbours).
         real(rk), allocatable :: u_bar(:, :)
-        real(rk) :: eta_external = 0.0_rk, eta_internal = 0.0_rk, tau_kv = 0.0_rk
+        real(rk) :: eta_internal = 0.0_rk
+        !> The external drag D_ex per body velocity component (angular_drag on the three
+        !> angular rows, drag on the three linear ones, each plus the paper's scalar
+        !> external_damping) and the Kelvin-Voigt times per stress component, both in the
+        !> order of V and Sigma (paper eq. 3).
+        real(rk) :: eta_external(6) = 0.0_rk, tau_kv(6) = 0.0_rk
         !> &rod free_end = 'paper': seed 004's ghost-averaged free end instead of the balanced one.
         logical :: paper_free_end = .false.
         !> True: P_0 prescribed (clamped or driven); the only start supported (methods §3.4).
@@ -163,9 +168,11 @@ contains
             end if
             this%mass_inv = 1.0_rk / this%mass
             this%stiff_inv = 1.0_rk / this%stiff
-            this%eta_external = rod%external_damping
+            this%eta_external = rod%external_damping + [spread(rod%angular_drag, 1, 3), &
+                spread(rod%drag, 1, 3)]
             this%eta_internal = rod%internal_damping
-            this%tau_kv = rod%kelvin_voigt_time
+            ! &rod kelvin_voigt_time is in the order (EA, GA1, GA2, EI1, EI2, GJ).
+            this%tau_kv = rod%kelvin_voigt_time([6, 4, 5, 1, 2, 3])
             this%paper_free_end = trim(rod%free_end) == 'paper'
             allocate(this%initial(this%n_state()), source=0.0_rk)
             call reference_configuration(this, rod)
@@ -567,7 +574,7 @@ contains
         real(rk), intent(in) :: t_n, h, x_n(:)
         integer, intent(out) :: status
         real(rk) :: eye_h(6, 6), p(6), v(6), v_next(6), s_prev(6), s_here(6), u_prev(6)
-        real(rk) :: u_here(6), c_prev(6, 6), c_here(6, 6), theta, p0(6), diag_p(6), diag_s(6)
+        real(rk) :: u_here(6), c_prev(6, 6), c_here(6, 6), theta(6), p0(6), diag_p(6), diag_s(6)
         real(rk) :: diag_c(6), quarter_stiff(6), vel(3), omega(3), a0(3, 3), g(3, 3)
         integer :: k, n, b, i
         status = state_valid
@@ -630,16 +637,18 @@ contains
             ! Stresses, with the Kelvin-Voigt viscous part theta (Sigma - Sigma_n); at k = N the
             ! ghost's viscous stress mirrors Sigma_{N-1}'s, so the end's total stress is the
             ! prescribed one.
+            ! theta is diagonal (one time per component): it scales the blocks' columns.
             if (k < n) then
-                this%blocks(:, :, 1, b) = (1.0_rk + theta) * c_prev
-                this%blocks(:, :, 3, b) = (1.0_rk + theta) * c_here
-                if (theta /= 0.0_rk) this%rhs(:, b) = this%rhs(:, b) + &
-                    theta * matmul(c_prev, s_prev) + theta * matmul(c_here, s_here)
+                this%blocks(:, :, 1, b) = c_prev * spread(1.0_rk + theta, 1, 6)
+                this%blocks(:, :, 3, b) = c_here * spread(1.0_rk + theta, 1, 6)
+                if (any(theta /= 0.0_rk)) this%rhs(:, b) = this%rhs(:, b) + &
+                    matmul(c_prev, theta * s_prev) + matmul(c_here, theta * s_here)
             else
-                this%blocks(:, :, 1, b) = (1.0_rk + theta) * c_prev - theta * c_here
+                this%blocks(:, :, 1, b) = c_prev * spread(1.0_rk + theta, 1, 6) - &
+                    c_here * spread(theta, 1, 6)
                 this%blocks(:, :, 3, b) = c_here
-                if (theta /= 0.0_rk) this%rhs(:, b) = this%rhs(:, b) + &
-                    theta * matmul(c_prev, s_prev) - theta * matmul(c_here, s_prev)
+                if (any(theta /= 0.0_rk)) this%rhs(:, b) = this%rhs(:, b) + &
+                    matmul(c_prev, theta * s_prev) - matmul(c_here, theta * s_prev)
             end if
             ! The paper's internal law: + D_in A^-1 (Sigma_k - Sigma_k^n) / dt (right segment).
             do i = 1, 6
@@ -841,7 +850,7 @@ contains
             f(4:6) = this%load_f(:, k) + h * strand_cross(w, this%load_f(:, k)) + &
                 this%load_f_follower(:, k)
             work = work + h * this%weight(k) * dot_product(v, f)
-            dissipated = dissipated + h * this%weight(k) * this%eta_external * dot_product(v, v)
+            dissipated = dissipated + h * this%weight(k) * dot_product(v, this%eta_external * v)
             rate = this%stiff_inv * (s_at(x_1, k) - s_at(x_n, k)) / h
             dissipated = dissipated + h * this%weight(k) * this%eta_internal * dot_product(v, rate)
         end do
@@ -862,7 +871,7 @@ contains
             dot_product(p_at(x_n, 0), this%mass_inv * p_at(x_n, 0)))
         do k = 0, n - 1
             rate = (s_at(x_1, k) - s_at(x_n, k)) / h
-            dissipated = dissipated + h * this%seg_h(k) * this%tau_kv * dot_product(rate, &
+            dissipated = dissipated + h * this%seg_h(k) * dot_product(this%tau_kv * rate, &
                 this%stiff_inv * rate)
         end do
         call this%energies(x_n, kin_n, str_n)

@@ -23,8 +23,10 @@ contains
         ! s = 0 (a clamp, or a driven end whose velocity is prescribed, P0 = M V0(t)) and
         ! stress at s = L (free, with its end load); drag, gravity and follower tip loads;
         ! any relaxed (curved) reference shape; statics by damped dynamics instead of
-        ! quasistatics. Its damping is its own (&rod external_damping, internal_damping,
-        ! kelvin_voigt_time), not Maxwell branches.
+        ! quasistatics. Its damping: seed 004's external and internal laws (&rod
+        ! external_damping, internal_damping, its own) and the Kelvin-Voigt stress and drag of
+        ! every damped formulation (kelvin_voigt_time, drag, angular_drag), not Maxwell
+        ! branches.
         d%capability = capability_t(formulation=d%name, available=.true., &
             end_kinds='clamped|driven', end_kinds_at_end='free', &
             end_kinds_note='; se3_strand prescribes the motion at s = 0 and the stress at ' // &
@@ -32,10 +34,10 @@ contains
             load_places='end|distributed|gravity', load_frames='spatial|follower', &
             constraints='none', quasistatic=.false., viscoelastic=.false., actuation=.false., &
             curved_reference=.true., prestressed=.true., joints='', planar=.false., &
-            relaxation=.true., drive='velocity')
+            relaxation=.true., damping=.true., drive='velocity')
         ! The damping of seed 004 (methods/se3_strands.md §2.7) and the treatment of the free
         ! end are read by this formulation only.
-        d%own_rod_variables = 'free_end|external_damping|internal_damping|kelvin_voigt_time'
+        d%own_rod_variables = 'free_end|external_damping|internal_damping'
         d%semi_implicit_step = 'methods/se3_strands.md §3.5'
         d%create => create
         d%plan_lines => plan_lines

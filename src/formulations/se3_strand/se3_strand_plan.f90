@@ -3,7 +3,8 @@
 !> what is skipped.
 module rs_se3_strand_plan
     use rs_core_strings, only: str, str_significant
-    use rs_model_scene, only: scene_t, load_applies_to
+    use rs_model_scene, only: scene_t, load_applies_to, rod_is_damped
+    use rs_model_damping, only: damping_plan_text
     implicit none
     private
 
@@ -51,8 +52,7 @@ contains
                 str_significant(rod%external_damping, 4)
             if (rod%internal_damping > 0.0) damping = damping // ' internal (paper''s law) ' // &
                 str_significant(rod%internal_damping, 4)
-            if (rod%kelvin_voigt_time > 0.0) damping = damping // ' Kelvin-Voigt time ' // &
-                str_significant(rod%kelvin_voigt_time, 4) // ' s'
+            if (rod_is_damped(rod)) damping = damping // ' ' // damping_plan_text(rod)
             if (len(damping) == 0) damping = ' none (the scheme''s own numerical dissipation only)'
             call add('damping:' // damping)
             if (scene%time%relaxation) call add('relaxation: stop when the kinetic energy < ' // &

@@ -560,22 +560,36 @@ contains
 
     ! The damping of seed 004 defaults to 0, is read on se3_strand rods and refused, when
     ! nonzero, on any other formulation (one error per variable); 0 given explicitly is fine.
+    ! The damping every formulation may have (issue 26 item 1): kelvin_voigt_time resolves to
+    ! six zeros, one value to all six, six in the order (EA, GA1, GA2, EI1, EI2, GJ); another
+    ! count is an error; a row without damping refuses it, naming the rod.
     subroutine test_strand_damping()
         type(scene_t) :: scene
         type(error_list_t) :: errors
+        type(capability_t) :: row
         character(len=:), allocatable :: joined, fragment
         call parse(time // rod_on('se3_strand', ''), scene, errors, 0)
         if (size(scene%rods) /= 1) return
         CHECK_TRUE(scene%rods(1)%external_damping == 0.0_rk, 'external_damping defaults to 0')
         CHECK_TRUE(scene%rods(1)%internal_damping == 0.0_rk, 'internal_damping defaults to 0')
-        CHECK_TRUE(scene%rods(1)%kelvin_voigt_time == 0.0_rk, 'kelvin_voigt_time defaults to 0')
+        CHECK_TRUE(all(scene%rods(1)%kelvin_voigt_time == 0.0_rk), 'kelvin_voigt_time defaults to 0')
+        CHECK_TRUE(scene%rods(1)%drag == 0.0_rk, 'drag defaults to 0')
+        CHECK_TRUE(scene%rods(1)%angular_drag == 0.0_rk, 'angular_drag defaults to 0')
         call parse(time // rod_on('se3_strand', 'external_damping = 0.1, internal_damping = 1e-4, ' // &
-            'kelvin_voigt_time = 2e-3, ') // "&bc rod = 'a', end = 'start', kind = 'clamped' /" // nl, scene, errors, 0)
+            'kelvin_voigt_time = 2e-3, drag = 0.5, ') // "&bc rod = 'a', end = 'start', kind = 'clamped' /" // nl, scene, errors, 0)
         CHECK_CLOSE(scene%rods(1)%external_damping, 0.1_rk, 0.0_rk, 0.0_rk, 'external_damping read')
         CHECK_CLOSE(scene%rods(1)%internal_damping, 1.0e-4_rk, 0.0_rk, 0.0_rk, 'internal_damping read')
-        CHECK_CLOSE(scene%rods(1)%kelvin_voigt_time, 2.0e-3_rk, 0.0_rk, 0.0_rk, 'kelvin_voigt_time read')
+        CHECK_TRUE(all(scene%rods(1)%kelvin_voigt_time == 2.0e-3_rk), 'one kelvin_voigt_time is all six')
+        CHECK_CLOSE(scene%rods(1)%drag, 0.5_rk, 0.0_rk, 0.0_rk, 'drag read')
         call check_capabilities(scene, errors)
         CHECK_EQUAL(errors%count, 0, 'se3_strand takes its damping: ' // errors%joined())
+        call parse(time // rod_on('se3_strand', 'kelvin_voigt_time = 1, 2, 3, 4, 5, 6, '), scene, &
+            errors, 0)
+        CHECK_TRUE(all(scene%rods(1)%kelvin_voigt_time == [1, 2, 3, 4, 5, 6]), 'six times in order')
+        call parse(time // rod_on('se3_strand', 'kelvin_voigt_time = 1, 2, 3, '), scene, errors, 1)
+        fragment = "c.nml:2: &rod 'a' kelvin_voigt_time: 3 value(s) given; give one (every " // &
+            "stress component) or six (EA, GA1, GA2, EI1, EI2, GJ in this order)"
+        CHECK_CONTAINS(errors%joined(), fragment, 'three times refused')
         call parse(time // rod_on('se3_pg', 'internal_damping = 1e-4, kelvin_voigt_time = 0, ' // &
             'external_damping = 0.5, '), scene, errors, 0)
         call check_capabilities(scene, errors)
@@ -590,6 +604,14 @@ contains
         call parse(time // rod_on('se3_strand', 'kelvin_voigt_time = -1, '), scene, errors, 1)
         fragment = 'c.nml:2: &rod kelvin_voigt_time: value -1 out of range; allowed: >= 0.0'
         CHECK_CONTAINS(errors%joined(), fragment, 'negative refused')
+        call parse(time // rod_on('se3_pg', 'angular_drag = 1e-3, '), scene, errors, 0)
+        row = capability_of('se3_pg')
+        row%formulation = 'undamped'
+        row%damping = .false.
+        call check_rod_capabilities(scene, 1, row, errors)
+        fragment = "c.nml:2: &rod kelvin_voigt_time, drag, angular_drag: damping is not " // &
+            "available for formulation 'undamped' (rod 'a') (docs/user/capabilities.md)"
+        CHECK_CONTAINS(errors%joined(), fragment, 'a row without damping refuses it')
     end subroutine test_strand_damping
 
     ! &time relaxation: kinetic_energy_tol defaults to 1e-12 J; se3_strand has relaxation and
