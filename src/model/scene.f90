@@ -424,11 +424,12 @@ module rs_model_scene
 
 contains
 
-    !> The rod has Kelvin-Voigt viscosity or external drag (given and not zero; an unresolved
-    !> kelvin_voigt_time entry counts as given).
+    !> The rod has Kelvin-Voigt viscosity or external drag (given and not zero; before or
+    !> after resolve_kelvin_voigt).
     pure logical function rod_is_damped(rod)
         type(rod_input_t), intent(in) :: rod
-        rod_is_damped = any(rod%kelvin_voigt_time /= 0.0_rk) .or. rod%drag /= 0.0_rk .or. &
+        rod_is_damped = any(rod%kelvin_voigt_time /= 0.0_rk .and. &
+            rod%kelvin_voigt_time /= unset_real) .or. rod%drag /= 0.0_rk .or. &
             rod%angular_drag /= 0.0_rk
     end function rod_is_damped
 

@@ -90,7 +90,10 @@ module rs_se3_strand
         real(rk) :: eta_external(6) = 0.0_rk, tau_kv(6) = 0.0_rk
         !> &rod free_end = 'paper': seed 004's ghost-averaged free end instead of the balanced one.
         logical :: paper_free_end = .false.
-        !> True: P_0 prescribed (clamped or driven); the only start supported (methods §3.4).
+        !> The start s = 0 is free (no &bc there, issue 26 item 4): its stress is zero and its
+        !> momentum obeys the half-cell balance, as the free end's (docs/theory/se3_strand.md,
+        !> "A free start"); otherwise P_0 is prescribed (clamped or driven, methods §3.4).
+        logical :: free_start = .false.
         type(strand_drive_t), allocatable :: drives(:)
         type(strand_load_t), allocatable :: loads(:)
         !> Loads need the placement at t_n (dead directions); false: no reconstruction per step.
@@ -175,9 +178,9 @@ contains
             this%tau_kv = rod%kelvin_voigt_time([6, 4, 5, 1, 2, 3])
             this%paper_free_end = trim(rod%free_end) == 'paper'
             allocate(this%initial(this%n_state()), source=0.0_rk)
-            call reference_configuration(this, rod)
             call read_supports(this, scene, err)
             RS_RETURN_IF_ERROR(err)
+            call reference_configuration(this, rod)
             call read_loads(this, scene, err)
             RS_RETURN_IF_ERROR(err)
         end associate
@@ -205,7 +208,7 @@ contains
         integer :: k, n
         n = this%n_seg
         h = rod%length / real(n, rk)
-        allocate(this%seg_h(0:n), this%dual(1:n), this%weight(0:n), this%u_bar(6, -1:n))
+        allocate(this%seg_h(0:n), this%dual(0:n), this%weight(0:n), this%u_bar(6, -1:n))
         this%seg_h = h
         this%dual = h
         this%weight = h
@@ -234,12 +237,15 @@ contains
         else
             this%u_bar = u0
         end if
-        ! Stresses: segments 0..N-1, the ghost at 0 copies segment 0 (eq. 14), the ghost at N
-        ! mirrors N-1 (eq. 15 with no end load).
+        ! Stresses: segments 0..N-1, the ghost at 0 copies segment 0 (eq. 14) or, at a free
+        ! start, mirrors it (no start stress), the ghost at N mirrors N-1 (eq. 15 with no end
+        ! load).
         do k = 0, n - 1
             this%initial(s_index(k) + 1:s_index(k) + 6) = this%stiff * (u0(:, k) - this%u_bar(:, k))
         end do
         this%initial(s_index(-1) + 1:s_index(-1) + 6) = this%initial(s_index(0) + 1:s_index(0) + 6)
+        if (this%free_start) this%initial(s_index(-1) + 1:s_index(-1) + 6) = &
+            -this%initial(s_index(-1) + 1:s_index(-1) + 6)
         this%initial(s_index(n) + 1:s_index(n) + 6) = -this%initial(s_index(n - 1) + 1:s_index(n - 1) + 6)
         ! Momenta of the rigid velocity field v = velocity + omega x (x - c): body v_K = A^T v,
         ! paper angular part w = -A^T omega.
@@ -255,18 +261,18 @@ contains
         this%initial(pose_index(this) + 4:pose_index(this) + 12) = reshape(a(:, :, 0), [9])
     end subroutine reference_configuration
 
-    !> The start is clamped (P_0 = 0) or driven (P_0 = M V_0(t)); the end is free (stress
-    !> prescribed by the end loads). --check-input has refused anything else (capability row).
+    !> The start is clamped (P_0 = 0), driven (P_0 = M V_0(t)) or free (no &bc, or kind
+    !> 'free'); the end is free (stress prescribed by the end loads). --check-input has refused
+    !> anything else (capability row).
     subroutine read_supports(this, scene, err)
         type(se3_strand_t), intent(inout) :: this
         type(scene_t), intent(in) :: scene
         type(error_t), allocatable, intent(out) :: err
         type(strand_drive_t) :: drive
         character(len=:), allocatable :: message
-        logical :: start_held
         integer :: i
         allocate(this%drives(0))
-        start_held = .false.
+        this%free_start = .true.
         do i = 1, size(scene%bcs)
             associate (bc => scene%bcs(i))
                 if (trim(bc%rod) /= this%name) cycle
@@ -279,10 +285,11 @@ contains
                 end if
                 if (trim(bc%end) /= 'start') cycle
                 select case (trim(bc%kind))
+                case ('free')
                 case ('clamped')
-                    start_held = .true.
+                    this%free_start = .false.
                 case ('driven')
-                    start_held = .true.
+                    this%free_start = .false.
                     drive = strand_drive_t()
                     call time_function_from_bc(bc, drive%factor, err)
                     RS_RETURN_IF_ERROR(err)
@@ -290,18 +297,13 @@ contains
                     drive%angular_velocity = bc%angular_velocity
                     this%drives = [this%drives, drive]
                 case default
-                    message = 'rod ''' // this%name // ''': se3_strand prescribes the motion at ' // &
-                        's = 0 (methods/se3_strands.md §3.4); the start must be clamped or driven'
+                    message = 'rod ''' // this%name // ''': the start of an se3_strand rod is ' // &
+                        'clamped, driven or free (methods/se3_strands.md §3.4)'
                     RS_SET_ERROR(err, 'se3_strand%init', message)
                     return
                 end select
             end associate
         end do
-        if (.not. start_held) then
-            message = 'rod ''' // this%name // ''': se3_strand needs a clamped or driven start ' // &
-                '(methods/se3_strands.md §3.4)'
-            RS_SET_ERROR(err, 'se3_strand%init', message)
-        end if
     end subroutine read_supports
 
     !> End loads at s = L (eq. 15), distributed loads and gravity (F of eq. 11).
@@ -328,7 +330,7 @@ contains
                     load%at_end = .false.
                 case default
                     message = 'rod ''' // this%name // ''': se3_strand takes loads at the end, ' // &
-                        'distributed loads and gravity (the start is held)'
+                        'distributed loads and gravity (none at the start)'
                     RS_SET_ERROR(err, 'se3_strand%init', message)
                     return
                 end select
@@ -349,7 +351,8 @@ contains
         this%loads = this%loads(1:n)
     end subroutine read_loads
 
-    !> Block rows: ghost row 0 {0, 2} (eq. 14); P_0 {1} (eq. 13); node k {2k, 2k+1, 2k+2}
+    !> Block rows: ghost row 0 {0, 2} (eq. 14); P_0 {1} (eq. 13), or node 0 {0, 1, 2} at a free
+    !> start; node k {2k, 2k+1, 2k+2}
     !> (eq. 11); segment k {2k+1, 2k+2, 2k+3} (eq. 12); the end ghost {2N, 2N+1, 2N+2} (eq. 15).
     !> Full 6 x 6 blocks.
     subroutine build_pattern(this)
@@ -360,6 +363,7 @@ contains
         allocate(this%row_blocks(3, 0:nb - 1), source=-1)
         this%row_blocks(1:2, 0) = [0, 2]
         this%row_blocks(1, 1) = 1
+        if (this%free_start) this%row_blocks(:, 1) = [0, 1, 2]
         do b = 2, nb - 1
             this%row_blocks(:, b) = [b - 1, b, b + 1]
         end do
@@ -471,20 +475,31 @@ contains
         y = x_n(1:size(y))
     end subroutine strand_predictor
 
-    !> X_{n+1}: the unknowns, and the pose at s = 0 moved by the prescribed twist at t_{n+1}
-    !> over the step (x_0 + h v, Exp(h omega) A_0; exact for a constant twist).
+    !> X_{n+1}: the unknowns, and the pose at s = 0 moved over the step by the twist at t_{n+1}
+    !> (x_0 + h v, Exp(h omega) A_0; exact for a constant twist): the prescribed one, or at a
+    !> free start the section's own V_0 = M^-1 P_0 of the step (body components, the paper's
+    !> sign: omega = -A_0 w, which is the same with A_0 at t_n or t_{n+1} since the section
+    !> turns about it, and v = A_0(t_{n+1}) v_K, as a drive's V_0 is taken).
     subroutine strand_update(this, t_n, h, x_n, y, x_1)
         class(se3_strand_t), intent(inout) :: this
         real(rk), intent(in) :: t_n, h, x_n(:), y(:)
         real(rk), intent(out) :: x_1(:)
-        real(rk) :: v(3), omega(3), a0(3, 3)
+        real(rk) :: v(3), omega(3), a0(3, 3), v0(6)
         integer :: at
         at = pose_index(this)
         x_1(1:at) = y
-        call this%drive_twist(t_n + h, v, omega)
         a0 = reshape(x_n(at + 4:at + 12), [3, 3])
+        if (this%free_start) then
+            v0 = this%mass_inv * p_at(y, 0)
+            omega = -matmul(a0, v0(1:3))
+            a0 = matmul(exp_so3(h * omega), a0)
+            v = matmul(a0, v0(4:6))
+        else
+            call this%drive_twist(t_n + h, v, omega)
+            a0 = matmul(exp_so3(h * omega), a0)
+        end if
         x_1(at + 1:at + 3) = x_n(at + 1:at + 3) + h * v
-        x_1(at + 4:at + 12) = reshape(matmul(exp_so3(h * omega), a0), [9])
+        x_1(at + 4:at + 12) = reshape(a0, [9])
     end subroutine strand_update
 
     !> The spatial velocity and angular velocity of the section at s = 0 at time t.
@@ -593,21 +608,27 @@ contains
         call this%distributed_loads(t_n + h)
         call this%end_loads(t_n + h)
 
-        ! Eq. (14): the ghost Sigma_{-1,0} copies Sigma_{0,1}.
+        ! Eq. (14): the ghost Sigma_{-1,0} copies Sigma_{0,1}; at a free start it mirrors it,
+        ! Sigma_{-1} + Sigma_0 = 0 (eq. 15 with no load, docs/theory/se3_strand.md).
         this%blocks(:, :, 1, 0) = eye_h
         this%blocks(:, :, 2, 0) = -eye_h
+        if (this%free_start) this%blocks(:, :, 2, 0) = eye_h
         this%rhs(:, 0) = 0.0_rk
-        ! Eq. (13): P_0 = M V_0(t_{n+1}), V_0 the prescribed twist in the body frame at t_{n+1}.
-        call this%drive_twist(t_n + h, vel, omega)
-        a0 = reshape(x_n(pose_index(this) + 4:pose_index(this) + 12), [3, 3])
-        a0 = matmul(exp_so3(h * omega), a0)
-        p0(1:3) = -matmul(transpose(a0), omega)
-        p0(4:6) = matmul(transpose(a0), vel)
-        this%blocks(:, :, 1, 1) = eye_h
-        this%rhs(:, 1) = this%mass * p0 / h
+        if (.not. this%free_start) then
+            ! Eq. (13): P_0 = M V_0(t_{n+1}), V_0 the prescribed twist in the body frame at
+            ! t_{n+1}.
+            call this%drive_twist(t_n + h, vel, omega)
+            a0 = reshape(x_n(pose_index(this) + 4:pose_index(this) + 12), [3, 3])
+            a0 = matmul(exp_so3(h * omega), a0)
+            p0(1:3) = -matmul(transpose(a0), omega)
+            p0(4:6) = matmul(transpose(a0), vel)
+            this%blocks(:, :, 1, 1) = eye_h
+            this%rhs(:, 1) = this%mass * p0 / h
+        end if
 
-        ! Eq. (11) at the nodes k = 1..N (§3.5): blocks (Sigma_{k-1}, P_k, Sigma_k).
-        do k = 1, n
+        ! Eq. (11) at the nodes k = 1..N (§3.5), and k = 0 at a free start: blocks
+        ! (Sigma_{k-1}, P_k, Sigma_k).
+        do k = merge(0, 1, this%free_start), n
             b = 2 * k + 1
             p = p_at(x_n, k)
             v = this%mass_inv * p
@@ -616,7 +637,13 @@ contains
             u_prev = this%stiff_inv * s_prev + this%u_bar(:, k - 1)
             u_here = this%stiff_inv * s_here + this%u_bar(:, k)
             diag_c = 1.0_rk / this%dual(k)
-            if (k < n .or. this%paper_free_end) then
+            if (k == 0) then
+                ! The free start's half cell [0, h/2] takes the ad^T term of its one physical
+                ! segment in full, as the balanced free end does (below), so the start adds no
+                ! power.
+                call strand_ad_transpose_block(u_prev, 0.0_rk, diag_c, c_prev)
+                call strand_ad_transpose_block(u_here, 1.0_rk, -diag_c, c_here)
+            else if (k < n .or. this%paper_free_end) then
                 call strand_ad_transpose_block(u_prev, 0.5_rk, diag_c, c_prev)
                 call strand_ad_transpose_block(u_here, 0.5_rk, -diag_c, c_here)
             else
@@ -636,9 +663,15 @@ contains
             this%rhs(:, b) = p / h
             ! Stresses, with the Kelvin-Voigt viscous part theta (Sigma - Sigma_n); at k = N the
             ! ghost's viscous stress mirrors Sigma_{N-1}'s, so the end's total stress is the
-            ! prescribed one.
+            ! prescribed one, and at a free start (k = 0) the ghost's mirrors Sigma_0's.
             ! theta is diagonal (one time per component): it scales the blocks' columns.
-            if (k < n) then
+            if (k == 0) then
+                this%blocks(:, :, 1, b) = c_prev
+                this%blocks(:, :, 3, b) = c_here * spread(1.0_rk + theta, 1, 6) - &
+                    c_prev * spread(theta, 1, 6)
+                if (any(theta /= 0.0_rk)) this%rhs(:, b) = this%rhs(:, b) + &
+                    matmul(c_here, theta * s_here) - matmul(c_prev, theta * s_here)
+            else if (k < n) then
                 this%blocks(:, :, 1, b) = c_prev * spread(1.0_rk + theta, 1, 6)
                 this%blocks(:, :, 3, b) = c_here * spread(1.0_rk + theta, 1, 6)
                 if (any(theta /= 0.0_rk)) this%rhs(:, b) = this%rhs(:, b) + &
@@ -841,7 +874,7 @@ contains
         end do
         work = 0.0_rk
         dissipated = 0.0_rk
-        do k = 1, n
+        do k = merge(0, 1, this%free_start), n
             v = this%mass_inv * p_at(x_1, k)
             w = v(1:3)
             ! F_k as the step applied it (dead loads turned by h w x f, follower ones as given).
@@ -864,11 +897,13 @@ contains
         ! and Kelvin-Voigt, as node 1's row uses it), and the kinetic energy of the half cell at
         ! s = 0, whose momentum P_0 = M V_0 the drive prescribes (eq. 13: no balance row moves
         ! it, so the drive supplies its change).
-        v = this%mass_inv * p_at(x_1, 0)
-        work = work - h * dot_product(v, s_at(x_1, 0) + this%tau_kv * (s_at(x_1, 0) - &
-            s_at(x_n, 0)) / h)
-        work = work + 0.5_rk * this%weight(0) * (dot_product(p_at(x_1, 0), v) - &
-            dot_product(p_at(x_n, 0), this%mass_inv * p_at(x_n, 0)))
+        if (.not. this%free_start) then
+            v = this%mass_inv * p_at(x_1, 0)
+            work = work - h * dot_product(v, s_at(x_1, 0) + this%tau_kv * (s_at(x_1, 0) - &
+                s_at(x_n, 0)) / h)
+            work = work + 0.5_rk * this%weight(0) * (dot_product(p_at(x_1, 0), v) - &
+                dot_product(p_at(x_n, 0), this%mass_inv * p_at(x_n, 0)))
+        end if
         do k = 0, n - 1
             rate = (s_at(x_1, k) - s_at(x_n, k)) / h
             dissipated = dissipated + h * this%seg_h(k) * dot_product(this%tau_kv * rate, &

@@ -20,7 +20,8 @@ contains
         type(formulation_descriptor_t) :: d
         d%name = 'se3_strand'
         ! seed 004 (methods/se3_strands.md §2.5, §2.7, §3.4, §3.7): motion prescribed at
-        ! s = 0 (a clamp, or a driven end whose velocity is prescribed, P0 = M V0(t)) and
+        ! s = 0 (a clamp, or a driven end whose velocity is prescribed, P0 = M V0(t)) or a
+        ! free start (issue 26 item 4, docs/theory/se3_strand.md "A free start") and
         ! stress at s = L (free, with its end load); drag, gravity and follower tip loads;
         ! any relaxed (curved) reference shape; statics by damped dynamics instead of
         ! quasistatics. Its damping: seed 004's external and internal laws (&rod
@@ -28,9 +29,9 @@ contains
         ! every damped formulation (kelvin_voigt_time, drag, angular_drag), not Maxwell
         ! branches.
         d%capability = capability_t(formulation=d%name, available=.true., &
-            end_kinds='clamped|driven', end_kinds_at_end='free', &
-            end_kinds_note='; se3_strand prescribes the motion at s = 0 and the stress at ' // &
-            's = L (methods/se3_strands.md §3.4)', &
+            end_kinds='clamped|driven|free', end_kinds_at_end='free', &
+            end_kinds_note='; se3_strand prescribes the motion or no stress at s = 0 and the ' // &
+            'stress at s = L (methods/se3_strands.md §3.4; docs/theory/se3_strand.md)', &
             load_places='end|distributed|gravity', load_frames='spatial|follower', &
             constraints='none', quasistatic=.false., viscoelastic=.false., actuation=.false., &
             curved_reference=.true., prestressed=.true., joints='', planar=.false., &

@@ -34,7 +34,11 @@ contains
                 if (trim(scene%bcs(j)%rod) /= trim(rod%name)) cycle
                 supports = supports // ' ' // trim(scene%bcs(j)%end) // ' ' // trim(scene%bcs(j)%kind)
             end do
-            call add('supports:' // supports // ' (motion prescribed at s = 0, stress at s = L)')
+            if (.not. any(scene%bcs%rod == rod%name .and. scene%bcs%end == 'start' .and. &
+                scene%bcs%kind /= 'free')) supports = supports // ' start free (no stress at ' // &
+                's = 0, its half cell balanced like the end''s)'
+            call add('supports:' // supports // ' (motion or no stress prescribed at s = 0, ' // &
+                'stress at s = L)')
             n_follower = 0
             n_dead = 0
             do j = 1, size(scene%loads)

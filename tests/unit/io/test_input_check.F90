@@ -732,9 +732,9 @@ contains
         CHECK_CONTAINS(errors%joined(), fragment, 'velocity on a clamp')
     end subroutine test_drive_kind_per_formulation
 
-    ! se3_strand (methods/se3_strands.md §3.4): clamped or driven at s = 0, free only at s = L,
-    ! with a message naming the end and both lists; other ends keep the plain message; a start
-    ! without &bc (free) is refused.
+    ! se3_strand (methods/se3_strands.md §3.4): clamped, driven or free at s = 0, free only at
+    ! s = L, with a message naming the end and both lists; other ends keep the plain message; a
+    ! start without &bc (free, issue 26 item 4) is accepted.
     subroutine test_strand_end_kinds()
         type(scene_t) :: scene
         type(error_list_t) :: errors
@@ -749,21 +749,19 @@ contains
         CHECK_EQUAL(errors%count, 1, 'clamped end refused: ' // errors%joined())
         fragment = "c.nml:3: &bc kind: a 'clamped' end is not available at the 'end' end (s = L) " // &
             "for formulation 'se3_strand'; available there: free (at the 'start' end: " // &
-            'clamped|driven); se3_strand prescribes the motion at s = 0 and the stress at ' // &
-            's = L (methods/se3_strands.md §3.4) (docs/user/capabilities.md)'
+            'clamped|driven|free); se3_strand prescribes the motion or no stress at s = 0 and ' // &
+            'the stress at s = L (methods/se3_strands.md §3.4; docs/theory/se3_strand.md) ' // &
+            '(docs/user/capabilities.md)'
         CHECK_CONTAINS(errors%joined(), fragment, 'names the end and both lists')
         call parse(time // rod_on('se3_strand', '') // "&bc rod = 'a', end = 'start', kind = 'pinned' /" // &
             nl, scene, errors, 0)
         call check_capabilities(scene, errors)
         fragment = "c.nml:3: &bc kind: a 'pinned' end is not available for formulation " // &
-            "'se3_strand'; available: clamped|driven (docs/user/capabilities.md)"
+            "'se3_strand'; available: clamped|driven|free (docs/user/capabilities.md)"
         CHECK_CONTAINS(errors%joined(), fragment, 'pinned start: the plain message')
         call parse(time // rod_on('se3_strand', ''), scene, errors, 0)
         call check_capabilities(scene, errors)
-        CHECK_EQUAL(errors%count, 1, 'free start refused: ' // errors%joined())
-        fragment = "&bc: rod 'a' has no &bc at its 'start' end, i.e. a free end, which is not " // &
-            "available there for formulation 'se3_strand'; available: clamped|driven"
-        CHECK_CONTAINS(errors%joined(), fragment, 'free start: names the end')
+        CHECK_EQUAL(errors%count, 0, 'free start accepted: ' // errors%joined())
     end subroutine test_strand_end_kinds
 
     ! Bundles (issue 10), lines: 1 &time, 2-4 rods a, b, c, 5 &joint, 6 &plate, 7 &contact.

@@ -209,9 +209,10 @@ contains
     end subroutine test_se3_pg_row
 
     ! seed 004 (methods/se3_strands.md §3.4): motion prescribed at s = 0 (clamped or driven by
-    ! velocity; never free), stress at s = L (free only); end and distributed loads, gravity, dead
-    ! and follower; curved references; statics by relaxation, not quasistatics; its own
-    ! damping, not Maxwell branches; no constraints, actuators, joints or planar limit.
+    ! velocity) or a free start (issue 26 item 4), stress at s = L (free only); end and
+    ! distributed loads, gravity, dead and follower; curved references; statics by relaxation,
+    ! not quasistatics; damping, not Maxwell branches; no constraints, actuators, joints or
+    ! planar limit.
     subroutine test_se3_strand_row()
         character(len=12), parameter :: kinds(4) = [character(len=12) :: 'clamped', 'pinned', 'free', &
             'driven']
@@ -220,12 +221,12 @@ contains
         character(len=12), parameter :: frames(2) = [character(len=12) :: 'spatial', 'follower']
         character(len=12), parameter :: constraints(3) = [character(len=12) :: 'none', 'kirchhoff', &
             'inextensible']
-        character(len=12) :: at_start(2), at_end(1)
+        character(len=12) :: at_start(3), at_end(1)
         type(capability_t) :: row
         row = capability_of('se3_strand')
         CHECK_TRUE(row%available, 'se3_strand is available')
         CHECK_EQUAL(trim(row%formulation), 'se3_strand', 'row names its formulation')
-        at_start = [character(len=12) :: 'clamped', 'driven']
+        at_start = [character(len=12) :: 'clamped', 'driven', 'free']
         at_end = [character(len=12) :: 'free']
         call check_column(row%end_kinds, kinds, at_start, 'end kind at s = 0')
         call check_column(row%end_kinds_at_end, kinds, at_end, 'end kind at s = L')
@@ -238,6 +239,7 @@ contains
         CHECK_TRUE(row%relaxation, 'statics by damped dynamics')
         CHECK_EQUAL(trim(row%drive), 'velocity', 'driven by velocity (P0 = M V0)')
         CHECK_TRUE(.not. row%viscoelastic, 'no Maxwell branches')
+        CHECK_TRUE(row%damping, 'Kelvin-Voigt and drag')
         CHECK_TRUE(.not. row%actuation, 'no actuators')
         CHECK_TRUE(row%curved_reference, 'curved relaxed shapes')
         CHECK_EQUAL(len_trim(row%joints), 0, 'no joints')
