@@ -413,10 +413,16 @@ contains
                                 + 0.5_rk * h * mab * damp(l)
                         end do
                     end if
-                    ! Kelvin-Voigt: h B_a^T d s_v/d q_1,b (the midpoint stress has no theta).
-                    if (viscous) jacobian(ra + 1:ra + 12, rb + 1:rb + 12) = &
-                        jacobian(ra + 1:ra + 12, rb + 1:rb + 12) &
-                        + h * wds * matmul(transpose(b_t(:, :, a)), dsig_v(:, :, b))
+                    ! Kelvin-Voigt: h B_a^T d s_v/d q_1,b (the midpoint stress has no theta),
+                    ! column by column (no array temporary).
+                    if (viscous) then
+                        do m = 1, 12
+                            do l = 1, 6
+                                jacobian(ra + 1:ra + 12, rb + m) = jacobian(ra + 1:ra + 12, rb + m) &
+                                    + h * wds * dsig_v(l, m, b) * b_t(l, :, a)
+                            end do
+                        end do
+                    end if
                     wab = nn(a) * bb(b) - bb(a) * nn(b)
                     do i = 1, 3
                         j = cyclic_next(i)
@@ -655,7 +661,7 @@ contains
         real(rk) :: s_v(6, ph_director_max_degree)
         real(rk) :: ds_v(6, 12, ph_director_max_nodes, ph_director_max_degree)
         real(rk) :: sig(6), u(12), damp(12), wds
-        integer :: g, b, p
+        integer :: g, b, p, a
         p = basis%degree
         viscous = 0.0_rk
         external = 0.0_rk
@@ -676,7 +682,11 @@ contains
             damp(1:3) = material%drag
             damp(4:12) = 0.5_rk * material%angular_drag
             do g = 1, basis%n_gauss
-                u = 0.5_rk * matmul(v_n + v_1, basis%shape(1:basis%nen, g))
+                ! Summed node by node: matmul of run-time-sized sections would allocate.
+                u = 0.0_rk
+                do a = 1, basis%nen
+                    u = u + 0.5_rk * basis%shape(a, g) * (v_n(:, a) + v_1(:, a))
+                end do
                 external = external + 0.5_rk * le * basis%w(g) * sum(damp * u**2)
             end do
             external = h * external
