@@ -24,6 +24,7 @@ module rs_ph_director
     use rs_core_strings, only: str
     use rs_model_scene, only: scene_t, rod_input_t, unset_real, load_applies_to, &
         body_inertia_tensor, inertia_tensor
+    use rs_model_damping, only: kv_axial, kv_shear1, kv_shear2, kv_bend1, kv_bend2, kv_torsion
     use rs_model_rod_geometry, only: rod_geometry_t, rod_geometry_of, centreline_point, &
         centreline_frame
     use rs_core_logger, only: log_info, log_warning
@@ -42,7 +43,7 @@ module rs_ph_director
         ph_director_element_external_work, ph_director_node_external_work, &
         ph_director_node_constraint, ph_director_element_strains, &
         ph_director_element_dissipation, ph_director_element_actuator_work, &
-        ph_director_local_size, ph_director_element_reference_strains, &
+        ph_director_element_damping_dissipation, ph_director_local_size, ph_director_element_reference_strains, &
         ph_director_element_initial_stress, ph_director_straight_strain
     use rs_ph_director_node_tie, only: ph_director_node_tie
     use rs_ph_director_body, only: ph_director_body_t, ph_director_body_init, &
@@ -260,6 +261,9 @@ contains
     !> (tau_G, tau_G, tau_E, tau_E, tau_E, tau_G) (Remark 5.1). Constrained components
     !> (`kirchhoff`: shear; `inextensible`: shear and dilatation) are rigid: zero compliance,
     !> their stress a multiplier, no branch. A quasistatic run has no mass terms.
+    !> Damping (docs/theory/ph_director.md "Damping"): the Kelvin-Voigt viscosity
+    !> V = diag(tau_i k_i) with the rod's full stiffnesses k (all branches together), none for a
+    !> rigid component (its strain rate is zero, so is its viscous stress); the drags as given.
     subroutine build_material(this, rod, err)
         type(ph_director_t), intent(inout) :: this
         type(rod_input_t), intent(in) :: rod
@@ -268,6 +272,10 @@ contains
         real(rk) :: stiffness(6), tau(6), elastic_fraction
         logical :: rigid(6)
         integer :: nb, br
+        ! &rod kelvin_voigt_time is in the order (EA, GA1, GA2, EI1, EI2, GJ); these stresses
+        ! are (N1, N2, N3, M1, M2, M3) = (GA1, GA2, EA, EI1, EI2, GJ).
+        integer, parameter :: kv_order(6) = [kv_shear1, kv_shear2, kv_axial, kv_bend1, &
+            kv_bend2, kv_torsion]
         if (.not. this%quasistatic) then
             this%material%rhoA = rod%rhoA
             this%material%rhoI = [rod%rhoI1, rod%rhoI2]
@@ -306,6 +314,13 @@ contains
                     1.0_rk / (tau * rod%maxwell_fraction(br) * stiffness)
             end where
         end do
+        ! An unresolved time (a scene built in code) is no viscosity.
+        tau = rod%kelvin_voigt_time(kv_order)
+        this%material%viscosity = 0.0_rk
+        where (.not. rigid .and. tau /= unset_real .and. tau > 0.0_rk) &
+            this%material%viscosity = tau * stiffness
+        this%material%drag = rod%drag
+        this%material%angular_drag = rod%angular_drag
     end subroutine build_material
 
     !> The actuators of this rod (methods §3.2): tau = -pressure area f(t) for a pneumatic
@@ -573,7 +588,8 @@ contains
 
     !> Which element Jacobian entries can be non-zero (methods §5.6 table, with the non-rate
     !> stress rows of the kernel): momentum rows couple to all q, to the live stresses and,
-    !> through the mass (none in a quasistatic run), to v of the same component; stress rows
+    !> through the mass and the drag (neither in a quasistatic run), to v of the same
+    !> component (the Kelvin-Voigt stress couples them to the q of the element only); stress rows
     !> couple to all q and to the stresses of the same component and branch; the stress of a
     !> rigid component's branch only to itself.
     pure function element_mask(this) result(mask)
@@ -582,7 +598,9 @@ contains
         integer :: n_node_local, i, j, ci, cj, si, sj
         logical :: has_mass
         n_node_local = 24 * (this%degree + 1)
-        has_mass = this%material%rhoA /= 0.0_rk .or. any(this%material%rhoI /= 0.0_rk)
+        ! The drag, like the mass, couples a momentum row to the velocity of its component.
+        has_mass = this%material%rhoA /= 0.0_rk .or. any(this%material%rhoI /= 0.0_rk) .or. &
+            this%material%drag /= 0.0_rk .or. this%material%angular_drag /= 0.0_rk
         mask = .false.
         do j = 1, this%n_local
             do i = 1, this%n_local
@@ -1341,18 +1359,22 @@ contains
     end subroutine ph_director_energy
 
     !> The energy terms of the accepted step: H_n and H_{n+1}, the work of the loads and of the
-    !> actuators and the dissipation, whose balance H_{n+1} - H_n - W_n - W_act,n + D_n is the
-    !> scheme's energy error (methods §5.3 item 1, §3.1, §9 item 7). The endpoint equilibrium
-    !> of a quasistatic run is not a time step: no terms, and its h is not a step of the grid.
+    !> actuators and the dissipation (Maxwell branches, Kelvin-Voigt stress and drags,
+    !> docs/theory/ph_director.md "Damping"), whose balance H_{n+1} - H_n - W_n - W_act,n + D_n
+    !> is the scheme's energy error (methods §5.3 item 1, §3.1, §9 item 7). The endpoint
+    !> equilibrium of a quasistatic run is not a time step: no terms, and its h is not a step of
+    !> the grid.
     subroutine ph_director_accept_step(this, t_n, h, x_n, x_1, terms)
         class(ph_director_t), intent(inout) :: this
         real(rk), intent(in) :: t_n, h, x_n(:), x_1(:)
         type(step_energy_t), intent(out) :: terms(:)
         real(rk) :: work, actuator_work, dissipated, nbar(3), mbar(3), force(3), moment(3), t_mid
-        real(rk) :: kinetic_n, strain_n, kinetic_1, strain_1, weight(12)
+        real(rk) :: kinetic_n, strain_n, kinetic_1, strain_1, weight(12), viscous, external
         type(ph_director_actuation_t) :: actuation
         integer :: e, k, nodes(2)
-        logical :: carries
+        logical :: carries, damped
+        damped = any(this%material%viscosity > 0.0_rk) .or. this%material%drag > 0.0_rk .or. &
+            this%material%angular_drag > 0.0_rk
         if (this%static) then
             terms(1) = step_energy_t(reported=.false., grid_step=.false.)
             return
@@ -1376,6 +1398,11 @@ contains
                 if (size(this%actuators) > 0) actuator_work = actuator_work + &
                     ph_director_element_actuator_work(this%basis, this%element_length(e), h, &
                     q_n, q_1, v_n, v_1, actuation)
+                if (damped) then
+                    call ph_director_element_damping_dissipation(this%basis, this%material, &
+                        this%element_length(e), h, q_n, q_1, v_n, v_1, viscous, external)
+                    dissipated = dissipated + viscous + external
+                end if
             end associate
             if (this%material%n_branches > 0) dissipated = dissipated + &
                 ph_director_element_dissipation(this%basis, this%material, &

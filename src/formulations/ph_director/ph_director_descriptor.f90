@@ -25,12 +25,15 @@ contains
         ! Bundles (issue 10, DESIGN.md §5): rigid, spherical and revolute joints and end
         ! plates as constraints with multipliers on the end nodes (rs_ph_director_tie), and
         ! rod-rod and self contact by an energy-consistent penalty (rs_contact_potential).
+        ! Damping (issue 26 item 1, docs/theory/ph_director.md "Damping"): Kelvin-Voigt as a
+        ! Maxwell branch of zero compliance (seed 000 Remark 5.2), condensed per element, and
+        ! the external drags, all in the exact energy balance.
         d%capability = capability_t(formulation=d%name, available=.true., &
             end_kinds='clamped|free|body', load_places='start|end|distributed|gravity', &
             load_frames='spatial', constraints='none|kirchhoff|inextensible', quasistatic=.true., &
             viscoelastic=.true., actuation=.true., curved_reference=.true., prestressed=.true., &
             joints='rigid|spherical|revolute', end_plates=.true., floating_plates=.true., &
-            contact=.true., order_4=.true., adaptive=.true.)
+            contact=.true., order_4=.true., adaptive=.true., damping=.true.)
         d%default_choice = .true.
         d%system_couplings = .true.
         d%create => create

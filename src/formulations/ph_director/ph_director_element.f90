@@ -52,6 +52,7 @@ module rs_ph_director_element
     public :: ph_director_element_external_work, ph_director_node_external_work
     public :: ph_director_element_strains, ph_director_node_constraint
     public :: ph_director_element_dissipation, ph_director_element_actuator_work
+    public :: ph_director_element_damping_dissipation
     public :: ph_director_element_reference_strains, ph_director_element_initial_stress
 
     !> Largest element degree (quadratic elements).
@@ -86,6 +87,14 @@ module rs_ph_director_element
         real(rk) :: branch_compliance(6, ph_director_max_branches) = 0.0_rk
         real(rk) :: branch_fluidity(6, ph_director_max_branches) = 0.0_rk
         logical :: branch_active(6, ph_director_max_branches) = .false.
+        !> Kelvin-Voigt viscosity V = diag(tau_i k_i) per component (docs/theory/damping.md): the
+        !> rigid-spring limit of a Maxwell branch (methods §3.1, Remark 5.2), whose midpoint
+        !> stress the element condenses (no unknowns). Zero for rigid components.
+        real(rk) :: viscosity(6) = 0.0_rk
+        !> External drag: the force -drag v_phi and the moment -angular_drag w per unit length,
+        !> the latter as the force -angular_drag/2 v_i on every director (d1, d2, d3).
+        real(rk) :: drag = 0.0_rk
+        real(rk) :: angular_drag = 0.0_rk
     end type ph_director_material_t
 
     !> The actuators of a rod at one time (methods §3.2): the constant material stress of the
@@ -199,6 +208,12 @@ contains
     !> the viscous term off (`static`: the endpoint equilibrium of a quasistatic run, methods
     !> §2.8 eqs. 96e-g, DESIGN.md §3). q rows are zero.
     !>
+    !> Damping (docs/theory/ph_director.md "Damping"; off in a `static` step): sigma_t gains the
+    !> Kelvin-Voigt stress s_v of the step, the midpoint stress of a Maxwell branch with zero
+    !> compliance and viscosity V (methods §3.1, Remark 5.2), condensed here (viscous_stress):
+    !> s_v = V/h Pi (eps(q_1) - eps(q_n)), Pi the projection on the stress basis; and R_M gains
+    !> the drag h int N_a N_b diag(c I, c_w/2 I, c_w/2 I, c_w/2 I) (v_n + v_1)/2 ds.
+    !>
     !> The elastic stress rows are the non-rate (Hellinger-Reissner) form of (S1), (S2): since
     !> eps is bilinear, int psi (eps(q_1) - eps(q_n)) = h int psi eps_dot(q_mid, v_mid) exactly
     !> when (K1), (K2) hold, so the two forms have the same solutions (methods §5.3 item 3), but
@@ -241,8 +256,13 @@ contains
         logical :: live(6, 0:ph_director_max_branches)
         real(rk) :: sig(6), branch_sig(6), force(12), m_hat(3, 3), comp(6), visc(6)
         real(rk) :: theta, h_visc, wds, c, mab, wab, cpsi, wpsi
+        ! Kelvin-Voigt stress coefficients, their derivatives d s_v(:, b)/d q_1 of node m
+        ! (ds_v(:, :, m, b)) and at the Gauss point (dsig_v(:, :, m)); drag per component of v.
+        real(rk) :: s_v(6, ph_director_max_degree)
+        real(rk) :: ds_v(6, 12, ph_director_max_nodes, ph_director_max_degree)
+        real(rk) :: dsig_v(6, 12, ph_director_max_nodes), damp(12)
         integer :: nen, p, nb, g, a, b, cc, i, j, k, ra, rb, rs, cs, l, m, br
-        logical :: with_residual, with_jacobian
+        logical :: with_residual, with_jacobian, viscous, dragged
 
         nen = basis%nen
         p = basis%degree
@@ -261,6 +281,13 @@ contains
         m_hat = hat(mbar)
         live(:, 0) = .true.
         live(:, 1:nb) = material%branch_active(:, 1:nb)
+        ! Damping: skipped, and costs nothing, when its coefficients are zero.
+        viscous = any(material%viscosity > 0.0_rk) .and. .not. static
+        dragged = (material%drag > 0.0_rk .or. material%angular_drag > 0.0_rk) .and. .not. static
+        if (viscous) call viscous_stress(basis, material, le, h, q_n, q_1, with_jacobian, s_v, &
+            ds_v)
+        damp(1:3) = material%drag
+        damp(4:12) = 0.5_rk * material%angular_drag
 
         if (with_residual) residual = 0.0_rk
         if (with_jacobian) jacobian = 0.0_rk
@@ -294,6 +321,12 @@ contains
             end do
             call actuation_stress(actuation, phi_s, d, d_s, act, act_x, act_xs)
             sig = sig + act
+            if (viscous) then
+                ! The Kelvin-Voigt stress is a midpoint quantity: it enters in full.
+                do b = 1, p
+                    sig = sig + psi(b) * s_v(:, b)
+                end do
+            end if
             do a = 1, nen
                 b_t(:, :, a) = nn(a) * e_x + bb(a) * e_xs
             end do
@@ -305,6 +338,9 @@ contains
                     do b = 1, nen
                         mab = wds * nn(a) * nn(b)
                         residual(ra + 1:ra + 12) = residual(ra + 1:ra + 12) + mab * mass * dv(:, b)
+                        ! Drag against the midpoint velocity (docs/theory/damping.md).
+                        if (dragged) residual(ra + 1:ra + 12) = residual(ra + 1:ra + 12) &
+                            + 0.5_rk * h * mab * damp * (v_n(:, b) + v_1(:, b))
                     end do
                     ! Internal force int B_a^T sigma with B_a = N_a e_x + N_a' e_xs: the adjoint
                     ! of the strain rate, i.e. r_phi,a = int N_a' n and r_di,a = int N_a N_i
@@ -354,6 +390,13 @@ contains
 
             ! Jacobian (methods §5.6): q_t and sigma_t enter with the factor theta, hence
             ! c = theta h wds on the geometric, actuation and stress-coupling blocks.
+            if (viscous) then
+                ! d s_v/d q_1 at the Gauss point: the viscous stress's own q columns.
+                dsig_v = 0.0_rk
+                do b = 1, p
+                    dsig_v(:, :, 1:nen) = dsig_v(:, :, 1:nen) + psi(b) * ds_v(:, :, 1:nen, b)
+                end do
+            end if
             do a = 1, nen
                 ra = 24 * (a - 1) + 12
                 do b = 1, nen
@@ -364,6 +407,22 @@ contains
                         jacobian(ra + l, rb + 12 + l) = jacobian(ra + l, rb + 12 + l) &
                             + mab * mass(l)
                     end do
+                    if (dragged) then
+                        do l = 1, 12
+                            jacobian(ra + l, rb + 12 + l) = jacobian(ra + l, rb + 12 + l) &
+                                + 0.5_rk * h * mab * damp(l)
+                        end do
+                    end if
+                    ! Kelvin-Voigt: h B_a^T d s_v/d q_1,b (the midpoint stress has no theta),
+                    ! column by column (no array temporary).
+                    if (viscous) then
+                        do m = 1, 12
+                            do l = 1, 6
+                                jacobian(ra + 1:ra + 12, rb + m) = jacobian(ra + 1:ra + 12, rb + m) &
+                                    + h * wds * dsig_v(l, m, b) * b_t(l, :, a)
+                            end do
+                        end do
+                    end if
                     wab = nn(a) * bb(b) - bb(a) * nn(b)
                     do i = 1, 3
                         j = cyclic_next(i)
@@ -584,6 +643,55 @@ contains
         end do
         energy = h * energy
     end function ph_director_element_dissipation
+
+    !> Energy dissipated in one step by the damping of one element (docs/theory/ph_director.md
+    !> "Damping"): `viscous` = h int s_v . V^{-1} s_v ds, the Maxwell form of methods §3.1
+    !> eq. 60 for the Kelvin-Voigt stress s_v of the step (the rigid-spring branch, Remark 5.2),
+    !> over the components with V > 0; `external` = h int u_mid . diag(c I, c_w/2 I9) u_mid ds
+    !> with u_mid = (v_n + v_1)/2 (the drag). Both >= 0, and exactly what the momentum rows of
+    !> ph_director_element_residual take out of the energy once the kinematic rows hold.
+    pure subroutine ph_director_element_damping_dissipation(basis, material, le, h, q_n, q_1, &
+            v_n, v_1, viscous, external)
+        type(ph_director_basis_t), intent(in) :: basis
+        type(ph_director_material_t), intent(in) :: material
+        real(rk), intent(in) :: le, h
+        real(rk), intent(in) :: q_n(12, basis%nen), q_1(12, basis%nen)
+        real(rk), intent(in) :: v_n(12, basis%nen), v_1(12, basis%nen)
+        real(rk), intent(out) :: viscous, external
+        real(rk) :: s_v(6, ph_director_max_degree)
+        real(rk) :: ds_v(6, 12, ph_director_max_nodes, ph_director_max_degree)
+        real(rk) :: sig(6), u(12), damp(12), wds
+        integer :: g, b, p, a
+        p = basis%degree
+        viscous = 0.0_rk
+        external = 0.0_rk
+        if (any(material%viscosity > 0.0_rk)) then
+            call viscous_stress(basis, material, le, h, q_n, q_1, .false., s_v, ds_v)
+            do g = 1, basis%n_gauss
+                sig = 0.0_rk
+                do b = 1, p
+                    sig = sig + basis%psi(b, g) * s_v(:, b)
+                end do
+                wds = 0.5_rk * le * basis%w(g)
+                viscous = viscous + wds * sum(sig**2 / material%viscosity, &
+                    mask=material%viscosity > 0.0_rk)
+            end do
+            viscous = h * viscous
+        end if
+        if (material%drag > 0.0_rk .or. material%angular_drag > 0.0_rk) then
+            damp(1:3) = material%drag
+            damp(4:12) = 0.5_rk * material%angular_drag
+            do g = 1, basis%n_gauss
+                ! Summed node by node: matmul of run-time-sized sections would allocate.
+                u = 0.0_rk
+                do a = 1, basis%nen
+                    u = u + 0.5_rk * basis%shape(a, g) * (v_n(:, a) + v_1(:, a))
+                end do
+                external = external + 0.5_rk * le * basis%w(g) * sum(damp * u**2)
+            end do
+            external = h * external
+        end if
+    end subroutine ph_director_element_damping_dissipation
 
     !> Work of the actuators on one element in one step, W_act = -h int dsigma_act(q_mid) .
     !> eps_dot(q_mid, v_mid) ds: the power of the actuation port (methods §3.2 eq. 66, §10 V9),
@@ -842,6 +950,97 @@ contains
             sig = sig + (s_n(:, b) + theta * (s_1(:, b) - s_n(:, b))) * psi(b)
         end do
     end function stress_at
+
+    ! The Kelvin-Voigt stress of a step (docs/theory/ph_director.md "Damping"): the midpoint
+    ! stress s_v of a Maxwell branch with zero compliance and viscosity V (methods §3.1,
+    ! Remark 5.2). Its branch row (methods §5.2) with C = 0 and the strain increment of the
+    ! elastic rows' non-rate form, int psi_b [h V^{-1} s_v - (eps(q_1) - eps(q_n))] ds = 0,
+    ! is solved element by element, s_v(:, b) = V/h sum_c Ginv_bc int psi_c (eps(q_1) -
+    ! eps(q_n)) ds with Ginv the inverse of the stress basis's Gram matrix int psi_b psi_c ds
+    ! (the same Gauss rule): the stress is condensed, no unknown of the step. The strain
+    ! increment is evaluated as B(q_mid) (q_1 - q_n), h J_sigma(q_mid) v_mid of the brief's
+    ! branch row, equal to eps(q_1) - eps(q_n) since eps is bilinear (methods §5.3 item 3), but
+    ! without the cancellation of two O(1) strains: V/h multiplies what rounding is left, and
+    ! the difference of the strains made Newton stagnate above newton_atol (the flying
+    ! spaghetti with tau = 0.05 s at 2e-11). With `derivative`, ds_v(:, :, m, b) =
+    ! d s_v(:, b) / d q_1 of node m (12 columns): V/h Ginv int psi B(q_1).
+    pure subroutine viscous_stress(basis, material, le, h, q_n, q_1, derivative, s_v, ds_v)
+        type(ph_director_basis_t), intent(in) :: basis
+        type(ph_director_material_t), intent(in) :: material
+        real(rk), intent(in) :: le, h
+        real(rk), intent(in) :: q_n(:, :), q_1(:, :)
+        logical, intent(in) :: derivative
+        real(rk), intent(out) :: s_v(6, ph_director_max_degree)
+        real(rk), intent(out) :: ds_v(6, 12, ph_director_max_nodes, ph_director_max_degree)
+        real(rk) :: rhs(6, ph_director_max_degree)
+        real(rk) :: drhs(6, 12, ph_director_max_nodes, ph_director_max_degree)
+        real(rk) :: gram(ph_director_max_degree, ph_director_max_degree)
+        real(rk) :: ginv(ph_director_max_degree, ph_director_max_degree)
+        real(rk) :: nn(ph_director_max_nodes), bb(ph_director_max_nodes), wds, det, weight
+        real(rk) :: phi_s(3), d(3, 3), d_s(3, 3), eps(6), e_x(6, 12), e_xs(6, 12), increment(6)
+        real(rk) :: q_mid(12, ph_director_max_nodes), dq(12, ph_director_max_nodes)
+        real(rk) :: dx(12), dxs(12)
+        integer :: nen, p, g, b, c, m, l
+        nen = basis%nen
+        p = basis%degree
+        q_mid(:, 1:nen) = 0.5_rk * (q_n + q_1)
+        dq(:, 1:nen) = q_1 - q_n
+        rhs = 0.0_rk
+        drhs = 0.0_rk
+        gram = 0.0_rk
+        do g = 1, basis%n_gauss
+            nn(1:nen) = basis%shape(1:nen, g)
+            bb(1:nen) = basis%dshape(1:nen, g) * (2.0_rk / le)
+            wds = basis%w(g) * 0.5_rk * le
+            call gauss_fields(q_mid(:, 1:nen), nn(1:nen), bb(1:nen), phi_s, d, d_s)
+            call strain_operator(phi_s, d, d_s, eps, e_x, e_xs)
+            dx = 0.0_rk
+            dxs = 0.0_rk
+            do m = 1, nen
+                dx = dx + nn(m) * dq(:, m)
+                dxs = dxs + bb(m) * dq(:, m)
+            end do
+            increment = matmul(e_x, dx) + matmul(e_xs, dxs)
+            if (derivative) then
+                call gauss_fields(q_1, nn(1:nen), bb(1:nen), phi_s, d, d_s)
+                call strain_operator(phi_s, d, d_s, eps, e_x, e_xs)
+            end if
+            do b = 1, p
+                weight = wds * basis%psi(b, g)
+                rhs(:, b) = rhs(:, b) + weight * increment
+                do c = 1, p
+                    gram(b, c) = gram(b, c) + weight * basis%psi(c, g)
+                end do
+                if (.not. derivative) cycle
+                do m = 1, nen
+                    drhs(:, :, m, b) = drhs(:, :, m, b) + weight * (nn(m) * e_x + bb(m) * e_xs)
+                end do
+            end do
+        end do
+        if (p == 1) then
+            ginv(1, 1) = 1.0_rk / gram(1, 1)
+        else
+            det = gram(1, 1) * gram(2, 2) - gram(1, 2) * gram(2, 1)
+            ginv(1, 1) = gram(2, 2) / det
+            ginv(2, 2) = gram(1, 1) / det
+            ginv(1, 2) = -gram(1, 2) / det
+            ginv(2, 1) = -gram(2, 1) / det
+        end if
+        s_v = 0.0_rk
+        ds_v = 0.0_rk
+        do b = 1, p
+            do c = 1, p
+                s_v(:, b) = s_v(:, b) + ginv(b, c) * rhs(:, c)
+                if (derivative) ds_v(:, :, 1:nen, b) = ds_v(:, :, 1:nen, b) &
+                    + ginv(b, c) * drhs(:, :, 1:nen, c)
+            end do
+            s_v(:, b) = material%viscosity / h * s_v(:, b)
+            if (.not. derivative) cycle
+            do l = 1, 6
+                ds_v(l, :, 1:nen, b) = material%viscosity(l) / h * ds_v(l, :, 1:nen, b)
+            end do
+        end do
+    end subroutine viscous_stress
 
     ! Strains eps = (Gamma, K) at a point (methods §2.2): Gamma_i = d_i . phi',
     ! K_i = 1/2 (d_k . d_j' - d_j . d_k') with (i, j, k) cyclic.

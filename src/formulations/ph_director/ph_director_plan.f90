@@ -9,7 +9,8 @@ module rs_ph_director_plan
     use rs_core_kinds, only: rk
     use rs_core_error, only: error_t
     use rs_core_strings, only: str
-    use rs_model_scene, only: scene_t, unset_real, unset_int
+    use rs_model_scene, only: scene_t, unset_real, unset_int, rod_is_damped
+    use rs_model_damping, only: damping_plan_text
     use rs_model_rod_geometry, only: rod_geometry_t, rod_geometry_of, helix_axis_point
     use rs_model_units, only: unit_in_system
     use rs_ph_director, only: ph_director_t
@@ -107,6 +108,7 @@ contains
             else
                 call add('Maxwell internal variables: none (no maxwell_fraction: skipped)')
             end if
+            call add('damping: ' // damping_text())
             if (rod%quasistatic) then
                 call add('mass terms: skipped (quasistatic: time is a load factor), then one ' // &
                     'endpoint equilibrium solve at t_end')
@@ -150,6 +152,23 @@ contains
             full%rods(1)%n_elements = scene%rods(i)%n_elements
             full%solver%condense_stresses = rod%condensed
         end function small_at_full_count
+
+        !> The rod's damping as built (docs/theory/ph_director.md "Damping").
+        function damping_text() result(t)
+            character(len=:), allocatable :: t
+            if (.not. rod_is_damped(scene%rods(i))) then
+                t = 'none (no kelvin_voigt_time, drag, angular_drag: skipped)'
+                return
+            end if
+            t = damping_plan_text(scene%rods(i))
+            if (any(rod%material%viscosity > 0.0_rk)) then
+                t = t // '; Kelvin-Voigt as a Maxwell branch of zero compliance, its midpoint ' // &
+                    'stress condensed per element (no unknowns)'
+                if (any(rod%material%compliance == 0.0_rk)) t = t // ', none on the ' // &
+                    'constrained components (their strain rate is zero)'
+            end if
+            t = t // '; dissipation recorded'
+        end function damping_text
 
         function loads_text() result(t)
             character(len=:), allocatable :: t

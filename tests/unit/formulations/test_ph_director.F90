@@ -10,7 +10,10 @@
 !> system layer reads of the rod (issue 22): the node table (its momentum rows are where an end
 !> load enters), the continuation anchor of set_step_problem, the largest rotation of
 !> state_measures, and the tie wrapper of new_tie (equal to the kernels of rs_ph_director_tie,
-!> its gradient to central differences of its value).
+!> its gradient to central differences of its value). Damping (docs/theory/ph_director.md
+!> "Damping"): the viscosities built from &rod kelvin_voigt_time (its order, none on rigid
+!> components), the damped Jacobian (condensed and not, with constraints and a branch) against
+!> central differences, and a damped Newton step that balances H_1 - H_0 = W - D with D > 0.
 module rs_test_ph_director
     use rs_core_kinds, only: rk
     use rs_core_error, only: error_t
@@ -29,6 +32,9 @@ module rs_test_ph_director
     private
 
     public :: run_all_tests
+
+    !> Kelvin-Voigt times of the damped scenes, (EA, GA1, GA2, EI1, EI2, GJ).
+    real(rk), parameter :: kv_times(6) = [0.01_rk, 0.02_rk, 0.015_rk, 0.03_rk, 0.025_rk, 0.005_rk]
 
 contains
 
@@ -55,6 +61,9 @@ contains
         call run_test('continuation_starts_at_its_anchor', test_continuation_anchor)
         call run_test('state_measures', test_state_measures)
         call run_test('tie_wrapper_equals_kernels', test_tie_wrapper)
+        call run_test('damped_material', test_damped_material)
+        call run_test('jacobian_matches_differences_damped', test_jacobian_damped)
+        call run_test('newton_step_balances_energy_damped', test_newton_step_energy_damped)
     end subroutine run_all_tests
 
     !> A rod along (1, 2, 2)/3 with a clamped start, an end load and gravity.
@@ -129,6 +138,18 @@ contains
         chamber%time_function = 'constant'
         scene%actuators = [tendon, chamber]
     end function actuated_scene
+
+    !> The cantilever with Kelvin-Voigt times, one per component in &rod's order (EA, GA1, GA2,
+    !> EI1, EI2, GJ), drag and angular drag (docs/theory/damping.md).
+    function damped_scene(n_elements, degree, condensed) result(scene)
+        integer, intent(in) :: n_elements, degree
+        logical, intent(in) :: condensed
+        type(scene_t) :: scene
+        scene = cantilever_scene(n_elements, degree, condensed)
+        scene%rods(1)%kelvin_voigt_time = kv_times
+        scene%rods(1)%drag = 0.7_rk
+        scene%rods(1)%angular_drag = 0.04_rk
+    end function damped_scene
 
     !> The cantilever in a quasistatic run (no mass terms) with a tendon.
     function quasistatic_scene(n_elements, degree) result(scene)
@@ -766,6 +787,79 @@ contains
         scale = 1.0e-8_rk * max(1.0_rk, maxval(abs(gradient(1:n, :))))
         CHECK_CLOSE(gradient(1:n, :), difference(1:n, :), scale, 0.0_rk, label // ': differences')
     end subroutine check_tie
+
+    !> The Kelvin-Voigt viscosities V = tau k in the stress order (GA1, GA2, EA, EI1, EI2, GJ)
+    !> from &rod's order (EA, GA1, GA2, EI1, EI2, GJ), the drags as given; an inextensible
+    !> rod has none on its rigid components (their strain rate is zero), with or without a
+    !> Maxwell branch (whose stiffness split leaves V = tau k with the full k).
+    subroutine test_damped_material()
+        type(ph_director_t) :: rod, constrained
+        type(scene_t) :: scene
+        real(rk) :: expected(6), zero(3)
+        zero = 0.0_rk
+        scene = damped_scene(3, 2, .false.)
+        call build_scene(scene, rod)
+        associate (input => scene%rods(1))
+            expected = [kv_times(2) * input%GA1, kv_times(3) * input%GA2, kv_times(1) * input%EA, &
+                kv_times(4) * input%EI1, kv_times(5) * input%EI2, kv_times(6) * input%GJ]
+        end associate
+        CHECK_CLOSE(rod%material%viscosity, expected, 0.0_rk, 1.0e-15_rk, 'V = tau k, stress order')
+        CHECK_CLOSE(rod%material%drag, 0.7_rk, 0.0_rk, 0.0_rk, 'drag')
+        CHECK_CLOSE(rod%material%angular_drag, 0.04_rk, 0.0_rk, 0.0_rk, 'angular drag')
+        CHECK_EQUAL(rod%n_unknown(), 30 * 6 + 12 * 3, 'Kelvin-Voigt adds no unknowns')
+        scene = actuated_scene(3, 2)
+        scene%rods(1)%kelvin_voigt_time = kv_times
+        call build_scene(scene, constrained)
+        CHECK_CLOSE(constrained%material%viscosity(1:3), zero, 0.0_rk, 0.0_rk, 'rigid: no viscosity')
+        ! Bending and torsion: V = tau k with the full stiffness, not the branch's split.
+        CHECK_CLOSE(constrained%material%viscosity(4:6), expected(4:6), 0.0_rk, 1.0e-15_rk, 'V of the full k')
+    end subroutine test_damped_material
+
+    !> The damped Jacobian against central differences and its pattern: uncondensed (p = 2, 1),
+    !> condensed (the viscous stress adds no unknowns, so condensation stays available), and
+    !> with constraints, a Maxwell branch and actuators; every value assigned.
+    subroutine test_jacobian_damped()
+        type(ph_director_t) :: p2, p1, condensed_p2, condensed_p1, constrained
+        type(scene_t) :: scene
+        call set_random_seed(20261127, 2)
+        call build_scene(damped_scene(3, 2, .false.), p2)
+        call check_jacobian_of(p2, 'damped, p = 2', .false.)
+        call build_scene(damped_scene(4, 1, .false.), p1)
+        call check_jacobian_of(p1, 'damped, p = 1', .false.)
+        call build_scene(damped_scene(3, 2, .true.), condensed_p2)
+        CHECK_TRUE(condensed_p2%condensed, 'a damped rod can be condensed')
+        call check_jacobian_of(condensed_p2, 'damped, p = 2, condensed', .false.)
+        call build_scene(damped_scene(4, 1, .true.), condensed_p1)
+        call check_jacobian_of(condensed_p1, 'damped, p = 1, condensed', .false.)
+        scene = actuated_scene(3, 2)
+        scene%rods(1)%kelvin_voigt_time = kv_times
+        scene%rods(1)%drag = 0.7_rk
+        scene%rods(1)%angular_drag = 0.04_rk
+        call build_scene(scene, constrained)
+        call check_jacobian_of(constrained, 'damped, inextensible + Maxwell + actuators, p = 2', &
+            .false.)
+        call check_assigns_every_value(damped_scene(3, 2, .false.), 'damped, p = 2')
+    end subroutine test_jacobian_damped
+
+    !> One damped Newton step from rest under the ramped loads: the books balance with the
+    !> dissipation, H_1 - H_0 = W - D, D > 0 (docs/theory/ph_director.md "Damping"); the
+    !> condensed step reaches the same state and books the same terms.
+    subroutine test_newton_step_energy_damped()
+        type(ph_director_t) :: rod, condensed
+        real(rk), allocatable :: x_n(:), x_1(:), x_c(:)
+        type(step_energy_t) :: terms(1), terms_c(1)
+        real(rk) :: tol
+        call build_scene(damped_scene(3, 2, .false.), rod)
+        call newton_solve(rod, 0.5_rk, 0.01_rk, x_n, x_1, terms)
+        CHECK_TRUE(terms(1)%dissipated > 1.0e-6_rk * terms(1)%after, 'the damping dissipates')
+        tol = 1.0e-9_rk * terms(1)%after
+        CHECK_CLOSE(step_balance(terms(1)), 0.0_rk, tol, 0.0_rk, 'H_1 - H_0 - W + D = 0')
+        call build_scene(damped_scene(3, 2, .true.), condensed)
+        call newton_solve(condensed, 0.5_rk, 0.01_rk, x_n, x_c, terms_c)
+        CHECK_CLOSE(x_c, x_1, 1.0e-10_rk, 0.0_rk, 'condensed: same state at t_{n+1}')
+        CHECK_CLOSE(terms_c(1)%dissipated, terms(1)%dissipated, 0.0_rk, 1.0e-8_rk, 'condensed: same D')
+        CHECK_CLOSE(step_balance(terms_c(1)), 0.0_rk, tol, 0.0_rk, 'condensed: balance with D')
+    end subroutine test_newton_step_energy_damped
 
 end module rs_test_ph_director
 

@@ -8,7 +8,10 @@
 !> the reference-element data; and the reference strains: every random case has its own
 !> (non-straight) reference strains at the Gauss points, a curved (helical) reference is
 !> stress-free (zero residual and zero consistent stress, so zero strain energy), and the
-!> prestressed initial stresses solve the stress rows.
+!> prestressed initial stresses solve the stress rows. Damping (docs/theory/ph_director.md
+!> "Damping"): the Kelvin-Voigt stress and the drags in the Jacobian against central
+!> differences, in the exact energy identity, their dissipation in closed form, no viscous
+!> stress for a rigid motion, objectivity, and internal forces without resultant.
 !>
 !> Without tendons the residuals are at most quadratic in the unknowns, so central differences
 !> are exact up to round-off; a tendon direction r'/|r'| adds an O(step^2) truncation error far
@@ -32,7 +35,8 @@ module rs_test_ph_director_element
         ph_director_node_constraint, ph_director_element_dissipation, &
         ph_director_element_actuator_work, ph_director_max_nodes, ph_director_max_degree, &
         ph_director_node_size, ph_director_element_reference_strains, &
-        ph_director_element_initial_stress, ph_director_straight_strain
+        ph_director_element_initial_stress, ph_director_straight_strain, &
+        ph_director_element_damping_dissipation
     implicit none
     private
 
@@ -105,6 +109,11 @@ contains
         call run_test('reference_strains_straight', test_reference_strains_straight)
         call run_test('curved_reference_stress_free', test_curved_reference_stress_free)
         call run_test('prestressed_initial_stress', test_prestressed_initial_stress)
+        call run_test('element_jacobian_fd_damping', test_element_jacobian_fd_damping)
+        call run_test('energy_identity_damping', test_energy_identity_damping)
+        call run_test('damping_dissipation_closed_form', test_damping_dissipation)
+        call run_test('rigid_motion_not_damped', test_rigid_motion_not_damped)
+        call run_test('damping_objective_and_internal', test_damping_objective_and_internal)
     end subroutine run_all_tests
 
     ! ---------------------------------------------------------------------------------------
@@ -208,6 +217,24 @@ contains
             end do
         end do
     end subroutine add_branches
+
+    ! Give a case damping (docs/theory/ph_director.md "Damping"): random Kelvin-Voigt
+    ! viscosities V = tau k (none on rigid components, as the formulation builds them), drag
+    ! and angular drag; `viscous`, `external` switch the two laws.
+    subroutine add_damping(ec, rigid, viscous, external)
+        type(element_case_t), intent(inout) :: ec
+        logical, intent(in) :: rigid(6), viscous, external
+        integer :: l
+        if (viscous) then
+            do l = 1, 6
+                ec%material%viscosity(l) = merge(0.0_rk, uniform(0.05_rk, 2.0_rk), rigid(l))
+            end do
+        end if
+        if (external) then
+            ec%material%drag = uniform(0.2_rk, 2.0_rk)
+            ec%material%angular_drag = uniform(0.2_rk, 2.0_rk)
+        end if
+    end subroutine add_damping
 
     ! Zero the branch stresses of rigid components at t_{n+1} too (their rows s_1 = 0 solved).
     subroutine zero_inactive_branch_stresses(ec)
@@ -354,10 +381,11 @@ contains
     end function s_rows
 
     ! Kinetic and complementary energies at both ends, the external and actuator work and the
-    ! dissipation of a case.
+    ! dissipation of a case (Maxwell branches and damping).
     subroutine element_energies(ec, t_n, t_1, w_n, w_1, w_ext, w_act, dissipation)
         type(element_case_t), intent(in) :: ec
         real(rk), intent(out) :: t_n, t_1, w_n, w_1, w_ext, w_act, dissipation
+        real(rk) :: viscous, external
         real(rk) :: s_n(6, ec%basis%degree, 0:ec%material%n_branches)
         real(rk) :: s_1(6, ec%basis%degree, 0:ec%material%n_branches)
         integer :: nen
@@ -374,6 +402,10 @@ contains
             ec%q_1(:, 1:nen), ec%v_n(:, 1:nen), ec%v_1(:, 1:nen), ec%actuation)
         dissipation = ph_director_element_dissipation(ec%basis, ec%material, ec%le, ec%h, &
             s_n, s_1)
+        call ph_director_element_damping_dissipation(ec%basis, ec%material, ec%le, ec%h, &
+            ec%q_n(:, 1:nen), ec%q_1(:, 1:nen), ec%v_n(:, 1:nen), ec%v_1(:, 1:nen), viscous, &
+            external)
+        dissipation = dissipation + viscous + external
     end subroutine element_energies
 
     ! Each 3-block of x rotated by rot.
@@ -595,12 +627,14 @@ contains
 
     ! Element Jacobian against central differences on random cases of one family: p = 1, 2,
     ! n_gauss = p .. 4, with the step kind, branches, rigid set and actuators given.
-    subroutine check_fd_family(label, static, nb, rigid, pneumatic, n_tendons)
+    subroutine check_fd_family(label, static, nb, rigid, pneumatic, n_tendons, viscous, external)
         character(len=*), intent(in) :: label
         logical, intent(in) :: static
         integer, intent(in) :: nb
         logical, intent(in) :: rigid(6), pneumatic
         integer, intent(in) :: n_tendons
+        !> Kelvin-Voigt viscosity and drags (add_damping); none when absent.
+        logical, intent(in), optional :: viscous, external
         type(element_case_t) :: ec
         real(rk) :: error, worst
         integer :: p, ng, sample
@@ -614,6 +648,7 @@ contains
                     call add_branches(ec, nb, rigid)
                     if (pneumatic) call add_pneumatic(ec)
                     if (n_tendons > 0) call add_tendons(ec, n_tendons)
+                    if (present(viscous)) call add_damping(ec, rigid, viscous, external)
                     call element_fd_error(ec, error)
                     worst = max(worst, error)
                     CHECK_TRUE(error < fd_tol, label // ': element Jacobian = central differences')
@@ -1434,11 +1469,11 @@ contains
     ! components, actuators and static steps included); the nodal rows likewise (kinematic and
     ! momentum rows rotate, constraint rows are invariant).
     subroutine test_objectivity()
-        type(element_case_t) :: ec, rotated
-        real(rk) :: residual(max_local), r_rot(max_local), expected(max_local), rot(3, 3), tol
+        type(element_case_t) :: ec
+        real(rk) :: rot(3, 3), tol
         real(rk) :: q_n(12), q_1(12), v_n(12), v_1(12), lambda(6), force(3), moment(3)
         real(rk) :: r_node(30), r_node_rot(30), expected_node(30)
-        integer :: p, ng, sample, n, nen, a
+        integer :: p, ng, sample
         logical :: static
         do p = 1, 2
             do ng = p, 3
@@ -1450,24 +1485,7 @@ contains
                         call add_tendons(ec, 2)
                     end if
                     ec%static = mod(sample, 2) == 0
-                    nen = ec%basis%nen
-                    n = local_size(ec)
-                    rot = random_rotation()
-                    rotated = ec
-                    do a = 1, nen
-                        rotated%q_n(:, a) = rotate_blocks(rot, ec%q_n(:, a))
-                        rotated%q_1(:, a) = rotate_blocks(rot, ec%q_1(:, a))
-                        rotated%v_n(:, a) = rotate_blocks(rot, ec%v_n(:, a))
-                        rotated%v_1(:, a) = rotate_blocks(rot, ec%v_1(:, a))
-                    end do
-                    rotated%nbar = matmul(rot, ec%nbar)
-                    rotated%mbar = matmul(rot, ec%mbar)
-                    call element_residual(ec, residual(1:n))
-                    call element_residual(rotated, r_rot(1:n))
-                    expected(1:n) = residual(1:n)
-                    expected(1:24 * nen) = rotate_blocks(rot, residual(1:24 * nen))
-                    tol = exact_tol * maxval(abs(residual(1:n)))
-                    CHECK_CLOSE(r_rot(1:n), expected(1:n), tol, 0.0_rk, 'rotated element residual')
+                    call check_rotated_residual(ec, 'rotated element residual')
                 end do
             end do
         end do
@@ -1491,6 +1509,35 @@ contains
             CHECK_CLOSE(r_node_rot, expected_node, tol, 0.0_rk, 'rotated node residual')
         end do
     end subroutine test_objectivity
+
+    ! The element residual of a case with everything rotated by a random rotation (states,
+    ! velocities, loads) is the rotated residual: momentum rows rotated, stress rows (material
+    ! components) unchanged.
+    subroutine check_rotated_residual(ec, label)
+        type(element_case_t), intent(in) :: ec
+        character(len=*), intent(in) :: label
+        type(element_case_t) :: rotated
+        real(rk) :: residual(max_local), r_rot(max_local), expected(max_local), rot(3, 3), tol
+        integer :: n, nen, a
+        nen = ec%basis%nen
+        n = local_size(ec)
+        rot = random_rotation()
+        rotated = ec
+        do a = 1, nen
+            rotated%q_n(:, a) = rotate_blocks(rot, ec%q_n(:, a))
+            rotated%q_1(:, a) = rotate_blocks(rot, ec%q_1(:, a))
+            rotated%v_n(:, a) = rotate_blocks(rot, ec%v_n(:, a))
+            rotated%v_1(:, a) = rotate_blocks(rot, ec%v_1(:, a))
+        end do
+        rotated%nbar = matmul(rot, ec%nbar)
+        rotated%mbar = matmul(rot, ec%mbar)
+        call element_residual(ec, residual(1:n))
+        call element_residual(rotated, r_rot(1:n))
+        expected(1:n) = residual(1:n)
+        expected(1:24 * nen) = rotate_blocks(rot, residual(1:24 * nen))
+        tol = exact_tol * maxval(abs(residual(1:n)))
+        CHECK_CLOSE(r_rot(1:n), expected(1:n), tol, 0.0_rk, label)
+    end subroutine check_rotated_residual
 
     ! Strain consistency of the non-rate stress rows (methods §2.8 eqs. 96e-f, §5.3 item 3):
     ! with a stress basis that interpolates at the Gauss points (p = 2 with 2 points, p = 1
@@ -1859,6 +1906,230 @@ contains
             end do
         end do
     end subroutine test_prestressed_initial_stress
+
+    ! ---------------------------------------------------------------------------------------
+    ! Damping (docs/theory/ph_director.md "Damping")
+
+    ! The element Jacobian with the Kelvin-Voigt stress (its q columns, through the condensed
+    ! s_v and through B(q_mid)) and the drags (v columns), alone and with branches, rigid
+    ! components and actuators; a static step has no damping, and its Jacobian stays right.
+    subroutine test_element_jacobian_fd_damping()
+        call check_fd_family('Kelvin-Voigt', .false., 0, no_rigid, .false., 0, .true., .false.)
+        call check_fd_family('drag', .false., 0, no_rigid, .false., 0, .false., .true.)
+        call check_fd_family('Kelvin-Voigt and drag', .false., 0, no_rigid, .false., 0, .true., &
+            .true.)
+        call check_fd_family('damped, inextensible, 1 branch, pneumatic, 2 tendons', .false., 1, &
+            inextensible, .true., 2, .true., .true.)
+        call check_fd_family('damped, kirchhoff, 2 branches', .false., 2, kirchhoff, .false., 0, &
+            .true., .true.)
+        call check_fd_family('damped, static', .true., 1, kirchhoff, .false., 0, .true., .true.)
+    end subroutine test_element_jacobian_fd_damping
+
+    ! The element energy identity (energy_identity) with damping: the momentum rows take out
+    ! exactly the dissipation D = h int s_v . V^{-1} s_v + h int u_mid . diag(c, c_w/2) u_mid
+    ! of ph_director_element_damping_dissipation, for each law alone and together, with
+    ! branches, rigid components and actuators; each law's D is positive.
+    subroutine test_energy_identity_damping()
+        type(element_case_t) :: ec
+        real(rk) :: lhs, rhs, scale, viscous, external, worst
+        integer :: p, ng, sample, variant, nen
+        logical :: rigid(6)
+        character(len=80) :: text
+        worst = 0.0_rk
+        do variant = 1, 4
+            rigid = merge(inextensible, no_rigid, variant == 4)
+            do p = 1, 2
+                do ng = p, 3
+                    do sample = 1, 3
+                        ec = random_case(p, ng)
+                        if (variant == 4) then
+                            call add_branches(ec, 1, rigid)
+                            call zero_inactive_branch_stresses(ec)
+                            call add_pneumatic(ec)
+                            call add_tendons(ec, 2)
+                        end if
+                        call add_damping(ec, rigid, variant /= 2, variant /= 1)
+                        call solve_kinematic_rows(ec)
+                        nen = ec%basis%nen
+                        call ph_director_element_damping_dissipation(ec%basis, ec%material, &
+                            ec%le, ec%h, ec%q_n(:, 1:nen), ec%q_1(:, 1:nen), ec%v_n(:, 1:nen), &
+                            ec%v_1(:, 1:nen), viscous, external)
+                        call energy_identity(ec, lhs, rhs, scale)
+                        if (variant /= 2) then
+                            CHECK_TRUE(viscous > 1.0e-4_rk * scale, 'Kelvin-Voigt D > 0')
+                        else
+                            CHECK_CLOSE(viscous, 0.0_rk, 0.0_rk, 0.0_rk, 'no viscosity: D = 0')
+                        end if
+                        if (variant /= 1) then
+                            CHECK_TRUE(external > 1.0e-4_rk * scale, 'drag D > 0')
+                        else
+                            CHECK_CLOSE(external, 0.0_rk, 0.0_rk, 0.0_rk, 'no drag: D = 0')
+                        end if
+                        CHECK_CLOSE(lhs, rhs, exact_tol * scale, 0.0_rk, 'identity with damping')
+                        worst = max(worst, abs(lhs - rhs) / scale)
+                    end do
+                end do
+            end do
+        end do
+        write(text, '(a,es9.2)') '    max relative energy-identity error with damping: ', worst
+        write(output_unit, '(a)') trim(text)
+    end subroutine test_energy_identity_damping
+
+    ! The dissipation in closed form. Kelvin-Voigt: where the stress basis interpolates at the
+    ! Gauss points (p = 1 with 1 point, p = 2 with 2), s_v = V (eps_1 - eps_n)/h at the stress
+    ! points, so D = h sum_b w_b s_v . V^{-1} s_v = sum_b (le/p) Delta eps . V Delta eps / h,
+    ! Delta eps from ph_director_element_strains. Drag: a uniform translation and rotation
+    ! rate with orthonormal directors, v_phi = u, v_i = w x d_i at every node, dissipates
+    ! D = h le (c |u|^2 + c_w |w|^2): sum_i |w x d_i|^2 = 2 |w|^2, so the forces -c_w/2 v_i
+    ! are the moment -c_w w. Zero at rest (q_1 = q_n, v_1 = -v_n); none in a static step.
+    subroutine test_damping_dissipation()
+        type(element_case_t) :: ec, bare
+        real(rk) :: viscous, external, expected, gamma_n(3, 2), kappa_n(3, 2), gamma_1(3, 2)
+        real(rk) :: kappa_1(3, 2), strain(6), rot(3, 3), u(3), w(3), residual(max_local)
+        real(rk) :: r_bare(max_local)
+        integer :: p, sample, nen, b, a, i, n
+        do p = 1, 2
+            do sample = 1, 4
+                ec = random_case(p, p)
+                call add_damping(ec, no_rigid, .true., .true.)
+                nen = ec%basis%nen
+                call ph_director_element_damping_dissipation(ec%basis, ec%material, ec%le, ec%h, &
+                    ec%q_n(:, 1:nen), ec%q_1(:, 1:nen), ec%v_n(:, 1:nen), ec%v_1(:, 1:nen), &
+                    viscous, external)
+                call ph_director_element_strains(ec%basis, ec%le, ec%q_n(:, 1:nen), &
+                    gamma_n(:, 1:p), kappa_n(:, 1:p))
+                call ph_director_element_strains(ec%basis, ec%le, ec%q_1(:, 1:nen), &
+                    gamma_1(:, 1:p), kappa_1(:, 1:p))
+                expected = 0.0_rk
+                do b = 1, p
+                    strain = [gamma_1(:, b) - gamma_n(:, b), kappa_1(:, b) - kappa_n(:, b)]
+                    expected = expected + ec%le / real(p, rk) &
+                        * sum(ec%material%viscosity * strain**2) / ec%h
+                end do
+                CHECK_TRUE(viscous > 0.0_rk, 'Kelvin-Voigt D > 0')
+                CHECK_CLOSE(viscous, expected, 0.0_rk, 1.0e-12_rk, 'Kelvin-Voigt D in closed form')
+                ! Uniform rates on orthonormal directors.
+                rot = random_rotation()
+                u = random_vector(3, 1.0_rk)
+                w = random_vector(3, 1.0_rk)
+                do a = 1, nen
+                    ec%q_n(4:12, a) = reshape(rot, [9])
+                    ec%v_n(1:3, a) = u
+                    do i = 1, 3
+                        ec%v_n(3 * i + 1:3 * i + 3, a) = cross(w, rot(:, i))
+                    end do
+                end do
+                ec%v_1 = ec%v_n
+                call ph_director_element_damping_dissipation(ec%basis, ec%material, ec%le, ec%h, &
+                    ec%q_n(:, 1:nen), ec%q_1(:, 1:nen), ec%v_n(:, 1:nen), ec%v_1(:, 1:nen), &
+                    viscous, external)
+                expected = ec%h * ec%le * (ec%material%drag * dot_product(u, u) &
+                    + ec%material%angular_drag * dot_product(w, w))
+                CHECK_CLOSE(external, expected, 0.0_rk, 1.0e-13_rk, 'drag D in closed form')
+                ! At rest: nothing dissipated.
+                ec%q_1 = ec%q_n
+                ec%v_1 = -ec%v_n
+                call ph_director_element_damping_dissipation(ec%basis, ec%material, ec%le, ec%h, &
+                    ec%q_n(:, 1:nen), ec%q_1(:, 1:nen), ec%v_n(:, 1:nen), ec%v_1(:, 1:nen), &
+                    viscous, external)
+                CHECK_CLOSE(viscous, 0.0_rk, 0.0_rk, 0.0_rk, 'Kelvin-Voigt D = 0 at q_1 = q_n')
+                CHECK_CLOSE(external, 0.0_rk, 0.0_rk, 0.0_rk, 'drag D = 0 at v_mid = 0')
+                ! A static step (the endpoint equilibrium) has no damping.
+                ec = random_case(p, 2)
+                ec%static = .true.
+                bare = ec
+                call add_damping(ec, no_rigid, .true., .true.)
+                n = local_size(ec)
+                call element_residual(ec, residual(1:n))
+                call element_residual(bare, r_bare(1:n))
+                CHECK_CLOSE(residual(1:n), r_bare(1:n), 0.0_rk, 0.0_rk, 'static: no damping')
+            end do
+        end do
+    end subroutine test_damping_dissipation
+
+    ! The strains are objective, so a rigid motion between t_n and t_{n+1} (q_1 = R q_n + c)
+    ! has no strain increment and no Kelvin-Voigt stress: the residual is that of the
+    ! undamped element, the dissipation zero to round-off (docs/theory/damping.md).
+    subroutine test_rigid_motion_not_damped()
+        type(element_case_t) :: ec, bare
+        real(rk) :: residual(max_local), r_bare(max_local), rot(3, 3), shift(3), tol
+        real(rk) :: viscous, external, moving
+        integer :: p, ng, sample, n, nen, a
+        do p = 1, 2
+            do ng = p, 3
+                do sample = 1, 3
+                    ec = random_case(p, ng)
+                    nen = ec%basis%nen
+                    rot = random_rotation()
+                    shift = random_vector(3, 1.0_rk)
+                    do a = 1, nen
+                        ec%q_1(:, a) = rotate_blocks(rot, ec%q_n(:, a))
+                        ec%q_1(1:3, a) = ec%q_1(1:3, a) + shift
+                    end do
+                    bare = ec
+                    call add_damping(ec, no_rigid, .true., .false.)
+                    n = local_size(ec)
+                    call element_residual(ec, residual(1:n))
+                    call element_residual(bare, r_bare(1:n))
+                    tol = exact_tol * maxval(abs(r_bare(1:n)))
+                    CHECK_CLOSE(residual(1:n), r_bare(1:n), tol, 0.0_rk, 'rigid motion: no s_v')
+                    call ph_director_element_damping_dissipation(ec%basis, ec%material, ec%le, &
+                        ec%h, ec%q_n(:, 1:nen), ec%q_1(:, 1:nen), ec%v_n(:, 1:nen), &
+                        ec%v_1(:, 1:nen), viscous, external)
+                    ! Against the dissipation of a strain increment of size 1 over the step.
+                    moving = ec%le * maxval(ec%material%viscosity) / ec%h
+                    CHECK_CLOSE(viscous, 0.0_rk, 1.0e-24_rk * moving, 0.0_rk, 'rigid motion: D = 0')
+                end do
+            end do
+        end do
+    end subroutine test_rigid_motion_not_damped
+
+    ! The damped element residual is objective (everything rotated: the residual rotated), and
+    ! the Kelvin-Voigt forces are internal: zero resultant and zero moment about the origin
+    ! through q_mid (methods §5.3 items 4, 5), so they keep both momenta.
+    subroutine test_damping_objective_and_internal()
+        type(element_case_t) :: ec, bare
+        real(rk) :: residual(max_local), tol
+        real(rk) :: r_bare(max_local), forces(max_local), q_mid(12, 3), resultant(3), torque(3)
+        real(rk) :: zero(3), scale
+        integer :: p, ng, sample, n, nen, a
+        zero = 0.0_rk
+        do p = 1, 2
+            do ng = p, 3
+                do sample = 1, 3
+                    ec = random_case(p, ng)
+                    if (sample == 3) then
+                        call add_branches(ec, 1, kirchhoff)
+                        call add_tendons(ec, 1)
+                    end if
+                    call add_damping(ec, merge(kirchhoff, no_rigid, sample == 3), .true., .true.)
+                    call check_rotated_residual(ec, 'rotated damped residual')
+                    nen = ec%basis%nen
+                    n = local_size(ec)
+                    ! The Kelvin-Voigt forces alone: damped minus undamped, drag off.
+                    ec%material%drag = 0.0_rk
+                    ec%material%angular_drag = 0.0_rk
+                    bare = ec
+                    bare%material%viscosity = 0.0_rk
+                    call element_residual(ec, residual(1:n))
+                    call element_residual(bare, r_bare(1:n))
+                    forces(1:n) = residual(1:n) - r_bare(1:n)
+                    scale = maxval(abs(forces(1:24 * nen))) * (1.0_rk + maxval(abs(ec%q_n)) &
+                        + maxval(abs(ec%q_1)))
+                    CHECK_TRUE(maxval(abs(forces(1:24 * nen))) > 1.0e-3_rk, 'viscous forces act')
+                    resultant = 0.0_rk
+                    do a = 1, nen
+                        resultant = resultant + forces(24 * (a - 1) + 13:24 * (a - 1) + 15)
+                    end do
+                    q_mid(:, 1:nen) = 0.5_rk * (ec%q_n(:, 1:nen) + ec%q_1(:, 1:nen))
+                    torque = nodal_torque(q_mid, forces, nen)
+                    tol = exact_tol * scale
+                    CHECK_CLOSE(resultant, zero, tol, 0.0_rk, 'viscous forces: no resultant')
+                    CHECK_CLOSE(torque, zero, tol, 0.0_rk, 'viscous forces: no moment')
+                end do
+            end do
+        end do
+    end subroutine test_damping_objective_and_internal
 
 end module rs_test_ph_director_element
 

@@ -14,6 +14,7 @@ module rs_test_formulations_plan
     use rs_core_error, only: error_list_t
     use rs_test_assert, only: run_test, assert_true, assert_equal, assert_contains
     use rs_model_scene, only: scene_t
+    use rs_model_damping, only: damping_plan_text
     use rs_io_input_file, only: parse_scene
     use rs_io_scene_writer, only: resolved_scene_text
     use rs_formulations_plan, only: scene_plan_text, plan_header
@@ -34,6 +35,7 @@ contains
         call run_test('cantilever_counts', test_cantilever_counts)
         call run_test('condensed_counts', test_condensed_counts)
         call run_test('extensions_and_skips', test_extensions_and_skips)
+        call run_test('ph_director_damping', test_ph_director_damping)
         call run_test('ranks_and_origins', test_ranks_and_origins)
         call run_test('helix_and_units', test_helix_and_units)
         call run_test('plan_is_comments', test_plan_is_comments)
@@ -202,6 +204,27 @@ contains
         CHECK_CONTAINS(plan, expected, 'why condensation is ignored')
         CHECK_CONTAINS(plan, 'time: quasistatic, 4 midpoint load step(s)', 'load steps')
     end subroutine test_extensions_and_skips
+
+    ! A ph_director rod's damping (issue 26 item 1): the plan shows damping_plan_text of the
+    ! resolved rod and how it is built (Kelvin-Voigt condensed, so the unknowns are those of
+    ! the undamped cantilever; none on constrained components); an undamped rod skips it.
+    subroutine test_ph_director_damping()
+        character(len=:), allocatable :: plan, text
+        type(scene_t) :: scene
+        type(error_list_t) :: errors
+        plan = plan_of(cantilever('', ''), 1)
+        CHECK_CONTAINS(plan, 'damping: none (no kelvin_voigt_time, drag, angular_drag: skipped)', 'none')
+        text = cantilever(", kelvin_voigt_time = 1e-3, drag = 0.5, constraint = 'kirchhoff'", '')
+        call parse_scene(text, 'plan.nml', scene, errors)
+        CHECK_EQUAL(errors%count, 0, 'damped scene valid: ' // errors%joined())
+        plan = plan_of(text, 1)
+        CHECK_CONTAINS(plan, 'damping: ' // damping_plan_text(scene%rods(1)), 'damping_plan_text')
+        CHECK_CONTAINS(plan, 'its midpoint stress condensed per element (no unknowns)', 'condensed')
+        CHECK_CONTAINS(plan, 'none on the constrained components', 'constrained')
+        CHECK_CONTAINS(plan, 'unknowns: 288 Newton unknowns', 'no unknowns added')
+        plan = plan_of(cantilever(', angular_drag = 2e-3', ''), 1)
+        CHECK_CONTAINS(plan, 'damping: angular drag ', 'angular drag alone')
+    end subroutine test_ph_director_damping
 
     ! Four rods on 3 ranks: rods 1 and 4 on rank 0; the origin of each formulation.
     subroutine test_ranks_and_origins()
