@@ -250,9 +250,10 @@ contains
                     ', EI' // str(normal_director) // ') = (' // &
                     str_significant(input%kelvin_voigt_time(kv(1)), 4) // ', ' // &
                     str_significant(input%kelvin_voigt_time(kv(2)), 4) // ', ' // &
-                    str_significant(input%kelvin_voigt_time(kv(3)), 4) // ') s with the step''s ' // &
-                    'strain increments, drag on (x'', y''), angular drag on theta''; both with ' // &
-                    'the step''s midpoint velocities, their dissipation booked in the energy balance'
+                    str_significant(input%kelvin_voigt_time(kv(3)), 4) // ') s on the step''s ' // &
+                    'strain increments; drag against (x'', y'') and angular drag against theta'' ' // &
+                    'at the step''s midpoint velocities; the dissipation is booked in the energy ' // &
+                    'balance'
             end associate
         end function damping_text
 
