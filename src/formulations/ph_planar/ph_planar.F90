@@ -28,7 +28,8 @@ module rs_ph_planar
     use rs_core_kinds, only: rk, pi
     use rs_core_error, only: error_t, set_error
     use rs_core_strings, only: str
-    use rs_model_scene, only: scene_t, rod_input_t, load_applies_to
+    use rs_model_scene, only: scene_t, rod_input_t, load_applies_to, unset_real
+    use rs_model_damping, only: kv_axial, kv_shear1, kv_shear2, kv_bend1, kv_bend2
     use rs_model_rod_history, only: rod_history_t
     use rs_model_time_function, only: time_function_t, time_function_from_load
     use rs_model_planarity, only: plane_t, plane_of_rods, point_in_plane, vector_in_plane, &
@@ -41,7 +42,7 @@ module rs_ph_planar
         cl_em_residual, cl_em_jacobian, ph_emi_residual, ph_emi_jacobian, ph_emi_strains, &
         element_mass, mixed_strain_energy, compatible_strain_energy, compatible_strains, &
         ph_emi_strain_energy, ph_em_static, ph_em_static_condensed, ph_em_projected_strains, &
-        cl_em_static
+        cl_em_static, viscous_dissipation
     implicit none
     private
 
@@ -64,6 +65,13 @@ module rs_ph_planar
         real(rk) :: length = 0.0_rk
         !> (EA, GA, EI) in the plane: bending about the plane normal (methods §2.4).
         real(rk) :: stiffness(3) = 0.0_rk
+        !> Damping (docs/theory/damping.md, docs/theory/ph_planar.md "Damping"): the Kelvin-Voigt
+        !> viscosities tau_i k_i of (EA, GA, EI), the drag per length against the centreline
+        !> velocity (x', y') and the angular drag against theta'; `viscous` and `dragged` say
+        !> whether any is non-zero (an undamped rod skips the terms).
+        real(rk) :: viscosity(3) = 0.0_rk
+        real(rk) :: drag = 0.0_rk, angular_drag = 0.0_rk
+        logical :: viscous = .false., dragged = .false.
         real(rk) :: rho_a = 0.0_rk, rho_i = 0.0_rk
         !> Reference angle theta_0 of the straight rod (methods §3.1).
         real(rk) :: theta0 = 0.0_rk
@@ -97,6 +105,10 @@ module rs_ph_planar
         !> Per element: the consistent mass (6, 6) in its q ordering (methods §3.2), built once:
         !> residual and Jacobian need it at every Newton iteration.
         real(rk), allocatable :: mass(:, :, :)
+        !> Per element of a dragged rod: the consistent drag matrix (6, 6), element_mass with
+        !> (drag, angular_drag) for (rhoA, rhoI); zero elsewhere. Allocated only when a rod of
+        !> the system has drag.
+        real(rk), allocatable :: drag_matrix(:, :, :)
         !> Jacobian pattern and, per element, the CSR position of entry (i, j) of its local
         !> matrix over (q_a, q_b, strains) (0: a fixed row or column).
         type(csr_pattern_t) :: pattern
@@ -142,6 +154,8 @@ module rs_ph_planar
         procedure :: state_measures => planar_state_measures
         !> Kinetic and strain energy of one rod in state x.
         procedure :: rod_energy
+        !> The energy one rod's damping dissipated over a step.
+        procedure :: rod_dissipation
         procedure, private :: full_q, element_strains, load_vectors
     end type ph_planar_t
 
@@ -212,6 +226,17 @@ contains
                 end do
             end associate
         end do
+        ! The drag force -C v_mid of the step (docs/theory/ph_planar.md "Damping"): C the
+        ! consistent matrix of int (drag |v|^2 + angular_drag theta'^2) ds over P1 velocities.
+        if (any(this%rods%dragged)) then
+            allocate(this%drag_matrix(6, 6, this%n_elements), source=0.0_rk)
+            do e = 1, this%n_elements
+                associate (rod => this%rods(this%element_rod(e)))
+                    if (rod%dragged) call element_mass(this%element_length(e), rod%drag, &
+                        rod%angular_drag, this%drag_matrix(:, :, e))
+                end associate
+            end do
+        end if
         select case (this%scheme)
         case (scheme_ph_em)
             this%n_history = 3
@@ -267,12 +292,12 @@ contains
     !> Mesh, section and frame of one straight rod (methods §3.1): EA, the in-plane shear
     !> stiffness and the bending stiffness about the plane normal. The director along the normal
     !> (d1 or d2) names them: bending about d_k is EI_k and rhoI_k, in-plane shear is along the
-    !> other director.
+    !> other director; their Kelvin-Voigt times likewise. Drag and angular drag as given.
     subroutine build_rod(this, input, rod)
         type(ph_planar_t), intent(in) :: this
         type(rod_input_t), intent(in) :: input
         type(planar_rod_t), intent(out) :: rod
-        real(rk) :: t(3), d1(3), d2(3), n(3), shear_axis(3)
+        real(rk) :: t(3), d1(3), d2(3), n(3), shear_axis(3), tau(3)
         n = this%plane%normal
         t = input%direction / norm2(input%direction)
         d1 = input%d1
@@ -284,14 +309,25 @@ contains
         rod%directors0(:, 1) = d1
         rod%directors0(:, 2) = d2
         rod%directors0(:, 3) = t
+        ! The Kelvin-Voigt times follow their stiffnesses (&rod kelvin_voigt_time is in the order
+        ! EA, GA1, GA2, EI1, EI2, GJ; torsion does not arise in the plane).
         if (abs(dot_product(d1, n)) > 0.5_rk) then
             rod%stiffness = [input%EA, input%GA2, input%EI1]
             rod%rho_i = input%rhoI1
+            tau = input%kelvin_voigt_time([kv_axial, kv_shear2, kv_bend1])
         else
             rod%stiffness = [input%EA, input%GA1, input%EI2]
             rod%rho_i = input%rhoI2
+            tau = input%kelvin_voigt_time([kv_axial, kv_shear1, kv_bend2])
         end if
         rod%rho_a = input%rhoA
+        ! An unresolved scene (built in code) has no Kelvin-Voigt times.
+        where (tau == unset_real) tau = 0.0_rk
+        rod%viscosity = tau * rod%stiffness
+        rod%drag = input%drag
+        rod%angular_drag = input%angular_drag
+        rod%viscous = any(rod%viscosity /= 0.0_rk)
+        rod%dragged = rod%drag /= 0.0_rk .or. rod%angular_drag /= 0.0_rk
         if (this%quasistatic) then
             rod%rho_a = 0.0_rk
             rod%rho_i = 0.0_rk
@@ -657,8 +693,8 @@ contains
         case (scheme_ph_em)
             if (this%condensed) then
                 associate (rod => this%rods(this%element_rod(e)))
-                    call ph_em_condensed(this%element_length(e), rod%stiffness, this%n_gauss, h, &
-                        q_n6, q_16, x_n(at + 1:at + 3), r6, k6, hist)
+                    call ph_em_condensed(this%element_length(e), rod%stiffness, rod%viscosity, &
+                        this%n_gauss, h, q_n6, q_16, x_n(at + 1:at + 3), r6, k6, hist)
                 end associate
             else
                 hist = y(this%n_free + 3 * (e - 1) + 1:this%n_free + 3 * e)
@@ -728,26 +764,30 @@ contains
                 select case (this%scheme)
                 case (scheme_ph_em)
                     if (this%condensed) then
-                        call ph_em_condensed(le, rod%stiffness, this%n_gauss, h, q_n6, q_16, &
-                            x_n(at + 1:at + 3), r9(1:6), k6, e_1)
+                        call ph_em_condensed(le, rod%stiffness, rod%viscosity, this%n_gauss, h, &
+                            q_n6, q_16, x_n(at + 1:at + 3), r9(1:6), k6, e_1)
                     else
                         row = this%n_free + 3 * (e - 1)
-                        call ph_em_residual(le, rod%stiffness, this%n_gauss, h, q_n6, q_16, &
-                            x_n(at + 1:at + 3), y(row + 1:row + 3), r9)
+                        call ph_em_residual(le, rod%stiffness, rod%viscosity, this%n_gauss, h, &
+                            q_n6, q_16, x_n(at + 1:at + 3), y(row + 1:row + 3), r9)
                         f(row + 1:row + 3) = r9(7:9)
                     end if
                 case (scheme_stander_stein)
-                    call cl_em_residual(le, rod%stiffness, this%n_gauss, q_n6, q_16, r9(1:6))
+                    call cl_em_residual(le, rod%stiffness, rod%viscosity, this%n_gauss, h, q_n6, &
+                        q_16, r9(1:6))
                 case (scheme_ph_irreducible)
                     call history_at_gauss_points(this, x_n, at, gamma_n)
-                    call ph_emi_residual(le, rod%stiffness, this%n_gauss, q_n6, q_16, &
-                        gamma_n(:, 1:this%n_gauss), r9(1:6))
+                    call ph_emi_residual(le, rod%stiffness, rod%viscosity, this%n_gauss, h, q_n6, &
+                        q_16, gamma_n(:, 1:this%n_gauss), r9(1:6))
                 end select
                 if (.not. this%quasistatic) then
                     v_n6 = x_n(this%n_q + dofs)
                     r9(1:6) = r9(1:6) + mass_times(this%mass(:, :, e), &
                         2.0_rk * (q_16 - q_n6) / h - 2.0_rk * v_n6) / h
                 end if
+                ! Drag against the step's midpoint velocity v_mid = (q_1 - q_n)/h.
+                if (rod%dragged) r9(1:6) = r9(1:6) + mass_times(this%drag_matrix(:, :, e), &
+                    (q_16 - q_n6) / h)
                 do i = 1, 6
                     row = this%unknown_of(dofs(i))
                     if (row > 0) f(row) = f(row) + r9(i)
@@ -870,25 +910,27 @@ contains
                 select case (this%scheme)
                 case (scheme_ph_em)
                     if (this%condensed) then
-                        call ph_em_condensed(le, rod%stiffness, this%n_gauss, h, q_n6, q_16, &
-                            x_n(at + 1:at + 3), r6, k6, e_1)
+                        call ph_em_condensed(le, rod%stiffness, rod%viscosity, this%n_gauss, h, &
+                            q_n6, q_16, x_n(at + 1:at + 3), r6, k6, e_1)
                         k9(1:6, 1:6) = k6
                     else
                         row = this%n_free + 3 * (e - 1)
-                        call ph_em_jacobian(le, rod%stiffness, this%n_gauss, h, q_n6, q_16, &
-                            x_n(at + 1:at + 3), y(row + 1:row + 3), k9)
+                        call ph_em_jacobian(le, rod%stiffness, rod%viscosity, this%n_gauss, h, &
+                            q_n6, q_16, x_n(at + 1:at + 3), y(row + 1:row + 3), k9)
                     end if
                 case (scheme_stander_stein)
-                    call cl_em_jacobian(le, rod%stiffness, this%n_gauss, q_n6, q_16, k6)
+                    call cl_em_jacobian(le, rod%stiffness, rod%viscosity, this%n_gauss, h, q_n6, &
+                        q_16, k6)
                     k9(1:6, 1:6) = k6
                 case (scheme_ph_irreducible)
                     call history_at_gauss_points(this, x_n, at, gamma_n)
-                    call ph_emi_jacobian(le, rod%stiffness, this%n_gauss, q_n6, q_16, &
-                        gamma_n(:, 1:this%n_gauss), k6)
+                    call ph_emi_jacobian(le, rod%stiffness, rod%viscosity, this%n_gauss, h, q_n6, &
+                        q_16, gamma_n(:, 1:this%n_gauss), k6)
                     k9(1:6, 1:6) = k6
                 end select
                 if (.not. this%quasistatic) &
                     k9(1:6, 1:6) = k9(1:6, 1:6) + (2.0_rk / h**2) * this%mass(:, :, e)
+                if (rod%dragged) k9(1:6, 1:6) = k9(1:6, 1:6) + this%drag_matrix(:, :, e) / h
                 do j = 1, n_local
                     do i = 1, n_local
                         if (this%element_map(i, j, e) > 0) values(this%element_map(i, j, e)) = &
@@ -935,10 +977,11 @@ contains
 
     ! ---- After a step: energy balance (methods §4.1, eq. 55) -------------------------------
 
-    !> The energy terms of each rod over an accepted step: H_n, H_{n+1} and the work of its
-    !> own loads at t_{n+1/2}. The rods share unknowns at their joints, so only their sum
-    !> balances (traits%shared_balance: the ledger books it on the first rod). An equilibrium
-    !> solve is not a load step: no energy terms, and its h is not a step of the grid.
+    !> The energy terms of each rod over an accepted step: H_n, H_{n+1}, the work of its
+    !> own loads at t_{n+1/2} and what its damping dissipated (rod_dissipation). The rods share
+    !> unknowns at their joints, so only their sum balances (traits%shared_balance: the ledger
+    !> books it on the first rod). An equilibrium solve is not a load step: no energy terms,
+    !> and its h is not a step of the grid.
     subroutine planar_accept_step(this, t_n, h, x_n, x_1, terms)
         class(ph_planar_t), intent(inout) :: this
         real(rk), intent(in) :: t_n, h, x_n(:), x_1(:)
@@ -957,7 +1000,8 @@ contains
             work = dot_product(this%f_rod(:, r), x_1(1:this%n_q) - x_n(1:this%n_q)) + &
                 this%theta_shift * sum(this%f_rod(this%theta_dofs, r))
             terms(r) = step_energy_t(reported=.true., before=kinetic_n + strain_n, &
-                after=kinetic_1 + strain_1, work=work)
+                after=kinetic_1 + strain_1, work=work, &
+                dissipated=this%rod_dissipation(h, x_n, x_1, r))
         end do
     end subroutine planar_accept_step
 
@@ -1002,6 +1046,62 @@ contains
         end associate
     end subroutine rod_energy
 
+    !> The energy D_n >= 0 that rod r's damping dissipated over the step of length h from x_n to
+    !> x_1 (docs/theory/ph_planar.md "Damping"), per element:
+    !> - Kelvin-Voigt: viscous_dissipation of the scheme's strain increments, those its viscous
+    !>   stresses used: the mixed strains (PH-EM), the compatible strains at the Gauss points
+    !>   (cl-EM), the Gauss-point history and the compatible curvature (PH-EMi);
+    !> - drag: h v_mid^T C v_mid with v_mid = (v_n + v_{n+1})/2 = (q_{n+1} - q_n)/h (the midpoint
+    !>   rule; unlike q_{n+1}, the velocities are not shifted by 2 pi k in update).
+    !> Zero, at once, for an undamped rod. The step's residual rows make H_{n+1} - H_n = W - D_n
+    !> up to the Newton tolerance.
+    function rod_dissipation(this, h, x_n, x_1, r) result(dissipated)
+        class(ph_planar_t), intent(in) :: this
+        real(rk), intent(in) :: h, x_n(:), x_1(:)
+        integer, intent(in) :: r
+        real(rk) :: dissipated
+        real(rk) :: v6(6), q6(6), delta(3, 2), strains_n(3, 2), strains_1(3, 2), history_n(2, 2)
+        real(rk) :: history_1(2, 2), le
+        integer :: e, at, ng, dofs(6)
+        dissipated = 0.0_rk
+        ng = this%n_gauss
+        associate (rod => this%rods(r))
+            if (.not. (rod%viscous .or. rod%dragged)) return
+            do e = rod%first_element, rod%first_element + rod%n_elements - 1
+                dofs = this%element_dofs(:, e)
+                le = this%element_length(e)
+                if (rod%dragged) then
+                    v6 = 0.5_rk * (x_n(this%n_q + dofs) + x_1(this%n_q + dofs))
+                    dissipated = dissipated + h * dot_product(v6, &
+                        mass_times(this%drag_matrix(:, :, e), v6))
+                end if
+                if (.not. rod%viscous) cycle
+                at = 2 * this%n_q + this%n_history * (e - 1)
+                select case (this%scheme)
+                case (scheme_ph_em)
+                    delta(:, 1) = x_1(at + 1:at + 3) - x_n(at + 1:at + 3)
+                    dissipated = dissipated + viscous_dissipation(le, rod%viscosity, 1, h, &
+                        delta(:, 1:1))
+                    cycle
+                case (scheme_stander_stein)
+                    q6 = x_n(dofs)
+                    call compatible_strains(le, ng, q6, strains_n(:, 1:ng))
+                    q6 = x_1(dofs)
+                    call compatible_strains(le, ng, q6, strains_1(:, 1:ng))
+                    delta(:, 1:ng) = strains_1(:, 1:ng) - strains_n(:, 1:ng)
+                case (scheme_ph_irreducible)
+                    call history_at_gauss_points(this, x_n, at, history_n)
+                    call history_at_gauss_points(this, x_1, at, history_1)
+                    delta(1:2, 1:ng) = history_1(:, 1:ng) - history_n(:, 1:ng)
+                    delta(3, 1:ng) = ((x_1(dofs(6)) - x_1(dofs(3))) - &
+                        (x_n(dofs(6)) - x_n(dofs(3)))) / le
+                end select
+                dissipated = dissipated + viscous_dissipation(le, rod%viscosity, ng, h, &
+                    delta(:, 1:ng))
+            end do
+        end associate
+    end function rod_dissipation
+
     ! ---- Output (DESIGN.md §7) ---------------------------------------------------------------
 
     subroutine planar_init_history(this, histories, capacity)
@@ -1017,9 +1117,9 @@ contains
                 le = rod%length / real(rod%n_elements, rk)
                 histories(r)%mesh = [(le * real(k - 1, rk), k = 1, rod%n_elements + 1)]
                 histories(r)%stress_mesh = [(le * (real(e, rk) - 0.5_rk), e = 1, rod%n_elements)]
-                ! No orthonormality constraint to report. Dissipation and actuator work stay
-                ! (zeros), so that the energy balance reads the same for every rod
-                ! (docs/user/output.md).
+                ! No orthonormality constraint to report. Dissipation (of the damping,
+                ! rod_dissipation) and actuator work (zeros) stay, so that the energy balance
+                ! reads the same for every rod (docs/user/output.md).
                 deallocate(histories(r)%constraint_residual)
             end associate
         end do

@@ -6,8 +6,10 @@
 !> the loads and gravity in the plane, and what is skipped.
 module rs_ph_planar_plan
     use rs_core_kinds, only: rk
-    use rs_core_strings, only: str, vector_text
-    use rs_model_scene, only: scene_t
+    use rs_core_strings, only: str, vector_text, str_significant
+    use rs_model_scene, only: scene_t, rod_is_damped
+    use rs_model_damping, only: damping_plan_text, kv_axial, kv_shear1, kv_shear2, kv_bend1, &
+        kv_bend2
     use rs_model_units, only: unit_in_system
     use rs_model_coupling, only: coupled_systems
     use rs_model_planarity, only: plane_t, plane_of_rods, plane_text, point_in_plane, &
@@ -138,6 +140,7 @@ contains
                     str(merge(rod%rhoI1, rod%rhoI2, normal_director == 1)) // ' ' // &
                     unit_in_system('kg m', units))
             end if
+            call add('damping: ' // damping_text())
             call add('loads: ' // loads_text())
             call add('initial velocity: ' // velocity_text())
             call add('skipped: orthonormality and constraint multipliers, Maxwell branches, ' // &
@@ -229,6 +232,30 @@ contains
                 t = t // ', no gravity'
             end if
         end function loads_text
+
+        !> damping_plan_text and, for a damped rod, what the plane takes of it
+        !> (docs/theory/ph_planar.md "Damping").
+        function damping_text() result(t)
+            character(len=:), allocatable :: t
+            integer :: kv(3)
+            associate (input => scene%rods(i))
+                t = damping_plan_text(input)
+                if (.not. rod_is_damped(input)) return
+                if (normal_director == 1) then
+                    kv = [kv_axial, kv_shear2, kv_bend1]
+                else
+                    kv = [kv_axial, kv_shear1, kv_bend2]
+                end if
+                t = t // '; in the plane: Kelvin-Voigt times (EA, GA' // str(3 - normal_director) // &
+                    ', EI' // str(normal_director) // ') = (' // &
+                    str_significant(input%kelvin_voigt_time(kv(1)), 4) // ', ' // &
+                    str_significant(input%kelvin_voigt_time(kv(2)), 4) // ', ' // &
+                    str_significant(input%kelvin_voigt_time(kv(3)), 4) // ') s on the step''s ' // &
+                    'strain increments; drag against (x'', y'') and angular drag against theta'' ' // &
+                    'at the step''s midpoint velocities; the dissipation is booked in the energy ' // &
+                    'balance'
+            end associate
+        end function damping_text
 
         function velocity_text() result(t)
             character(len=:), allocatable :: t

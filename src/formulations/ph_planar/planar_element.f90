@@ -13,6 +13,12 @@
 !> - Lambda(phi) = [[cos, -sin], [sin, cos]], S = [[0, 1], [-1, 0]], dLambda/dphi = S^T Lambda
 !>   (methods §2.1 eq. 1, §2.2 eqs. 3-4); the planar cross product is a x b = a^T S b.
 !> - stiffness = (EA, GA, EI) with GA the shear stiffness k G A: D_ts = diag(EA, GA) (eq. 10).
+!> - viscosity = (tau_EA EA, tau_GA GA, tau_EI EI): the Kelvin-Voigt viscosities V (issue 26,
+!>   docs/theory/damping.md) of the step kernels. Each stress of the step gains V (eps_{n+1} -
+!>   eps_n) / h with the scheme's own strains eps (the mixed strains of PH-EM, the compatible
+!>   strains of cl-EM and the Gauss-point history of PH-EMi at each Gauss point), so that the
+!>   force rows, the adjoints of the step's strain increments, do the work -D of
+!>   viscous_dissipation (docs/theory/ph_planar.md "Damping"). Zeros: the elastic scheme.
 !> - Gauss rule of n_gauss points (1 = reduced, 2 = full; 1 .. max_gauss_points accepted) from
 !>   rs_math_quadrature on xi in [-1, 1], ds = le/2 dxi, shape functions N_a = (1 - xi)/2,
 !>   N_b = (1 + xi)/2, d_s N = (-1, +1)/le (methods §3.1). Angles at a Gauss point are the
@@ -35,7 +41,7 @@ module rs_ph_planar_element
     public :: ph_emi_residual, ph_emi_jacobian, ph_emi_strains
     public :: compatible_strains, element_mass
     public :: mixed_strain_energy, compatible_strain_energy, ph_emi_strain_energy
-    public :: planar_sinc
+    public :: planar_sinc, viscous_dissipation
 
     !> Largest number of Gauss points an element accepts.
     integer, parameter, public :: planar_max_gauss = max_gauss_points
@@ -43,6 +49,8 @@ module rs_ph_planar_element
     ! Below this |x|, sin(x)/x and its derivative are evaluated by their Taylor series (the
     ! closed form of the derivative loses ~eps/x^3 relative accuracy to cancellation).
     real(rk), parameter :: sinc_series_limit = 0.1_rk
+    ! The viscosity of an equilibrium (a state, no step: no strain rate).
+    real(rk), parameter :: no_viscosity(3) = 0.0_rk
 
 contains
 
@@ -52,9 +60,9 @@ contains
     !>           kappa_1) and G2, V at the midpoint configuration (§3.2);
     !>   r(7:8): R_Gamma = -C2e (Gamma_1 - Gamma_n)/h + G2e^T dr/h - Ve^T dphi/h;
     !>   r(9):   R_kappa = -le (kappa_1 - kappa_n)/h + (dphi_b - dphi_a)/h.
-    !> No inertia, no external loads.
-    pure subroutine ph_em_residual(le, stiffness, n_gauss, h, q_n, q_1, e_n, e_1, r)
-        real(rk), intent(in) :: le, stiffness(3)
+    !> With viscosity, N05 and M05 gain V (e_1 - e_n)/h. No inertia, no external loads.
+    pure subroutine ph_em_residual(le, stiffness, viscosity, n_gauss, h, q_n, q_1, e_n, e_1, r)
+        real(rk), intent(in) :: le, stiffness(3), viscosity(3)
         integer, intent(in) :: n_gauss
         real(rk), intent(in) :: h, q_n(6), q_1(6), e_n(3), e_1(3)
         real(rk), intent(out) :: r(9)
@@ -64,15 +72,15 @@ contains
         dq = q_1 - q_n
         call gauss_shapes(n_gauss, w, nn)
         call gauss_point_angles(n_gauss, nn, q05(3), q05(6), cs)
-        call ph_em_forces(le, stiffness, n_gauss, w, nn, cs, q05, e_n, e_1, r(1:6))
+        call ph_em_forces(le, stiffness, viscosity / h, n_gauss, w, nn, cs, q05, e_n, e_1, r(1:6))
         call ph_em_strain_increment(le, n_gauss, w, nn, cs, q05, dq, inc)
         r(7:9) = (-le * (e_1 - e_n) + inc) / h
     end subroutine ph_em_residual
 
     !> PH-EM element Jacobian k(9, 9) = d r / d (q_1(1:6), e_1(1:3)) of ph_em_residual,
     !> analytic (methods §4.3, §10 "Jacobian").
-    pure subroutine ph_em_jacobian(le, stiffness, n_gauss, h, q_n, q_1, e_n, e_1, k)
-        real(rk), intent(in) :: le, stiffness(3)
+    pure subroutine ph_em_jacobian(le, stiffness, viscosity, n_gauss, h, q_n, q_1, e_n, e_1, k)
+        real(rk), intent(in) :: le, stiffness(3), viscosity(3)
         integer, intent(in) :: n_gauss
         real(rk), intent(in) :: h, q_n(6), q_1(6), e_n(3), e_1(3)
         real(rk), intent(out) :: k(9, 9)
@@ -83,7 +91,7 @@ contains
         dq = q_1 - q_n
         call gauss_shapes(n_gauss, w, nn)
         call gauss_point_angles(n_gauss, nn, q05(3), q05(6), cs)
-        call ph_em_forces(le, stiffness, n_gauss, w, nn, cs, q05, e_n, e_1, r, k)
+        call ph_em_forces(le, stiffness, viscosity / h, n_gauss, w, nn, cs, q05, e_n, e_1, r, k)
         call ph_em_strain_increment(le, n_gauss, w, nn, cs, q05, dq, inc, dinc)
         k(7:9, 1:6) = dinc / h
         k(7:9, 7:9) = 0.0_rk
@@ -98,22 +106,22 @@ contains
     !>   kappa_1 = kappa_n + (dphi_b - dphi_a)/le.
     !> Returns that e_1(3), the nodal rows r(6) = ph_em_residual(1:6) at e_1, and the exact
     !> condensed tangent k(6, 6) = dr/dq_1 + dr/de_1 de_1/dq_1 (the Schur complement of the full
-    !> 9 x 9 Jacobian). h only scales the eliminated rows, so none of the outputs depends on it.
-    pure subroutine ph_em_condensed(le, stiffness, n_gauss, h, q_n, q_1, e_n, r, k, e_1)
-        real(rk), intent(in) :: le, stiffness(3)
+    !> 9 x 9 Jacobian). h scales the eliminated rows and enters the nodal rows only through the
+    !> viscous stress V (e_1 - e_n)/h: undamped, no output depends on it.
+    pure subroutine ph_em_condensed(le, stiffness, viscosity, n_gauss, h, q_n, q_1, e_n, r, k, e_1)
+        real(rk), intent(in) :: le, stiffness(3), viscosity(3)
         integer, intent(in) :: n_gauss
         real(rk), intent(in) :: h, q_n(6), q_1(6), e_n(3)
         real(rk), intent(out) :: r(6), k(6, 6), e_1(3)
         real(rk) :: w(max_gauss_points), nn(2, max_gauss_points), cs(2, max_gauss_points)
-        real(rk) :: q05(6), dq(6), inc(3), dinc(3, 6), kf(9, 9), h_unused
-        h_unused = h
+        real(rk) :: q05(6), dq(6), inc(3), dinc(3, 6), kf(9, 9)
         q05 = 0.5_rk * (q_n + q_1)
         dq = q_1 - q_n
         call gauss_shapes(n_gauss, w, nn)
         call gauss_point_angles(n_gauss, nn, q05(3), q05(6), cs)
         call ph_em_strain_increment(le, n_gauss, w, nn, cs, q05, dq, inc, dinc)
         e_1 = e_n + inc / le
-        call ph_em_forces(le, stiffness, n_gauss, w, nn, cs, q05, e_n, e_1, r, kf)
+        call ph_em_forces(le, stiffness, viscosity / h, n_gauss, w, nn, cs, q05, e_n, e_1, r, kf)
         k = kf(1:6, 1:6) + matmul(kf(1:6, 7:9), dinc / le)
     end subroutine ph_em_condensed
 
@@ -142,10 +150,10 @@ contains
         call gauss_point_angles(n_gauss, nn, q(3), q(6), cs)
         r(7:9) = le * (ph_em_projected_strains(le, n_gauss, q) - e) / h
         if (.not. present(k)) then
-            call ph_em_forces(le, stiffness, n_gauss, w, nn, cs, q, e, e, r(1:6))
+            call ph_em_forces(le, stiffness, no_viscosity, n_gauss, w, nn, cs, q, e, e, r(1:6))
             return
         end if
-        call ph_em_forces(le, stiffness, n_gauss, w, nn, cs, q, e, e, r(1:6), kf)
+        call ph_em_forces(le, stiffness, no_viscosity, n_gauss, w, nn, cs, q, e, e, r(1:6), kf)
         call ph_em_strain_increment(le, n_gauss, w, nn, cs, q, [(0.0_rk, i = 1, 6)], inc, dinc)
         k = 0.0_rk
         k(1:6, :) = 2.0_rk * kf(1:6, :)
@@ -205,63 +213,72 @@ contains
         real(rk), intent(out), optional :: k(6, 6)
         real(rk) :: gamma_n(2, max_gauss_points)
         gamma_n = 0.0_rk
-        call displacement_forces(.true., le, stiffness, n_gauss, q, q, gamma_n, r, k)
+        call displacement_forces(.true., le, stiffness, no_viscosity, n_gauss, q, q, gamma_n, r, k)
         if (present(k)) k = 2.0_rk * k
     end subroutine cl_em_static
 
     !> cl-EM (Stander-Stein) internal nodal forces r(6) of one step (methods §5.1 eqs. 72-75):
     !>   (x, y) rows: sum_g w_g le/2 d_sN_I Z1 Lambda05_g N_g,
-    !>   phi rows:   -sum_g w_g le/2 N_I (d_s r05)^T S Z2 Lambda05_g N_g -+ EI kappa05,
+    !>   phi rows:   -sum_g w_g le/2 N_I (d_s r05)^T S Z2 Lambda05_g N_g -+ M05,
     !> N_g = D_ts (1/2 (Lambda(phi_1,g)^T d_s r_1 + Lambda(phi_n,g)^T d_s r_n) - e1),
-    !> kappa05 = d_s phi05; Z1 = cos(dphi_g/2), Z2 = sin(dphi_g/2)/(dphi_g/2) at the interpolated
+    !> M05 = EI d_s phi05; Z1 = cos(dphi_g/2), Z2 = sin(dphi_g/2)/(dphi_g/2) at the interpolated
     !> Gauss-point increment dphi_g (eq. 67). n_gauss is the rule of the N terms (1 = reduced,
-    !> 2 = full); bending is exact with any rule (kappa is constant per element).
+    !> 2 = full); bending is exact with any rule (kappa is constant per element). With viscosity,
+    !> N_g gains V (Gamma_1,g - Gamma_n,g)/h (the compatible strains at the point) and M05
+    !> gains V_EI (kappa_1 - kappa_n)/h: eq. 99 makes the rows the adjoints of exactly these
+    !> increments, at every Gauss point of any rule.
     !> The scheme conserves energy exactly (Appendix A.5) but, since Z1 /= Z2, not angular
     !> momentum: the net internal torque about the origin, sum_I r05_I x F_I + m_I, is
     !> le sum_g w_g/2 (Z1 - Z2) d_s r05 x (Lambda05_g N_g) = O(dphi^2), not zero (unlike PH-EM
     !> and PH-EMi, where the Gauss-point integrands cancel, methods §4.3).
-    pure subroutine cl_em_residual(le, stiffness, n_gauss, q_n, q_1, r)
-        real(rk), intent(in) :: le, stiffness(3)
+    pure subroutine cl_em_residual(le, stiffness, viscosity, n_gauss, h, q_n, q_1, r)
+        real(rk), intent(in) :: le, stiffness(3), viscosity(3)
         integer, intent(in) :: n_gauss
-        real(rk), intent(in) :: q_n(6), q_1(6)
+        real(rk), intent(in) :: h, q_n(6), q_1(6)
         real(rk), intent(out) :: r(6)
         real(rk) :: gamma_n(2, max_gauss_points)
         gamma_n = 0.0_rk
-        call displacement_forces(.true., le, stiffness, n_gauss, q_n, q_1, gamma_n, r)
+        call displacement_forces(.true., le, stiffness, viscosity / h, n_gauss, q_n, q_1, &
+            gamma_n, r)
     end subroutine cl_em_residual
 
     !> cl-EM Jacobian k(6, 6) = d r / d q_1 of cl_em_residual, analytic; smooth through
     !> dphi_g = 0 (series for Z2).
-    pure subroutine cl_em_jacobian(le, stiffness, n_gauss, q_n, q_1, k)
-        real(rk), intent(in) :: le, stiffness(3)
+    pure subroutine cl_em_jacobian(le, stiffness, viscosity, n_gauss, h, q_n, q_1, k)
+        real(rk), intent(in) :: le, stiffness(3), viscosity(3)
         integer, intent(in) :: n_gauss
-        real(rk), intent(in) :: q_n(6), q_1(6)
+        real(rk), intent(in) :: h, q_n(6), q_1(6)
         real(rk), intent(out) :: k(6, 6)
         real(rk) :: gamma_n(2, max_gauss_points), r(6)
         gamma_n = 0.0_rk
-        call displacement_forces(.true., le, stiffness, n_gauss, q_n, q_1, gamma_n, r, k)
+        call displacement_forces(.true., le, stiffness, viscosity / h, n_gauss, q_n, q_1, &
+            gamma_n, r, k)
     end subroutine cl_em_jacobian
 
     !> PH-EMi internal nodal forces r(6) of one step (methods §5.2 eqs. 77-78): as cl-EM with
     !> Z1 = Z2 = 1 and the midpoint shear/axial strain from the Gauss-point history
     !>   Gamma05_g = gamma_n(:, g) + 1/2 (dphi_g Lambda05_g^T S d_s r05 + Lambda05_g^T d_s dr),
     !> N_g = D_ts Gamma05_g, M05 = EI d_s phi05. gamma_n(2, n_gauss): Gamma_n at the Gauss points.
-    pure subroutine ph_emi_residual(le, stiffness, n_gauss, q_n, q_1, gamma_n, r)
-        real(rk), intent(in) :: le, stiffness(3)
+    !> With viscosity, N_g gains V (gamma_1,g - gamma_n,g)/h, the history increment of eq. 78a,
+    !> and M05 gains V_EI (kappa_1 - kappa_n)/h.
+    pure subroutine ph_emi_residual(le, stiffness, viscosity, n_gauss, h, q_n, q_1, gamma_n, r)
+        real(rk), intent(in) :: le, stiffness(3), viscosity(3)
         integer, intent(in) :: n_gauss
-        real(rk), intent(in) :: q_n(6), q_1(6), gamma_n(2, n_gauss)
+        real(rk), intent(in) :: h, q_n(6), q_1(6), gamma_n(2, n_gauss)
         real(rk), intent(out) :: r(6)
-        call displacement_forces(.false., le, stiffness, n_gauss, q_n, q_1, gamma_n, r)
+        call displacement_forces(.false., le, stiffness, viscosity / h, n_gauss, q_n, q_1, &
+            gamma_n, r)
     end subroutine ph_emi_residual
 
     !> PH-EMi Jacobian k(6, 6) = d r / d q_1 of ph_emi_residual (history gamma_n fixed).
-    pure subroutine ph_emi_jacobian(le, stiffness, n_gauss, q_n, q_1, gamma_n, k)
-        real(rk), intent(in) :: le, stiffness(3)
+    pure subroutine ph_emi_jacobian(le, stiffness, viscosity, n_gauss, h, q_n, q_1, gamma_n, k)
+        real(rk), intent(in) :: le, stiffness(3), viscosity(3)
         integer, intent(in) :: n_gauss
-        real(rk), intent(in) :: q_n(6), q_1(6), gamma_n(2, n_gauss)
+        real(rk), intent(in) :: h, q_n(6), q_1(6), gamma_n(2, n_gauss)
         real(rk), intent(out) :: k(6, 6)
         real(rk) :: r(6)
-        call displacement_forces(.false., le, stiffness, n_gauss, q_n, q_1, gamma_n, r, k)
+        call displacement_forces(.false., le, stiffness, viscosity / h, n_gauss, q_n, q_1, &
+            gamma_n, r, k)
     end subroutine ph_emi_jacobian
 
     !> PH-EMi history update at the Gauss points (methods §5.2 eq. 78a, i.e. eq. 65 pointwise):
@@ -368,6 +385,27 @@ contains
         end do
     end function ph_emi_strain_energy
 
+    !> The energy the Kelvin-Voigt stresses of one step dissipate in one element
+    !> (docs/theory/damping.md, docs/theory/ph_planar.md "Damping"):
+    !>   D = sum_g w_g le/2 sum_i viscosity_i delta(i, g)^2 / h >= 0,
+    !> delta(3, n_gauss) the step's strain increments (Gamma1, Gamma2, kappa)_{n+1} - ( )_n at
+    !> the points of the n_gauss rule: the compatible strains (cl-EM) or the history (PH-EMi)
+    !> there; PH-EM's P0 strains are one value per element, n_gauss = 1 (D = le delta^T V
+    !> delta / h). It is the work -dq . r_v of the viscous part r_v of the step's force rows.
+    pure function viscous_dissipation(le, viscosity, n_gauss, h, delta) result(d)
+        real(rk), intent(in) :: le, viscosity(3)
+        integer, intent(in) :: n_gauss
+        real(rk), intent(in) :: h, delta(3, n_gauss)
+        real(rk) :: d
+        real(rk) :: xi(max_gauss_points), w(max_gauss_points)
+        integer :: g
+        call gauss_rule(n_gauss, xi, w)
+        d = 0.0_rk
+        do g = 1, n_gauss
+            d = d + 0.5_rk * w(g) * le * sum(viscosity * delta(:, g)**2) / h
+        end do
+    end function viscous_dissipation
+
     !> s = sin(x)/x (1 at x = 0) and ds = ds/dx, the Z2 factor of cl-EM at x = dphi/2 (methods
     !> §5.1 eq. 67); Taylor series (to x^10 and x^9, truncation below 1e-19) for |x| < 0.1, so
     !> that Z2 and its derivative are smooth and accurate to round-off through dphi = 0.
@@ -383,23 +421,32 @@ contains
     ! PH-EM nodal rows (methods §4.3): r = G2 N05 (x, y rows), -V N05 + G1 M05 (phi rows), and
     ! optionally their derivatives dr/d(q_1, e_1) in the rows 1:6 of k(9, 9) (rows 7:9 are left
     ! alone). G1 = [-1, +1]^T (§3.2), so G1 M05 = (-M05, +M05).
+    ! rate(3): the Kelvin-Voigt viscosities over the step, V/h; the stresses of the step are
+    ! (N05, M05) = D 1/2 (e_n + e_1) + rate (e_1 - e_n) (docs/theory/ph_planar.md "Damping").
     ! cs(:, g): Lambda_g at the interpolated midpoint angle (gauss_point_angles), no
     ! trigonometric factors (§4.3). The Gauss-point terms are those of gauss_point_force with
-    ! Z1 = Z2 = 1 and N05 a function of e_1 only (dN05/de_1 = D_ts/2, columns 7 and 8).
-    pure subroutine ph_em_forces(le, stiffness, n_gauss, w, nn, cs, q05, e_n, e_1, r, k)
-        real(rk), intent(in) :: le, stiffness(3)
+    ! Z1 = Z2 = 1 and N05 a function of e_1 only (dN05/de_1 = D_ts/2 + rate, columns 7 and 8).
+    pure subroutine ph_em_forces(le, stiffness, rate, n_gauss, w, nn, cs, q05, e_n, e_1, r, k)
+        real(rk), intent(in) :: le, stiffness(3), rate(3)
         integer, intent(in) :: n_gauss
         real(rk), intent(in) :: w(max_gauss_points), nn(2, max_gauss_points)
         real(rk), intent(in) :: cs(2, max_gauss_points), q05(6), e_n(3), e_1(3)
         real(rk), intent(out) :: r(6)
         real(rk), intent(inout), optional :: k(9, 9)
         real(rk) :: u(2), n05(2), m05, g0(2), sg0(2), t, hw, df_phi(2, 2), df_e(2, 2), dt(8), ut(2)
-        real(rk) :: k_phi(2, 2), k_e(2, 2), k_t(8, 2)
+        real(rk) :: k_phi(2, 2), k_e(2, 2), k_t(8, 2), ds(3)
         integer :: g
         u = (q05(4:5) - q05(1:2)) / le
-        ! N05 = D_ts Gamma05, M05 = EI kappa05 (eqs. 56g-h; W quadratic)
+        ! N05 = D_ts Gamma05, M05 = EI kappa05 (eqs. 56g-h; W quadratic), plus the viscous
+        ! stress; ds = d(N05, M05)/de_1.
         n05 = 0.5_rk * stiffness(1:2) * (e_n(1:2) + e_1(1:2))
         m05 = 0.5_rk * stiffness(3) * (e_n(3) + e_1(3))
+        ds = 0.5_rk * stiffness
+        if (any(rate /= 0.0_rk)) then
+            n05 = n05 + rate(1:2) * (e_1(1:2) - e_n(1:2))
+            m05 = m05 + rate(3) * (e_1(3) - e_n(3))
+            ds = ds + rate
+        end if
         r = 0.0_rk
         r(3) = -m05
         r(6) = m05
@@ -425,10 +472,10 @@ contains
             ! phi_1 (columns 3, 6: df_phi) and e_1 (7, 8: df_e), t on everything but kappa_1 (9).
             ! Through N05: df = Lambda_g dN05, dt = (Lambda_g^T S^T u) . dN05 (S^T = -S)
             ut = rotate_back(cs(:, g), -skew_times(u))
-            df_e(:, 1) = 0.5_rk * stiffness(1) * cs(:, g)
-            df_e(:, 2) = 0.5_rk * stiffness(2) * [-cs(2, g), cs(1, g)]
-            dt(7) = 0.5_rk * stiffness(1) * ut(1)
-            dt(8) = 0.5_rk * stiffness(2) * ut(2)
+            df_e(:, 1) = ds(1) * cs(:, g)
+            df_e(:, 2) = ds(2) * [-cs(2, g), cs(1, g)]
+            dt(7) = ds(1) * ut(1)
+            dt(8) = ds(2) * ut(2)
             ! Through d_s r05 in t: d(d_s r05)/dr_1,b = -d(d_s r05)/dr_1,a = I/(2 le)
             dt(1:2) = -0.5_rk / le * sg0
             dt(4:5) = 0.5_rk / le * sg0
@@ -450,8 +497,8 @@ contains
         k(4:5, 7:8) = -k_e
         k(3, 1:8) = k_t(:, 1)
         k(6, 1:8) = k_t(:, 2)
-        k(3, 9) = -0.5_rk * stiffness(3)
-        k(6, 9) = 0.5_rk * stiffness(3)
+        k(3, 9) = -ds(3)
+        k(6, 9) = ds(3)
     end subroutine ph_em_forces
 
     ! The PH-EM strain-row increments without the 1/h (methods §4.3, eq. 64 and eq. 63):
@@ -504,11 +551,15 @@ contains
     ! Nodal rows of the displacement-based schemes (methods §5.1 eq. 75 for cl-EM, §5.2 eq. 77
     ! for PH-EMi) and optionally k(6, 6) = dr/dq_1. Bending is G1 M05 with M05 = EI d_s phi05 in
     ! both. `stander_stein` selects cl-EM (endpoint-average strain, Z1, Z2); otherwise PH-EMi
-    ! (history strain gamma_n, Z1 = Z2 = 1).
-    pure subroutine displacement_forces(stander_stein, le, stiffness, n_gauss, q_n, q_1, &
+    ! (history strain gamma_n, Z1 = Z2 = 1). rate(3) = V/h: the stresses of the step are
+    ! N_g = D_ts Gamma05_g + rate (Gamma_1,g - Gamma_n,g) and M05 = EI kappa05 + rate_EI dkappa,
+    ! with the scheme's own strain increment (compatible, or the history update of eq. 78a);
+    ! Gamma_1,g - Gamma_n,g = 2 (Gamma05_g - Gamma_n,g) as a function of q_1, so
+    ! dN_g/dq_1 = (D_ts + 2 rate) dGamma05_g/dq_1.
+    pure subroutine displacement_forces(stander_stein, le, stiffness, rate, n_gauss, q_n, q_1, &
             gamma_n, r, k)
         logical, intent(in) :: stander_stein
-        real(rk), intent(in) :: le, stiffness(3)
+        real(rk), intent(in) :: le, stiffness(3), rate(3)
         integer, intent(in) :: n_gauss
         real(rk), intent(in) :: q_n(6), q_1(6), gamma_n(2, n_gauss)
         real(rk), intent(out) :: r(6)
@@ -516,9 +567,11 @@ contains
         real(rk) :: w(max_gauss_points), nn(2, max_gauss_points), q05(6), dq(6), u(2)
         real(rk) :: rs_1(2), rs_n(2), dr_s(2), cs05(2), cs1(2), cs_n(2), cs_half(2)
         real(rk) :: gam(2), dgam(2, 6), b(2, 2), v(2), z(2), dz(2), dphi_g, phi1_g, phin_g
-        real(rk) :: phi05_g, m05, ei2, half
+        real(rk) :: phi05_g, m05, ei2, half, n(2), inc(2), g_n(2), dn_dgam(2)
+        logical :: viscous
         integer :: g
         call gauss_shapes(n_gauss, w, nn)
+        viscous = any(rate /= 0.0_rk)
         q05 = 0.5_rk * (q_n + q_1)
         dq = q_1 - q_n
         u = (q05(4:5) - q05(1:2)) / le
@@ -526,13 +579,14 @@ contains
         rs_n = (q_n(4:5) - q_n(1:2)) / le
         dr_s = rs_1 - rs_n
         ! G1 M05, M05 = EI kappa05 = EI d_s phi05 (eqs. 72-73, 78b), exact for any rule.
-        m05 = stiffness(3) * (q05(6) - q05(3)) / le
+        m05 = stiffness(3) * (q05(6) - q05(3)) / le + rate(3) * (dq(6) - dq(3)) / le
+        dn_dgam = stiffness(1:2) + 2.0_rk * rate(1:2)
         r = 0.0_rk
         r(3) = -m05
         r(6) = m05
         if (present(k)) then
             k = 0.0_rk
-            ei2 = 0.5_rk * stiffness(3) / le
+            ei2 = (0.5_rk * stiffness(3) + rate(3)) / le
             k(3, 3) = ei2
             k(3, 6) = -ei2
             k(6, 3) = -ei2
@@ -552,7 +606,11 @@ contains
                 cs05 = rotate(cs_n, cs_half)
                 cs1 = rotate(cs05, cs_half)
                 ! Gamma05 = 1/2 (Lambda_1^T d_s r_1 + Lambda_n^T d_s r_n) - e1 (eq. 72)
-                gam = 0.5_rk * (rotate_back(cs1, rs_1) + rotate_back(cs_n, rs_n))
+                ! and its increment Gamma_1 - Gamma_n
+                gam = rotate_back(cs1, rs_1)
+                g_n = rotate_back(cs_n, rs_n)
+                inc = gam - g_n
+                gam = 0.5_rk * (gam + g_n)
                 gam(1) = gam(1) - 1.0_rk
                 ! Z1 = cos(dphi/2), Z2 = sin(dphi/2)/(dphi/2) (eq. 67), derivatives in dphi_g
                 call sinc_of(half, cs_half(2), cs_half(1), z(2), dz(2))
@@ -570,7 +628,8 @@ contains
                 phi05_g = 0.5_rk * (phi1_g + phin_g)
                 cs05 = [cos(phi05_g), sin(phi05_g)]
                 ! Gamma05 = Gamma_n + 1/2 (dphi Lambda05^T S d_s r05 + Lambda05^T d_s dr) (eq. 78a)
-                gam = gamma_n(:, g) + 0.5_rk * rotate_back(cs05, dphi_g * skew_times(u) + dr_s)
+                inc = rotate_back(cs05, dphi_g * skew_times(u) + dr_s)
+                gam = gamma_n(:, g) + 0.5_rk * inc
                 z = 1.0_rk
                 dz = 0.0_rk
                 if (present(k)) then
@@ -582,18 +641,19 @@ contains
                         + 0.5_rk * skew_times(dr_s))
                 end if
             end if
+            n = stiffness(1:2) * gam
+            if (viscous) n = n + rate(1:2) * inc
             if (present(k)) then
-                ! N = D_ts Gamma05: dN = D_ts dGamma05
+                ! dN = (D_ts + 2 rate) dGamma05
                 dgam(:, 4:5) = b
                 dgam(:, 1:2) = -b
                 dgam(:, 3) = nn(1, g) * v
                 dgam(:, 6) = nn(2, g) * v
-                dgam(1, :) = stiffness(1) * dgam(1, :)
-                dgam(2, :) = stiffness(2) * dgam(2, :)
-                call gauss_point_force(le, w(g), nn(:, g), cs05, u, z, dz, stiffness(1:2) * gam, &
-                    r, dgam, k)
+                dgam(1, :) = dn_dgam(1) * dgam(1, :)
+                dgam(2, :) = dn_dgam(2) * dgam(2, :)
+                call gauss_point_force(le, w(g), nn(:, g), cs05, u, z, dz, n, r, dgam, k)
             else
-                call gauss_point_force(le, w(g), nn(:, g), cs05, u, z, dz, stiffness(1:2) * gam, r)
+                call gauss_point_force(le, w(g), nn(:, g), cs05, u, z, dz, n, r)
             end if
         end do
     end subroutine displacement_forces

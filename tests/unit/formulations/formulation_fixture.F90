@@ -14,8 +14,8 @@ module rs_test_formulation_fixture
     implicit none
     private
 
-    public :: cantilever_text, init_cantilever, init_cantilever_system, jacobian_at, &
-        central_differences, dense_jacobian
+    public :: cantilever_text, init_cantilever, init_from_text, init_cantilever_system, &
+        jacobian_at, central_differences, dense_jacobian
 
     !> The step the Jacobians are taken on.
     real(rk), parameter, public :: fixture_t_n = 0.3_rk, fixture_h = 0.05_rk
@@ -59,24 +59,32 @@ contains
         integer, intent(in) :: n_elements
         logical, intent(out) :: ok
         logical, intent(in), optional :: quasistatic, condense
-        type(scene_t) :: scene
-        type(error_list_t) :: errors
-        type(error_t), allocatable :: err
         logical :: statics, condensed
         statics = .false.
         condensed = .false.
         if (present(quasistatic)) statics = quasistatic
         if (present(condense)) condensed = condense
-        call parse_scene(cantilever_text(name, n_elements, statics, condensed), 'cantilever.nml', &
-            scene, errors)
-        CHECK_EQUAL(errors%count, 0, name // ': the scene parses: ' // errors%joined())
+        call init_from_text(rod, cantilever_text(name, n_elements, statics, condensed), name, ok)
+    end subroutine init_cantilever
+
+    !> Init `rod` on its scene `text` (rod 1 of it, alone); `ok` false (and the failed check,
+    !> named by `label`, recorded) if the scene does not parse or the rod cannot be built.
+    subroutine init_from_text(rod, text, label, ok)
+        class(rod_formulation_t), intent(inout) :: rod
+        character(len=*), intent(in) :: text, label
+        logical, intent(out) :: ok
+        type(scene_t) :: scene
+        type(error_list_t) :: errors
+        type(error_t), allocatable :: err
+        call parse_scene(text, 'cantilever.nml', scene, errors)
+        CHECK_EQUAL(errors%count, 0, label // ': the scene parses: ' // errors%joined())
         ok = errors%count == 0
         if (.not. ok) return
         call rod%init(scene, [1], err)
-        CHECK_TRUE(.not. allocated(err), name // ': init')
+        CHECK_TRUE(.not. allocated(err), label // ': init')
         ok = .not. allocated(err)
         if (.not. ok) write(*, '(a)') '  ' // err%describe()
-    end subroutine init_cantilever
+    end subroutine init_from_text
 
     !> The system layer's system (rs_system_rod_system) of the same cantilever.
     subroutine init_cantilever_system(system, name, n_elements, ok)

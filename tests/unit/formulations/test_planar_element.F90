@@ -7,6 +7,10 @@
 !> torque balance (angular momentum, methods §4.3/§4.4); rigid motions (cl-EM exactly stress-free,
 !> PH-EM and PH-EMi with the Cayley-angle strain drift of §4.5); objectivity; hand-computed
 !> cases (axial stretch EA delta/L, uniform shear angle, pure bending) and the consistent mass.
+!> Kelvin-Voigt damping (issue 26, docs/theory/ph_planar.md "Damping"): the Jacobians with
+!> viscosity against central differences, the energy identities with the dissipation
+!> dq . r = V_1 - V_n + D (D = viscous_dissipation > 0) for every scheme and rule, and the
+!> viscous force of a stretching element by hand.
 !>
 !> Central differences use the step fd_step max(1, |x_j|) per unknown; the residuals are smooth
 !> (trigonometric in the angles, at most quadratic otherwise), so the truncation error is
@@ -22,7 +26,7 @@ module rs_test_planar_element
         cl_em_residual, cl_em_jacobian, ph_emi_residual, ph_emi_jacobian, ph_emi_strains, &
         compatible_strains, element_mass, mixed_strain_energy, compatible_strain_energy, &
         ph_emi_strain_energy, planar_max_gauss, planar_sinc, ph_em_static, &
-        ph_em_static_condensed, ph_em_projected_strains, cl_em_static
+        ph_em_static_condensed, ph_em_projected_strains, cl_em_static, viscous_dissipation
     implicit none
     private
 
@@ -32,6 +36,8 @@ module rs_test_planar_element
     real(rk), parameter :: fd_step = 1.0e-6_rk, fd_tol = 1.0e-6_rk
     ! Round-off tolerance of exact identities, relative to the size of their terms.
     real(rk), parameter :: exact_tol = 1.0e-12_rk
+    ! The viscosity of an undamped element.
+    real(rk), parameter :: no_viscosity(3) = 0.0_rk
     ! Schemes of the generic residual/Jacobian drivers below.
     ! The equilibrium kernels of the quasistatic endpoint solve (static_*) take the state
     ! (q, e) or q of the case's t_{n+1}.
@@ -40,10 +46,11 @@ module rs_test_planar_element
     character(len=16), parameter :: scheme_name(7) = [character(len=16) :: 'PH-EM', &
         'PH-EM cond.', 'cl-EM', 'PH-EMi', 'static PH-EM', 'static PH-EM cond', 'static cl-EM']
 
-    !> One random element step: geometry, stiffness, endpoint states, strains and history.
+    !> One random element step: geometry, stiffness, Kelvin-Voigt viscosity (zero unless
+    !> damped), endpoint states, strains and history.
     type :: planar_case_t
         real(rk) :: le = 1.0_rk, h = 0.1_rk
-        real(rk) :: stiffness(3) = 1.0_rk
+        real(rk) :: stiffness(3) = 1.0_rk, viscosity(3) = 0.0_rk
         real(rk) :: q_n(6) = 0.0_rk, q_1(6) = 0.0_rk
         real(rk) :: e_n(3) = 0.0_rk, e_1(3) = 0.0_rk
         real(rk) :: gamma_n(2, planar_max_gauss) = 0.0_rk
@@ -72,6 +79,8 @@ contains
         call run_test('objectivity', test_objectivity)
         call run_test('static_jacobian_fd', test_static_jacobian_fd)
         call run_test('static_equilibrium_rows', test_static_equilibrium_rows)
+        call run_test('damped_jacobian_fd', test_damped_jacobian_fd)
+        call run_test('viscous_stretch_hand', test_viscous_stretch_hand)
     end subroutine run_all_tests
 
     ! ---------------------------------------------------------------------------------------
@@ -138,6 +147,17 @@ contains
         c%gamma_n = reshape(random_vector(2 * planar_max_gauss, 0.1_rk), [2, planar_max_gauss])
     end function random_case
 
+    ! A random case with Kelvin-Voigt viscosity: times tau_i in [0.1, 2] h, so that the
+    ! viscous stress V de/h is of the size of the elastic one.
+    function random_damped_case() result(c)
+        type(planar_case_t) :: c
+        integer :: i
+        c = random_case()
+        do i = 1, 3
+            c%viscosity(i) = uniform(0.1_rk, 2.0_rk) * c%h * c%stiffness(i)
+        end do
+    end function random_damped_case
+
     ! Number of unknowns of a scheme's residual.
     pure integer function n_unknowns(scheme)
         integer, intent(in) :: scheme
@@ -153,13 +173,16 @@ contains
         real(rk) :: k(6, 6), e_1(3)
         select case (scheme)
         case (ph_em)
-            call ph_em_residual(c%le, c%stiffness, ng, c%h, c%q_n, x(1:6), c%e_n, x(7:9), r(1:9))
+            call ph_em_residual(c%le, c%stiffness, c%viscosity, ng, c%h, c%q_n, x(1:6), c%e_n, &
+                x(7:9), r(1:9))
         case (ph_em_cond)
-            call ph_em_condensed(c%le, c%stiffness, ng, c%h, c%q_n, x(1:6), c%e_n, r(1:6), k, e_1)
+            call ph_em_condensed(c%le, c%stiffness, c%viscosity, ng, c%h, c%q_n, x(1:6), c%e_n, &
+                r(1:6), k, e_1)
         case (cl_em)
-            call cl_em_residual(c%le, c%stiffness, ng, c%q_n, x(1:6), r(1:6))
+            call cl_em_residual(c%le, c%stiffness, c%viscosity, ng, c%h, c%q_n, x(1:6), r(1:6))
         case (ph_emi)
-            call ph_emi_residual(c%le, c%stiffness, ng, c%q_n, x(1:6), c%gamma_n(:, 1:ng), r(1:6))
+            call ph_emi_residual(c%le, c%stiffness, c%viscosity, ng, c%h, c%q_n, x(1:6), &
+                c%gamma_n(:, 1:ng), r(1:6))
         case (static_ph_em)
             call ph_em_static(c%le, c%stiffness, ng, c%h, x(1:6), x(7:9), r(1:9))
         case (static_ph_em_cond)
@@ -178,13 +201,16 @@ contains
         k = 0.0_rk
         select case (scheme)
         case (ph_em)
-            call ph_em_jacobian(c%le, c%stiffness, ng, c%h, c%q_n, c%q_1, c%e_n, c%e_1, k)
+            call ph_em_jacobian(c%le, c%stiffness, c%viscosity, ng, c%h, c%q_n, c%q_1, c%e_n, &
+                c%e_1, k)
         case (ph_em_cond)
-            call ph_em_condensed(c%le, c%stiffness, ng, c%h, c%q_n, c%q_1, c%e_n, r, k6, e_1)
+            call ph_em_condensed(c%le, c%stiffness, c%viscosity, ng, c%h, c%q_n, c%q_1, c%e_n, r, &
+                k6, e_1)
         case (cl_em)
-            call cl_em_jacobian(c%le, c%stiffness, ng, c%q_n, c%q_1, k6)
+            call cl_em_jacobian(c%le, c%stiffness, c%viscosity, ng, c%h, c%q_n, c%q_1, k6)
         case (ph_emi)
-            call ph_emi_jacobian(c%le, c%stiffness, ng, c%q_n, c%q_1, c%gamma_n(:, 1:ng), k6)
+            call ph_emi_jacobian(c%le, c%stiffness, c%viscosity, ng, c%h, c%q_n, c%q_1, &
+                c%gamma_n(:, 1:ng), k6)
         case (static_ph_em)
             call ph_em_static(c%le, c%stiffness, ng, c%h, c%q_1, c%e_1, r9, k)
         case (static_ph_em_cond)
@@ -222,24 +248,36 @@ contains
         end do
     end function fd_error
 
-    ! FD check of one scheme on random cases with 1, 2 and 3 Gauss points.
-    subroutine check_fd_random(scheme)
+    ! FD check of one scheme on random cases with 1, 2 and 3 Gauss points (with Kelvin-Voigt
+    ! viscosity if `damped`).
+    subroutine check_fd_random(scheme, damped)
         integer, intent(in) :: scheme
+        logical, intent(in), optional :: damped
         type(planar_case_t) :: c
         real(rk) :: error, worst
         integer :: ng, sample
+        logical :: viscous
+        character(len=:), allocatable :: label
         character(len=120) :: text
+        viscous = .false.
+        if (present(damped)) viscous = damped
+        label = trim(scheme_name(scheme))
+        if (viscous) label = label // ', damped'
         worst = 0.0_rk
         do ng = 1, 3
             do sample = 1, 8
-                c = random_case()
+                if (viscous) then
+                    c = random_damped_case()
+                else
+                    c = random_case()
+                end if
                 error = fd_error(scheme, c, ng)
                 worst = max(worst, error)
-                CHECK_TRUE(error < fd_tol, trim(scheme_name(scheme)) // ': Jacobian = central differences')
+                CHECK_TRUE(error < fd_tol, label // ': Jacobian = central differences')
             end do
         end do
         write(text, '(a,es9.2,a,es8.1,a)') '    max relative FD error (' &
-            // trim(scheme_name(scheme)) // '): ', worst, ' (step ', fd_step, ' max(1,|x|))'
+            // label // '): ', worst, ' (step ', fd_step, ' max(1,|x|))'
         write(output_unit, '(a)') trim(text)
     end subroutine check_fd_random
 
@@ -346,16 +384,16 @@ contains
         expected(4) = stiffness(1) * delta / le
         CHECK_CLOSE(expected(4), 50.0_rk, 1.0e-12_rk, 0.0_rk, 'EA delta/L = 50')
         do ng = 1, 2
-            call cl_em_residual(le, stiffness, ng, qs, qs, r)
+            call cl_em_residual(le, stiffness, no_viscosity, ng, 0.1_rk, qs, qs, r)
             CHECK_CLOSE(r, expected, 1.0e-10_rk, 0.0_rk, 'cl-EM: EA delta/L')
-            call cl_em_residual(le, stiffness, ng, q0, qs, r)
+            call cl_em_residual(le, stiffness, no_viscosity, ng, 0.1_rk, q0, qs, r)
             CHECK_CLOSE(r, 0.5_rk * expected, 1.0e-10_rk, 0.0_rk, 'cl-EM from rest: EA delta/(2L)')
-            call ph_em_residual(le, stiffness, ng, 0.1_rk, qs, qs, [delta / le, 0.0_rk, 0.0_rk], &
+            call ph_em_residual(le, stiffness, no_viscosity, ng, 0.1_rk, qs, qs, [delta / le, 0.0_rk, 0.0_rk], &
                 [delta / le, 0.0_rk, 0.0_rk], r9)
             CHECK_CLOSE(r9(1:6), expected, 1.0e-10_rk, 0.0_rk, 'PH-EM: EA delta/L')
             gam = 0.0_rk
             gam(1, 1:ng) = delta / le
-            call ph_emi_residual(le, stiffness, ng, qs, qs, gam(:, 1:ng), r)
+            call ph_emi_residual(le, stiffness, no_viscosity, ng, 0.1_rk, qs, qs, gam(:, 1:ng), r)
             CHECK_CLOSE(r, expected, 1.0e-10_rk, 0.0_rk, 'PH-EMi: EA delta/L')
         end do
     end subroutine test_axial_stretch_hand
@@ -375,18 +413,18 @@ contains
         fb = matmul(rot2(beta), stiffness(1:2) * [cos(beta) - 1.0_rk, -sin(beta)])
         expected = [-fb(1), -fb(2), -0.5_rk * le * fb(2), fb(1), fb(2), -0.5_rk * le * fb(2)]
         do ng = 1, 2
-            call cl_em_residual(le, stiffness, ng, q, q, r)
+            call cl_em_residual(le, stiffness, no_viscosity, ng, 0.1_rk, q, q, r)
             CHECK_CLOSE(r, expected, 1.0e-10_rk, 0.0_rk, 'cl-EM: uniformly rotated sections')
         end do
         kappa = 0.4_rk
         expected = [0.0_rk, 0.0_rk, -stiffness(3) * kappa, 0.0_rk, 0.0_rk, stiffness(3) * kappa]
         do ng = 1, 2
-            call ph_em_residual(le, stiffness, ng, 0.1_rk, q, q, [0.0_rk, 0.0_rk, kappa], &
+            call ph_em_residual(le, stiffness, no_viscosity, ng, 0.1_rk, q, q, [0.0_rk, 0.0_rk, kappa], &
                 [0.0_rk, 0.0_rk, kappa], r9)
             CHECK_CLOSE(r9(1:6), expected, 1.0e-12_rk, 0.0_rk, 'PH-EM: pure bending')
         end do
         q = [0.0_rk, 0.0_rk, -0.5_rk * kappa * le, le, 0.0_rk, 0.5_rk * kappa * le]
-        call cl_em_residual(le, stiffness, 1, q, q, r)
+        call cl_em_residual(le, stiffness, no_viscosity, 1, 0.1_rk, q, q, r)
         ! 1-point rule: the Gauss-point angle is 0, so the sections there are unsheared.
         CHECK_CLOSE(r, expected, 1.0e-10_rk, 0.0_rk, 'cl-EM reduced: pure bending')
     end subroutine test_shear_and_bending_hand
@@ -415,15 +453,18 @@ contains
         do ng = 1, 3
             do sample = 1, 8
                 c = random_case()
-                call ph_em_condensed(c%le, c%stiffness, ng, c%h, c%q_n, c%q_1, c%e_n, r, k, e_1)
-                call ph_em_residual(c%le, c%stiffness, ng, c%h, c%q_n, c%q_1, c%e_n, e_1, r9)
+                call ph_em_condensed(c%le, c%stiffness, c%viscosity, ng, c%h, c%q_n, c%q_1, &
+                    c%e_n, r, k, e_1)
+                call ph_em_residual(c%le, c%stiffness, c%viscosity, ng, c%h, c%q_n, c%q_1, c%e_n, &
+                    e_1, r9)
                 CHECK_CLOSE(r, r9(1:6), 0.0_rk, 1.0e-14_rk, 'condensed r = nodal rows at e_1')
                 tol = exact_tol * c%le * (maxval(abs(e_1)) + maxval(abs(c%e_n))) / c%h
                 CHECK_CLOSE(r9(7:9), zero, tol, 0.0_rk, 'strain rows vanish at e_1')
                 worst_rows = max(worst_rows, maxval(abs(r9(7:9))) * c%h &
                     / (c%le * (maxval(abs(e_1)) + maxval(abs(c%e_n)))))
                 c%e_1 = e_1
-                call ph_em_jacobian(c%le, c%stiffness, ng, c%h, c%q_n, c%q_1, c%e_n, e_1, k9)
+                call ph_em_jacobian(c%le, c%stiffness, c%viscosity, ng, c%h, c%q_n, c%q_1, c%e_n, &
+                    e_1, k9)
                 kee = k9(7:9, 7:9)
                 schur = k9(1:6, 1:6) - matmul(k9(1:6, 7:9), matmul(inverse3(kee), k9(7:9, 1:6)))
                 kscale = maxval(abs(k))
@@ -504,96 +545,141 @@ contains
     ! ---------------------------------------------------------------------------------------
     ! Discrete energy identities
 
+    ! A random case, undamped for damping = 0 and with Kelvin-Voigt viscosity for damping = 1.
+    function case_of(damping) result(c)
+        integer, intent(in) :: damping
+        type(planar_case_t) :: c
+        if (damping == 0) then
+            c = random_case()
+        else
+            c = random_damped_case()
+        end if
+    end function case_of
+
+    ! The discrete energy identity of one element step, dq . r = V_1 - V_n + D, to round-off
+    ! (relative to the size of its terms), and D > 0 exactly when the case is damped; `worst`
+    ! keeps the largest relative error.
+    subroutine check_balance(scheme, damping, dq, r, v1, vn, d, worst)
+        character(len=*), intent(in) :: scheme
+        integer, intent(in) :: damping
+        real(rk), intent(in) :: dq(6), r(6), v1, vn, d
+        real(rk), intent(inout) :: worst
+        real(rk) :: lhs, rhs, scale
+        CHECK_TRUE((d > 0.0_rk) .eqv. (damping == 1), scheme // ': D > 0 iff damped')
+        lhs = dot_product(dq, r)
+        rhs = v1 - vn + d
+        scale = sum(abs(dq * r)) + v1 + vn + d
+        CHECK_CLOSE(lhs, rhs, exact_tol * scale, 0.0_rk, scheme // ': dq.r = V_1 - V_n + D')
+        worst = max(worst, abs(lhs - rhs) / scale)
+    end subroutine check_balance
+
     ! PH-EM (methods §4.3 "why energy is exact"): with e_1 from the strain rows,
-    ! dq . r(1:6) = H_mix(e_1) - H_mix(e_n) exactly; for an arbitrary e_1 the strain rows enter
-    ! as dq . r(1:6) - h (N05 . r(7:8) + M05 r(9)) = H_mix(e_1) - H_mix(e_n).
+    ! dq . r(1:6) = H_mix(e_1) - H_mix(e_n) + D exactly, D = le de^T V de / h the Kelvin-Voigt
+    ! dissipation (0 undamped, > 0 damped); for an arbitrary e_1 the strain rows enter as
+    ! dq . r(1:6) - h (sigma05 . r(7:9)) = H_mix(e_1) - H_mix(e_n) + D, sigma05 the step's
+    ! stresses D_ts e05 + V de/h (their work against the rate-form rows, docs/theory/ph_planar.md
+    ! "Damping").
     subroutine test_ph_em_energy_identity()
         type(planar_case_t) :: c
-        real(rk) :: r(6), k(6, 6), e_1(3), r9(9), dq(6), n05(3), lhs, rhs, scale, worst
-        integer :: ng, sample
+        real(rk) :: r(6), k(6, 6), e_1(3), r9(9), dq(6), n05(3), lhs, rhs, scale, worst, d
+        integer :: ng, sample, damping
         character(len=120) :: text
         worst = 0.0_rk
-        do ng = 1, 3
-            do sample = 1, 8
-                c = random_case()
-                dq = c%q_1 - c%q_n
-                call ph_em_condensed(c%le, c%stiffness, ng, c%h, c%q_n, c%q_1, c%e_n, r, k, e_1)
-                lhs = dot_product(dq, r)
-                rhs = mixed_strain_energy(c%le, c%stiffness, e_1) &
-                    - mixed_strain_energy(c%le, c%stiffness, c%e_n)
-                scale = sum(abs(dq * r)) + mixed_strain_energy(c%le, c%stiffness, e_1) &
-                    + mixed_strain_energy(c%le, c%stiffness, c%e_n)
-                CHECK_CLOSE(lhs, rhs, exact_tol * scale, 0.0_rk, 'PH-EM: dq.r = H(e_1) - H(e_n)')
-                worst = max(worst, abs(lhs - rhs) / scale)
-                call ph_em_residual(c%le, c%stiffness, ng, c%h, c%q_n, c%q_1, c%e_n, c%e_1, r9)
-                n05 = 0.5_rk * c%stiffness * (c%e_n + c%e_1)
-                lhs = dot_product(dq, r9(1:6)) - c%h * dot_product(n05, r9(7:9))
-                rhs = mixed_strain_energy(c%le, c%stiffness, c%e_1) &
-                    - mixed_strain_energy(c%le, c%stiffness, c%e_n)
-                scale = sum(abs(dq * r9(1:6))) + c%h * sum(abs(n05 * r9(7:9))) &
-                    + mixed_strain_energy(c%le, c%stiffness, c%e_1) &
-                    + mixed_strain_energy(c%le, c%stiffness, c%e_n)
-                CHECK_CLOSE(lhs, rhs, exact_tol * scale, 0.0_rk, 'PH-EM: identity with strain rows')
-                worst = max(worst, abs(lhs - rhs) / scale)
+        do damping = 0, 1
+            do ng = 1, 3
+                do sample = 1, 8
+                    c = case_of(damping)
+                    call ph_em_condensed(c%le, c%stiffness, c%viscosity, ng, c%h, c%q_n, c%q_1, &
+                        c%e_n, r, k, e_1)
+                    dq = c%q_1 - c%q_n
+                    d = viscous_dissipation(c%le, c%viscosity, 1, c%h, &
+                        reshape(e_1 - c%e_n, [3, 1]))
+                    call check_balance('PH-EM', damping, dq, r, &
+                        mixed_strain_energy(c%le, c%stiffness, e_1), &
+                        mixed_strain_energy(c%le, c%stiffness, c%e_n), d, worst)
+                    call ph_em_residual(c%le, c%stiffness, c%viscosity, ng, c%h, c%q_n, c%q_1, &
+                        c%e_n, c%e_1, r9)
+                    n05 = 0.5_rk * c%stiffness * (c%e_n + c%e_1) + c%viscosity * (c%e_1 - c%e_n) / c%h
+                    d = viscous_dissipation(c%le, c%viscosity, 1, c%h, &
+                        reshape(c%e_1 - c%e_n, [3, 1]))
+                    lhs = dot_product(dq, r9(1:6)) - c%h * dot_product(n05, r9(7:9))
+                    rhs = mixed_strain_energy(c%le, c%stiffness, c%e_1) &
+                        - mixed_strain_energy(c%le, c%stiffness, c%e_n) + d
+                    scale = sum(abs(dq * r9(1:6))) + c%h * sum(abs(n05 * r9(7:9))) &
+                        + mixed_strain_energy(c%le, c%stiffness, c%e_1) &
+                        + mixed_strain_energy(c%le, c%stiffness, c%e_n) + d
+                    CHECK_CLOSE(lhs, rhs, exact_tol * scale, 0.0_rk, 'PH-EM: identity with strain rows')
+                    worst = max(worst, abs(lhs - rhs) / scale)
+                end do
             end do
         end do
-        write(text, '(a,es9.2)') '    PH-EM energy identity, max relative error: ', worst
+        write(text, '(a,es9.2)') '    PH-EM energy identity (undamped and damped), max relative error: ', &
+            worst
         write(output_unit, '(a)') trim(text)
     end subroutine test_ph_em_energy_identity
 
-    ! cl-EM (methods §5.1, Appendix A.5 eqs. 98-99): dq . r = V(q_1) - V(q_n) with the compatible
-    ! strain energy under the same rule, for the reduced and the full rule.
+    ! cl-EM (methods §5.1, Appendix A.5 eqs. 98-99): dq . r = V(q_1) - V(q_n) + D with the
+    ! compatible strain energy under the same rule, for the reduced and the full rule; D the
+    ! Kelvin-Voigt dissipation of the compatible strain increments at the rule's points (eq. 99
+    ! holds at each point, so the viscous rows do exactly that work).
     subroutine test_cl_em_energy_identity()
         type(planar_case_t) :: c
-        real(rk) :: r(6), dq(6), lhs, rhs, v1, vn, scale, worst
-        integer :: ng, sample
+        real(rk) :: r(6), dq(6), v1, vn, worst, d, g_n(3, 3), g_1(3, 3)
+        integer :: ng, sample, damping
         character(len=120) :: text
         worst = 0.0_rk
-        do ng = 1, 3
-            do sample = 1, 8
-                c = random_case()
-                if (sample == 1) c%q_1(6) = c%q_1(3) - c%q_n(3) + c%q_n(6)
-                dq = c%q_1 - c%q_n
-                call cl_em_residual(c%le, c%stiffness, ng, c%q_n, c%q_1, r)
-                v1 = compatible_strain_energy(c%le, c%stiffness, ng, c%q_1)
-                vn = compatible_strain_energy(c%le, c%stiffness, ng, c%q_n)
-                lhs = dot_product(dq, r)
-                rhs = v1 - vn
-                scale = sum(abs(dq * r)) + v1 + vn
-                CHECK_CLOSE(lhs, rhs, exact_tol * scale, 0.0_rk, 'cl-EM: dq.r = V(q_1) - V(q_n)')
-                worst = max(worst, abs(lhs - rhs) / scale)
+        do damping = 0, 1
+            do ng = 1, 3
+                do sample = 1, 8
+                    c = case_of(damping)
+                    if (sample == 1) c%q_1(6) = c%q_1(3) - c%q_n(3) + c%q_n(6)
+                    dq = c%q_1 - c%q_n
+                    call cl_em_residual(c%le, c%stiffness, c%viscosity, ng, c%h, c%q_n, c%q_1, r)
+                    v1 = compatible_strain_energy(c%le, c%stiffness, ng, c%q_1)
+                    vn = compatible_strain_energy(c%le, c%stiffness, ng, c%q_n)
+                    call compatible_strains(c%le, ng, c%q_n, g_n(:, 1:ng))
+                    call compatible_strains(c%le, ng, c%q_1, g_1(:, 1:ng))
+                    d = viscous_dissipation(c%le, c%viscosity, ng, c%h, g_1(:, 1:ng) - g_n(:, 1:ng))
+                    call check_balance('cl-EM', damping, dq, r, v1, vn, d, worst)
+                end do
             end do
         end do
-        write(text, '(a,es9.2)') '    cl-EM energy identity, max relative error: ', worst
+        write(text, '(a,es9.2)') '    cl-EM energy identity (undamped and damped), max relative error: ', &
+            worst
         write(output_unit, '(a)') trim(text)
     end subroutine test_cl_em_energy_identity
 
     ! PH-EMi (methods §5.2): with the history update gamma_1 of eq. (78a),
     ! dq . r = sum_g w_g le/2 (1/2 gamma^T D gamma)|_{n+1} - |_n + le/2 EI (kappa_1^2 - kappa_n^2)
-    ! with kappa = d_s phi (ph_emi_strain_energy), because N_g = D (gamma_n + gamma_1)/2 and
-    ! gamma_1 - gamma_n is the Gauss-point strain increment the force rows are the adjoint of.
+    ! + D with kappa = d_s phi (ph_emi_strain_energy), because N_g = D (gamma_n + gamma_1)/2
+    ! + V (gamma_1 - gamma_n)/h and gamma_1 - gamma_n is the Gauss-point strain increment the
+    ! force rows are the adjoint of; D the Kelvin-Voigt dissipation of those increments.
     subroutine test_ph_emi_energy_identity()
         type(planar_case_t) :: c
-        real(rk) :: r(6), dq(6), gamma_1(2, 3), lhs, rhs, v1, vn, scale, worst
-        integer :: ng, sample
+        real(rk) :: r(6), dq(6), gamma_1(2, 3), v1, vn, worst, d, delta(3, 3)
+        integer :: ng, sample, damping
         character(len=120) :: text
         worst = 0.0_rk
-        do ng = 1, 3
-            do sample = 1, 8
-                c = random_case()
-                dq = c%q_1 - c%q_n
-                call ph_emi_residual(c%le, c%stiffness, ng, c%q_n, c%q_1, c%gamma_n(:, 1:ng), r)
-                call ph_emi_strains(c%le, ng, c%q_n, c%q_1, c%gamma_n(:, 1:ng), gamma_1(:, 1:ng))
-                v1 = ph_emi_strain_energy(c%le, c%stiffness, ng, c%q_1, gamma_1(:, 1:ng))
-                vn = ph_emi_strain_energy(c%le, c%stiffness, ng, c%q_n, c%gamma_n(:, 1:ng))
-                lhs = dot_product(dq, r)
-                rhs = v1 - vn
-                scale = sum(abs(dq * r)) + v1 + vn
-                CHECK_CLOSE(lhs, rhs, exact_tol * scale, 0.0_rk, 'PH-EMi: dq.r = V_1 - V_n')
-                worst = max(worst, abs(lhs - rhs) / scale)
+        do damping = 0, 1
+            do ng = 1, 3
+                do sample = 1, 8
+                    c = case_of(damping)
+                    dq = c%q_1 - c%q_n
+                    call ph_emi_residual(c%le, c%stiffness, c%viscosity, ng, c%h, c%q_n, c%q_1, &
+                        c%gamma_n(:, 1:ng), r)
+                    call ph_emi_strains(c%le, ng, c%q_n, c%q_1, c%gamma_n(:, 1:ng), &
+                        gamma_1(:, 1:ng))
+                    v1 = ph_emi_strain_energy(c%le, c%stiffness, ng, c%q_1, gamma_1(:, 1:ng))
+                    vn = ph_emi_strain_energy(c%le, c%stiffness, ng, c%q_n, c%gamma_n(:, 1:ng))
+                    delta(1:2, 1:ng) = gamma_1(:, 1:ng) - c%gamma_n(:, 1:ng)
+                    delta(3, 1:ng) = (dq(6) - dq(3)) / c%le
+                    d = viscous_dissipation(c%le, c%viscosity, ng, c%h, delta(:, 1:ng))
+                    call check_balance('PH-EMi', damping, dq, r, v1, vn, d, worst)
+                end do
             end do
         end do
-        write(text, '(a,es9.2)') '    PH-EMi energy identity, max relative error: ', worst
+        write(text, '(a,es9.2)') '    PH-EMi energy identity (undamped and damped), max relative error: ', &
+            worst
         write(output_unit, '(a)') trim(text)
     end subroutine test_ph_emi_energy_identity
 
@@ -621,16 +707,18 @@ contains
             do sample = 1, 8
                 c = random_case()
                 q05 = 0.5_rk * (c%q_n + c%q_1)
-                call ph_em_residual(c%le, c%stiffness, ng, c%h, c%q_n, c%q_1, c%e_n, c%e_1, r9)
+                call ph_em_residual(c%le, c%stiffness, c%viscosity, ng, c%h, c%q_n, c%q_1, c%e_n, &
+                    c%e_1, r9)
                 call force_and_torque(q05, r9(1:6), force, torque, scale)
                 CHECK_CLOSE(force, zero2, exact_tol * scale, 0.0_rk, 'PH-EM: sum F = 0')
                 CHECK_CLOSE(torque, 0.0_rk, exact_tol * scale, 0.0_rk, 'PH-EM: net torque 0')
-                call ph_emi_residual(c%le, c%stiffness, ng, c%q_n, c%q_1, c%gamma_n(:, 1:ng), r)
+                call ph_emi_residual(c%le, c%stiffness, c%viscosity, ng, c%h, c%q_n, c%q_1, &
+                    c%gamma_n(:, 1:ng), r)
                 call force_and_torque(q05, r, force, torque, scale)
                 CHECK_CLOSE(force, zero2, exact_tol * scale, 0.0_rk, 'PH-EMi: sum F = 0')
                 CHECK_CLOSE(torque, 0.0_rk, exact_tol * scale, 0.0_rk, 'PH-EMi: net torque 0')
                 ! cl-EM: the Z1/Z2 torque defect in closed form
-                call cl_em_residual(c%le, c%stiffness, ng, c%q_n, c%q_1, r)
+                call cl_em_residual(c%le, c%stiffness, c%viscosity, ng, c%h, c%q_n, c%q_1, r)
                 call force_and_torque(q05, r, force, torque, scale)
                 CHECK_CLOSE(force, zero2, exact_tol * scale, 0.0_rk, 'cl-EM: sum F = 0')
                 call compatible_strains(c%le, ng, c%q_n, gn(:, 1:ng))
@@ -651,7 +739,7 @@ contains
                 c%q_1(3) = c%q_n(3)
                 c%q_1(6) = c%q_n(6)
                 q05 = 0.5_rk * (c%q_n + c%q_1)
-                call cl_em_residual(c%le, c%stiffness, ng, c%q_n, c%q_1, r)
+                call cl_em_residual(c%le, c%stiffness, c%viscosity, ng, c%h, c%q_n, c%q_1, r)
                 call force_and_torque(q05, r, force, torque, scale)
                 CHECK_CLOSE(torque, 0.0_rk, exact_tol * scale, 0.0_rk, 'cl-EM, dphi = 0: net torque 0')
             end do
@@ -689,9 +777,10 @@ contains
             do ng = 1, 3
                 call compatible_strains(le, ng, q_1, gam(:, 1:ng))
                 CHECK_CLOSE(gam(:, 1:ng), zero33(:, 1:ng), 1.0e-14_rk, 0.0_rk, 'compatible strains: 0')
-                call cl_em_residual(le, stiffness, ng, q_n, q_1, r)
+                call cl_em_residual(le, stiffness, no_viscosity, ng, 0.1_rk, q_n, q_1, r)
                 CHECK_CLOSE(r, zero6, 1.0e-13_rk * maxval(stiffness), 0.0_rk, 'cl-EM: stress-free')
-                call ph_em_condensed(le, stiffness, ng, 0.1_rk, q_n, q_1, zero3, r, k, e_1)
+                call ph_em_condensed(le, stiffness, no_viscosity, ng, 0.1_rk, q_n, q_1, zero3, r, &
+                    k, e_1)
                 CHECK_CLOSE(e_1, expected, 1.0e-14_rk, 1.0e-12_rk, 'PH-EM: Gamma_1 = Cayley drift')
                 call ph_emi_strains(le, ng, q_n, q_1, gamma_0(:, 1:ng), gamma_1(:, 1:ng))
                 do g = 1, ng
@@ -721,22 +810,28 @@ contains
                 d = c
                 d%q_n = rigid_map(c%q_n, alpha, [0.0_rk, 0.0_rk], shift)
                 d%q_1 = rigid_map(c%q_1, alpha, [0.0_rk, 0.0_rk], shift)
-                call ph_em_residual(c%le, c%stiffness, ng, c%h, c%q_n, c%q_1, c%e_n, c%e_1, r9)
-                call ph_em_residual(d%le, d%stiffness, ng, d%h, d%q_n, d%q_1, d%e_n, d%e_1, s9)
+                call ph_em_residual(c%le, c%stiffness, c%viscosity, ng, c%h, c%q_n, c%q_1, c%e_n, &
+                    c%e_1, r9)
+                call ph_em_residual(d%le, d%stiffness, d%viscosity, ng, d%h, d%q_n, d%q_1, d%e_n, &
+                    d%e_1, s9)
                 expected = r9
                 expected(1:2) = matmul(rot, r9(1:2))
                 expected(4:5) = matmul(rot, r9(4:5))
                 tol = 1.0e-12_rk * maxval(abs(r9))
                 CHECK_CLOSE(s9, expected, tol, 0.0_rk, 'PH-EM objective')
-                call ph_em_condensed(c%le, c%stiffness, ng, c%h, c%q_n, c%q_1, c%e_n, r, k, e_1)
-                call ph_em_condensed(d%le, d%stiffness, ng, d%h, d%q_n, d%q_1, d%e_n, s, k, f_1)
+                call ph_em_condensed(c%le, c%stiffness, c%viscosity, ng, c%h, c%q_n, c%q_1, &
+                    c%e_n, r, k, e_1)
+                call ph_em_condensed(d%le, d%stiffness, d%viscosity, ng, d%h, d%q_n, d%q_1, &
+                    d%e_n, s, k, f_1)
                 CHECK_CLOSE(f_1, e_1, 1.0e-13_rk, 0.0_rk, 'PH-EM: e_1 invariant')
-                call cl_em_residual(c%le, c%stiffness, ng, c%q_n, c%q_1, r)
-                call cl_em_residual(d%le, d%stiffness, ng, d%q_n, d%q_1, s)
+                call cl_em_residual(c%le, c%stiffness, c%viscosity, ng, c%h, c%q_n, c%q_1, r)
+                call cl_em_residual(d%le, d%stiffness, d%viscosity, ng, d%h, d%q_n, d%q_1, s)
                 expected(1:6) = [matmul(rot, r(1:2)), r(3), matmul(rot, r(4:5)), r(6)]
                 CHECK_CLOSE(s, expected(1:6), 1.0e-12_rk * maxval(abs(r)), 0.0_rk, 'cl-EM objective')
-                call ph_emi_residual(c%le, c%stiffness, ng, c%q_n, c%q_1, c%gamma_n(:, 1:ng), r)
-                call ph_emi_residual(d%le, d%stiffness, ng, d%q_n, d%q_1, d%gamma_n(:, 1:ng), s)
+                call ph_emi_residual(c%le, c%stiffness, c%viscosity, ng, c%h, c%q_n, c%q_1, &
+                    c%gamma_n(:, 1:ng), r)
+                call ph_emi_residual(d%le, d%stiffness, d%viscosity, ng, d%h, d%q_n, d%q_1, &
+                    d%gamma_n(:, 1:ng), s)
                 expected(1:6) = [matmul(rot, r(1:2)), r(3), matmul(rot, r(4:5)), r(6)]
                 CHECK_CLOSE(s, expected(1:6), 1.0e-12_rk * maxval(abs(r)), 0.0_rk, 'PH-EMi objective')
                 call ph_emi_strains(c%le, ng, c%q_n, c%q_1, c%gamma_n(:, 1:ng), g1(:, 1:ng))
@@ -783,6 +878,60 @@ contains
             CHECK_TRUE(maxval(abs(r6 - r9(1:6))) < exact_tol * scale, 'one point: PH-EM = cl-EM')
         end do
     end subroutine test_static_equilibrium_rows
+
+    ! ---------------------------------------------------------------------------------------
+    ! Kelvin-Voigt damping
+
+    ! The analytic Jacobians with Kelvin-Voigt viscosity (the viscous stress V de/h adds V/h to
+    ! dN/de_1 in PH-EM and 2 V/h to dN/dGamma05 in the displacement schemes) against central
+    ! differences, for every step kernel and rule.
+    subroutine test_damped_jacobian_fd()
+        call check_fd_random(ph_em, damped=.true.)
+        call check_fd_random(ph_em_cond, damped=.true.)
+        call check_fd_random(cl_em, damped=.true.)
+        call check_fd_random(ph_emi, damped=.true.)
+    end subroutine test_damped_jacobian_fd
+
+    ! Straight element along e_x stretched from rest by delta over a step h, with the axial
+    ! viscosity eta only: the force on node b is the elastic EA delta/(2L) of test_axial_stretch
+    ! plus eta (delta/L)/h, the viscous stress of the strain rate, for every scheme and rule
+    ! (PH-EM with its strains e_n = 0, e_1 = delta/L; PH-EMi from a zero history). The
+    ! dissipation of the step is L eta (delta/L)^2/h, the work of that viscous force.
+    subroutine test_viscous_stretch_hand()
+        real(rk) :: le, delta, h, eta, stiffness(3), viscosity(3), q0(6), qs(6), r(6), r9(9)
+        real(rk) :: expected(6), gam(2, 2), strains(3, 2), d, e_1(3)
+        integer :: ng, g
+        le = 2.0_rk
+        delta = 0.01_rk
+        h = 0.05_rk
+        eta = 30.0_rk
+        stiffness = [1.0e4_rk, 3.0e3_rk, 50.0_rk]
+        viscosity = [eta, 0.0_rk, 0.0_rk]
+        q0 = [0.0_rk, 0.0_rk, 0.0_rk, le, 0.0_rk, 0.0_rk]
+        qs = q0
+        qs(4) = le + delta
+        e_1 = [delta / le, 0.0_rk, 0.0_rk]
+        expected = 0.0_rk
+        expected(4) = stiffness(1) * delta / (2.0_rk * le) + eta * delta / (le * h)
+        expected(1) = -expected(4)
+        CHECK_CLOSE(expected(4), 28.0_rk, 1.0e-12_rk, 0.0_rk, 'EA delta/(2L) + eta delta/(L h) = 25 + 3')
+        gam = 0.0_rk
+        do ng = 1, 2
+            call cl_em_residual(le, stiffness, viscosity, ng, h, q0, qs, r)
+            CHECK_CLOSE(r, expected, 1.0e-10_rk, 0.0_rk, 'cl-EM: elastic + viscous force')
+            call ph_em_residual(le, stiffness, viscosity, ng, h, q0, qs, no_viscosity, e_1, r9)
+            CHECK_CLOSE(r9(1:6), expected, 1.0e-10_rk, 0.0_rk, 'PH-EM: elastic + viscous force')
+            CHECK_CLOSE(r9(7:9), no_viscosity, 1.0e-12_rk, 0.0_rk, 'PH-EM: strain rows hold (0)')
+            call ph_emi_residual(le, stiffness, viscosity, ng, h, q0, qs, gam(:, 1:ng), r)
+            CHECK_CLOSE(r, expected, 1.0e-10_rk, 0.0_rk, 'PH-EMi: elastic + viscous force')
+            call compatible_strains(le, ng, qs, strains(:, 1:ng))
+            do g = 1, ng
+                CHECK_CLOSE(strains(:, g), e_1, 1.0e-15_rk, 0.0_rk, 'strain delta/L')
+            end do
+            d = viscous_dissipation(le, viscosity, ng, h, strains(:, 1:ng))
+            CHECK_CLOSE(d, le * eta * (delta / le)**2 / h, 0.0_rk, 1.0e-12_rk, 'D = L eta (delta/L)^2/h')
+        end do
+    end subroutine test_viscous_stretch_hand
 
 end module rs_test_planar_element
 
