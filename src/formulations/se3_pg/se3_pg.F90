@@ -31,7 +31,14 @@
 !>   by design (docs/theory/se3_pg.md, "Generalized-alpha").
 !>
 !> State X: q = (r_k, psi_k) for the nodes k, then u = (v_k, omega_k); with generalized-alpha
-!> also the history y'_n: q'_n = (r'_k, psi'_k), then u'_n = (v'_k, omega'_k), each 6 per node.
+!> also the history y'_n: q'_n = (r'_k, psi'_k), then u'_n = (v'_k, omega'_k), each 6 per node,
+!> and with Kelvin-Voigt damping the strain rates eps'_n, 6 per element.
+!>
+!> Damping (&rod kelvin_voigt_time, drag, angular_drag; docs/theory/se3_pg.md "Damping",
+!> docs/theory/damping.md): the Kelvin-Voigt stress V eps' of the objective element strains
+!> eps = theta / l (methods eq. 38) is added to the elastic stress of g_int, eps' the scheme's
+!> stage rate ((eps_{n+1} - eps_n) / h for the midpoint rule); the drag and angular drag are the
+!> consistent matrix C_e on the stage velocities. D_n >= 0 is booked as dissipated.
 !>
 !> Supports eliminate unknowns: clamped fixes r and psi, pinned fixes r (the heavy top's
 !> spherical joint), driven prescribes r and psi (a clamp moved and turned in time, e.g. the

@@ -126,28 +126,11 @@ contains
         real(rk), intent(in) :: l, stiffness(6), eps_ref(6), sigma_v(6), q(12)
         real(rk), intent(out) :: g(12)
         real(rk), intent(out), optional :: k(12, 12), b_t(12, 6)
-        real(rk) :: k_local(12, 12), theta(6), a_a(3, 3), a_b(3, 3), a_mean(3, 3)
-        integer :: ig, j
-        call internal_force_tangent(present(k), l, stiffness, eps_ref, sigma_v, q, g, k_local)
+        real(rk) :: k_local(12, 12), b_local(12, 6)
+        call internal_force_tangent(present(k), l, stiffness, eps_ref, sigma_v, q, g, k_local, &
+            present(b_t), b_local)
         if (present(k)) k = k_local
-        if (.not. present(b_t)) return
-        call se3_element_twist(q, theta, a_a, a_b)
-        a_mean = 0.0_rk
-        do ig = 1, 2
-            a_mean = a_mean + se3_gauss_weight * matmul(a_a, exp_so3(se3_gauss_points(ig) * &
-                theta(4:6)))
-        end do
-        b_t = 0.0_rk
-        b_t(1:3, 1:3) = -a_mean
-        b_t(7:9, 1:3) = a_mean
-        b_t(4:6, 1:3) = -0.5_rk * hat(theta(1:3))
-        b_t(10:12, 1:3) = -0.5_rk * hat(theta(1:3))
-        b_t(4:6, 4:6) = -0.5_rk * hat(theta(4:6))
-        b_t(10:12, 4:6) = -0.5_rk * hat(theta(4:6))
-        do j = 1, 3
-            b_t(3 + j, 3 + j) = b_t(3 + j, 3 + j) - 1.0_rk
-            b_t(9 + j, 3 + j) = b_t(9 + j, 3 + j) + 1.0_rk
-        end do
+        if (present(b_t)) b_t = b_local
     end subroutine se3_viscous_internal_force
 
     !> The element twist theta = Log_SE3(H_a^{-1} H_b) and its derivative d theta / d q (6 x 12)
@@ -187,12 +170,15 @@ contains
     ! point, A(t) = A_a E with E = Exp_SO3(t theta_w), A_a^T dA_a = hat(T_a dpsi_a) and
     ! E^T dE = hat(t T(t theta_w) dtheta_w) give
     !     d(A(t) n) = A(t) [dn - hat(n) (E^T T_a dpsi_a + t T(t theta_w) dtheta_w)].
-    ! The stress is the elastic one plus sigma_extra (held fixed in k).
+    ! The stress is the elastic one plus sigma_extra (held fixed in k); with want_stress_map,
+    ! b_t = d g / d sigma_extra (se3_viscous_internal_force).
     pure subroutine internal_force_tangent(want_tangent, l, stiffness, eps_ref, sigma_extra, q, &
-            g, k)
+            g, k, want_stress_map, b_t)
         logical, intent(in) :: want_tangent
         real(rk), intent(in) :: l, stiffness(6), eps_ref(6), sigma_extra(6), q(12)
         real(rk), intent(out) :: g(12), k(12, 12)
+        logical, intent(in), optional :: want_stress_map
+        real(rk), intent(out), optional :: b_t(12, 6)
         real(rk) :: theta(6), a_a(3, 3), a_b(3, 3), n(3), m(3), couple(3), an(3)
         real(rk) :: e(3, 3, 2), a_t(3, 3, 2), t_a(3, 3)
         real(rk) :: dtheta(6, 12), dsigma(6, 12), dv(3, 12), dw(3, 12), dn(3, 12), dm(3, 12)
@@ -212,6 +198,9 @@ contains
         g(4:6) = -m - couple
         g(7:9) = an
         g(10:12) = m - couple
+        if (present(want_stress_map)) then
+            if (want_stress_map) call stress_map(theta, a_t, b_t)
+        end if
         if (.not. want_tangent) then
             k = 0.0_rk
             return
@@ -243,6 +232,26 @@ contains
         k(7:9, :) = dan
         k(10:12, :) = dm - dcouple
     end subroutine internal_force_tangent
+
+    ! b_t = d g / d sigma (12 x 6) of `internal_force_tangent` at the element twist theta, with
+    ! the Gauss points' rotations a_t: -+ sum_g w_g A(t_g) on n in the position rows,
+    ! -hat(theta_v) / 2 on n and -+1 - hat(theta_w) / 2 on m in the rotation rows.
+    pure subroutine stress_map(theta, a_t, b_t)
+        real(rk), intent(in) :: theta(6), a_t(3, 3, 2)
+        real(rk), intent(out) :: b_t(12, 6)
+        integer :: j
+        b_t = 0.0_rk
+        b_t(7:9, 1:3) = se3_gauss_weight * (a_t(:, :, 1) + a_t(:, :, 2))
+        b_t(1:3, 1:3) = -b_t(7:9, 1:3)
+        b_t(4:6, 1:3) = -0.5_rk * hat(theta(1:3))
+        b_t(10:12, 1:3) = b_t(4:6, 1:3)
+        b_t(4:6, 4:6) = -0.5_rk * hat(theta(4:6))
+        b_t(10:12, 4:6) = b_t(4:6, 4:6)
+        do j = 1, 3
+            b_t(3 + j, 3 + j) = b_t(3 + j, 3 + j) - 1.0_rk
+            b_t(9 + j, 3 + j) = b_t(9 + j, 3 + j) + 1.0_rk
+        end do
+    end subroutine stress_map
 
     !> Consistent constant mass matrix m(12, 12) in u space of a centroidal section
     !> (S_rho0 = 0, methods §6.3): l [[1/3, 1/6], [1/6, 1/3]] (x) blockdiag(rho_a 1_3,

@@ -149,7 +149,7 @@ contains
         end if
         if (.not. ok) return
         if (present(damping) .and. rho_text /= 'midpoint') then
-            CHECK_EQUAL(rod%n_state(), 24 * 5 + 6 * 4, 'the state carries q, u, q'', u'' per node and eps'' per element')
+            CHECK_EQUAL(rod%n_state(), 24 * 5 + 6 * 4, 'the state: q, u, q'', u'' per node, eps'' per element')
         else if (.not. present(damping)) then
             CHECK_EQUAL(rod%n_state(), 24 * 5, 'the state carries q, u, q'' and u'' per node')
         end if
@@ -407,7 +407,8 @@ contains
             work, ', relative difference ', abs(terms(1)%dissipated - work) / work
         CHECK_TRUE(maxval(abs(f)) <= 1.0e-9_rk, 'Newton converged on the step')
         CHECK_TRUE(work > 0.0_rk .and. terms(1)%dissipated > 0.0_rk, 'D > 0')
-        CHECK_TRUE(abs(terms(1)%dissipated - work) <= tolerance * work, 'D = the damping forces'' work')
+        ok = abs(terms(1)%dissipated - work) <= tolerance * work
+        CHECK_TRUE(ok, 'D = the damping forces'' work')
     end subroutine check_dissipation
 
     !> The last node's rotation vector at 1.25 pi - 0.05 about its axis, turned to 1.25 pi + 0.05

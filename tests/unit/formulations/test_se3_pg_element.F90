@@ -607,6 +607,7 @@ contains
         real(rk) :: theta(6), dtheta(6, 12), rate(12), big(3), w(3), rate_norm
         integer :: sample, i
         real(rk) :: worst
+        logical :: ok
         character(len=100) :: text
         worst = 0.0_rk
         do sample = 1, 12
@@ -621,11 +622,14 @@ contains
             call se3_twist_tangent(c%q, theta, dtheta)
             rate_norm = maxval(abs(dtheta)) * maxval(abs(rate))
             worst = max(worst, maxval(abs(matmul(dtheta, rate))) / rate_norm)
-            CHECK_TRUE(maxval(abs(matmul(dtheta, rate))) <= 1.0e-12_rk * rate_norm, 'rigid: no strain rate')
+            ok = maxval(abs(matmul(dtheta, rate))) <= 1.0e-12_rk * rate_norm
+            CHECK_TRUE(ok, 'rigid: no strain rate')
             rate(7:9) = rate(7:9) + 0.1_rk * c%q(7:9)
-            CHECK_TRUE(maxval(abs(matmul(dtheta, rate))) > 1.0e-3_rk * rate_norm, 'deforming: a strain rate')
+            ok = maxval(abs(matmul(dtheta, rate))) > 1.0e-3_rk * rate_norm
+            CHECK_TRUE(ok, 'deforming: a strain rate')
         end do
-        write(text, '(a,es9.2)') '    rigid velocity fields: max |d theta / d q q''| (relative) ', worst
+        write(text, '(a,es9.2)') '    rigid velocity fields: max |d theta / d q q''| (rel.) ', &
+            worst
         write(output_unit, '(a)') trim(text)
     end subroutine test_rigid_strain_rate
 
