@@ -31,7 +31,14 @@
 !>   by design (docs/theory/se3_pg.md, "Generalized-alpha").
 !>
 !> State X: q = (r_k, psi_k) for the nodes k, then u = (v_k, omega_k); with generalized-alpha
-!> also the history y'_n: q'_n = (r'_k, psi'_k), then u'_n = (v'_k, omega'_k), each 6 per node.
+!> also the history y'_n: q'_n = (r'_k, psi'_k), then u'_n = (v'_k, omega'_k), each 6 per node,
+!> and with Kelvin-Voigt damping the strain rates eps'_n, 6 per element.
+!>
+!> Damping (&rod kelvin_voigt_time, drag, angular_drag; docs/theory/se3_pg.md "Damping",
+!> docs/theory/damping.md): the Kelvin-Voigt stress V eps' of the objective element strains
+!> eps = theta / l (methods eq. 38) is added to the elastic stress of g_int, eps' the scheme's
+!> stage rate ((eps_{n+1} - eps_n) / h for the midpoint rule); the drag and angular drag are the
+!> consistent matrix C_e on the stage velocities. D_n >= 0 is booked as dissipated.
 !>
 !> Supports eliminate unknowns: clamped fixes r and psi, pinned fixes r (the heavy top's
 !> spherical joint), driven prescribes r and psi (a clamp moved and turned in time, e.g. the
@@ -56,7 +63,8 @@ module rs_se3_pg
     use rs_se3_pg_tie, only: se3_pg_node_tie_t, se3_pg_node_tie
     use rs_se3_pg_element, only: se3_strains, se3_internal_force, se3_internal_tangent, &
         se3_element_mass, se3_gyroscopic, follower_force, dead_moment, se3_strain_energy, &
-        se3_mass_solve
+        se3_mass_solve, se3_viscous_internal_force, se3_twist_tangent
+    use rs_model_damping, only: kv_axial, kv_shear1, kv_shear2, kv_bend1, kv_bend2, kv_torsion
     use rs_formulations_generalized_alpha, only: generalized_alpha_t, generalized_alpha, &
         midpoint_scheme
     use rs_formulations_energy_sentinel, only: energy_dissipative
@@ -93,6 +101,13 @@ module rs_se3_pg
         !> K-basis stiffnesses (EA, GA1, GA2, GJ, EI1, EI2), mass per length, K-basis inertia
         !> (rhoI1 + rhoI2, rhoI1, rhoI2) (methods §3.3, §3.5 with (x, y, z) = (d3, d1, d2)).
         real(rk) :: stiffness(6) = 0.0_rk, rho_a = 0.0_rk, inertia(3) = 0.0_rk
+        !> Damping (docs/theory/se3_pg.md, "Damping"): the Kelvin-Voigt viscosities tau_i k_i in
+        !> the order of `stiffness`, the drag (force per length and velocity) and the angular
+        !> drag (moment per length and angular velocity). `kelvin_voigt` and `dragged` say
+        !> whether any is not zero: an undamped rod skips the terms. With generalized-alpha and
+        !> Kelvin-Voigt, the state also carries the history of the strain rates, 6 per element.
+        real(rk) :: viscosity(6) = 0.0_rk, drag = 0.0_rk, angular_drag = 0.0_rk
+        logical :: kelvin_voigt = .false., dragged = .false.
         !> Per element: reference length l_e = |theta_v(Q)| and reference strains (§5.3).
         real(rk), allocatable :: element_length(:), eps_ref(:, :)
         !> Reference arc length of the nodes.
@@ -129,7 +144,7 @@ module rs_se3_pg
         procedure :: error_entries => se3_error_entries
         procedure :: new_tie => se3_new_tie
         procedure, private :: full_q, nodal_loads, energies, stage_velocity, set_drives, &
-            rate_of, stage_q, initial_rates
+            rate_of, stage_q, initial_rates, stage_strain_rate, strain_rate_at, drag_matrix
     end type se3_pg_t
 
 contains
@@ -158,6 +173,16 @@ contains
             this%stiffness = [rod%EA, rod%GA1, rod%GA2, rod%GJ, rod%EI1, rod%EI2]
             this%rho_a = rod%rhoA
             this%inertia = [rod%rhoI1 + rod%rhoI2, rod%rhoI1, rod%rhoI2]
+            ! &rod kelvin_voigt_time is in the order (EA, GA1, GA2, EI1, EI2, GJ); the input
+            ! check refuses damping in statics.
+            if (.not. this%statics) then
+                this%viscosity = this%stiffness * rod%kelvin_voigt_time([kv_axial, kv_shear1, &
+                    kv_shear2, kv_torsion, kv_bend1, kv_bend2])
+                this%drag = rod%drag
+                this%angular_drag = rod%angular_drag
+            end if
+            this%kelvin_voigt = any(this%viscosity /= 0.0_rk)
+            this%dragged = this%drag /= 0.0_rk .or. this%angular_drag /= 0.0_rk
             call reference_configuration(this, rod)
             call fix_supports(this, scene, err)
             RS_RETURN_IF_ERROR(err)
@@ -181,34 +206,48 @@ contains
     !> the free rows, solved with the constant mass matrix (se3_mass_solve). A support's rows
     !> have u' = 0: a clamp and a pin do not accelerate; a driven end's acceleration at t = 0 is
     !> taken as zero too (exact for every time function but a pulse that starts at t = 0, which
-    !> the time functions' values alone do not give; docs/theory/se3_pg.md).
+    !> the time functions' values alone do not give; docs/theory/se3_pg.md). With damping, f
+    !> includes the drag of u_0 and the Kelvin-Voigt stress of the strain rates eps'_0 = (d theta
+    !> / d q) q'_0 / l per element, which start the strains' history.
     subroutine initial_rates(this)
         class(se3_pg_t), intent(inout) :: this
         real(rk) :: q(6, this%n_nodes), u(6, this%n_nodes), rows(6, this%n_nodes), g(12)
-        real(rk) :: kg(12, 12), accel(6, this%n_nodes), u_e(12), q_e(12)
-        integer :: k, e, n
+        real(rk) :: kg(12, 12), accel(6, this%n_nodes), u_e(12), q_e(12), rate(6, this%n_nodes)
+        real(rk) :: theta(6), dtheta(6, 12), eps_rate(6), c(12, 12)
+        integer :: k, e, n, at
         n = this%n_nodes
         q = reshape(this%initial(1:6 * n), [6, n])
         u = reshape(this%initial(6 * n + 1:12 * n), [6, n])
+        do k = 1, n
+            rate(1:3, k) = u(1:3, k)
+            rate(4:6, k) = matmul(tinv(q(4:6, k)), u(4:6, k))
+        end do
         rows = 0.0_rk
         do e = 1, this%n_elements
             q_e = [q(:, e), q(:, e + 1)]
             u_e = [u(:, e), u(:, e + 1)]
-            call se3_internal_force(this%element_length(e), this%stiffness, this%eps_ref(:, e), &
-                q_e, g)
+            eps_rate = 0.0_rk
+            if (this%kelvin_voigt) then
+                call se3_twist_tangent(q_e, theta, dtheta)
+                eps_rate = matmul(dtheta, [rate(:, e), rate(:, e + 1)]) / this%element_length(e)
+                at = this%strain_rate_at(e)
+                this%initial(at + 1:at + 6) = eps_rate
+            end if
+            call se3_viscous_internal_force(this%element_length(e), this%stiffness, &
+                this%eps_ref(:, e), this%viscosity * eps_rate, q_e, g)
             rows(:, e:e + 1) = rows(:, e:e + 1) - reshape(g, [6, 2])
             call se3_gyroscopic(this%element_length(e), this%inertia, u_e, g, kg)
             rows(:, e:e + 1) = rows(:, e:e + 1) - reshape(g, [6, 2])
+            if (this%dragged) then
+                call this%drag_matrix(e, c)
+                rows(:, e:e + 1) = rows(:, e:e + 1) - reshape(matmul(c, u_e), [6, 2])
+            end if
         end do
         call this%nodal_loads(0.0_rk, q, .false.)
         rows = rows + this%f_ext
         call se3_mass_solve(this%element_length, this%rho_a, this%inertia, this%unknown_of > 0, &
             rows, accel)
-        do k = 1, n
-            this%initial(12 * n + 6 * (k - 1) + 1:12 * n + 6 * (k - 1) + 3) = u(1:3, k)
-            this%initial(12 * n + 6 * (k - 1) + 4:12 * n + 6 * k) = &
-                matmul(tinv(q(4:6, k)), u(4:6, k))
-        end do
+        this%initial(12 * n + 1:18 * n) = reshape(rate, [6 * n])
         this%initial(18 * n + 1:24 * n) = reshape(accel, [6 * n])
     end subroutine initial_rates
 
@@ -417,11 +456,54 @@ contains
         end do
     end subroutine se3_error_entries
 
-    !> 12 per node (q, u); 24 with the history (q', u') of generalized-alpha.
+    !> 12 per node (q, u); 24 with the history (q', u') of generalized-alpha, then with
+    !> Kelvin-Voigt damping the history of the strain rates eps' (6 per element, strain_rate_at).
     pure integer function se3_n_state(this)
         class(se3_pg_t), intent(in) :: this
         se3_n_state = merge(24, 12, this%scheme%history) * this%n_nodes
+        if (this%scheme%history .and. this%kelvin_voigt) se3_n_state = se3_n_state + &
+            6 * this%n_elements
     end function se3_n_state
+
+    !> The offset in the state of element e's strain-rate history eps'_n (generalized-alpha with
+    !> Kelvin-Voigt damping only).
+    pure integer function strain_rate_at(this, e)
+        class(se3_pg_t), intent(in) :: this
+        integer, intent(in) :: e
+        strain_rate_at = 24 * this%n_nodes + 6 * (e - 1)
+    end function strain_rate_at
+
+    !> The strain rate of element e at the stage, on which the Kelvin-Voigt stress acts: the
+    !> scheme's stage rate of the objective strains eps = theta / l (methods eq. (38)) from
+    !> eps_n (x_n), eps_1 = eps_{n+1} and the history eps'_n; the midpoint rule's is
+    !> (eps_{n+1} - eps_n) / h. Only relative poses enter, so a rigid motion has none
+    !> (docs/theory/se3_pg.md, "Damping").
+    pure function stage_strain_rate(this, h, x_n, e, eps_1) result(rate)
+        class(se3_pg_t), intent(in) :: this
+        real(rk), intent(in) :: h, x_n(:), eps_1(6)
+        integer, intent(in) :: e
+        real(rk) :: rate(6)
+        real(rk) :: eps_n(6), history(6)
+        integer :: at
+        call se3_strains(this%element_length(e), x_n(6 * (e - 1) + 1:6 * (e + 1)), eps_n)
+        history = 0.0_rk
+        if (this%scheme%history) then
+            at = this%strain_rate_at(e)
+            history = x_n(at + 1:at + 6)
+        end if
+        rate = this%scheme%stage_rate(h, eps_n, eps_1, history)
+    end function stage_strain_rate
+
+    !> Element e's consistent drag matrix (12 x 12, u space): the drag and angular drag per
+    !> length on the linearly interpolated velocities (methods eq. (41)) tested with the linear
+    !> test functions, l [[1/3, 1/6], [1/6, 1/3]] (x) blockdiag(drag 1_3, angular_drag 1_3):
+    !> the consistent mass matrix's form (se3_element_mass) with these coefficients.
+    pure subroutine drag_matrix(this, e, c)
+        class(se3_pg_t), intent(in) :: this
+        integer, intent(in) :: e
+        real(rk), intent(out) :: c(12, 12)
+        call se3_element_mass(this%element_length(e), this%drag, spread(this%angular_drag, 1, 3), c)
+    end subroutine drag_matrix
 
     pure integer function se3_n_unknown(this)
         class(se3_pg_t), intent(in) :: this
@@ -517,13 +599,14 @@ contains
     !> §7.3). Then the complement of every rotation vector longer than complement_angle (pi;
     !> 1.25 pi with generalized-alpha) (methods eq. 40), which changes the coordinates, not the
     !> rotation, so u (K components) stays and psi' is carried to the new chart
-    !> (rate_in_complement).
+    !> (rate_in_complement). With Kelvin-Voigt damping, the strains' history eps'_{n+1} by the
+    !> same update formula (the strains do not depend on the chart).
     subroutine se3_update(this, t_n, h, x_n, y, x_1)
         class(se3_pg_t), intent(inout) :: this
         real(rk), intent(in) :: t_n, h, x_n(:), y(:)
         real(rk), intent(out) :: x_1(:)
-        real(rk) :: u_stage(6), psi(3)
-        integer :: k, at, au, aq, aa, n
+        real(rk) :: u_stage(6), psi(3), eps_n(6), eps_1(6)
+        integer :: k, at, au, aq, aa, n, e
         call this%set_drives(t_n + h, x_n)
         call this%full_q(x_n, y, this%q_1)
         n = this%n_nodes
@@ -551,6 +634,13 @@ contains
             if (this%scheme%history .and. any(psi /= this%q_1(4:6, k))) &
                 x_1(aq + 4:aq + 6) = rate_in_complement(this%q_1(4:6, k), x_1(aq + 4:aq + 6), &
                 (0.5_rk - this%scheme%gamma) * h)
+        end do
+        if (.not. (this%scheme%history .and. this%kelvin_voigt)) return
+        do e = 1, this%n_elements
+            at = this%strain_rate_at(e)
+            call se3_strains(this%element_length(e), x_n(6 * (e - 1) + 1:6 * (e + 1)), eps_n)
+            call se3_strains(this%element_length(e), [this%q_1(:, e), this%q_1(:, e + 1)], eps_1)
+            x_1(at + 1:at + 6) = this%scheme%end_rate(h, eps_n, eps_1, x_n(at + 1:at + 6))
         end do
     end subroutine se3_update
 
@@ -648,14 +738,16 @@ contains
     !> 49-51, §7.3), M u'_{n+alpha_m} + g_int(q_{n+alpha_f}) + f_gyr(u_{n+alpha_f}) -
     !> f_ext(q_{n+alpha_f}, t_n + alpha_f h), with u_{n+1} = u_n + (u_{n+alpha_f} - u_n) /
     !> alpha_f and u'_{n+alpha_m} from u_n, u_{n+1} and u'_n; the midpoint rule: M (u_{n+1} -
-    !> u_n) / h + g_int(q_mid) + f_gyr(u_mid) - f_ext(q_mid, t_{n+1/2}).
+    !> u_n) / h + g_int(q_mid) + f_gyr(u_mid) - f_ext(q_mid, t_{n+1/2}). Damping (docs/theory/
+    !> se3_pg.md, "Damping"): g_int with the Kelvin-Voigt stress V eps'_s of the stage strain
+    !> rate (stage_strain_rate) added to the elastic one, and the drag C u_{n+alpha_f}.
     subroutine se3_step_residual(this, t_n, h, x_n, y, f, status)
         class(se3_pg_t), intent(inout) :: this
         real(rk), intent(in) :: t_n, h, x_n(:), y(:)
         real(rk), intent(out) :: f(:)
         integer, intent(out) :: status
         real(rk) :: q_e(12), g(12), m(12, 12), u_stage(12), accel(12), gyr(12), kg(12, 12)
-        real(rk) :: q_at(6, this%n_nodes), rows(6, this%n_nodes)
+        real(rk) :: q_at(6, this%n_nodes), rows(6, this%n_nodes), c(12, 12), eps_1(6)
         integer :: e, k, i
         call this%set_drives(t_n + h, x_n)
         call this%full_q(x_n, y, this%q_1)
@@ -663,13 +755,25 @@ contains
         rows = 0.0_rk
         do e = 1, this%n_elements
             q_e = [q_at(:, e), q_at(:, e + 1)]
-            call se3_internal_force(this%element_length(e), this%stiffness, this%eps_ref(:, e), &
-                q_e, g)
+            if (this%kelvin_voigt) then
+                call se3_strains(this%element_length(e), [this%q_1(:, e), this%q_1(:, e + 1)], &
+                    eps_1)
+                call se3_viscous_internal_force(this%element_length(e), this%stiffness, &
+                    this%eps_ref(:, e), this%viscosity * this%stage_strain_rate(h, x_n, e, eps_1), &
+                    q_e, g)
+            else
+                call se3_internal_force(this%element_length(e), this%stiffness, &
+                    this%eps_ref(:, e), q_e, g)
+            end if
             if (.not. this%statics) then
                 call stage_motion(this, h, x_n, e, u_stage, accel)
                 call se3_element_mass(this%element_length(e), this%rho_a, this%inertia, m)
                 call se3_gyroscopic(this%element_length(e), this%inertia, u_stage, gyr, kg)
                 g = g + matmul(m, accel) + gyr
+                if (this%dragged) then
+                    call this%drag_matrix(e, c)
+                    g = g + matmul(c, u_stage)
+                end if
             end if
             rows(:, e) = rows(:, e) + g(1:6)
             rows(:, e + 1) = rows(:, e + 1) + g(7:12)
@@ -716,7 +820,7 @@ contains
         real(rk), intent(out) :: values(:)
         integer, intent(out) :: status
         real(rk) :: q_e(12), k(12, 12), m(12, 12), kg(12, 12), gyr(12), u_stage(12), du(12, 12)
-        real(rk) :: du_node(6, 6), accel(12)
+        real(rk) :: du_node(6, 6), accel(12), g(12), b_t(12, 6), theta(6), dtheta(6, 12), c(12, 12)
         real(rk) :: q_at(6, this%n_nodes), scale
         integer :: e, i, j, node
         call this%set_drives(t_n + h, x_n)
@@ -727,8 +831,15 @@ contains
         values = 0.0_rk
         do e = 1, this%n_elements
             q_e = [q_at(:, e), q_at(:, e + 1)]
-            call se3_internal_tangent(this%element_length(e), this%stiffness, this%eps_ref(:, e), &
-                q_e, k)
+            if (this%kelvin_voigt) then
+                call se3_twist_tangent([this%q_1(:, e), this%q_1(:, e + 1)], theta, dtheta)
+                call se3_viscous_internal_force(this%element_length(e), this%stiffness, &
+                    this%eps_ref(:, e), this%viscosity * this%stage_strain_rate(h, x_n, e, &
+                    theta / this%element_length(e)), q_e, g, k, b_t)
+            else
+                call se3_internal_tangent(this%element_length(e), this%stiffness, &
+                    this%eps_ref(:, e), q_e, k)
+            end if
             k = scale * k
             ! Load tangents enter once per node: with the element that starts there, and the
             ! last node with the last element.
@@ -750,6 +861,19 @@ contains
                 call se3_element_mass(this%element_length(e), this%rho_a, this%inertia, m)
                 call se3_gyroscopic(this%element_length(e), this%inertia, u_stage, gyr, kg)
                 k = k + matmul(this%scheme%stage_rate_factor(h) / this%scheme%alpha_f * m + kg, du)
+                if (this%dragged) then
+                    call this%drag_matrix(e, c)
+                    k = k + matmul(c, du)
+                end if
+                ! The Kelvin-Voigt stress V eps'_s: d eps'_s / d q_{n+1} = alpha_m / (h gamma)
+                ! d theta(q_{n+1}) / d q / l (the midpoint rule: 1 / h).
+                if (this%kelvin_voigt) then
+                    do j = 1, 12
+                        dtheta(:, j) = this%viscosity * this%scheme%stage_rate_factor(h) / &
+                            this%element_length(e) * dtheta(:, j)
+                    end do
+                    k = k + matmul(b_t, dtheta)
+                end if
             end if
             do j = 1, 12
                 do i = 1, 12
@@ -835,16 +959,17 @@ contains
     !> The energy terms of the step (terms(1)): the work of the loads over the step,
     !> f_ext(q_s, t_s) . (dr, T(psi_s) dpsi) per node at the stage (q_{n+alpha_f}, t_n +
     !> alpha_f h; the midpoint rule's midpoint; statics: at t_{n+1} and q_{n+1}), and H_n,
-    !> H_{n+1}, whose balance H_{n+1} - H_n - W the record ledger sums. Neither scheme makes
-    !> it vanish for this element (methods §7.4); it measures the scheme's energy error, and
-    !> generalized-alpha's numerical dissipation.
+    !> H_{n+1}, and the damping's dissipation D_n, whose balance H_{n+1} - H_n - W + D the
+    !> record ledger sums. Neither scheme makes it vanish for this element (methods §7.4); it
+    !> measures the scheme's energy error, and generalized-alpha's numerical dissipation.
     subroutine se3_accept_step(this, t_n, h, x_n, x_1, terms)
         class(se3_pg_t), intent(inout) :: this
         real(rk), intent(in) :: t_n, h, x_n(:), x_1(:)
         type(step_energy_t), intent(out) :: terms(:)
-        real(rk) :: q_n(6, this%n_nodes), q_1(6, this%n_nodes), q_at(6, this%n_nodes), ds(6)
-        real(rk) :: work, kinetic_n, strain_n, kinetic_1, strain_1
-        integer :: k
+        real(rk) :: q_n(6, this%n_nodes), q_1(6, this%n_nodes), q_at(6, this%n_nodes)
+        real(rk) :: ds(6, this%n_nodes), ds_e(12), c(12, 12), eps_n(6), eps_1(6)
+        real(rk) :: work, kinetic_n, strain_n, kinetic_1, strain_1, dissipated
+        integer :: k, e
         q_n = reshape(x_n(1:6 * this%n_nodes), [6, this%n_nodes])
         q_1 = reshape(x_1(1:6 * this%n_nodes), [6, this%n_nodes])
         ! x_1 holds complemented rotation vectors: undo on the nodes whose angle jumped, so that
@@ -856,14 +981,31 @@ contains
         call this%nodal_loads(force_time(this, t_n, h), q_at, .false.)
         work = 0.0_rk
         do k = 1, this%n_nodes
-            ds(1:3) = q_1(1:3, k) - q_n(1:3, k)
-            ds(4:6) = matmul(tangent_so3(q_at(4:6, k)), q_1(4:6, k) - q_n(4:6, k))
-            work = work + dot_product(this%f_ext(:, k), ds)
+            ds(1:3, k) = q_1(1:3, k) - q_n(1:3, k)
+            ds(4:6, k) = matmul(tangent_so3(q_at(4:6, k)), q_1(4:6, k) - q_n(4:6, k))
+            work = work + dot_product(this%f_ext(:, k), ds(:, k))
+        end do
+        ! The damping's D_n >= 0 (docs/theory/se3_pg.md, "Damping"): h l (d eps / h)^T V (d eps /
+        ! h) per element and h (ds / h)^T C (ds / h) with the drag matrix C (for the midpoint
+        ! rule the drag's work itself).
+        dissipated = 0.0_rk
+        do e = 1, this%n_elements
+            if (this%kelvin_voigt) then
+                call se3_strains(this%element_length(e), q_n(:, e:e + 1), eps_n)
+                call se3_strains(this%element_length(e), q_1(:, e:e + 1), eps_1)
+                dissipated = dissipated + this%element_length(e) / h * &
+                    dot_product(eps_1 - eps_n, this%viscosity * (eps_1 - eps_n))
+            end if
+            if (this%dragged) then
+                call this%drag_matrix(e, c)
+                ds_e = [ds(:, e), ds(:, e + 1)]
+                dissipated = dissipated + dot_product(ds_e, matmul(c, ds_e)) / h
+            end if
         end do
         call this%energies(x_n, kinetic_n, strain_n)
         call this%energies(x_1, kinetic_1, strain_1)
         terms(1) = step_energy_t(reported=.true., before=kinetic_n + strain_n, &
-            after=kinetic_1 + strain_1, work=work)
+            after=kinetic_1 + strain_1, work=work, dissipated=dissipated)
     end subroutine se3_accept_step
 
     !> Kinetic energy 1/2 u^T M u (consistent mass) and strain energy sum_e l_e W(eps_e).

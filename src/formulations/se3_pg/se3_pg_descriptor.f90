@@ -21,14 +21,15 @@ contains
         ! seed 002 (methods/se3_petrov_galerkin.md §3.4, §7, §10): clamped and pinned ends
         ! by elimination, dead and follower end loads, dead distributed loads and gravity,
         ! statics (&time quasistatic) and dynamics by the midpoint rule or the paper's
-        ! generalized-alpha scheme (§7.3); any reference the SE(3) interpolation represents.
+        ! generalized-alpha scheme (§7.3); any reference the SE(3) interpolation represents;
+        ! Kelvin-Voigt viscosity and drag in both schemes (docs/theory/se3_pg.md, "Damping").
         d%capability = capability_t(formulation=d%name, available=.true., &
             end_kinds='clamped|pinned|free|driven', &
             load_places='start|end|distributed|gravity', load_frames='spatial|follower', &
             constraints='none', quasistatic=.true., viscoelastic=.false., actuation=.false., &
             curved_reference=.true., joints='rigid|spherical|revolute', end_plates=.true., &
             contact=.true., planar=.false., drive='pose', order_4=.true., &
-            adaptive=.true., generalized_alpha=.true.)
+            adaptive=.true., generalized_alpha=.true., damping=.true.)
         ! Joints, end plates and rod-rod contact through the system layer (src/system/) on
         ! se3_pg's node access (se3_pg%nodes, its tie rows in rs_se3_pg_tie): issue 22 item 5.
         d%system_couplings = .true.

@@ -44,13 +44,14 @@ module rs_se3_pg_element
     public :: se3_strains, se3_internal_force, se3_internal_tangent, se3_internal_force_tangent
     public :: se3_strain_energy, se3_element_mass, se3_gyroscopic, se3_mass_solve
     public :: se3_kinematics, tinv_times_derivative, follower_force, dead_moment
-    public :: se3_element_twist
+    public :: se3_element_twist, se3_twist_tangent, se3_viscous_internal_force
 
     !> Points (on [0, 1]) and weight of the 2-point Gauss-Legendre rule of every element
     !> integral (methods §6.1 item 6).
     real(rk), parameter, public :: se3_gauss_points(2) = &
         [0.5_rk - 0.5_rk / sqrt(3.0_rk), 0.5_rk + 0.5_rk / sqrt(3.0_rk)]
     real(rk), parameter, public :: se3_gauss_weight = 0.5_rk
+    real(rk), parameter :: no_stress(6) = 0.0_rk
 
 contains
 
@@ -94,7 +95,7 @@ contains
         real(rk), intent(in) :: l, stiffness(6), eps_ref(6), q(12)
         real(rk), intent(out) :: g(12)
         real(rk) :: k(12, 12)
-        call internal_force_tangent(.false., l, stiffness, eps_ref, q, g, k)
+        call internal_force_tangent(.false., l, stiffness, eps_ref, no_stress, q, g, k)
     end subroutine se3_internal_force
 
     !> Analytic tangent k(12, 12) = d g / d q of `se3_internal_force` (methods §6.4 with the
@@ -103,15 +104,59 @@ contains
         real(rk), intent(in) :: l, stiffness(6), eps_ref(6), q(12)
         real(rk), intent(out) :: k(12, 12)
         real(rk) :: g(12)
-        call internal_force_tangent(.true., l, stiffness, eps_ref, q, g, k)
+        call internal_force_tangent(.true., l, stiffness, eps_ref, no_stress, q, g, k)
     end subroutine se3_internal_tangent
 
     !> `se3_internal_force` and `se3_internal_tangent` in one evaluation (one Log, two Exp).
     pure subroutine se3_internal_force_tangent(l, stiffness, eps_ref, q, g, k)
         real(rk), intent(in) :: l, stiffness(6), eps_ref(6), q(12)
         real(rk), intent(out) :: g(12), k(12, 12)
-        call internal_force_tangent(.true., l, stiffness, eps_ref, q, g, k)
+        call internal_force_tangent(.true., l, stiffness, eps_ref, no_stress, q, g, k)
     end subroutine se3_internal_force_tangent
+
+    !> The internal force with a viscous stress sigma_v = (n_v, m_v) (K components, the order of
+    !> eps) added to the elastic one, the Kelvin-Voigt stress of docs/theory/se3_pg.md "Damping":
+    !> g of `se3_internal_force` with n + n_v and m + m_v in methods eq. (42). With `k`: d g / d q
+    !> at fixed sigma_v (the tangent of `se3_internal_tangent` with the total stress in its
+    !> geometric terms); with `b_t`: d g / d sigma_v (12 x 6), the Petrov-Galerkin operator that
+    !> carries a stress to the virtual-displacement rows: -+ sum_g w_g A(t_g) on n in the
+    !> position rows, -hat(theta_v) / 2 on n and -+1 - hat(theta_w) / 2 on m in the rotation
+    !> rows.
+    pure subroutine se3_viscous_internal_force(l, stiffness, eps_ref, sigma_v, q, g, k, b_t)
+        real(rk), intent(in) :: l, stiffness(6), eps_ref(6), sigma_v(6), q(12)
+        real(rk), intent(out) :: g(12)
+        real(rk), intent(out), optional :: k(12, 12), b_t(12, 6)
+        real(rk) :: k_local(12, 12), b_local(12, 6)
+        call internal_force_tangent(present(k), l, stiffness, eps_ref, sigma_v, q, g, k_local, &
+            present(b_t), b_local)
+        if (present(k)) k = k_local
+        if (present(b_t)) b_t = b_local
+    end subroutine se3_viscous_internal_force
+
+    !> The element twist theta = Log_SE3(H_a^{-1} H_b) and its derivative d theta / d q (6 x 12)
+    !> (the linearization of `internal_force_tangent`): d theta = -T_SE3^{-1}(-theta) d eta_a +
+    !> T_SE3^{-1}(theta) d eta_b with the body variations d eta_i = (A_i^T dr_i, T(psi_i) dpsi_i).
+    !> d theta / l applied to a velocity (v_i, psi'_i) is the rate of the objective strains
+    !> (methods eq. (38)); it vanishes on every rigid velocity field.
+    pure subroutine se3_twist_tangent(q, theta, dtheta)
+        real(rk), intent(in) :: q(12)
+        real(rk), intent(out) :: theta(6), dtheta(6, 12)
+        real(rk) :: a_a(3, 3), a_b(3, 3)
+        call se3_element_twist(q, theta, a_a, a_b)
+        call twist_derivative(q, theta, a_a, a_b, dtheta)
+    end subroutine se3_twist_tangent
+
+    pure subroutine twist_derivative(q, theta, a_a, a_b, dtheta)
+        real(rk), intent(in) :: q(12), theta(6), a_a(3, 3), a_b(3, 3)
+        real(rk), intent(out) :: dtheta(6, 12)
+        real(rk) :: tinv_a(6, 6), tinv_b(6, 6)
+        tinv_a = tangent_inverse_se3(-theta)
+        tinv_b = tangent_inverse_se3(theta)
+        dtheta(:, 1:3) = -matmul(tinv_a(:, 1:3), transpose(a_a))
+        dtheta(:, 4:6) = -matmul(tinv_a(:, 4:6), tangent_so3(q(4:6)))
+        dtheta(:, 7:9) = matmul(tinv_b(:, 1:3), transpose(a_b))
+        dtheta(:, 10:12) = matmul(tinv_b(:, 4:6), tangent_so3(q(10:12)))
+    end subroutine twist_derivative
 
     ! Internal force and, when want_tangent, its derivative with respect to q.
     !
@@ -125,18 +170,23 @@ contains
     ! point, A(t) = A_a E with E = Exp_SO3(t theta_w), A_a^T dA_a = hat(T_a dpsi_a) and
     ! E^T dE = hat(t T(t theta_w) dtheta_w) give
     !     d(A(t) n) = A(t) [dn - hat(n) (E^T T_a dpsi_a + t T(t theta_w) dtheta_w)].
-    pure subroutine internal_force_tangent(want_tangent, l, stiffness, eps_ref, q, g, k)
+    ! The stress is the elastic one plus sigma_extra (held fixed in k); with want_stress_map,
+    ! b_t = d g / d sigma_extra (se3_viscous_internal_force).
+    pure subroutine internal_force_tangent(want_tangent, l, stiffness, eps_ref, sigma_extra, q, &
+            g, k, want_stress_map, b_t)
         logical, intent(in) :: want_tangent
-        real(rk), intent(in) :: l, stiffness(6), eps_ref(6), q(12)
+        real(rk), intent(in) :: l, stiffness(6), eps_ref(6), sigma_extra(6), q(12)
         real(rk), intent(out) :: g(12), k(12, 12)
+        logical, intent(in), optional :: want_stress_map
+        real(rk), intent(out), optional :: b_t(12, 6)
         real(rk) :: theta(6), a_a(3, 3), a_b(3, 3), n(3), m(3), couple(3), an(3)
-        real(rk) :: e(3, 3, 2), a_t(3, 3, 2), t_a(3, 3), tinv_a(6, 6), tinv_b(6, 6)
+        real(rk) :: e(3, 3, 2), a_t(3, 3, 2), t_a(3, 3)
         real(rk) :: dtheta(6, 12), dsigma(6, 12), dv(3, 12), dw(3, 12), dn(3, 12), dm(3, 12)
         real(rk) :: rot(3, 12), dan(3, 12), dcouple(3, 12), n_hat(3, 3), t_t(3, 3)
         integer :: ig, j
         call se3_element_twist(q, theta, a_a, a_b)
-        n = stiffness(1:3) * (theta(1:3) / l - eps_ref(1:3))
-        m = stiffness(4:6) * (theta(4:6) / l - eps_ref(4:6))
+        n = stiffness(1:3) * (theta(1:3) / l - eps_ref(1:3)) + sigma_extra(1:3)
+        m = stiffness(4:6) * (theta(4:6) / l - eps_ref(4:6)) + sigma_extra(4:6)
         an = 0.0_rk
         do ig = 1, 2
             e(:, :, ig) = exp_so3(se3_gauss_points(ig) * theta(4:6))
@@ -148,18 +198,16 @@ contains
         g(4:6) = -m - couple
         g(7:9) = an
         g(10:12) = m - couple
+        if (present(want_stress_map)) then
+            if (want_stress_map) call stress_map(theta, a_t, b_t)
+        end if
         if (.not. want_tangent) then
             k = 0.0_rk
             return
         end if
 
         t_a = tangent_so3(q(4:6))
-        tinv_a = tangent_inverse_se3(-theta)
-        tinv_b = tangent_inverse_se3(theta)
-        dtheta(:, 1:3) = -matmul(tinv_a(:, 1:3), transpose(a_a))
-        dtheta(:, 4:6) = -matmul(tinv_a(:, 4:6), t_a)
-        dtheta(:, 7:9) = matmul(tinv_b(:, 1:3), transpose(a_b))
-        dtheta(:, 10:12) = matmul(tinv_b(:, 4:6), tangent_so3(q(10:12)))
+        call twist_derivative(q, theta, a_a, a_b, dtheta)
         do j = 1, 12
             dsigma(:, j) = (stiffness / l) * dtheta(:, j)
         end do
@@ -184,6 +232,26 @@ contains
         k(7:9, :) = dan
         k(10:12, :) = dm - dcouple
     end subroutine internal_force_tangent
+
+    ! b_t = d g / d sigma (12 x 6) of `internal_force_tangent` at the element twist theta, with
+    ! the Gauss points' rotations a_t: -+ sum_g w_g A(t_g) on n in the position rows,
+    ! -hat(theta_v) / 2 on n and -+1 - hat(theta_w) / 2 on m in the rotation rows.
+    pure subroutine stress_map(theta, a_t, b_t)
+        real(rk), intent(in) :: theta(6), a_t(3, 3, 2)
+        real(rk), intent(out) :: b_t(12, 6)
+        integer :: j
+        b_t = 0.0_rk
+        b_t(7:9, 1:3) = se3_gauss_weight * (a_t(:, :, 1) + a_t(:, :, 2))
+        b_t(1:3, 1:3) = -b_t(7:9, 1:3)
+        b_t(4:6, 1:3) = -0.5_rk * hat(theta(1:3))
+        b_t(10:12, 1:3) = b_t(4:6, 1:3)
+        b_t(4:6, 4:6) = -0.5_rk * hat(theta(4:6))
+        b_t(10:12, 4:6) = b_t(4:6, 4:6)
+        do j = 1, 3
+            b_t(3 + j, 3 + j) = b_t(3 + j, 3 + j) - 1.0_rk
+            b_t(9 + j, 3 + j) = b_t(9 + j, 3 + j) + 1.0_rk
+        end do
+    end subroutine stress_map
 
     !> Consistent constant mass matrix m(12, 12) in u space of a centroidal section
     !> (S_rho0 = 0, methods §6.3): l [[1/3, 1/6], [1/6, 1/3]] (x) blockdiag(rho_a 1_3,

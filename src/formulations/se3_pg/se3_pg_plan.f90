@@ -2,7 +2,8 @@
 !> element, the unknowns, statics or dynamics, supports and loads, and what is skipped.
 module rs_se3_pg_plan
     use rs_core_strings, only: str
-    use rs_model_scene, only: scene_t, load_applies_to
+    use rs_model_scene, only: scene_t, load_applies_to, rod_is_damped
+    use rs_model_damping, only: damping_plan_text
     implicit none
     private
 
@@ -65,6 +66,9 @@ contains
             end do
             call add('loads: ' // str(n_dead) // ' dead, ' // str(n_follower) // ' follower ' // &
                 '(their tangents enter Newton)')
+            if (rod_is_damped(rod)) call add('damping: ' // damping_plan_text(rod) // &
+                ' (docs/theory/se3_pg.md "Damping": the Kelvin-Voigt stress of the objective ' // &
+                'strain rate, the drag of the step''s velocities; booked as dissipated)')
             call add('skipped: constraints, Maxwell branches, actuators, joints')
         end associate
     contains

@@ -43,6 +43,7 @@ contains
         call run_test('auto_3d_reason', test_auto_3d_reason)
         call run_test('bundle_plan', test_bundle_plan)
         call run_test('strand_step', test_strand_step)
+        call run_test('se3_pg_damping', test_se3_pg_damping)
         call run_test('long_rod_counts', test_long_rod_counts)
         call run_test('sizes_extend_exactly', test_sizes_extend_exactly)
     end subroutine run_all_tests
@@ -107,6 +108,18 @@ contains
         CHECK_CONTAINS(plan, 'Newton: none, one linear solve per step', 'no Newton')
         CHECK_TRUE(index(plan, 'midpoint step') == 0, 'no midpoint steps')
     end subroutine test_strand_step
+
+    ! A damped se3_pg rod's plan shows its damping in damping_plan_text's words (issue 26 item 1).
+    subroutine test_se3_pg_damping()
+        character(len=*), parameter :: expected = 'damping: Kelvin-Voigt 1.000E-03 s ' // &
+            '(every component); drag 5.000E-01 N s/m^2'
+        character(len=:), allocatable :: plan
+        plan = plan_of(cantilever(", formulation = 'se3_pg', kelvin_voigt_time = 1e-3, " // &
+            'drag = 0.5', ''), 1)
+        CHECK_CONTAINS(plan, expected, 'damping line')
+        plan = plan_of(cantilever(", formulation = 'se3_pg'", ''), 1)
+        CHECK_TRUE(index(plan, 'damping:') == 0, 'no damping line for an undamped rod')
+    end subroutine test_se3_pg_damping
 
     ! A rod longer than the plan's small builds (issue 21 item 17: the plan builds at most 3
     ! elements and extends the sizes): 40 quadratic elements clamped at both ends, 81 nodes, 79

@@ -9,7 +9,11 @@
 !> Petrov-Galerkin virtual work (exact for zero relative rotation, second order in the element
 !> length otherwise); hand-computed stretch, torsion, bending and shear; the mass matrix; the
 !> one- and two-element cantilever of methods §10.1 solved by Newton with the analytic tangent
-!> against the tip positions of §14.1.
+!> against the tip positions of §14.1. Damping (docs/theory/se3_pg.md, "Damping"): the internal
+!> force with a viscous stress, its tangent at fixed stress and its derivative in the stress, and
+!> the derivative of the element twist, against central differences; the viscous force without
+!> stress is the elastic one; the strain rate of a rigid velocity field is zero (a rigid motion
+!> is not damped).
 !>
 !> Central differences use the step fd_step max(1, |x_j|) per unknown; errors are relative per
 !> row (to the largest entry of the analytic row).
@@ -24,7 +28,7 @@ module rs_test_se3_pg_element
     use rs_se3_pg_element, only: se3_strains, se3_internal_force, se3_internal_tangent, &
         se3_internal_force_tangent, se3_strain_energy, se3_element_mass, se3_gyroscopic, &
         se3_kinematics, tinv_times_derivative, follower_force, dead_moment, se3_element_twist, &
-        se3_mass_solve
+        se3_mass_solve, se3_viscous_internal_force, se3_twist_tangent
     implicit none
     private
 
@@ -34,9 +38,10 @@ module rs_test_se3_pg_element
     real(rk), parameter :: fd_step = 1.0e-6_rk, fd_tol = 1.0e-6_rk
     ! Kernels of the generic finite-difference driver.
     integer, parameter :: k_internal = 1, k_gyroscopic = 2, k_follower = 3, k_dead = 4, &
-        k_tinv = 5
-    character(len=14), parameter :: kernel_name(5) = [character(len=14) :: 'internal', &
-        'gyroscopic', 'follower force', 'dead moment', 'T^-1 w']
+        k_tinv = 5, k_viscous = 6, k_viscous_stress = 7, k_twist = 8
+    character(len=14), parameter :: kernel_name(8) = [character(len=14) :: 'internal', &
+        'gyroscopic', 'follower force', 'dead moment', 'T^-1 w', 'viscous', 'd g / d sigma', &
+        'd theta / d q']
     ! Kinds of random states: general, rotation vectors beyond pi, small angles.
     integer, parameter :: general = 1, beyond_pi = 2, small_angles = 3
 
@@ -47,6 +52,8 @@ module rs_test_se3_pg_element
         real(rk) :: stiffness(6) = 1.0_rk, eps_ref(6) = 0.0_rk, inertia(3) = 1.0_rk
         real(rk) :: q(12) = 0.0_rk, u(12) = 0.0_rk
         real(rk) :: psi(3) = 0.0_rk, load(3) = 0.0_rk
+        !> A viscous stress (n_v, m_v), of the order of a tenth of the stiffnesses.
+        real(rk) :: sigma_v(6) = 0.0_rk
     end type se3_case_t
 
 contains
@@ -60,6 +67,8 @@ contains
         call run_test('constant_strain', test_constant_strain)
         call run_test('hand_cases', test_hand_cases)
         call run_test('internal_tangent_fd', test_internal_tangent_fd)
+        call run_test('viscous_force_fd', test_viscous_force_fd)
+        call run_test('rigid_strain_rate', test_rigid_strain_rate)
         call run_test('gyroscopic', test_gyroscopic)
         call run_test('kinematics', test_kinematics)
         call run_test('loads', test_loads)
@@ -147,13 +156,34 @@ contains
             kind == small_angles))
         if (kind == beyond_pi) c%psi = beyond_pi_vector(random_rotation(uniform(0.5_rk, 3.0_rk)))
         c%load = random_vector(3, 10.0_rk)
+        c%sigma_v = 0.1_rk * c%stiffness * random_vector(6, 1.0_rk)
     end function random_case
 
-    ! Number of unknowns (and force rows) of a kernel.
+    ! Number of unknowns of a kernel.
     pure integer function n_unknowns(kernel)
         integer, intent(in) :: kernel
-        n_unknowns = merge(12, 3, kernel == k_internal .or. kernel == k_gyroscopic)
+        select case (kernel)
+        case (k_internal, k_gyroscopic, k_viscous, k_twist)
+            n_unknowns = 12
+        case (k_viscous_stress)
+            n_unknowns = 6
+        case default
+            n_unknowns = 3
+        end select
     end function n_unknowns
+
+    ! Number of force rows of a kernel.
+    pure integer function n_rows(kernel)
+        integer, intent(in) :: kernel
+        select case (kernel)
+        case (k_viscous_stress)
+            n_rows = 12
+        case (k_twist)
+            n_rows = 6
+        case default
+            n_rows = n_unknowns(kernel)
+        end select
+    end function n_rows
 
     ! The case's point of evaluation of a kernel.
     function evaluation_point(kernel, c) result(x)
@@ -162,8 +192,10 @@ contains
         real(rk) :: x(12)
         x = 0.0_rk
         select case (kernel)
-        case (k_internal)
+        case (k_internal, k_viscous, k_twist)
             x = c%q
+        case (k_viscous_stress)
+            x(1:6) = c%sigma_v
         case (k_gyroscopic)
             x = c%u
         case default
@@ -178,7 +210,7 @@ contains
         real(rk), intent(in) :: x(12)
         real(rk), intent(out) :: f(12)
         real(rk), intent(out), optional :: k(12, 12)
-        real(rk) :: g(12), kg(12, 12), f3(3), k3(3, 3), b(3, 3)
+        real(rk) :: g(12), kg(12, 12), f3(3), k3(3, 3), b(3, 3), b_t(12, 6), dtheta(6, 12)
         f = 0.0_rk
         if (present(k)) k = 0.0_rk
         select case (kernel)
@@ -197,8 +229,20 @@ contains
             call se3_kinematics(x(1:3), b)
             f3 = matmul(b, c%load)
             call tinv_times_derivative(x(1:3), c%load, k3)
+        case (k_viscous)
+            if (present(k)) then
+                call se3_viscous_internal_force(c%l, c%stiffness, c%eps_ref, c%sigma_v, x, f, k)
+            else
+                call se3_viscous_internal_force(c%l, c%stiffness, c%eps_ref, c%sigma_v, x, f)
+            end if
+        case (k_viscous_stress)
+            call se3_viscous_internal_force(c%l, c%stiffness, c%eps_ref, x(1:6), c%q, f, b_t=b_t)
+            if (present(k)) k(:, 1:6) = b_t
+        case (k_twist)
+            call se3_twist_tangent(x, f(1:6), dtheta)
+            if (present(k)) k(1:6, :) = dtheta
         end select
-        if (kernel >= k_follower) then
+        if (kernel >= k_follower .and. kernel <= k_tinv) then
             f(1:3) = f3
             if (present(k)) k(1:3, 1:3) = k3
         end if
@@ -211,8 +255,9 @@ contains
         type(se3_case_t), intent(in) :: c
         real(rk) :: error
         real(rk) :: x(12), xp(12), fp(12), fm(12), f(12), k(12, 12), fd(12, 12), step, row_scale
-        integer :: n, i, j
+        integer :: n, m, i, j
         n = n_unknowns(kernel)
+        m = n_rows(kernel)
         x = evaluation_point(kernel, c)
         call kernel_force(kernel, c, x, f, k)
         fd = 0.0_rk
@@ -223,10 +268,10 @@ contains
             call kernel_force(kernel, c, xp, fp)
             xp(j) = x(j) - step
             call kernel_force(kernel, c, xp, fm)
-            fd(1:n, j) = (fp(1:n) - fm(1:n)) / (2.0_rk * step)
+            fd(1:m, j) = (fp(1:m) - fm(1:m)) / (2.0_rk * step)
         end do
         error = 0.0_rk
-        do i = 1, n
+        do i = 1, m
             row_scale = maxval(abs(k(i, 1:n)))
             if (row_scale > 0.0_rk) then
                 error = max(error, maxval(abs(k(i, 1:n) - fd(i, 1:n))) / row_scale)
@@ -520,6 +565,73 @@ contains
             CHECK_CLOSE(k2, k1, 0.0_rk, 0.0_rk, 'combined kernel: same k')
         end do
     end subroutine test_internal_tangent_fd
+
+    ! The Kelvin-Voigt kernels (docs/theory/se3_pg.md, "Damping"): se3_viscous_internal_force's
+    ! tangent at fixed stress and its b_t = d g / d sigma_v, and se3_twist_tangent's d theta / d q,
+    ! against central differences; without a viscous stress it is se3_internal_force, with one
+    ! it is se3_internal_force with the stress moved into the reference strains (n + n_v =
+    ! k (eps - (eps_ref - n_v / k))); its tangent at fixed stress is then se3_internal_tangent's
+    ! at those strains.
+    subroutine test_viscous_force_fd()
+        type(se3_case_t) :: c
+        real(rk) :: g1(12), g2(12), k1(12, 12), k2(12, 12), zero(6), theta(6), a_a(3, 3)
+        real(rk) :: a_b(3, 3), theta_2(6), dtheta(6, 12)
+        integer :: sample
+        call check_fd_random(k_viscous, 8)
+        call check_fd_random(k_viscous_stress, 8)
+        call check_fd_random(k_twist, 8)
+        zero = 0.0_rk
+        do sample = 1, 4
+            c = random_case(general)
+            call se3_internal_force_tangent(c%l, c%stiffness, c%eps_ref, c%q, g1, k1)
+            call se3_viscous_internal_force(c%l, c%stiffness, c%eps_ref, zero, c%q, g2, k2)
+            CHECK_CLOSE(g2, g1, 0.0_rk, 0.0_rk, 'no viscous stress: the elastic force')
+            CHECK_CLOSE(k2, k1, 0.0_rk, 0.0_rk, 'no viscous stress: the elastic tangent')
+            call se3_internal_force_tangent(c%l, c%stiffness, c%eps_ref - c%sigma_v / c%stiffness, &
+                c%q, g1, k1)
+            call se3_viscous_internal_force(c%l, c%stiffness, c%eps_ref, c%sigma_v, c%q, g2, k2)
+            CHECK_CLOSE(g2, g1, 1.0e-12_rk * maxval(abs(g1)), 0.0_rk, 'viscous stress: force')
+            CHECK_CLOSE(k2, k1, 1.0e-12_rk * maxval(abs(k1)), 0.0_rk, 'viscous stress: tangent')
+            call se3_element_twist(c%q, theta, a_a, a_b)
+            call se3_twist_tangent(c%q, theta_2, dtheta)
+            CHECK_CLOSE(theta_2, theta, 0.0_rk, 0.0_rk, 'se3_twist_tangent: the element twist')
+        end do
+    end subroutine test_viscous_force_fd
+
+    ! A rigid velocity field, v_i = V + W x r_i and K omega_i = A_i^T W, i.e. q'_i = (v_i,
+    ! T^{-1}(psi_i) A_i^T W), has zero strain rate d theta / d q q' (1e-12 of |d theta / d q|
+    ! |q'|), on random elements and velocities (also with |psi| > pi): the Kelvin-Voigt stress,
+    ! and so the dissipation, of a rigid motion is zero; a deforming velocity field has one.
+    subroutine test_rigid_strain_rate()
+        type(se3_case_t) :: c
+        real(rk) :: theta(6), dtheta(6, 12), rate(12), big(3), w(3), rate_norm
+        integer :: sample, i
+        real(rk) :: worst
+        logical :: ok
+        character(len=100) :: text
+        worst = 0.0_rk
+        do sample = 1, 12
+            c = random_case(merge(general, beyond_pi, sample <= 8))
+            big = random_vector(3, 5.0_rk)
+            w = random_vector(3, 3.0_rk)
+            do i = 0, 1
+                rate(6 * i + 1:6 * i + 3) = big + cross(w, c%q(6 * i + 1:6 * i + 3))
+                rate(6 * i + 4:6 * i + 6) = matmul(tangent_inverse_so3(c%q(6 * i + 4:6 * i + 6)), &
+                    matmul(w, exp_so3(c%q(6 * i + 4:6 * i + 6))))
+            end do
+            call se3_twist_tangent(c%q, theta, dtheta)
+            rate_norm = maxval(abs(dtheta)) * maxval(abs(rate))
+            worst = max(worst, maxval(abs(matmul(dtheta, rate))) / rate_norm)
+            ok = maxval(abs(matmul(dtheta, rate))) <= 1.0e-12_rk * rate_norm
+            CHECK_TRUE(ok, 'rigid: no strain rate')
+            rate(7:9) = rate(7:9) + 0.1_rk * c%q(7:9)
+            ok = maxval(abs(matmul(dtheta, rate))) > 1.0e-3_rk * rate_norm
+            CHECK_TRUE(ok, 'deforming: a strain rate')
+        end do
+        write(text, '(a,es9.2)') '    rigid velocity fields: max |d theta / d q q''| (rel.) ', &
+            worst
+        write(output_unit, '(a)') trim(text)
+    end subroutine test_rigid_strain_rate
 
     ! se3_gyroscopic (methods §6.3): Jacobian against central differences; zero position rows;
     ! uniform spin gives (l/2) w x I w in both rotation rows; the 2-point rule equals the
