@@ -96,6 +96,11 @@ contains
                     if (geometry_ok(r)) call check_pinned_at_rest(scene, r, bc%end, bc%input_line, errors)
                 end if
                 call check_driven(scene, bc, errors)
+                if (trim(bc%kind) == 'sliding' .and. all(bc%axis /= unset_real)) then
+                    if (all(bc%axis == 0.0_rk)) call errors%add(at(scene, bc%input_line) // &
+                        '&bc axis: must not be the zero vector (the direction a sliding end ' // &
+                        'moves along)')
+                end if
                 if (trim(bc%kind) == 'body') call check_body_inertia(body_inertia_tensor(bc), &
                     at(scene, bc%input_line) // '&bc inertia, inertia_products', errors)
                 do j = 1, i - 1

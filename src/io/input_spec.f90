@@ -570,9 +570,17 @@ contains
                 'neither, ''driven'' is a clamp moved by displacement and rotation (se3_pg) or ' // &
                 'by velocity and angular_velocity (se3_strand; several driven &bc on one end ' // &
                 'add up), ''body'' a free end carrying a rigid body (mass, centre, inertia: a tip ' // &
-                'mass, a payload); which kinds a formulation has, at which end, and how it ' // &
-                'drives an end: docs/user/capabilities.md.', &
-                allowed='clamped|pinned|free|driven|body', required=.true., example="'clamped'"), &
+                'mass, a payload), ''sliding'' a prismatic support (see axis); which kinds a ' // &
+                'formulation has, at which end, and how it drives an end: ' // &
+                'docs/user/capabilities.md.', &
+                allowed='clamped|pinned|free|driven|body|sliding', required=.true., example="'clamped'"), &
+            spec_v('axis', 'real', '-', '(sliding: required)', 'A sliding end (kind = ' // &
+                '''sliding'', a prismatic support): the direction, in inertial components, along ' // &
+                'which the end''s position is free; across it the position is held and the ' // &
+                'end''s rotation is held (a rod end in a linear guide; with a dead axial force, ' // &
+                'the set-up of a twisted rod buckling into a helix). Formulations that hold ' // &
+                'coordinates need a coordinate axis (docs/user/capabilities.md).', count=3, &
+                required_if='kind=sliding', only_if='kind=sliding', example='1, 0, 0'), &
             spec_v('displacement', 'real', 'm', '0, 0, 0', 'Driven end of a formulation that ' // &
                 'drives the pose (se3_pg): its displacement at f(t) = 1 (inertial components); ' // &
                 'the end is at its reference position plus f(t) displacement.', count=3, &

@@ -12,7 +12,8 @@ module rs_model_scene
     private
 
     public :: load_applies_to, sweep_value_count, sweep_values, sweep_member_count, &
-        sweep_member_indices, step_count, body_inertia_tensor, inertia_tensor, rod_is_damped
+        sweep_member_indices, step_count, body_inertia_tensor, inertia_tensor, rod_is_damped, &
+        coordinate_axis
 
     !> Marks a real variable that was not given and has no default.
     real(rk), parameter, public :: unset_real = huge(1.0_rk)
@@ -226,6 +227,10 @@ module rs_model_scene
         !> Several such &bc on one end add up.
         real(rk) :: velocity(3) = 0.0_rk
         real(rk) :: angular_velocity(3) = 0.0_rk
+        !> A sliding end (kind = 'sliding', a prismatic support; issue 26 item 3): the direction
+        !> (inertial components) along which the end's position is free; across it the position
+        !> is held, and the end's rotation is held.
+        real(rk) :: axis(3) = unset_real
         character(len=name_len) :: time_function = 'constant'
         real(rk) :: t_on = 0.0_rk
         real(rk) :: t_off = unset_real
@@ -423,6 +428,17 @@ module rs_model_scene
     end type scene_t
 
 contains
+
+    !> i if `v` is parallel to the i-th coordinate axis (its other components below 1e-12 |v|),
+    !> else 0 (a sliding end's axis in a formulation that holds coordinates).
+    pure integer function coordinate_axis(v) result(i)
+        real(rk), intent(in) :: v(3)
+        integer :: k
+        k = maxloc(abs(v), dim=1)
+        i = 0
+        if (all(abs(v(pack([1, 2, 3], [1, 2, 3] /= k))) <= 1.0e-12_rk * norm2(v)) .and. &
+            v(k) /= 0.0_rk) i = k
+    end function coordinate_axis
 
     !> The rod has Kelvin-Voigt viscosity or external drag (given and not zero; before or
     !> after resolve_kelvin_voigt).

@@ -47,8 +47,8 @@
 module rs_se3_pg
     use rs_core_kinds, only: rk, pi
     use rs_core_error, only: error_t, set_error
-    use rs_core_strings, only: str
-    use rs_model_scene, only: scene_t, rod_input_t, bc_input_t, load_applies_to
+    use rs_core_strings, only: str, vector_text
+    use rs_model_scene, only: scene_t, rod_input_t, bc_input_t, load_applies_to, coordinate_axis
     use rs_model_rod_history, only: rod_history_t
     use rs_model_time_function, only: time_function_t, time_function_from_load, time_function_from_bc
     use rs_model_rod_geometry, only: rod_geometry_t, rod_geometry_of, centreline_point, &
@@ -302,7 +302,7 @@ contains
         type(error_t), allocatable, intent(out) :: err
         character(len=:), allocatable :: message
         logical :: fixed(6, this%n_nodes)
-        integer :: i, k, node
+        integer :: i, k, node, slide
         fixed = .false.
         do i = 1, size(scene%bcs)
             associate (bc => scene%bcs(i))
@@ -313,6 +313,19 @@ contains
                     fixed(:, node) = .true.
                 case ('pinned')
                     fixed(1:3, node) = .true.
+                case ('sliding')
+                    ! A prismatic support: the rotation and the position across the axis held;
+                    ! held by elimination, so the axis must be a coordinate axis of r.
+                    fixed(:, node) = .true.
+                    slide = coordinate_axis(bc%axis)
+                    if (slide == 0) then
+                        message = 'rod ''' // this%name // ''': se3_pg holds the coordinates of ' // &
+                            'r, so a sliding end''s axis must be a coordinate axis (x, y or z); ' // &
+                            'axis = (' // vector_text(bc%axis) // ')'
+                        RS_SET_ERROR(err, 'se3_pg%init', message)
+                        return
+                    end if
+                    fixed(slide, node) = .false.
                 case ('driven')
                     fixed(:, node) = .true.
                     call add_drive(this, bc, node, err)

@@ -1,7 +1,7 @@
 !> The --check-input plan of an se3_pg rod (DESIGN.md §4; rs_formulations_plan prints it): the
 !> element, the unknowns, statics or dynamics, supports and loads, and what is skipped.
 module rs_se3_pg_plan
-    use rs_core_strings, only: str
+    use rs_core_strings, only: str, vector_text
     use rs_model_scene, only: scene_t, load_applies_to, rod_is_damped
     use rs_model_damping, only: damping_plan_text
     implicit none
@@ -33,8 +33,12 @@ contains
                     n_fixed = n_fixed + 6
                 case ('pinned')
                     n_fixed = n_fixed + 3
+                case ('sliding')
+                    n_fixed = n_fixed + 5
                 end select
                 supports = supports // ' ' // trim(scene%bcs(j)%end) // ' ' // trim(scene%bcs(j)%kind)
+                if (trim(scene%bcs(j)%kind) == 'sliding') supports = supports // ' along (' // &
+                    vector_text(scene%bcs(j)%axis) // ')'
             end do
             call add('unknowns: 6 x ' // str(n_nodes) // ' nodes (position, rotation vector) = ' // &
                 str(6 * n_nodes) // ', less ' // str(n_fixed) // ' fixed by supports;' // supports)
