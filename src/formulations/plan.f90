@@ -9,7 +9,7 @@ module rs_formulations_plan
     use rs_core_kinds, only: rk
     use rs_core_error, only: error_t
     use rs_core_strings, only: str, text_buffer_t, vector_text
-    use rs_model_scene, only: scene_t, step_count, obstacle_input_t
+    use rs_model_scene, only: scene_t, step_count, obstacle_input_t, rod_segment_count
     use rs_model_units, only: unit_in_system
     use rs_model_coupling, only: coupled_systems, system_costs
     use rs_formulations_formulation, only: rod_formulation_t
@@ -145,6 +145,7 @@ contains
                     lines = '!     formulation not available in this version' // new_line('a')
                 end if
                 call append(lines)
+                call append(segment_plan_lines(scene, i))
                 call create_formulation(trim(rod%formulation), mold, err)
                 if (.not. allocated(err)) call rod_sizes_of(scene, i, sizes, err, mold)
                 if (.not. allocated(err)) call append('!     memory: ' // &
@@ -227,6 +228,41 @@ contains
         text = text // '; every rod touches it with its contact_radius (&obstacle at line ' // &
             str(obstacle%input_line) // ')'
     end function obstacle_line
+
+    !> The parts of rod i (&segment, issue 26 item 5): each segment's interval, elements and
+    !> resolved stiffnesses and line mass; the rest of the rod keeps the &rod values.
+    function segment_plan_lines(scene, i) result(text)
+        type(scene_t), intent(in) :: scene
+        integer, intent(in) :: i
+        character(len=:), allocatable :: text
+        real(rk) :: previous, element
+        integer :: k
+        text = ''
+        associate (rod => scene%rods(i))
+            if (rod_segment_count(scene, rod%name) == 0) return
+            element = rod%length / real(rod%n_elements, rk)
+            text = '!     varying along the rod: ' // str(rod_segment_count(scene, rod%name)) // &
+                ' &segment groups (element boundaries at their ends)' // new_line('a')
+            previous = 0.0_rk
+            do k = 1, size(scene%segments)
+                associate (seg => scene%segments(k))
+                    if (seg%rod /= rod%name) cycle
+                    text = text // '!       s in [' // str(previous) // ', ' // str(seg%s_end) // &
+                        ']: elements ' // str(nint(previous / element) + 1) // ' to ' // &
+                        str(nint(seg%s_end / element)) // ', EA = ' // str(seg%values(1)) // &
+                        ', GA = ' // str(seg%values(2)) // ', ' // str(seg%values(3)) // &
+                        ', EI = ' // str(seg%values(4)) // ', ' // str(seg%values(5)) // &
+                        ', GJ = ' // str(seg%values(6)) // ', rhoA = ' // str(seg%values(7)) // &
+                        new_line('a')
+                    previous = seg%s_end
+                end associate
+            end do
+            if (previous < rod%length - 0.5_rk * element) text = text // '!       s in [' // &
+                str(previous) // ', ' // str(rod%length) // ']: elements ' // &
+                str(nint(previous / element) + 1) // ' to ' // str(rod%n_elements) // &
+                ', the &rod values' // new_line('a')
+        end associate
+    end function segment_plan_lines
 
     !> The sweep part of the plan ('' without &sweep): the number of members and how the sweeps
     !> combine, each swept variable with its number and range of values, and the values of the

@@ -111,7 +111,9 @@ contains
                 k = 1, size(scene%loads))])
             if (allocated(scene%actuators)) single%actuators = pack(scene%actuators, &
                 [(scene%actuators(k)%rod == name, k = 1, size(scene%actuators))])
-            allocate(single%joints(0), single%plates(0), single%sweeps(0))
+            allocate(single%joints(0), single%plates(0), single%sweeps(0), single%segments(0))
+            if (allocated(scene%segments)) single%segments = pack(scene%segments, &
+                [(scene%segments(k)%rod == name, k = 1, size(scene%segments))])
         end associate
     end function single_rod_scene
 

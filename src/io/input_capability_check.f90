@@ -9,7 +9,8 @@ module rs_io_input_capability_check
     use rs_core_kinds, only: rk
     use rs_core_error, only: error_list_t
     use rs_core_strings, only: str, split_list
-    use rs_model_scene, only: scene_t, rod_input_t, bc_input_t, unset_real, unset_int, rod_is_damped
+    use rs_model_scene, only: scene_t, rod_input_t, bc_input_t, unset_real, unset_int, rod_is_damped, &
+        rod_segment_count
     use rs_model_capabilities, only: capability_t, lists_name, end_kinds_at
     use rs_model_planarity, only: plane_t, plane_of_rods, plane_text
     use rs_model_coupling, only: coupled_systems
@@ -461,6 +462,11 @@ contains
             if (rod_is_damped(rod) .and. .not. row%damping) call errors%add(at(scene, &
                 rod%input_line) // '&rod kelvin_voigt_time, drag, angular_drag: damping is not ' // &
                 'available for ' // what // ' (rod ''' // trim(rod%name) // ''')' // see_matrix)
+            if (rod_segment_count(scene, rod%name) > 0 .and. .not. row%segments) call errors%add( &
+                at(scene, rod%input_line) // '&segment: properties that vary along the rod ' // &
+                '(rod ''' // trim(rod%name) // ''', ' // str(rod_segment_count(scene, rod%name)) // &
+                ' &segment groups) are not available for ' // what // '; give the rod one ' // &
+                'section or use another formulation' // see_matrix)
             if (trim(rod%geometry) /= 'straight' .and. .not. row%curved_reference) call errors%add( &
                 at(scene, rod%input_line) // '&rod geometry: a curved reference (''' // &
                 trim(rod%geometry) // ''') is not available for ' // what // ' (rod ''' // &

@@ -12,7 +12,7 @@ module rs_io_input_check
     use rs_io_input_check_common, only: at
     use rs_formulations_registry, only: default_formulation
     use rs_io_input_values, only: check_step_count, check_relaxation, check_output_and_restart, &
-        resolve_rod, default_output_path
+        resolve_rod, default_output_path, resolve_segments
     use rs_io_input_cross_check, only: check_unique_names, check_bcs, check_loads, &
         check_actuators, check_joints, resolve_joint_axes, resolve_plates, resolve_contact, &
         resolve_obstacles
@@ -48,6 +48,7 @@ contains
         do i = 1, size(scene%rods)
             call resolve_rod(scene, i, geometry_ok(i), errors)
         end do
+        call resolve_segments(scene, geometry_ok, errors)
         if (.not. allocated(scene%joints)) allocate(scene%joints(0))
         if (.not. allocated(scene%plates)) allocate(scene%plates(0))
         call check_unique_names(scene, errors)

@@ -9,7 +9,7 @@ module rs_io_input_reader
     use rs_core_strings, only: to_lower, str, closest_name, did_you_mean, split_list
     use rs_model_scene, only: scene_t, run_input_t, time_input_t, solver_input_t, output_input_t, &
         rod_input_t, bc_input_t, load_input_t, actuator_input_t, joint_input_t, plate_input_t, &
-        contact_input_t, sweep_input_t, obstacle_input_t
+        contact_input_t, sweep_input_t, obstacle_input_t, segment_input_t
     use rs_io_namelist_lexer, only: assignment_t, group_chunk_t, split_namelist
     use rs_io_input_spec, only: group_spec_t, variable_spec_t, input_groups, find_group, find_variable, &
         range_description, in_range, split_condition, group_names, variable_names
@@ -32,8 +32,8 @@ contains
         integer, allocatable :: first_line(:)
         integer :: c, g
         !> Occurrences read of each repeatable group (rod, bc, load, actuator, joint, plate, sweep,
-        !> obstacle).
-        integer :: n_read(8)
+        !> obstacle, segment).
+        integer :: n_read(9)
 
         scene%source_file = file
         scene%source_text = text
@@ -74,11 +74,12 @@ contains
     subroutine allocate_repeatable(chunks, scene, n_read)
         type(group_chunk_t), intent(in) :: chunks(:)
         type(scene_t), intent(inout) :: scene
-        integer, intent(out) :: n_read(8)
+        integer, intent(out) :: n_read(9)
         allocate(scene%rods(occurrences('rod')), scene%bcs(occurrences('bc')), &
             scene%loads(occurrences('load')), scene%actuators(occurrences('actuator')), &
             scene%joints(occurrences('joint')), scene%plates(occurrences('plate')), &
-            scene%sweeps(occurrences('sweep')), scene%obstacles(occurrences('obstacle')))
+            scene%sweeps(occurrences('sweep')), scene%obstacles(occurrences('obstacle')), &
+            scene%segments(occurrences('segment')))
         n_read = 0
     contains
         integer function occurrences(name)
@@ -95,7 +96,7 @@ contains
     !> that does not have it is counted but not read).
     subroutine trim_repeatable(scene, n_read)
         type(scene_t), intent(inout) :: scene
-        integer, intent(in) :: n_read(8)
+        integer, intent(in) :: n_read(9)
         if (size(scene%rods) > n_read(1)) scene%rods = scene%rods(1:n_read(1))
         if (size(scene%bcs) > n_read(2)) scene%bcs = scene%bcs(1:n_read(2))
         if (size(scene%loads) > n_read(3)) scene%loads = scene%loads(1:n_read(3))
@@ -104,6 +105,7 @@ contains
         if (size(scene%plates) > n_read(6)) scene%plates = scene%plates(1:n_read(6))
         if (size(scene%sweeps) > n_read(7)) scene%sweeps = scene%sweeps(1:n_read(7))
         if (size(scene%obstacles) > n_read(8)) scene%obstacles = scene%obstacles(1:n_read(8))
+        if (size(scene%segments) > n_read(9)) scene%segments = scene%segments(1:n_read(9))
     end subroutine trim_repeatable
 
     !> Check and read the assignments of one group occurrence into its place in `scene`
@@ -113,7 +115,7 @@ contains
         type(group_spec_t), intent(in) :: group
         character(len=*), intent(in) :: file
         type(scene_t), intent(inout) :: scene
-        integer, intent(inout) :: n_read(8)
+        integer, intent(inout) :: n_read(9)
         type(error_list_t), intent(inout) :: errors
         type(rod_input_t) :: rod
         type(bc_input_t) :: bc
@@ -123,6 +125,7 @@ contains
         type(plate_input_t) :: plate
         type(sweep_input_t) :: sweep
         type(obstacle_input_t) :: obstacle
+        type(segment_input_t) :: segment
         logical, allocatable :: given(:)
         character(len=:), allocatable :: where, value, message
         integer :: k, v, ios
@@ -137,6 +140,7 @@ contains
         plate%input_line = chunk%line
         sweep%input_line = chunk%line
         obstacle%input_line = chunk%line
+        segment%input_line = chunk%line
         ! The single &time lives in `scene`: its line places the messages about its scheme.
         if (group%name == 'time') scene%time%input_line = chunk%line
         if (group%name == 'contact') then
@@ -166,7 +170,7 @@ contains
                     cycle
                 end if
                 call read_assignment(trim(group%name), a%target, value, scene, rod, bc, load, &
-                    actuator, joint, plate, sweep, obstacle, ios, message)
+                    actuator, joint, plate, sweep, obstacle, segment, ios, message)
                 if (ios /= 0) call errors%add(where // 'cannot read "' // a%value // '" as ' // &
                     kind_phrase(group%variables(v)) // ' (' // trim(message) // ')')
             end associate
@@ -203,6 +207,9 @@ contains
         case ('obstacle')
             n_read(8) = n_read(8) + 1
             scene%obstacles(n_read(8)) = obstacle
+        case ('segment')
+            n_read(9) = n_read(9) + 1
+            scene%segments(n_read(9)) = segment
         end select
     end subroutine read_chunk
 
@@ -365,7 +372,7 @@ contains
     !> namelists live in this one procedure, so no group name may equal an object name (hence
     !> the `_nml` suffix).
     subroutine read_assignment(group, target, value, scene, rod, bc, load, actuator, joint, plate, &
-            sweep, obstacle, ios, message)
+            sweep, obstacle, segment, ios, message)
         character(len=*), intent(in) :: group, target, value
         type(scene_t), intent(inout) :: scene
         type(rod_input_t), intent(inout) :: rod
@@ -376,6 +383,7 @@ contains
         type(plate_input_t), intent(inout) :: plate
         type(sweep_input_t), intent(inout) :: sweep
         type(obstacle_input_t), intent(inout) :: obstacle
+        type(segment_input_t), intent(inout) :: segment
         integer, intent(out) :: ios
         character(len=:), allocatable, intent(out) :: message
         type(run_input_t) :: run_copy
@@ -391,6 +399,7 @@ contains
         type(contact_input_t) :: contact_copy
         type(sweep_input_t) :: sweep_copy
         type(obstacle_input_t) :: obstacle_copy
+        type(segment_input_t) :: segment_copy
         namelist /run_nml/ run_copy
         namelist /time_nml/ time_copy
         namelist /solver_nml/ solver_copy
@@ -404,6 +413,7 @@ contains
         namelist /contact_nml/ contact_copy
         namelist /sweep_nml/ sweep_copy
         namelist /obstacle_nml/ obstacle_copy
+        namelist /segment_nml/ segment_copy
         character(len=256) :: msg
         character(len=:), allocatable :: buffer
 
@@ -464,6 +474,10 @@ contains
             obstacle_copy = obstacle
             read(buffer, nml=obstacle_nml, iostat=ios, iomsg=msg)
             if (ios == 0) obstacle = obstacle_copy
+        case ('segment')
+            segment_copy = segment
+            read(buffer, nml=segment_nml, iostat=ios, iomsg=msg)
+            if (ios == 0) segment = segment_copy
         case default
             ios = -1
             msg = 'no reader for group &' // group

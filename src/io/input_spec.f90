@@ -92,7 +92,7 @@ contains
     !> All groups of the input language, in the order the reference documents them.
     function input_groups() result(groups)
         type(group_spec_t), allocatable :: groups(:)
-        allocate(groups(13))
+        allocate(groups(14))
         groups(1) = run_group()
         groups(2) = time_group()
         groups(3) = solver_group()
@@ -106,6 +106,7 @@ contains
         groups(11) = contact_group()
         groups(12) = sweep_group()
         groups(13) = obstacle_group()
+        groups(14) = segment_group()
     end function input_groups
 
     !> Index of group `name` in `groups`, 0 if unknown.
@@ -554,6 +555,39 @@ contains
                 'end loads (docs/theory/se3_strand.md, "The free end").', &
                 allowed='balanced|paper', example="'paper'")]
     end function rod_group
+
+    !> &segment (issue 26 item 5): a part of a rod with its own section and material. Its
+    !> section, material, stiffness and inertia variables are &rod's, taken from rod_group so
+    !> the two cannot drift; each defaults to the rod's value.
+    function segment_group() result(g)
+        type(group_spec_t) :: g
+        type(group_spec_t) :: rod
+        character(len=16), parameter :: taken(20) = [character(len=16) :: 'section', 'radius', &
+            'inner_radius', 'width', 'height', 'E', 'G', 'nu', 'density', 'EA', 'GA1', 'GA2', &
+            'EI1', 'EI2', 'GJ', 'rhoA', 'rhoI1', 'rhoI2', 'shear_factor', 'torsion_constant']
+        integer :: k
+        g%name = 'segment'
+        g%repeatable = .true.
+        g%description = 'A part of a rod with its own section, material, stiffnesses and ' // &
+            'inertias, from the previous segment''s s_end (0 for the first) to its s_end; the ' // &
+            'rest of the rod keeps the &rod values (docs/user/input.md, "Rods that vary along ' // &
+            'their length").'
+        rod = rod_group()
+        allocate(g%variables(2 + size(taken)))
+        g%variables(1) = spec_v('rod', 'string', '-', '(required)', 'Name of the rod (&rod name).', &
+            required=.true., example="'beam'")
+        g%variables(2) = spec_v('s_end', 'real', 'm', '(required)', &
+            'Arc length at which the segment ends, after the previous segment''s s_end of the ' // &
+            'same rod and at most its length; a node of the rod''s uniform mesh (a multiple ' // &
+            'of length / n_elements to 1e-9 relative), so that every element lies in one segment.', &
+            lower=0.0_rk, lower_inclusive=.false., required=.true., example='0.5')
+        do k = 1, size(taken)
+            g%variables(2 + k) = rod%variables(find_variable(rod, trim(taken(k))))
+            g%variables(2 + k)%default_text = '(the rod''s)'
+            g%variables(2 + k)%required_if = ''
+            g%variables(2 + k)%only_if = ''
+        end do
+    end function segment_group
 
     function bc_group() result(g)
         type(group_spec_t) :: g

@@ -10,8 +10,8 @@ module rs_io_input_values
     use rs_core_kinds, only: rk
     use rs_core_error, only: error_list_t
     use rs_core_strings, only: str, vector_text, str_significant
-    use rs_model_scene, only: scene_t, rod_input_t, time_input_t, unset_real, section_derived_names, &
-        rod_is_damped
+    use rs_model_scene, only: scene_t, rod_input_t, time_input_t, unset_real, unset_int, &
+        section_derived_names, rod_is_damped, segment_input_t
     use rs_model_rod_geometry, only: rod_geometry_t, straight_geometry, helix_geometry, &
         polyline_geometry, centreline_tangent, default_normal
     use rs_model_section, only: section_properties_t, circle_section, tube_section, &
@@ -22,7 +22,7 @@ module rs_io_input_values
     private
 
     public :: check_step_count, check_relaxation, check_output_and_restart, resolve_rod, &
-        default_output_path
+        default_output_path, resolve_segments
 
     !> Deviation from unit length or orthogonality that counts as round-off.
     real(rk), parameter :: round_off = 4.0_rk * epsilon(1.0_rk)
@@ -282,6 +282,123 @@ contains
         end associate
     end subroutine resolve_rod
 
+
+    !> &segment groups (issue 26 item 5): each names a resolved rod; the s_end of one rod's
+    !> segments increase in file order, stay within its length and fall on nodes of its uniform
+    !> mesh (so every element lies in one segment). Each segment's values are the rod's
+    !> resolved ones with the segment's given section and material (resolved again as a
+    !> section: G from nu when the rod gave nu, not G) and then its given stiffnesses and
+    !> inertias on top.
+    subroutine resolve_segments(scene, geometry_ok, errors)
+        type(scene_t), intent(inout) :: scene
+        logical, intent(in) :: geometry_ok(:)
+        type(error_list_t), intent(inout) :: errors
+        character(len=:), allocatable :: here
+        real(rk) :: previous, nodes
+        integer :: k, j, r
+        if (.not. allocated(scene%segments)) allocate(scene%segments(0))
+        do k = 1, size(scene%segments)
+            associate (seg => scene%segments(k))
+                here = at(scene, seg%input_line) // '&segment (rod ''' // trim(seg%rod) // ''') '
+                r = findloc(scene%rods%name, seg%rod, dim=1)
+                if (r == 0) then
+                    call errors%add(here // 'rod: no &rod is named ''' // trim(seg%rod) // '''')
+                    cycle
+                end if
+                if (.not. geometry_ok(r) .or. scene%rods(r)%length == unset_real) cycle
+                associate (rod => scene%rods(r))
+                    previous = 0.0_rk
+                    do j = 1, k - 1
+                        if (scene%segments(j)%rod == seg%rod) previous = scene%segments(j)%s_end
+                    end do
+                    if (seg%s_end <= previous) then
+                        call errors%add(here // 's_end: ' // str(seg%s_end) // ' is not after ' // &
+                            'the previous segment''s end ' // str(previous) // '; give the ' // &
+                            'segments of a rod in increasing s_end')
+                        cycle
+                    end if
+                    if (seg%s_end > rod%length * (1.0_rk + length_tolerance)) then
+                        call errors%add(here // 's_end: ' // str(seg%s_end) // ' is beyond the ' // &
+                            'rod''s length ' // str(rod%length))
+                        cycle
+                    end if
+                    if (rod%n_elements /= unset_int) then
+                        nodes = seg%s_end / rod%length * real(rod%n_elements, rk)
+                        if (abs(nodes - anint(nodes)) > length_tolerance * real(rod%n_elements, rk)) then
+                            call errors%add(here // 's_end: ' // str(seg%s_end) // ' is not a ' // &
+                                'node of the rod''s uniform mesh of n_elements = ' // &
+                                str(rod%n_elements) // ' (element length ' // &
+                                str(rod%length / real(rod%n_elements, rk)) // '); give a ' // &
+                                'multiple of the element length or change n_elements')
+                            cycle
+                        end if
+                    end if
+                    call resolve_segment_values(scene, rod, seg, here, errors)
+                end associate
+            end associate
+        end do
+    end subroutine resolve_segments
+
+    !> The values of one segment (resolve_segments) from its resolved rod.
+    subroutine resolve_segment_values(scene, rod, seg, here, errors)
+        type(scene_t), intent(in) :: scene
+        type(rod_input_t), intent(in) :: rod
+        type(segment_input_t), intent(inout) :: seg
+        character(len=*), intent(in) :: here
+        type(error_list_t), intent(inout) :: errors
+        type(rod_input_t) :: part
+        real(rk) :: given(9), values(9)
+        integer :: n_errors
+        logical :: material_given
+        part = rod
+        material_given = any([seg%radius, seg%inner_radius, seg%width, seg%height, seg%E, seg%G, &
+            seg%nu, seg%density, seg%shear_factor] /= unset_real) .or. len_trim(seg%section) > 0 &
+            .or. len_trim(seg%torsion_constant) > 0
+        if (len_trim(seg%section) > 0) part%section = seg%section
+        if (seg%radius /= unset_real) part%radius = seg%radius
+        if (seg%inner_radius /= unset_real) part%inner_radius = seg%inner_radius
+        if (seg%width /= unset_real) part%width = seg%width
+        if (seg%height /= unset_real) part%height = seg%height
+        if (seg%E /= unset_real) part%E = seg%E
+        if (seg%nu /= unset_real) part%nu = seg%nu
+        ! A G the rod derived from its nu follows the segment's E and nu.
+        if (seg%G /= unset_real) then
+            part%G = seg%G
+        else if ((seg%E /= unset_real .or. seg%nu /= unset_real) .and. part%nu /= unset_real) then
+            part%G = unset_real
+        end if
+        if (seg%density /= unset_real) part%density = seg%density
+        if (seg%shear_factor /= unset_real) part%shear_factor = seg%shear_factor
+        if (len_trim(seg%torsion_constant) > 0) part%torsion_constant = seg%torsion_constant
+        if (trim(part%section) /= 'none') then
+            part%EA = unset_real
+            part%GA1 = unset_real
+            part%GA2 = unset_real
+            part%EI1 = unset_real
+            part%EI2 = unset_real
+            part%GJ = unset_real
+            part%rhoA = unset_real
+            part%rhoI1 = unset_real
+            part%rhoI2 = unset_real
+            n_errors = errors%count
+            call resolve_stiffness(part, here, errors)
+            if (errors%count > n_errors) return
+        else if (material_given) then
+            call errors%add(here // 'section: section, material or section sizes given, but ' // &
+                'the section is ''none'' (the rod''s stiffnesses are given directly); give ' // &
+                'the segment''s section too, or its stiffnesses EA ... rhoI2')
+            return
+        end if
+        values = [part%EA, part%GA1, part%GA2, part%EI1, part%EI2, part%GJ, part%rhoA, &
+            part%rhoI1, part%rhoI2]
+        given = [seg%EA, seg%GA1, seg%GA2, seg%EI1, seg%EI2, seg%GJ, seg%rhoA, seg%rhoI1, seg%rhoI2]
+        where (given /= unset_real) values = given
+        seg%values = values
+        part%rhoA = values(7)
+        part%rhoI1 = values(8)
+        part%rhoI2 = values(9)
+        if (.not. scene%time%quasistatic) call check_inertia(part, here, errors)
+    end subroutine resolve_segment_values
 
     !> A dynamic run needs mass and rotary inertia: with rhoA or rhoI = 0 the step's equations
     !> have no acceleration for that motion, and the scheme alternates between 0 and twice the

@@ -13,7 +13,7 @@ module rs_io_scene_writer
     use rs_io_input_spec, only: group_spec_t, input_groups, find_group, find_variable, split_condition
     use rs_model_scene, only: section_derived_names, scene_t, run_input_t, time_input_t, solver_input_t, output_input_t, &
         rod_input_t, bc_input_t, load_input_t, actuator_input_t, joint_input_t, plate_input_t, &
-        contact_input_t, sweep_input_t, sweep_values, obstacle_input_t
+        contact_input_t, sweep_input_t, sweep_values, obstacle_input_t, segment_input_t
     implicit none
     private
 
@@ -47,6 +47,7 @@ contains
         type(plate_input_t) :: plate
         type(contact_input_t) :: contact
         type(obstacle_input_t) :: obstacle
+        type(segment_input_t) :: segment
         namelist /run_nml/ run
         namelist /time_nml/ time
         namelist /solver_nml/ solver
@@ -59,6 +60,7 @@ contains
         namelist /plate_nml/ plate
         namelist /contact_nml/ contact
         namelist /obstacle_nml/ obstacle
+        namelist /segment_nml/ segment
         integer :: i
 
         ! Each group's text ends at its '/' line (tidy_group reads no further), so the lines
@@ -128,6 +130,13 @@ contains
                 text = text // tidy_group('obstacle', lines)
             end do
         end if
+        if (allocated(scene%segments)) then
+            do i = 1, size(scene%segments)
+                segment = scene%segments(i)
+                write(lines, nml=segment_nml, delim='apostrophe')
+                text = text // segment_values_as_comments(tidy_group('segment', lines), segment)
+            end do
+        end if
         if (allocated(scene%sweeps)) then
             ! The resolved values themselves (a linspace or logspace written out), one per line.
             do i = 1, size(scene%sweeps)
@@ -183,6 +192,25 @@ contains
             start = start + eol
         end do
     end function section_values_as_comments
+
+    !> A resolved &segment with its resolved values (rs_model_scene segment_input_t values) as
+    !> comments before its '/': they are derived, not input.
+    function segment_values_as_comments(group_text, segment) result(text)
+        character(len=*), intent(in) :: group_text
+        type(segment_input_t), intent(in) :: segment
+        character(len=:), allocatable :: text
+        integer :: k
+        character(len=32) :: number
+        text = group_text(1:len(group_text) - 2)
+        if (segment%values(1) /= huge(1.0_rk)) then
+            do k = 1, size(section_derived_names)
+                write(number, '(es24.16e3)') segment%values(k)
+                text = text // '    ! ' // trim(section_derived_names(k)) // ' = ' // &
+                    trim(adjustl(number)) // '   (resolved)' // new_line('a')
+            end do
+        end if
+        text = text // '/' // new_line('a')
+    end function segment_values_as_comments
 
     !> Turn gfortran's namelist output of one group object into `&group` / `name = value` lines;
     !> a variable with an only_if condition that does not hold is left out (its value is the

@@ -31,6 +31,9 @@ module rs_model_capabilities
         !> Kelvin-Voigt viscous stress and external drag (&rod kelvin_voigt_time, drag,
         !> angular_drag; docs/theory/damping.md).
         logical :: damping = .false.
+        !> Rods that vary along their length: piecewise sections, materials, stiffnesses and
+        !> inertias per element (&segment; issue 26 item 5).
+        logical :: segments = .false.
         !> Pneumatic chambers and tendons (&actuator).
         logical :: actuation = .false.
         !> A curved stress-free reference (&rod geometry = 'helix' or 'polyline').

@@ -23,9 +23,9 @@ contains
         integer :: i
         text = '| formulation | ends | ends at s = L, if other | driven ends by | end loads | ' // &
             'distributed loads, gravity | curved reference | prestressed | constraints | ' // &
-            'viscoelasticity | damping | actuation | joints | end plates | contact | quasistatics | ' // &
-            'relaxation | order 4 in time | adaptive steps | generalized-α | planar |' // nl // &
-            '|' // repeat('---|', 21)
+            'viscoelasticity | damping | varying along the rod | actuation | joints | end plates | ' // &
+            'contact | quasistatics | relaxation | order 4 in time | adaptive steps | ' // &
+            'generalized-α | planar |' // nl // '|' // repeat('---|', 22)
         do i = 1, size(rows)
             if (rows(i)%available) text = text // nl // row_markdown(rows(i))
         end do
@@ -47,6 +47,7 @@ contains
             ' | ' // yes_no(row%viscoelastic, 'generalized Maxwell (`maxwell_*`)') // &
             ' | ' // yes_no(row%damping, 'Kelvin-Voigt (`kelvin_voigt_time`), drag (`drag`, ' // &
             '`angular_drag`)') // &
+            ' | ' // yes_no(row%segments, 'piecewise sections and materials (`&segment`)') // &
             ' | ' // yes_no(row%actuation, 'pneumatic chambers, tendons (`&actuator`)') // &
             ' | ' // listed(row%joints) // &
             ' | ' // yes_no(row%end_plates, plates_text(row%floating_plates)) // &

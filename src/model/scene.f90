@@ -13,7 +13,7 @@ module rs_model_scene
 
     public :: load_applies_to, sweep_value_count, sweep_values, sweep_member_count, &
         sweep_member_indices, step_count, body_inertia_tensor, inertia_tensor, rod_is_damped, &
-        coordinate_axis
+        coordinate_axis, element_properties, rod_segment_count
 
     !> Marks a real variable that was not given and has no default.
     real(rk), parameter, public :: unset_real = huge(1.0_rk)
@@ -207,6 +207,43 @@ module rs_model_scene
         !> one axis.
         real(rk) :: helix_phase = 0.0_rk
     end type rod_input_t
+
+    !> &segment: a part of a rod with its own section, material, stiffnesses and inertias
+    !> (issue 26 item 5). It runs from the previous segment's s_end of the same rod (0 for the
+    !> first) to its own s_end; the part after the last segment keeps the rod's values. Every
+    !> variable not given is the rod's (resolved: its unresolved section and material with
+    !> the segment's given ones, then the segment's given stiffnesses and inertias on top),
+    !> which the resolver stores in `values`. Each s_end is a node of the rod's uniform mesh,
+    !> so every element lies in one segment.
+    type, public :: segment_input_t
+        !> Line of the group in the input file (set by the reader; not an input variable).
+        integer :: input_line = 0
+        character(len=name_len) :: rod = ''
+        real(rk) :: s_end = unset_real
+        character(len=name_len) :: section = ''
+        real(rk) :: radius = unset_real
+        real(rk) :: inner_radius = unset_real
+        real(rk) :: width = unset_real
+        real(rk) :: height = unset_real
+        real(rk) :: E = unset_real
+        real(rk) :: G = unset_real
+        real(rk) :: nu = unset_real
+        real(rk) :: density = unset_real
+        real(rk) :: EA = unset_real
+        real(rk) :: GA1 = unset_real
+        real(rk) :: GA2 = unset_real
+        real(rk) :: EI1 = unset_real
+        real(rk) :: EI2 = unset_real
+        real(rk) :: GJ = unset_real
+        real(rk) :: rhoA = unset_real
+        real(rk) :: rhoI1 = unset_real
+        real(rk) :: rhoI2 = unset_real
+        real(rk) :: shear_factor = unset_real
+        character(len=name_len) :: torsion_constant = ''
+        !> The resolved EA, GA1, GA2, EI1, EI2, GJ, rhoA, rhoI1, rhoI2 of the segment (in the
+        !> order of section_derived_names; set by the resolver, not input variables).
+        real(rk) :: values(9) = unset_real
+    end type segment_input_t
 
     !> &bc: the support at one end of a rod.
     type, public :: bc_input_t
@@ -425,6 +462,7 @@ module rs_model_scene
         type(contact_input_t) :: contact
         type(obstacle_input_t), allocatable :: obstacles(:)
         type(sweep_input_t), allocatable :: sweeps(:)
+        type(segment_input_t), allocatable :: segments(:)
     end type scene_t
 
 contains
@@ -448,6 +486,44 @@ contains
             rod%kelvin_voigt_time /= unset_real) .or. rod%drag /= 0.0_rk .or. &
             rod%angular_drag /= 0.0_rk
     end function rod_is_damped
+
+    !> Number of &segment groups of `scene` on the rod named `rod_name`.
+    pure integer function rod_segment_count(scene, rod_name) result(n)
+        type(scene_t), intent(in) :: scene
+        character(len=*), intent(in) :: rod_name
+        n = 0
+        if (allocated(scene%segments)) n = count(scene%segments%rod == rod_name)
+    end function rod_segment_count
+
+    !> The section-derived values (section_derived_names: EA, GA1, GA2, EI1, EI2, GJ, rhoA,
+    !> rhoI1, rhoI2) of each of the n_elements equal elements of the resolved rod `rod`: those
+    !> of the &segment of the rod whose interval holds the element's midpoint, else the rod's.
+    !> The resolver puts every s_end on a node, so the midpoint names the one segment of the
+    !> whole element; with another element count (a sizing estimate) it is the nearest.
+    pure function element_properties(scene, rod, n_elements) result(values)
+        type(scene_t), intent(in) :: scene
+        type(rod_input_t), intent(in) :: rod
+        integer, intent(in) :: n_elements
+        real(rk) :: values(9, n_elements)
+        real(rk) :: s_mid, best
+        integer :: e, k
+        values = spread([rod%EA, rod%GA1, rod%GA2, rod%EI1, rod%EI2, rod%GJ, rod%rhoA, &
+            rod%rhoI1, rod%rhoI2], 2, n_elements)
+        if (.not. allocated(scene%segments)) return
+        do e = 1, n_elements
+            s_mid = rod%length * (real(e, rk) - 0.5_rk) / real(n_elements, rk)
+            best = huge(1.0_rk)
+            ! Segments of a rod are in increasing s_end (the resolver checks it): the first
+            ! that ends after the midpoint holds it.
+            do k = 1, size(scene%segments)
+                associate (seg => scene%segments(k))
+                    if (seg%rod /= rod%name .or. seg%s_end <= s_mid .or. seg%s_end >= best) cycle
+                    best = seg%s_end
+                    values(:, e) = seg%values
+                end associate
+            end do
+        end do
+    end function element_properties
 
     !> The inertia tensor of the body of a &bc (kind = 'body') about its centre of mass,
     !> inertial components in the reference configuration: diagonal `inertia`, off-diagonal

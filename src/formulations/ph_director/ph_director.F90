@@ -23,7 +23,7 @@ module rs_ph_director
     use rs_core_error, only: error_t, set_error
     use rs_core_strings, only: str
     use rs_model_scene, only: scene_t, rod_input_t, unset_real, load_applies_to, &
-        body_inertia_tensor, inertia_tensor
+        body_inertia_tensor, inertia_tensor, element_properties
     use rs_model_damping, only: kv_axial, kv_shear1, kv_shear2, kv_bend1, kv_bend2, kv_torsion
     use rs_model_rod_geometry, only: rod_geometry_t, rod_geometry_of, centreline_point, &
         centreline_frame
@@ -101,7 +101,14 @@ module rs_ph_director
         real(rk), allocatable :: node_s(:)
         real(rk), allocatable :: element_length(:)
         type(ph_director_basis_t) :: basis
+        !> The rod's material (&rod values): its branches, constraints and drags are every
+        !> element's.
         type(ph_director_material_t) :: material
+        !> Each element's material: the rod's with the element's stiffnesses and inertias
+        !> (&segment, issue 26 item 5); what the element kernels read.
+        type(ph_director_material_t), allocatable :: element_material(:)
+        !> Each element's mass per unit length as given (line_mass per element), for its weight.
+        real(rk), allocatable :: element_line_mass(:)
         type(rod_load_t), allocatable :: loads(:)
         type(rod_actuator_t), allocatable :: actuators(:)
         !> Quasistatic run: no mass terms, time is a load factor, endpoint solve at the end.
@@ -211,7 +218,7 @@ contains
             end if
             this%quasistatic = scene%time%quasistatic
             this%line_mass = rod%rhoA
-            call build_material(this, rod, err)
+            call build_material(this, rod, element_properties(scene, rod, this%n_elements), err)
             RS_RETURN_IF_ERROR(err)
             this%n_local = ph_director_local_size(this%basis, this%material)
 
@@ -264,23 +271,22 @@ contains
     !> Damping (docs/theory/ph_director.md "Damping"): the Kelvin-Voigt viscosity
     !> V = diag(tau_i k_i) with the rod's full stiffnesses k (all branches together), none for a
     !> rigid component (its strain rate is zero, so is its viscous stress); the drags as given.
-    subroutine build_material(this, rod, err)
+    !> Each element's material is the same with the element's stiffnesses and inertias
+    !> `properties` (rs_model_scene element_properties: EA, GA1, GA2, EI1, EI2, GJ, rhoA, rhoI1,
+    !> rhoI2 per element).
+    subroutine build_material(this, rod, properties, err)
         type(ph_director_t), intent(inout) :: this
         type(rod_input_t), intent(in) :: rod
+        real(rk), intent(in) :: properties(:, :)
         type(error_t), allocatable, intent(out) :: err
         character(len=:), allocatable :: message
-        real(rk) :: stiffness(6), tau(6), elastic_fraction
+        real(rk) :: tau(6), elastic_fraction
         logical :: rigid(6)
-        integer :: nb, br
+        integer :: nb, br, e
         ! &rod kelvin_voigt_time is in the order (EA, GA1, GA2, EI1, EI2, GJ); these stresses
         ! are (N1, N2, N3, M1, M2, M3) = (GA1, GA2, EA, EI1, EI2, GJ).
         integer, parameter :: kv_order(6) = [kv_shear1, kv_shear2, kv_axial, kv_bend1, &
             kv_bend2, kv_torsion]
-        if (.not. this%quasistatic) then
-            this%material%rhoA = rod%rhoA
-            this%material%rhoI = [rod%rhoI1, rod%rhoI2]
-        end if
-        stiffness = [rod%GA1, rod%GA2, rod%EA, rod%EI1, rod%EI2, rod%GJ]
         rigid = .false.
         select case (trim(rod%constraint))
         case ('none')
@@ -302,25 +308,47 @@ contains
         end if
         elastic_fraction = 1.0_rk - sum(rod%maxwell_fraction(1:nb))
         this%material%n_branches = nb
-        this%material%compliance = 0.0_rk
-        where (.not. rigid) this%material%compliance = 1.0_rk / (elastic_fraction * stiffness)
-        do br = 1, nb
-            tau = [rod%maxwell_tau_G(br), rod%maxwell_tau_G(br), rod%maxwell_tau_E(br), &
-                rod%maxwell_tau_E(br), rod%maxwell_tau_E(br), rod%maxwell_tau_G(br)]
-            this%material%branch_active(1:6, br) = .not. rigid
-            where (.not. rigid)
-                this%material%branch_compliance(1:6, br) = 1.0_rk / (rod%maxwell_fraction(br) * stiffness)
-                this%material%branch_fluidity(1:6, br) = &
-                    1.0_rk / (tau * rod%maxwell_fraction(br) * stiffness)
-            end where
-        end do
-        ! An unresolved time (a scene built in code) is no viscosity.
-        tau = rod%kelvin_voigt_time(kv_order)
-        this%material%viscosity = 0.0_rk
-        where (.not. rigid .and. tau /= unset_real .and. tau > 0.0_rk) &
-            this%material%viscosity = tau * stiffness
         this%material%drag = rod%drag
         this%material%angular_drag = rod%angular_drag
+        call fill(this%material, [rod%GA1, rod%GA2, rod%EA, rod%EI1, rod%EI2, rod%GJ], &
+            rod%rhoA, [rod%rhoI1, rod%rhoI2])
+        allocate(this%element_material(this%n_elements), this%element_line_mass(this%n_elements))
+        do e = 1, this%n_elements
+            this%element_material(e) = this%material
+            associate (p => properties(:, e))
+                call fill(this%element_material(e), [p(2), p(3), p(1), p(4), p(5), p(6)], p(7), &
+                    [p(8), p(9)])
+                this%element_line_mass(e) = p(7)
+            end associate
+        end do
+    contains
+        !> The stiffness- and inertia-dependent parts of `material`; stiffness in the order of
+        !> the stresses (GA1, GA2, EA, EI1, EI2, GJ).
+        subroutine fill(material, stiffness, rho_a, rho_i)
+            type(ph_director_material_t), intent(inout) :: material
+            real(rk), intent(in) :: stiffness(6), rho_a, rho_i(2)
+            if (.not. this%quasistatic) then
+                material%rhoA = rho_a
+                material%rhoI = rho_i
+            end if
+            material%compliance = 0.0_rk
+            where (.not. rigid) material%compliance = 1.0_rk / (elastic_fraction * stiffness)
+            do br = 1, nb
+                tau = [rod%maxwell_tau_G(br), rod%maxwell_tau_G(br), rod%maxwell_tau_E(br), &
+                    rod%maxwell_tau_E(br), rod%maxwell_tau_E(br), rod%maxwell_tau_G(br)]
+                material%branch_active(1:6, br) = .not. rigid
+                where (.not. rigid)
+                    material%branch_compliance(1:6, br) = 1.0_rk / (rod%maxwell_fraction(br) * stiffness)
+                    material%branch_fluidity(1:6, br) = &
+                        1.0_rk / (tau * rod%maxwell_fraction(br) * stiffness)
+                end where
+            end do
+            ! An unresolved time (a scene built in code) is no viscosity.
+            tau = rod%kelvin_voigt_time(kv_order)
+            material%viscosity = 0.0_rk
+            where (.not. rigid .and. tau /= unset_real .and. tau > 0.0_rk) &
+                material%viscosity = tau * stiffness
+        end subroutine fill
     end subroutine build_material
 
     !> The actuators of this rod (methods §3.2): tau = -pressure area f(t) for a pneumatic
@@ -406,7 +434,7 @@ contains
                 do g = 1, this%basis%n_gauss
                     this%eps_ref(:, g, e) = ph_director_straight_strain
                 end do
-                call ph_director_element_initial_stress(this%basis, this%material, &
+                call ph_director_element_initial_stress(this%basis, this%element_material(e), &
                     this%element_length(e), this%fixed_q(:, nodes(1):nodes(2)), &
                     this%eps_ref(:, :, e), this%initial_s(:, :, e))
             else
@@ -839,19 +867,25 @@ contains
         load_time = merge(this%t_static, t_n + 0.5_rk * h, this%static)
     end function load_time
 
-    !> Distributed force and moment per unit length at time t (gravity included).
-    pure subroutine distributed_loads(this, t, force, moment)
+    !> Distributed force and moment per unit length at time t, and the gravity acceleration:
+    !> an element's weight per length is its own line mass times it (&segment).
+    pure subroutine distributed_loads(this, t, force, moment, gravity)
         type(ph_director_t), intent(in) :: this
         real(rk), intent(in) :: t
-        real(rk), intent(out) :: force(3), moment(3)
+        real(rk), intent(out) :: force(3), moment(3), gravity(3)
         integer :: i
         real(rk) :: f
         force = 0.0_rk
         moment = 0.0_rk
+        gravity = 0.0_rk
         do i = 1, size(this%loads)
             if (.not. this%loads(i)%distributed) cycle
             f = this%loads(i)%factor%value(t)
-            force = force + f * this%loads(i)%force
+            if (this%loads(i)%gravity) then
+                gravity = gravity + f * this%loads(i)%acceleration
+            else
+                force = force + f * this%loads(i)%force
+            end if
             moment = moment + f * this%loads(i)%moment
         end do
     end subroutine distributed_loads
@@ -974,23 +1008,23 @@ contains
         real(rk), intent(out), optional :: f(:), values(:)
         real(rk) :: r_e(this%n_local), j_e(this%n_local, this%n_local)
         real(rk) :: r_k(node_dofs), j_k(node_dofs, node_dofs)
-        real(rk) :: nbar(3), mbar(3), t_mid
+        real(rk) :: nbar(3), mbar(3), gravity(3), t_mid
         type(ph_director_actuation_t) :: actuation
         integer :: e, k, i
         call this%unpack(x_n, this%q_n, this%v_n, this%lambda, this%s_n)
         call this%unpack(y, this%q_1, this%v_1, this%lambda, this%s_1)
         t_mid = load_time(this, t_n, h)
-        call distributed_loads(this, t_mid, nbar, mbar)
+        call distributed_loads(this, t_mid, nbar, mbar, gravity)
         actuation = actuation_at(this, t_mid)
         if (present(f)) f = 0.0_rk
         ! No zeroing of the values: every position is assigned by its first block (scatter_t).
         do e = 1, this%n_elements
             if (present(values) .and. present(f)) then
-                call element_kernel(this, e, h, nbar, mbar, actuation, r_e, j_e)
+                call element_kernel(this, e, h, nbar, gravity, mbar, actuation, r_e, j_e)
             else if (present(values)) then
-                call element_kernel(this, e, h, nbar, mbar, actuation, j_e=j_e)
+                call element_kernel(this, e, h, nbar, gravity, mbar, actuation, j_e=j_e)
             else
-                call element_kernel(this, e, h, nbar, mbar, actuation, r_e)
+                call element_kernel(this, e, h, nbar, gravity, mbar, actuation, r_e)
             end if
             if (present(values)) call scatter_block(this%element_scatter, e, size(j_e), j_e, values)
             if (present(f)) then
@@ -1053,8 +1087,8 @@ contains
         v = 0.0_rk
         s = 0.0_rk
         do e = 1, this%n_elements
-            call ph_director_element_residual(this%basis, this%material, this%element_length(e), &
-                this%eps_ref(:, :, e), 1.0_rk, .false., q, q, v, v, s, s, [0.0_rk, 0.0_rk, 0.0_rk], &
+            call ph_director_element_residual(this%basis, this%element_material(e), &
+                this%element_length(e), this%eps_ref(:, :, e), 1.0_rk, .false., q, q, v, v, s, s, [0.0_rk, 0.0_rk, 0.0_rk], &
                 [0.0_rk, 0.0_rk, 0.0_rk], ph_director_actuation_t(), r_e, j_e)
             this%compliance_inverse(:, :, e) = inverse(j_e(first:, first:))
         end do
@@ -1221,7 +1255,7 @@ contains
             nodes = this%element_nodes(e)
             ! R_S is linear in sigma_{n+1} with the matrix C_e: one correction from sigma_n.
             this%s_1(:, :, :, e) = this%s_n(:, :, :, e)
-            call element_kernel(this, e, h, zero, zero, ph_director_actuation_t(), r_e)
+            call element_kernel(this, e, h, zero, zero, zero, ph_director_actuation_t(), r_e)
             this%s_1(:, :, 0, e) = this%s_n(:, :, 0, e) - reshape(matmul( &
                 this%compliance_inverse(:, :, e), r_e(first:)), [6, this%degree])
         end do
@@ -1229,19 +1263,20 @@ contains
 
     !> The element kernel (methods §5.6 rows R_M, R_S) of element e on the workspace fields at
     !> t_n and t_{n+1}: its residual `r_e` and/or its Jacobian `j_e`, those present.
-    subroutine element_kernel(this, e, h, nbar, mbar, actuation, r_e, j_e)
+    subroutine element_kernel(this, e, h, nbar, gravity, mbar, actuation, r_e, j_e)
         type(ph_director_t), intent(in) :: this
         integer, intent(in) :: e
-        real(rk), intent(in) :: h, nbar(3), mbar(3)
+        real(rk), intent(in) :: h, nbar(3), gravity(3), mbar(3)
         type(ph_director_actuation_t), intent(in) :: actuation
         real(rk), intent(out), contiguous, optional :: r_e(:)
         real(rk), intent(out), contiguous, optional :: j_e(:, :)
         integer :: nodes(2)
         nodes = this%element_nodes(e)
-        call ph_director_element_residual(this%basis, this%material, this%element_length(e), &
-            this%eps_ref(:, :, e), h, this%static, this%q_n(:, nodes(1):nodes(2)), this%q_1(:, nodes(1):nodes(2)), &
+        call ph_director_element_residual(this%basis, this%element_material(e), &
+            this%element_length(e), this%eps_ref(:, :, e), h, this%static, this%q_n(:, nodes(1):nodes(2)), this%q_1(:, nodes(1):nodes(2)), &
             this%v_n(:, nodes(1):nodes(2)), this%v_1(:, nodes(1):nodes(2)), this%s_n(:, :, :, e), &
-            this%s_1(:, :, :, e), nbar, mbar, actuation, r_e, j_e)
+            this%s_1(:, :, :, e), nbar + this%element_line_mass(e) * gravity, mbar, actuation, &
+            r_e, j_e)
     end subroutine element_kernel
 
     !> Residual (and, if `values` is present, the Schur-complement Jacobian) of the condensed
@@ -1254,14 +1289,14 @@ contains
         real(rk) :: schur(12 * (this%degree + 1), 12 * (this%degree + 1))
         real(rk) :: coupling(6 * this%degree, 12 * (this%degree + 1))
         real(rk) :: r_k(node_dofs), j_k(node_dofs, node_dofs)
-        real(rk) :: nbar(3), mbar(3), t_mid
+        real(rk) :: nbar(3), mbar(3), gravity(3), t_mid
         type(ph_director_actuation_t) :: actuation
         integer :: rows_m(12 * (this%degree + 1)), cols_q(12 * (this%degree + 1))
         integer :: cols_v(12 * (this%degree + 1))
         integer :: e, k, a, i, j, p, nodes(2), nq, first
         call condensed_fields(this, h, x_n, y)
         t_mid = load_time(this, t_n, h)
-        call distributed_loads(this, t_mid, nbar, mbar)
+        call distributed_loads(this, t_mid, nbar, mbar, gravity)
         actuation = actuation_at(this, t_mid)
         nq = 12 * (this%degree + 1)
         first = 24 * (this%degree + 1) + 1
@@ -1277,7 +1312,7 @@ contains
         do e = 1, this%n_elements
             nodes = this%element_nodes(e)
             if (present(values)) then
-                call element_kernel(this, e, h, nbar, mbar, actuation, r_e, j_e)
+                call element_kernel(this, e, h, nbar, gravity, mbar, actuation, r_e, j_e)
                 ! d/dq_{n+1} through v_{n+1} = 2 (q_{n+1} - q_n)/h - v_n, then the Schur
                 ! complement of the stress block: A - B C_e^{-1} C.
                 schur = j_e(rows_m, cols_q) + (2.0_rk / h) * j_e(rows_m, cols_v)
@@ -1291,7 +1326,7 @@ contains
                     end do
                 end do
             else
-                call element_kernel(this, e, h, nbar, mbar, actuation, r_e)
+                call element_kernel(this, e, h, nbar, gravity, mbar, actuation, r_e)
             end if
             if (present(f)) then
                 do a = 1, this%degree + 1
@@ -1346,10 +1381,10 @@ contains
         strain = 0.0_rk
         do e = 1, this%n_elements
             nodes = this%element_nodes(e)
-            kinetic = kinetic + ph_director_element_kinetic_energy(this%basis, this%material, &
+            kinetic = kinetic + ph_director_element_kinetic_energy(this%basis, this%element_material(e), &
                 this%element_length(e), this%v_1(:, nodes(1):nodes(2)))
             strain = strain + ph_director_element_complementary_energy(this%basis, &
-                this%material, this%element_length(e), this%s_1(:, :, :, e))
+                this%element_material(e), this%element_length(e), this%s_1(:, :, :, e))
         end do
         if (this%quasistatic) return
         do e = 1, size(this%bodies)
@@ -1368,7 +1403,8 @@ contains
         class(ph_director_t), intent(inout) :: this
         real(rk), intent(in) :: t_n, h, x_n(:), x_1(:)
         type(step_energy_t), intent(out) :: terms(:)
-        real(rk) :: work, actuator_work, dissipated, nbar(3), mbar(3), force(3), moment(3), t_mid
+        real(rk) :: work, actuator_work, dissipated, nbar(3), mbar(3), gravity(3), force(3), &
+            moment(3), t_mid
         real(rk) :: kinetic_n, strain_n, kinetic_1, strain_1, weight(12), viscous, external
         type(ph_director_actuation_t) :: actuation
         integer :: e, k, nodes(2)
@@ -1384,7 +1420,7 @@ contains
         call this%unpack(x_n, this%q_n, this%v_n, this%lambda, this%s_n)
         call this%unpack(x_1, this%q_1, this%v_1, this%lambda, this%s_1)
         t_mid = t_n + 0.5_rk * h
-        call distributed_loads(this, t_mid, nbar, mbar)
+        call distributed_loads(this, t_mid, nbar, mbar, gravity)
         actuation = actuation_at(this, t_mid)
         work = 0.0_rk
         actuator_work = 0.0_rk
@@ -1394,18 +1430,19 @@ contains
             associate (q_n => this%q_n(:, nodes(1):nodes(2)), q_1 => this%q_1(:, nodes(1):nodes(2)), &
                     v_n => this%v_n(:, nodes(1):nodes(2)), v_1 => this%v_1(:, nodes(1):nodes(2)))
                 work = work + ph_director_element_external_work(this%basis, &
-                    this%element_length(e), h, q_n, q_1, v_n, v_1, nbar, mbar)
+                    this%element_length(e), h, q_n, q_1, v_n, v_1, &
+                    nbar + this%element_line_mass(e) * gravity, mbar)
                 if (size(this%actuators) > 0) actuator_work = actuator_work + &
                     ph_director_element_actuator_work(this%basis, this%element_length(e), h, &
                     q_n, q_1, v_n, v_1, actuation)
                 if (damped) then
-                    call ph_director_element_damping_dissipation(this%basis, this%material, &
+                    call ph_director_element_damping_dissipation(this%basis, this%element_material(e), &
                         this%element_length(e), h, q_n, q_1, v_n, v_1, viscous, external)
                     dissipated = dissipated + viscous + external
                 end if
             end associate
             if (this%material%n_branches > 0) dissipated = dissipated + &
-                ph_director_element_dissipation(this%basis, this%material, &
+                ph_director_element_dissipation(this%basis, this%element_material(e), &
                 this%element_length(e), h, this%s_n(:, :, :, e), this%s_1(:, :, :, e))
         end do
         do k = 1, this%n_nodes
@@ -1555,6 +1592,7 @@ contains
         real(rk), intent(in) :: t, x(:)
         type(rod_history_t), pointer :: history
         real(rk) :: kinetic, strain, linear(3), angular(3), l_e(3), a_e(3), position(3), mass
+        real(rk) :: weight, weighted_length
         real(rk) :: gamma(3, this%degree), kappa(3, this%degree)
         integer :: r, e, k, i, nodes(2), first, last, br
         history => histories(1)
@@ -1565,13 +1603,18 @@ contains
         linear = 0.0_rk
         angular = 0.0_rk
         position = 0.0_rk
+        weighted_length = 0.0_rk
         do e = 1, this%n_elements
             nodes = this%element_nodes(e)
-            call ph_director_element_momenta(this%basis, this%material, this%element_length(e), &
+            call ph_director_element_momenta(this%basis, this%element_material(e), this%element_length(e), &
                 this%q_1(:, nodes(1):nodes(2)), this%v_1(:, nodes(1):nodes(2)), l_e, a_e)
             linear = linear + l_e
             angular = angular + a_e
-            position = position + ph_director_element_position_integral(this%basis, &
+            ! Weighted by the element's share of the line mass (&segment): the centre of mass.
+            weight = 1.0_rk
+            if (this%line_mass > 0.0_rk) weight = this%element_line_mass(e) / this%line_mass
+            weighted_length = weighted_length + weight * this%element_length(e)
+            position = position + weight * ph_director_element_position_integral(this%basis, &
                 this%element_length(e), this%q_1(:, nodes(1):nodes(2)))
             call warn_if_coarse(this, e, t, this%q_1(10:12, nodes(1)), this%q_1(10:12, nodes(2)))
         end do
@@ -1579,11 +1622,11 @@ contains
         history%kinetic(r) = kinetic
         history%strain(r) = strain
         history%total(r) = kinetic + strain
-        history%center_of_mass(:, r) = position / this%length
+        history%center_of_mass(:, r) = position / weighted_length
         if (size(this%bodies) > 0) then
             ! The bodies on the ends: their momenta, and their mass in the centre of mass.
             position = this%line_mass * position
-            mass = this%line_mass * this%length
+            mass = this%line_mass * weighted_length
             do e = 1, size(this%bodies)
                 associate (body => this%bodies(e))
                     if (.not. this%quasistatic) then

@@ -33,7 +33,8 @@ contains
             load_frames='spatial', constraints='none|kirchhoff|inextensible', quasistatic=.true., &
             viscoelastic=.true., actuation=.true., curved_reference=.true., prestressed=.true., &
             joints='rigid|spherical|revolute', end_plates=.true., floating_plates=.true., &
-            contact=.true., order_4=.true., adaptive=.true., damping=.true.)
+            contact=.true., order_4=.true., adaptive=.true., damping=.true., &
+            segments=.true.)
         d%default_choice = .true.
         d%system_couplings = .true.
         d%create => create

@@ -28,7 +28,7 @@ module rs_ph_planar
     use rs_core_kinds, only: rk, pi
     use rs_core_error, only: error_t, set_error
     use rs_core_strings, only: str
-    use rs_model_scene, only: scene_t, rod_input_t, load_applies_to, unset_real
+    use rs_model_scene, only: scene_t, rod_input_t, load_applies_to, unset_real, element_properties
     use rs_model_damping, only: kv_axial, kv_shear1, kv_shear2, kv_bend1, kv_bend2
     use rs_model_rod_history, only: rod_history_t
     use rs_model_time_function, only: time_function_t, time_function_from_load
@@ -53,6 +53,8 @@ module rs_ph_planar
     type :: planar_load_t
         integer :: rod = 0
         integer :: node = 0
+        !> Gravity: `force` is the acceleration, times each element's mass per length.
+        logical :: gravity = .false.
         real(rk) :: force(2) = 0.0_rk
         real(rk) :: moment = 0.0_rk
         type(time_function_t) :: factor
@@ -73,6 +75,10 @@ module rs_ph_planar
         real(rk) :: drag = 0.0_rk, angular_drag = 0.0_rk
         logical :: viscous = .false., dragged = .false.
         real(rk) :: rho_a = 0.0_rk, rho_i = 0.0_rk
+        !> Per element of the rod (&segment, issue 26 item 5): (EA, GA, EI), their viscosities,
+        !> (rhoA, rhoI) (zero in a quasistatic run) and the mass per length as given (its weight).
+        real(rk), allocatable :: element_stiffness(:, :), element_viscosity(:, :), &
+            element_rho(:, :), element_line_mass(:)
         !> Reference angle theta_0 of the straight rod (methods §3.1).
         real(rk) :: theta0 = 0.0_rk
         !> Initial 3D directors (columns d1, d2, d3) and the maps of the planar stress (N1, N2,
@@ -102,6 +108,9 @@ module rs_ph_planar
         !> Per element: its rod, its index there, its 6 q indices.
         integer, allocatable :: element_rod(:), element_dofs(:, :)
         real(rk), allocatable :: element_length(:)
+        !> Per element in system order: (EA, GA, EI) and their Kelvin-Voigt viscosities (the
+        !> rods' element_stiffness, element_viscosity).
+        real(rk), allocatable :: stiffness(:, :), viscosity(:, :)
         !> Per element: the consistent mass (6, 6) in its q ordering (methods §3.2), built once:
         !> residual and Jacobian need it at every Newton iteration.
         real(rk), allocatable :: mass(:, :, :)
@@ -200,7 +209,8 @@ contains
         allocate(this%rods(size(rods)))
         next = 0
         do r = 1, size(rods)
-            call build_rod(this, scene%rods(rods(r)), this%rods(r))
+            call build_rod(this, scene%rods(rods(r)), element_properties(scene, &
+                scene%rods(rods(r)), scene%rods(rods(r))%n_elements), this%rods(r))
             this%rods(r)%first_element = next + 1
             next = next + this%rods(r)%n_elements
         end do
@@ -213,7 +223,8 @@ contains
 
         ! Elements in system order.
         allocate(this%element_rod(this%n_elements), this%element_dofs(6, this%n_elements), &
-            this%element_length(this%n_elements), this%mass(6, 6, this%n_elements))
+            this%element_length(this%n_elements), this%mass(6, 6, this%n_elements), &
+            this%stiffness(3, this%n_elements), this%viscosity(3, this%n_elements))
         do r = 1, size(this%rods)
             associate (rod => this%rods(r))
                 do e = 1, rod%n_elements
@@ -221,8 +232,10 @@ contains
                     this%element_rod(next) = r
                     this%element_dofs(:, next) = [rod%dofs(:, e), rod%dofs(:, e + 1)]
                     this%element_length(next) = rod%length / real(rod%n_elements, rk)
-                    call element_mass(this%element_length(next), rod%rho_a, rod%rho_i, &
-                        this%mass(:, :, next))
+                    this%stiffness(:, next) = rod%element_stiffness(:, e)
+                    this%viscosity(:, next) = rod%element_viscosity(:, e)
+                    call element_mass(this%element_length(next), rod%element_rho(1, e), &
+                        rod%element_rho(2, e), this%mass(:, :, next))
                 end do
             end associate
         end do
@@ -292,12 +305,17 @@ contains
     !> Mesh, section and frame of one straight rod (methods §3.1): EA, the in-plane shear
     !> stiffness and the bending stiffness about the plane normal. The director along the normal
     !> (d1 or d2) names them: bending about d_k is EI_k and rhoI_k, in-plane shear is along the
-    !> other director; their Kelvin-Voigt times likewise. Drag and angular drag as given.
-    subroutine build_rod(this, input, rod)
+    !> other director; their Kelvin-Voigt times likewise. Drag and angular drag as given. The
+    !> same per element from `properties` (rs_model_scene element_properties).
+    subroutine build_rod(this, input, properties, rod)
         type(ph_planar_t), intent(in) :: this
         type(rod_input_t), intent(in) :: input
+        real(rk), intent(in) :: properties(:, :)
         type(planar_rod_t), intent(out) :: rod
         real(rk) :: t(3), d1(3), d2(3), n(3), shear_axis(3), tau(3)
+        ! Indices into properties (EA, GA1, GA2, EI1, EI2, GJ, rhoA, rhoI1, rhoI2) of
+        ! (EA, GA, EI) and rhoI.
+        integer :: picked(3), inertia
         n = this%plane%normal
         t = input%direction / norm2(input%direction)
         d1 = input%d1
@@ -315,10 +333,14 @@ contains
             rod%stiffness = [input%EA, input%GA2, input%EI1]
             rod%rho_i = input%rhoI1
             tau = input%kelvin_voigt_time([kv_axial, kv_shear2, kv_bend1])
+            picked = [1, 3, 4]
+            inertia = 8
         else
             rod%stiffness = [input%EA, input%GA1, input%EI2]
             rod%rho_i = input%rhoI2
             tau = input%kelvin_voigt_time([kv_axial, kv_shear1, kv_bend2])
+            picked = [1, 2, 5]
+            inertia = 9
         end if
         rod%rho_a = input%rhoA
         ! An unresolved scene (built in code) has no Kelvin-Voigt times.
@@ -328,9 +350,14 @@ contains
         rod%angular_drag = input%angular_drag
         rod%viscous = any(rod%viscosity /= 0.0_rk)
         rod%dragged = rod%drag /= 0.0_rk .or. rod%angular_drag /= 0.0_rk
+        rod%element_stiffness = properties(picked, :)
+        rod%element_viscosity = spread(tau, 2, size(properties, 2)) * rod%element_stiffness
+        rod%element_line_mass = properties(7, :)
+        rod%element_rho = properties([7, inertia], :)
         if (this%quasistatic) then
             rod%rho_a = 0.0_rk
             rod%rho_i = 0.0_rk
+            rod%element_rho = 0.0_rk
         end if
         ! Planar N1 (axial) is N3 along d3; planar N2 acts along the in-plane transverse
         ! direction n x t; the moment acts about n.
@@ -507,9 +534,10 @@ contains
                         load%node = 0
                     end select
                     if (trim(input%where) == 'gravity') then
-                        ! The mass of the rod, not the (zero) quasistatic inertia.
-                        load%force = scene%rods(rods(r))%rhoA * vector_in_plane(this%plane, &
-                            input%acceleration)
+                        ! Times each element's mass as given (element_line_mass), not the
+                        ! (zero) quasistatic inertia.
+                        load%force = vector_in_plane(this%plane, input%acceleration)
+                        load%gravity = .true.
                     else
                         load%force = vector_in_plane(this%plane, input%force)
                         load%moment = dot_product(input%moment, this%plane%normal)
@@ -693,7 +721,7 @@ contains
         case (scheme_ph_em)
             if (this%condensed) then
                 associate (rod => this%rods(this%element_rod(e)))
-                    call ph_em_condensed(this%element_length(e), rod%stiffness, rod%viscosity, &
+                    call ph_em_condensed(this%element_length(e), this%stiffness(:, e), this%viscosity(:, e), &
                         this%n_gauss, h, q_n6, q_16, x_n(at + 1:at + 3), r6, k6, hist)
                 end associate
             else
@@ -764,20 +792,20 @@ contains
                 select case (this%scheme)
                 case (scheme_ph_em)
                     if (this%condensed) then
-                        call ph_em_condensed(le, rod%stiffness, rod%viscosity, this%n_gauss, h, &
+                        call ph_em_condensed(le, this%stiffness(:, e), this%viscosity(:, e), this%n_gauss, h, &
                             q_n6, q_16, x_n(at + 1:at + 3), r9(1:6), k6, e_1)
                     else
                         row = this%n_free + 3 * (e - 1)
-                        call ph_em_residual(le, rod%stiffness, rod%viscosity, this%n_gauss, h, &
+                        call ph_em_residual(le, this%stiffness(:, e), this%viscosity(:, e), this%n_gauss, h, &
                             q_n6, q_16, x_n(at + 1:at + 3), y(row + 1:row + 3), r9)
                         f(row + 1:row + 3) = r9(7:9)
                     end if
                 case (scheme_stander_stein)
-                    call cl_em_residual(le, rod%stiffness, rod%viscosity, this%n_gauss, h, q_n6, &
+                    call cl_em_residual(le, this%stiffness(:, e), this%viscosity(:, e), this%n_gauss, h, q_n6, &
                         q_16, r9(1:6))
                 case (scheme_ph_irreducible)
                     call history_at_gauss_points(this, x_n, at, gamma_n)
-                    call ph_emi_residual(le, rod%stiffness, rod%viscosity, this%n_gauss, h, q_n6, &
+                    call ph_emi_residual(le, this%stiffness(:, e), this%viscosity(:, e), this%n_gauss, h, q_n6, &
                         q_16, gamma_n(:, 1:this%n_gauss), r9(1:6))
                 end select
                 if (.not. this%quasistatic) then
@@ -826,25 +854,25 @@ contains
                 select case (this%scheme)
                 case (scheme_ph_em)
                     if (this%condensed .and. present(values)) then
-                        call ph_em_static_condensed(le, rod%stiffness, this%n_gauss, &
+                        call ph_em_static_condensed(le, this%stiffness(:, e), this%n_gauss, &
                             this%q_1(dofs), r9(1:6), e_1, k9(1:6, 1:6))
                     else if (this%condensed) then
-                        call ph_em_static_condensed(le, rod%stiffness, this%n_gauss, &
+                        call ph_em_static_condensed(le, this%stiffness(:, e), this%n_gauss, &
                             this%q_1(dofs), r9(1:6), e_1)
                     else if (present(values)) then
-                        call ph_em_static(le, rod%stiffness, this%n_gauss, scale, this%q_1(dofs), &
+                        call ph_em_static(le, this%stiffness(:, e), this%n_gauss, scale, this%q_1(dofs), &
                             y(row + 1:row + 3), r9, k9)
                     else
-                        call ph_em_static(le, rod%stiffness, this%n_gauss, scale, this%q_1(dofs), &
+                        call ph_em_static(le, this%stiffness(:, e), this%n_gauss, scale, this%q_1(dofs), &
                             y(row + 1:row + 3), r9)
                         f(row + 1:row + 3) = r9(7:9)
                     end if
                 case default
                     if (present(values)) then
-                        call cl_em_static(le, rod%stiffness, this%n_gauss, this%q_1(dofs), &
+                        call cl_em_static(le, this%stiffness(:, e), this%n_gauss, this%q_1(dofs), &
                             r9(1:6), k9(1:6, 1:6))
                     else
-                        call cl_em_static(le, rod%stiffness, this%n_gauss, this%q_1(dofs), r9(1:6))
+                        call cl_em_static(le, this%stiffness(:, e), this%n_gauss, this%q_1(dofs), r9(1:6))
                     end if
                 end select
             end associate
@@ -910,21 +938,21 @@ contains
                 select case (this%scheme)
                 case (scheme_ph_em)
                     if (this%condensed) then
-                        call ph_em_condensed(le, rod%stiffness, rod%viscosity, this%n_gauss, h, &
+                        call ph_em_condensed(le, this%stiffness(:, e), this%viscosity(:, e), this%n_gauss, h, &
                             q_n6, q_16, x_n(at + 1:at + 3), r6, k6, e_1)
                         k9(1:6, 1:6) = k6
                     else
                         row = this%n_free + 3 * (e - 1)
-                        call ph_em_jacobian(le, rod%stiffness, rod%viscosity, this%n_gauss, h, &
+                        call ph_em_jacobian(le, this%stiffness(:, e), this%viscosity(:, e), this%n_gauss, h, &
                             q_n6, q_16, x_n(at + 1:at + 3), y(row + 1:row + 3), k9)
                     end if
                 case (scheme_stander_stein)
-                    call cl_em_jacobian(le, rod%stiffness, rod%viscosity, this%n_gauss, h, q_n6, &
+                    call cl_em_jacobian(le, this%stiffness(:, e), this%viscosity(:, e), this%n_gauss, h, q_n6, &
                         q_16, k6)
                     k9(1:6, 1:6) = k6
                 case (scheme_ph_irreducible)
                     call history_at_gauss_points(this, x_n, at, gamma_n)
-                    call ph_emi_jacobian(le, rod%stiffness, rod%viscosity, this%n_gauss, h, q_n6, &
+                    call ph_emi_jacobian(le, this%stiffness(:, e), this%viscosity(:, e), this%n_gauss, h, q_n6, &
                         q_16, gamma_n(:, 1:this%n_gauss), k6)
                     k9(1:6, 1:6) = k6
                 end select
@@ -960,8 +988,9 @@ contains
                     this%f_rod(rod%dofs(3, k), r) = this%f_rod(rod%dofs(3, k), r) + &
                         factor * load%moment
                 else
-                    half = 0.5_rk * factor * rod%length / real(rod%n_elements, rk)
                     do e = 1, rod%n_elements
+                        half = 0.5_rk * factor * rod%length / real(rod%n_elements, rk)
+                        if (load%gravity) half = half * rod%element_line_mass(e)
                         do k = e, e + 1
                             this%f_rod(rod%dofs(1:2, k), r) = this%f_rod(rod%dofs(1:2, k), r) + &
                                 half * load%force
@@ -1032,13 +1061,13 @@ contains
                     at = 2 * this%n_q + this%n_history * (e - 1)
                     select case (this%scheme)
                     case (scheme_ph_em)
-                        strain = strain + mixed_strain_energy(le, rod%stiffness, x(at + 1:at + 3))
+                        strain = strain + mixed_strain_energy(le, this%stiffness(:, e), x(at + 1:at + 3))
                     case (scheme_stander_stein)
-                        strain = strain + compatible_strain_energy(le, rod%stiffness, &
+                        strain = strain + compatible_strain_energy(le, this%stiffness(:, e), &
                             this%n_gauss, q6)
                     case (scheme_ph_irreducible)
                         call history_at_gauss_points(this, x, at, g)
-                        strain = strain + ph_emi_strain_energy(le, rod%stiffness, &
+                        strain = strain + ph_emi_strain_energy(le, this%stiffness(:, e), &
                             this%n_gauss, q6, g(:, 1:this%n_gauss))
                     end select
                 end associate
@@ -1080,7 +1109,7 @@ contains
                 select case (this%scheme)
                 case (scheme_ph_em)
                     delta(:, 1) = x_1(at + 1:at + 3) - x_n(at + 1:at + 3)
-                    dissipated = dissipated + viscous_dissipation(le, rod%viscosity, 1, h, &
+                    dissipated = dissipated + viscous_dissipation(le, this%viscosity(:, e), 1, h, &
                         delta(:, 1:1))
                     cycle
                 case (scheme_stander_stein)
@@ -1096,7 +1125,7 @@ contains
                     delta(3, 1:ng) = ((x_1(dofs(6)) - x_1(dofs(3))) - &
                         (x_n(dofs(6)) - x_n(dofs(3)))) / le
                 end select
-                dissipated = dissipated + viscous_dissipation(le, rod%viscosity, ng, h, &
+                dissipated = dissipated + viscous_dissipation(le, this%viscosity(:, e), ng, h, &
                     delta(:, 1:ng))
             end do
         end associate
@@ -1179,7 +1208,8 @@ contains
                         planar(3) = (q6(6) - q6(3)) / le
                     end select
                     histories(r)%strains(:, e, rec) = matmul(rod%stress_map, planar)
-                    histories(r)%stress(:, e, rec) = matmul(rod%stress_map, rod%stiffness * planar)
+                    histories(r)%stress(:, e, rec) = matmul(rod%stress_map, &
+                        this%stiffness(:, rod%first_element + e - 1) * planar)
                     ! Momenta with the consistent mass (methods eq. 57): r x (M v) + (M v)_theta.
                     p6 = 0.0_rk
                     if (.not. this%quasistatic) &

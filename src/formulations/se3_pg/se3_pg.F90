@@ -48,7 +48,8 @@ module rs_se3_pg
     use rs_core_kinds, only: rk, pi
     use rs_core_error, only: error_t, set_error
     use rs_core_strings, only: str, vector_text
-    use rs_model_scene, only: scene_t, rod_input_t, bc_input_t, load_applies_to, coordinate_axis
+    use rs_model_scene, only: scene_t, rod_input_t, bc_input_t, load_applies_to, coordinate_axis, &
+        element_properties
     use rs_model_rod_history, only: rod_history_t
     use rs_model_time_function, only: time_function_t, time_function_from_load, time_function_from_bc
     use rs_model_rod_geometry, only: rod_geometry_t, rod_geometry_of, centreline_point, &
@@ -76,6 +77,8 @@ module rs_se3_pg
     type :: se3_load_t
         integer :: node = 0
         logical :: follower = .false.
+        !> Gravity: `force` is the acceleration, times each element's mass per length.
+        logical :: gravity = .false.
         real(rk) :: force(3) = 0.0_rk
         real(rk) :: moment(3) = 0.0_rk
         type(time_function_t) :: factor
@@ -98,15 +101,17 @@ module rs_se3_pg
         !> The time scheme of the dynamics: the midpoint rule, or generalized-alpha, whose
         !> history y'_n the state carries (methods §7.3).
         type(generalized_alpha_t) :: scheme
-        !> K-basis stiffnesses (EA, GA1, GA2, GJ, EI1, EI2), mass per length, K-basis inertia
-        !> (rhoI1 + rhoI2, rhoI1, rhoI2) (methods §3.3, §3.5 with (x, y, z) = (d3, d1, d2)).
-        real(rk) :: stiffness(6) = 0.0_rk, rho_a = 0.0_rk, inertia(3) = 0.0_rk
+        !> Per element (&segment, issue 26 item 5): K-basis stiffnesses (EA, GA1, GA2, GJ, EI1,
+        !> EI2), mass per length, K-basis inertia (rhoI1 + rhoI2, rhoI1, rhoI2) (methods §3.3,
+        !> §3.5 with (x, y, z) = (d3, d1, d2)).
+        real(rk), allocatable :: stiffness(:, :), rho_a(:), inertia(:, :)
         !> Damping (docs/theory/se3_pg.md, "Damping"): the Kelvin-Voigt viscosities tau_i k_i in
         !> the order of `stiffness`, the drag (force per length and velocity) and the angular
         !> drag (moment per length and angular velocity). `kelvin_voigt` and `dragged` say
         !> whether any is not zero: an undamped rod skips the terms. With generalized-alpha and
         !> Kelvin-Voigt, the state also carries the history of the strain rates, 6 per element.
-        real(rk) :: viscosity(6) = 0.0_rk, drag = 0.0_rk, angular_drag = 0.0_rk
+        real(rk), allocatable :: viscosity(:, :)
+        real(rk) :: drag = 0.0_rk, angular_drag = 0.0_rk
         logical :: kelvin_voigt = .false., dragged = .false.
         !> Per element: reference length l_e = |theta_v(Q)| and reference strains (§5.3).
         real(rk), allocatable :: element_length(:), eps_ref(:, :)
@@ -157,6 +162,8 @@ contains
         integer, intent(in) :: rods(:)
         type(error_t), allocatable, intent(out) :: err
         character(len=:), allocatable :: message
+        real(rk), allocatable :: properties(:, :)
+        integer :: e
         if (size(rods) /= 1) then
             RS_SET_ERROR(err, 'se3_pg%init', 'se3_pg rods cannot be joined yet')
             return
@@ -170,14 +177,17 @@ contains
             this%scheme = midpoint_scheme()
             if (.not. this%statics .and. trim(scene%time%scheme) == 'generalized_alpha') &
                 this%scheme = generalized_alpha(scene%time%rho_inf)
-            this%stiffness = [rod%EA, rod%GA1, rod%GA2, rod%GJ, rod%EI1, rod%EI2]
-            this%rho_a = rod%rhoA
-            this%inertia = [rod%rhoI1 + rod%rhoI2, rod%rhoI1, rod%rhoI2]
+            properties = element_properties(scene, rod, this%n_elements)
+            this%stiffness = properties([1, 2, 3, 6, 4, 5], :)
+            this%rho_a = properties(7, :)
+            this%inertia = reshape([(properties(8, e) + properties(9, e), properties(8:9, e), &
+                e = 1, this%n_elements)], [3, this%n_elements])
+            allocate(this%viscosity(6, this%n_elements), source=0.0_rk)
             ! &rod kelvin_voigt_time is in the order (EA, GA1, GA2, EI1, EI2, GJ); the input
             ! check refuses damping in statics.
             if (.not. this%statics) then
-                this%viscosity = this%stiffness * rod%kelvin_voigt_time([kv_axial, kv_shear1, &
-                    kv_shear2, kv_torsion, kv_bend1, kv_bend2])
+                this%viscosity = this%stiffness * spread(rod%kelvin_voigt_time([kv_axial, &
+                    kv_shear1, kv_shear2, kv_torsion, kv_bend1, kv_bend2]), 2, this%n_elements)
                 this%drag = rod%drag
                 this%angular_drag = rod%angular_drag
             end if
@@ -233,10 +243,10 @@ contains
                 at = this%strain_rate_at(e)
                 this%initial(at + 1:at + 6) = eps_rate
             end if
-            call se3_viscous_internal_force(this%element_length(e), this%stiffness, &
-                this%eps_ref(:, e), this%viscosity * eps_rate, q_e, g)
+            call se3_viscous_internal_force(this%element_length(e), this%stiffness(:, e), &
+                this%eps_ref(:, e), this%viscosity(:, e) * eps_rate, q_e, g)
             rows(:, e:e + 1) = rows(:, e:e + 1) - reshape(g, [6, 2])
-            call se3_gyroscopic(this%element_length(e), this%inertia, u_e, g, kg)
+            call se3_gyroscopic(this%element_length(e), this%inertia(:, e), u_e, g, kg)
             rows(:, e:e + 1) = rows(:, e:e + 1) - reshape(g, [6, 2])
             if (this%dragged) then
                 call this%drag_matrix(e, c)
@@ -414,7 +424,8 @@ contains
                     load%node = 0
                 end select
                 if (trim(input%where) == 'gravity') then
-                    load%force = this%rho_a * input%acceleration
+                    load%force = input%acceleration
+                    load%gravity = .true.
                 else if (load%follower) then
                     load%force = [input%force(3), input%force(1), input%force(2)]
                     load%moment = [input%moment(3), input%moment(1), input%moment(2)]
@@ -771,17 +782,18 @@ contains
             if (this%kelvin_voigt) then
                 call se3_strains(this%element_length(e), [this%q_1(:, e), this%q_1(:, e + 1)], &
                     eps_1)
-                call se3_viscous_internal_force(this%element_length(e), this%stiffness, &
-                    this%eps_ref(:, e), this%viscosity * this%stage_strain_rate(h, x_n, e, eps_1), &
+                call se3_viscous_internal_force(this%element_length(e), this%stiffness(:, e), &
+                    this%eps_ref(:, e), &
+                    this%viscosity(:, e) * this%stage_strain_rate(h, x_n, e, eps_1), &
                     q_e, g)
             else
-                call se3_internal_force(this%element_length(e), this%stiffness, &
+                call se3_internal_force(this%element_length(e), this%stiffness(:, e), &
                     this%eps_ref(:, e), q_e, g)
             end if
             if (.not. this%statics) then
                 call stage_motion(this, h, x_n, e, u_stage, accel)
-                call se3_element_mass(this%element_length(e), this%rho_a, this%inertia, m)
-                call se3_gyroscopic(this%element_length(e), this%inertia, u_stage, gyr, kg)
+                call se3_element_mass(this%element_length(e), this%rho_a(e), this%inertia(:, e), m)
+                call se3_gyroscopic(this%element_length(e), this%inertia(:, e), u_stage, gyr, kg)
                 g = g + matmul(m, accel) + gyr
                 if (this%dragged) then
                     call this%drag_matrix(e, c)
@@ -846,11 +858,11 @@ contains
             q_e = [q_at(:, e), q_at(:, e + 1)]
             if (this%kelvin_voigt) then
                 call se3_twist_tangent([this%q_1(:, e), this%q_1(:, e + 1)], theta, dtheta)
-                call se3_viscous_internal_force(this%element_length(e), this%stiffness, &
-                    this%eps_ref(:, e), this%viscosity * this%stage_strain_rate(h, x_n, e, &
+                call se3_viscous_internal_force(this%element_length(e), this%stiffness(:, e), &
+                    this%eps_ref(:, e), this%viscosity(:, e) * this%stage_strain_rate(h, x_n, e, &
                     theta / this%element_length(e)), q_e, g, k, b_t)
             else
-                call se3_internal_tangent(this%element_length(e), this%stiffness, &
+                call se3_internal_tangent(this%element_length(e), this%stiffness(:, e), &
                     this%eps_ref(:, e), q_e, k)
             end if
             k = scale * k
@@ -871,8 +883,8 @@ contains
                     du(6 * node + 1:6 * node + 6, 6 * node + 1:6 * node + 6) = du_node
                 end do
                 call stage_motion(this, h, x_n, e, u_stage, accel)
-                call se3_element_mass(this%element_length(e), this%rho_a, this%inertia, m)
-                call se3_gyroscopic(this%element_length(e), this%inertia, u_stage, gyr, kg)
+                call se3_element_mass(this%element_length(e), this%rho_a(e), this%inertia(:, e), m)
+                call se3_gyroscopic(this%element_length(e), this%inertia(:, e), u_stage, gyr, kg)
                 k = k + matmul(this%scheme%stage_rate_factor(h) / this%scheme%alpha_f * m + kg, du)
                 if (this%dragged) then
                     call this%drag_matrix(e, c)
@@ -882,7 +894,7 @@ contains
                 ! d theta(q_{n+1}) / d q / l (the midpoint rule: 1 / h).
                 if (this%kelvin_voigt) then
                     do j = 1, 12
-                        dtheta(:, j) = this%viscosity * this%scheme%stage_rate_factor(h) / &
+                        dtheta(:, j) = this%viscosity(:, e) * this%scheme%stage_rate_factor(h) / &
                             this%element_length(e) * dtheta(:, j)
                     end do
                     k = k + matmul(b_t, dtheta)
@@ -949,6 +961,7 @@ contains
                             if (e == 0) cycle
                             n = e + node
                             weight = factor * 0.5_rk * this%element_length(e)
+                            if (load%gravity) weight = weight * this%rho_a(e)
                         end if
                         if (load%follower) then
                             call follower_force(q(4:6, n), weight * load%force, f, k)
@@ -1007,7 +1020,7 @@ contains
                 call se3_strains(this%element_length(e), q_n(:, e:e + 1), eps_n)
                 call se3_strains(this%element_length(e), q_1(:, e:e + 1), eps_1)
                 dissipated = dissipated + this%element_length(e) / h * &
-                    dot_product(eps_1 - eps_n, this%viscosity * (eps_1 - eps_n))
+                    dot_product(eps_1 - eps_n, this%viscosity(:, e) * (eps_1 - eps_n))
             end if
             if (this%dragged) then
                 call this%drag_matrix(e, c)
@@ -1032,12 +1045,12 @@ contains
         strain = 0.0_rk
         do e = 1, this%n_elements
             q = x(6 * (e - 1) + 1:6 * (e + 1))
-            strain = strain + se3_strain_energy(this%element_length(e), this%stiffness, &
+            strain = strain + se3_strain_energy(this%element_length(e), this%stiffness(:, e), &
                 this%eps_ref(:, e), q)
             if (this%statics) cycle
             au = 6 * this%n_nodes + 6 * (e - 1)
             u = x(au + 1:au + 12)
-            call se3_element_mass(this%element_length(e), this%rho_a, this%inertia, m)
+            call se3_element_mass(this%element_length(e), this%rho_a(e), this%inertia(:, e), m)
             kinetic = kinetic + 0.5_rk * dot_product(u, matmul(m, u))
         end do
     end subroutine energies
@@ -1089,13 +1102,13 @@ contains
             do e = 1, this%n_elements
                 q = x(6 * (e - 1) + 1:6 * (e + 1))
                 call se3_strains(this%element_length(e), q, eps)
-                n(1:3) = this%stiffness(1:3) * (eps(1:3) - this%eps_ref(1:3, e))
-                n(4:6) = this%stiffness(4:6) * (eps(4:6) - this%eps_ref(4:6, e))
+                n(1:3) = this%stiffness(1:3, e) * (eps(1:3) - this%eps_ref(1:3, e))
+                n(4:6) = this%stiffness(4:6, e) * (eps(4:6) - this%eps_ref(4:6, e))
                 h%strains(:, e, rec) = [eps(2), eps(3), eps(1), eps(5), eps(6), eps(4)]
                 h%stress(:, e, rec) = [n(2), n(3), n(1), n(5), n(6), n(4)]
                 centre = centre + 0.5_rk * this%element_length(e) * (q(1:3) + q(7:9))
                 if (this%statics) cycle
-                call se3_element_mass(this%element_length(e), this%rho_a, this%inertia, m)
+                call se3_element_mass(this%element_length(e), this%rho_a(e), this%inertia(:, e), m)
                 p = matmul(m, x(6 * this%n_nodes + 6 * (e - 1) + 1:6 * this%n_nodes + 6 * (e + 1)))
                 do node = 0, 1
                     linear = linear + p(6 * node + 1:6 * node + 3)

@@ -273,34 +273,37 @@ contains
 
     !> Accelerations a(6, nodes) with M a = rows on the free coordinates (free(i, k)) and a = 0
     !> on the others, M the assembled consistent mass matrix of `se3_element_mass` on elements
-    !> of lengths l(:) (nodes = size(l) + 1). M is (1D consistent mass) x blockdiag(rho_a 1_3,
-    !> diag(inertia)), so each of the six coordinates is its own tridiagonal system over the
-    !> nodes, with diagonal sum of l_e / 3 and neighbours l_e / 6 (times the coordinate's mass):
+    !> of lengths l(:) (nodes = size(l) + 1) with masses rho_a(e), inertia(:, e). M is (1D
+    !> consistent mass) x blockdiag(rho_a 1_3, diag(inertia)) per element, so each of the six
+    !> coordinates is its own tridiagonal system over the nodes, with diagonal sum of
+    !> m_e l_e / 3 and neighbours m_e l_e / 6 (m_e the coordinate's mass of element e):
     !> the Thomas algorithm solves it without pivoting, as it is diagonally dominant; a held
     !> coordinate splits the chain (its row becomes a = 0). For the initial history of
     !> generalized-alpha (rs_se3_pg initial_rates).
     pure subroutine se3_mass_solve(l, rho_a, inertia, free, rows, a)
-        real(rk), intent(in) :: l(:), rho_a, inertia(3)
+        real(rk), intent(in) :: l(:), rho_a(:), inertia(:, :)
         logical, intent(in) :: free(:, :)
         real(rk), intent(in) :: rows(:, :)
         real(rk), intent(out) :: a(:, :)
-        ! Element lengths padded with zero beyond both ends: node k touches lengths(k - 1, k).
-        real(rk) :: lengths(0:size(l) + 1), diagonal(size(l) + 1), coupling(size(l)), node(6)
-        real(rk) :: rhs(size(l) + 1), factor
+        ! Element masses m_e l_e padded with zero beyond both ends: node k touches
+        ! lengths(k - 1, k).
+        real(rk) :: lengths(0:size(l) + 1), diagonal(size(l) + 1), coupling(size(l))
+        real(rk) :: node(6, size(l)), rhs(size(l) + 1), factor
         integer :: i, k, n
         n = size(l) + 1
-        lengths = 0.0_rk
-        lengths(1:n - 1) = l
-        node = [rho_a, rho_a, rho_a, inertia]
+        do k = 1, n - 1
+            node(:, k) = [rho_a(k), rho_a(k), rho_a(k), inertia(:, k)]
+        end do
         do i = 1, 6
+            lengths = 0.0_rk
+            lengths(1:n - 1) = node(i, :) * l
             ! Row k: diagonal(k) a_k + coupling(k - 1) a_{k-1} + coupling(k) a_{k+1} = rhs(k).
             do k = 1, n
-                diagonal(k) = merge(node(i) * (lengths(k - 1) + lengths(k)) / 3.0_rk, 1.0_rk, &
-                    free(i, k))
+                diagonal(k) = merge((lengths(k - 1) + lengths(k)) / 3.0_rk, 1.0_rk, free(i, k))
                 rhs(k) = merge(rows(i, k), 0.0_rk, free(i, k))
             end do
             do k = 1, n - 1
-                coupling(k) = merge(node(i) * l(k) / 6.0_rk, 0.0_rk, free(i, k) .and. free(i, k + 1))
+                coupling(k) = merge(lengths(k) / 6.0_rk, 0.0_rk, free(i, k) .and. free(i, k + 1))
             end do
             do k = 2, n
                 factor = coupling(k - 1) / diagonal(k - 1)

@@ -398,7 +398,7 @@ contains
         free(:, 1) = .false.
         free(2, 3) = .false.
         free(4:6, n) = .false.
-        call se3_mass_solve(l, rho_a, inertia, free, rhs, a)
+        call se3_mass_solve(l, spread(rho_a, 1, size(l)), spread(inertia, 2, size(l)), free, rhs, a)
         product = 0.0_rk
         do e = 1, n_el
             call se3_element_mass(l(e), rho_a, inertia, m)
