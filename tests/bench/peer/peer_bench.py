@@ -13,7 +13,9 @@ general sparse LU it replaced), alternating between the packages in every repeat
 see the same load; the reference and its ladders use the first package, and the finest
 reference is rerun with the others to check that they agree. From the work-precision points of
 both codes the wall time at equal error 1e-2, 1e-3, 1e-4 is interpolated (log-log, on each
-code's cheapest-for-its-error points). PyElastica's stable step is found by bisection.
+code's cheapest-for-its-error points). rodsolve also runs at order 4 and with adaptive steps
+(issue 25; SCHEME_RUNS, the first package only), and a table sets them against its order-2
+steps at equal error. PyElastica's stable step is found by bisection.
 
 PyElastica runs in a virtual environment that this script creates in the work directory (or
 --venv; an existing one with pyelastica and h5py is reused) with `pip install pyelastica h5py`
@@ -25,6 +27,7 @@ docs/performance.md and docs/stability.md and the figures into docs/figures/peer
         [--packages rodchain,mumps] [--write]
 """
 import argparse
+import collections
 import datetime
 import glob
 import json
@@ -87,6 +90,19 @@ RUNS = {
         "stability": [10, 40],
     },
 }
+# rodsolve's time integrators besides order 2 (issue 25), with the first LU package only:
+# order 4 (&time order = 4) on meshes whose spatial error is below the levels, and adaptive
+# steps (&time adaptive, a ladder of rtol; records at the sample times, which are its largest
+# steps) on the meshes where order 2 reaches the levels.
+Scheme = collections.namedtuple("Scheme", "name order rtol")
+ORDER_2 = Scheme("order 2", 2, None)
+ORDER_4 = Scheme("order 4", 4, None)
+ATOL_PER_RTOL = 0.01
+SCHEME_RUNS = {
+    "full": {"order 4": [(4, 100), (8, 100), (8, 200), (12, 100), (12, 200), (16, 200)],
+             "adaptive": [(n, rtol) for n in (4, 8, 12) for rtol in (1e-3, 1e-4, 1e-5, 1e-6)]},
+    "quick": {"order 4": [(4, 100)], "adaptive": [(4, 1e-4)]},
+}
 # the issue's targets: PyElastica's wall time over rodsolve's at equal error (`err`)
 TARGETS = [("free_flying", 1e-2, 20.0), ("free_flying", 1e-3, 20.0), ("free_flying", 1e-4, 20.0),
            ("cantilever_steel", 1e-2, 1000.0)]
@@ -94,6 +110,8 @@ TARGETS = [("free_flying", 1e-2, 20.0), ("free_flying", 1e-3, 20.0), ("free_flyi
 # Jacobians, and its one warning when MUMPS takes over (src/solver/rodchain.c)
 RODCHAIN_VIEW = re.compile(r"^rodchain \((.*?)\): (.*)$", re.M)
 RODCHAIN_FALLBACK = re.compile(r"^rodchain: (.*?); MUMPS factors such Jacobians", re.M)
+# the rod's line on its adaptive steps (src/solver/rod_run.F90)
+ADAPTIVE_STEPS = re.compile(r"adaptive steps: (\d+) accepted")
 OPENMPI_ENV = {  # scripts/mpi_env.sh
     "OMPI_ALLOW_RUN_AS_ROOT": "1", "OMPI_ALLOW_RUN_AS_ROOT_CONFIRM": "1",
     "OMPI_MCA_rmaps_base_oversubscribe": "1", "OPENBLAS_NUM_THREADS": "1",
@@ -136,9 +154,11 @@ def pyelastica_dt_estimate(p, n):
     return 2.0 / math.sqrt(omega2)
 
 
-def scene_text(p, n, steps, samples=N_SAMPLES, jacobian_reuse=0.0, package=None):
+def scene_text(p, n, steps, samples=N_SAMPLES, jacobian_reuse=0.0, package=None,
+               scheme=ORDER_2):
     """The rodsolve scene of problem p with n quadratic elements and `steps` steps; `package`
-    is the LU package of the Newton steps (rodsolve's default if None)."""
+    is the LU package of the Newton steps (rodsolve's default if None); `scheme` the time
+    integrator (an adaptive one takes `steps` as the number of records, its largest steps)."""
     bc = ("&bc\n    rod = 'beam', end = 'start', kind = 'clamped'\n/\n"
           if p["bc"] == "clamped" else "")
     solver = [f"jacobian_reuse = {jacobian_reuse!r}"] if jacobian_reuse else []
@@ -156,7 +176,7 @@ def scene_text(p, n, steps, samples=N_SAMPLES, jacobian_reuse=0.0, package=None)
 /
 &time
     t_end = {p['t_end']!r}
-    dt = {p['t_end'] / steps!r}
+    dt = {p['t_end'] / steps!r}{time_options(scheme, p)}
 /
 &output
     path = 'set by the benchmark'
@@ -184,20 +204,34 @@ def scene_text(p, n, steps, samples=N_SAMPLES, jacobian_reuse=0.0, package=None)
 """
 
 
+def time_options(scheme, p):
+    """The &time lines of a scheme beyond t_end and dt: its order, and for adaptive steps
+    rtol with atol = rtol times ATOL_PER_RTOL L (docs/user/input.md: about rtol times the
+    rod's size)."""
+    lines = [f"order = {scheme.order}"] if scheme.order != 2 else []
+    if scheme.rtol is not None:
+        lines += ["adaptive = .true.", f"rtol = {scheme.rtol!r}",
+                  f"atol = {ATOL_PER_RTOL * scheme.rtol * p['L']!r}"]
+    return "".join(f"\n    {line}" for line in lines)
+
+
 # ---------------------------------------------------------------------------- rodsolve
 
-def run_rodsolve(args, p, n, steps, repeat, samples=N_SAMPLES, packages=None):
+def run_rodsolve(args, p, n, steps, repeat, samples=N_SAMPLES, packages=None, scheme=ORDER_2):
     """For each LU package of `packages` (default --packages): median time loop of `repeat`
     runs, Newton iterations, tips at the sample times, rodchain's fallback warnings. The
     repeats alternate between the packages, so that a change of the machine's load falls on
-    all of them alike."""
+    all of them alike. With adaptive steps (`scheme`) `steps` is the number of records and the
+    row's steps are those accepted."""
     packages = packages or args.packages
     scenes = {}
+    tag = (f"_rtol{scheme.rtol:.0e}" if scheme.rtol is not None else
+           f"_o{scheme.order}" if scheme.order != 2 else "")
     for package in packages:
-        name = f"{p['name']}_n{n}_s{steps}_{package}"
+        name = f"{p['name']}_n{n}_s{steps}{tag}_{package}"
         text = bench_common.rs.set_variable(
-            scene_text(p, n, steps, samples, args.jacobian_reuse, package), "output", "path",
-            f"'{os.path.join(args.workdir, name)}.h5'")
+            scene_text(p, n, steps, samples, args.jacobian_reuse, package, scheme), "output",
+            "path", f"'{os.path.join(args.workdir, name)}.h5'")
         scenes[package] = os.path.join(args.workdir, name + ".nml")
         with open(scenes[package], "w", encoding="utf-8") as f:
             f.write(text)
@@ -212,9 +246,11 @@ def run_rodsolve(args, p, n, steps, repeat, samples=N_SAMPLES, packages=None):
             if (package == "rodchain") != bool(view):
                 raise SystemExit(f"{scenes[package]}: LU package {package} asked for, but "
                                  f"rodchain's set-up line is {'missing' if not view else 'there'}")
+            accepted = ADAPTIVE_STEPS.search(stdout)
+            taken = int(accepted[1]) if accepted else steps
             row = out.setdefault(package, {
-                "code": "rodsolve", "package": package, "n": n, "steps": steps,
-                "dt": p["t_end"] / steps, "iterations": int(summary[2]),
+                "code": "rodsolve", "package": package, "scheme": scheme, "n": n,
+                "steps": taken, "dt": p["t_end"] / taken, "iterations": int(summary[2]),
                 "cutbacks": int(summary[3]), "fallbacks": set(),
                 "panels": view[2] if view else None})
             if int(summary[2]) != row["iterations"]:
@@ -295,6 +331,23 @@ def reference(args, p, runs):
         f"space ladder {check['space']['coarse']:.2e}, {check['space']['fine']:.2e}; "
         f"estimate {check['estimate']:.2e}")
     return ref, amp, check
+
+
+def scheme_points(args, p, runs):
+    """rodsolve's order-4 and adaptive runs of problem p (`runs`: SCHEME_RUNS), with the first
+    LU package, the repeats of a point in a row: scheme name -> rows."""
+    package = args.packages[0]
+    points = [(ORDER_4, n, steps) for n, steps in runs["order 4"]]
+    points += [(Scheme("adaptive", 2, rtol), n, N_SAMPLES) for n, rtol in runs["adaptive"]]
+    out = {}
+    for scheme, n, steps in points:
+        row = run_rodsolve(args, p, n, steps, args.repeat, packages=[package],
+                           scheme=scheme)[package]
+        out.setdefault(scheme.name, []).append(row)
+        log(f"  rodsolve {scheme.name} n = {n}, {row['steps']} steps"
+            + (f" (rtol {scheme.rtol:g})" if scheme.rtol else "")
+            + f": {row['wall']:.3g} s ({row['iterations']} it.)")
+    return out
 
 
 # ---------------------------------------------------------------------------- PyElastica
@@ -501,6 +554,41 @@ def target_cell(case, level, required, package, safety):
                    " (not shown by the measured bound)")
 
 
+def scheme_label(scheme):
+    """' order 4', ' adaptive (rtol 1e-05)', or '' for order 2 (the rows' code column)."""
+    if scheme.rtol is not None:
+        return f" adaptive (rtol {scheme.rtol:.0e})"
+    return "" if scheme == ORDER_2 else f" {scheme.name}"
+
+
+def scheme_header():
+    cols = ["case", "level", "order 2 [s]", "order 4 [s]", "adaptive [s]", "order 2 / order 4",
+            "order 2 / adaptive", "PyElastica / cheapest rodsolve"]
+    return ["| " + " | ".join(cols) + " |", "|" + "---|" * len(cols)]
+
+
+def scheme_rows(case, levels, package, safety):
+    """Wall time of rodsolve's order 2, order 4 and adaptive steps at each error level, their
+    ratios, and PyElastica's against the cheapest of them."""
+    rows = []
+    for level in levels:
+        if 10.0 * case["check"]["estimate"] > level:
+            continue
+        ws = {"order 2": wall_at(case["rodsolve"][package], "err", level)}
+        ws.update({name: wall_at(runs, "err", level) for name, runs in case["schemes"].items()})
+        reached = [w for w in ws.values() if w[0] != "unreached"]
+        best = min(reached, key=lambda w: w[1]) if reached else None
+        wp = wall_at(case["pyelastica"], "err", level, pyelastica_model(case["p"], safety))
+        cells = ([case["p"]["name"], f"{level:g}"]
+                 + [fmt_wall(ws[name], level) if name in ws else "-"
+                    for name in ("order 2", "order 4", "adaptive")]
+                 + [speedup_cell(ws[name], ws["order 2"]) if name in ws else "-"
+                    for name in ("order 4", "adaptive")]
+                 + [ratio_cell(best, wp) if best else "-"])
+        rows.append("| " + " | ".join(cells) + " |")
+    return rows
+
+
 def figure(case, path, packages):
     import matplotlib
     matplotlib.use("Agg")
@@ -509,6 +597,9 @@ def figure(case, path, packages):
     curves = [(case["rodsolve"][pk], "o-", f"C{2 * i}",
                f"rodsolve, LU {pk} (quadratic elements, steps)", i == 0)
               for i, pk in enumerate(packages)]
+    curves += [(case["schemes"][name], style, color, f"rodsolve {name}, LU {packages[0]}", False)
+               for name, style, color in (("order 4", "D--", "C3"), ("adaptive", "^:", "C4"))
+               if name in case["schemes"]]
     curves.append((case["pyelastica"], "s-", "C1", "PyElastica 1.0.0 (elements)", True))
     for rows, style, color, label, annotate in curves:
         ax.loglog([r["err"] for r in rows], [r["wall"] for r in rows], style[0], alpha=0.35,
@@ -707,13 +798,24 @@ def performance_block(args, env, cases, warm, seconds):
             lines.append(f"| {name} | {level:g} | >= {required:g} | " + " | ".join(
                 target_cell(c, level, required, pk, args.safety) for pk in args.packages)
                 + " |")
+    lines += ["", f"**rodsolve's time integrators at equal error** (`err`, LU package {first}; "
+              "interpolated as above on each integrator's front over all its meshes; order 2 "
+              "/ order 4 > 1: order 4 is cheaper; the last column sets PyElastica against the "
+              "cheapest of the three):", ""] + scheme_header()
+    for c in cases:
+        lines += scheme_rows(c, LEVELS, first, args.safety)
     lines += ["", "**Work-precision points** (PyElastica at 0.8 of the estimated stable step; "
-              "rodsolve: Newton iterations of the run, with each LU package):", "",
+              "rodsolve: Newton iterations of the run, with each LU package; order 4 and "
+              "adaptive steps with the first one; adaptive runs: the steps accepted, dt their "
+              "mean):", "",
               "| case | code | elements | steps | dt [s] | err | err_x | wall [s] | "
               "Newton it. |", "|---|---|---|---|---|---|---|---|---|"]
     for c in cases:
-        for r in [r for pk in args.packages for r in c["rodsolve"][pk]] + c["pyelastica"]:
-            code = f"rodsolve, {r['package']}" if r["code"] == "rodsolve" else r["code"]
+        schemes = [r for rows in c["schemes"].values() for r in rows]
+        for r in ([r for pk in args.packages for r in c["rodsolve"][pk]] + schemes
+                  + c["pyelastica"]):
+            code = (f"rodsolve{scheme_label(r['scheme'])}, {r['package']}"
+                    if r["code"] == "rodsolve" else r["code"])
             lines.append(f"| {c['p']['name']} | {code} | {r['n']}"
                          f"{' (quadratic)' if r['code'] == 'rodsolve' else ''} | {r['steps']} | "
                          f"{r['dt']:.3g} | {r['err']:.2e} | {r['err_x']:.2e} | {r['wall']:.3g} | "
@@ -833,10 +935,12 @@ def main():
             log(f"  rodsolve n = {n}, {steps} steps: " + ", ".join(
                 f"{package} {point[package]['wall']:.3g} s ({point[package]['iterations']} it.)"
                 for package in args.packages))
+        schemes = scheme_points(args, p, SCHEME_RUNS["quick" if args.quick else "full"])
         pe_rows, env["sweep_warmups"][name] = pyelastica_sweep(args, python, p,
                                                                case_runs["pyelastica"])
         ref_x = float(np.max(np.linalg.norm(ref["tip"], axis=1)))
-        for r in [r for package in args.packages for r in rows[package]] + pe_rows:
+        for r in ([r for package in args.packages for r in rows[package]] + pe_rows
+                  + [r for scheme_rows in schemes.values() for r in scheme_rows]):
             d = tip_distance(r["tip"], ref["tip"])
             r["err"], r["err_x"] = d / amp, d / ref_x
             log(f"  {r['code']:<10} {r.get('package', ''):<8} n = {r['n']:>4} "
@@ -844,6 +948,7 @@ def main():
                 f"wall = {r['wall']:.3g} s")
         check["pyelastica"] = pyelastica_limit(pe_rows, ref, amp)
         case = {"p": p, "runs": case_runs, "amp": amp, "check": check, "rodsolve": rows,
+                "schemes": schemes,
                 "pyelastica": pe_rows, "big_step": big_step(args, p, ref)}
         agree = package_check(args, [case])
         log(f"{name}: packages: largest tip difference {agree['tip']:.1e}, err difference "

@@ -9,7 +9,10 @@ Items: 1 long runs (1e5 free steps of the 3D flying spaghetti seen from its cent
 1e4 in the lab frame; 1e5 of the planar one in both frames), 2 steps 10 and 100
 times the papers', 3 stiff limits (EA/EI up to 1e8 and the inextensible rod), 4 100 random
 perturbations per benchmark, 5 rotations through pi and long spinning, 6 Newton failures
-provoked on purpose. --reuse measures a result file already in DIR instead of running it again
+provoked on purpose. Items 1, 2, 5 and 6 also run their Newton-based cases at order 4
+(`&time order = 4`) and with error-controlled steps (`&time adaptive`, ADAPTIVE; the scene's
+dt, or the factor times h0, is then the record interval and the largest step) (issue 25).
+--reuse measures a result file already in DIR instead of running it again
 when it holds exactly the same scene (e.g. the 1e5-step run, started by hand earlier).
 The exit status is 1 if a check failed (the tables are written all the same: a missed target
 is a result to report).
@@ -18,6 +21,7 @@ import argparse
 import datetime
 import os
 import platform
+import re
 import sys
 import time
 
@@ -30,10 +34,22 @@ from bench_common import write_generated  # noqa: E402
 SCRIPT = "stability/stability_bench.py"
 LONG_STEPS = 100000
 HEAVY_TOP_T1 = 2.0121517637287174
+#: Error-controlled steps of the stress tests: rtol 1e-4 and atol 1e-6 (m for positions, 1 for
+#: directors) in every case, what a user asking for about four digits would give.
+ADAPTIVE = sc.adaptive_steps(1e-4, 1e-6)
 
 
 def e(x):
     return f"{x:.1e}" if x == x else "-"
+
+
+def steps_cell(adaptive):
+    """The adaptive steps of a run: accepted (rejected by the error control, cut by Newton
+    failures; smallest to largest step); '-' for fixed steps."""
+    if adaptive is None:
+        return "-"
+    return (f"{adaptive['accepted']} ({adaptive['rejected']} rejected, {adaptive['newton_cut']} "
+            f"Newton-cut; {adaptive['smallest']:.2g} to {adaptive['largest']:.2g})")
 
 
 def table(header, rows):
@@ -54,10 +70,22 @@ def checks_line(results):
 def item_long(args):
     # The 3D rod seen from its centre of mass for 1e5 steps; in the lab frame (where it flies
     # 5 m/s away) only 1e4 steps: see docs/stability.md, the residual floor.
+    # Order 4 and adaptive steps (issue 25) from the centre of mass; the 3D rod 1e4 steps
+    # (records) only: 5 Newton solves per step, and the adaptive steps stay near 0.03 s.
     results = [sc.long_run(args, "ph_director", LONG_STEPS, comoving=True),
                sc.long_run(args, "ph_director", LONG_STEPS // 10),
                sc.long_run(args, "ph_planar", LONG_STEPS),
-               sc.long_run(args, "ph_planar", LONG_STEPS, comoving=True)]
+               sc.long_run(args, "ph_planar", LONG_STEPS, comoving=True),
+               sc.long_run(args, "ph_director", LONG_STEPS // 10, comoving=True,
+                           name=f"long_ph_director_{LONG_STEPS // 10}_comoving_order4",
+                           edits=sc.ORDER_4),
+               sc.long_run(args, "ph_director", LONG_STEPS // 10, comoving=True,
+                           name=f"long_ph_director_{LONG_STEPS // 10}_comoving_adaptive",
+                           edits=ADAPTIVE),
+               sc.long_run(args, "ph_planar", LONG_STEPS, comoving=True,
+                           name=f"long_ph_planar_{LONG_STEPS}_comoving_order4", edits=sc.ORDER_4),
+               sc.long_run(args, "ph_planar", LONG_STEPS, comoving=True,
+                           name=f"long_ph_planar_{LONG_STEPS}_comoving_adaptive", edits=ADAPTIVE)]
     rows = []
     for r in results:
         v = r.values
@@ -68,7 +96,7 @@ def item_long(args):
                      e(v["angular_step_max"]), e(v["angular_accumulated"]),
                      e(v["residual_median"]), e(v["residual_max"]),
                      f"{v['iterations_first']:.2f} / {v['iterations_last']:.2f} / {v['iterations_max']}",
-                     f"{v['position_max']:.3g}"])
+                     f"{v['position_max']:.3g}", steps_cell(v["adaptive"])])
     text = ("### 1. Long runs: 1e5 steps of free flight after the load phase\n\n"
             "Every step recorded. Relative to H after the load (energy), |p| after the load "
             "(linear momentum; the comoving runs, p = 0: absolute, kg m/s) and |l| (angular). "
@@ -76,11 +104,16 @@ def item_long(args):
             "times the median per-step change: what a random walk of the per-step errors gives "
             "(a systematic drift would grow as N). 'dH/r' is max |H_(n+1) - H_n| / r_n, r_n the "
             "achieved Newton residual of the step (bound 100). Iterations: mean over the first "
-            "1000 free steps / the last 1000 / max.\n\n" +
+            "1000 free steps / the last 1000 / max. Runs named order4 compose five midpoint "
+            "steps per step; runs named adaptive choose their steps (rtol "
+            f"{ADAPTIVE[1][2]}, atol {ADAPTIVE[2][2]}) within records 0.1 apart, so their "
+            "'steps' are records and the per-step columns are per record (last column: the "
+            "steps they took).\n\n" +
             table(["run", "free steps done", "t reached", "dH/H per step (median)",
                    "dH/H per step (max)", "accumulated dH/H", "walk", "dH/r max",
                    "dp/p per step", "accumulated dp/p", "dl/l per step", "accumulated dl/l",
-                   "r_n median", "r_n max", "Newton its first / last / max", "max abs(phi) at end"],
+                   "r_n median", "r_n max", "Newton its first / last / max", "max abs(phi) at end",
+                   "adaptive steps"],
                   rows))
     return results, text
 
@@ -90,25 +123,33 @@ def item_large(args):
     kirchhoff = sc.rs.set_variable(kirchhoff, "load", "t_off", "0.5")
     strip = sc.rs.read_example(args.source, "strand_spinning_strip.nml")
     top = sc.rs.read_example(args.source, "se3_heavy_top_soft.nml")
-    runs = [("ph_director spinning free rod (h0 = 0.1, seed 000 §6.1)",
-             sc.large_step(args, "ph_director", sc.spinning_free_rod(args, "ph_director"),
-                           "spaghetti", 0.1, [1, 10, 100], 200.0)),
-            ("ph_planar spinning free rod (h0 = 0.1, seed 001 §5.1)",
-             sc.large_step(args, "ph_planar", sc.spinning_free_rod(args, "ph_planar"),
-                           "spaghetti", 0.1, [1, 10, 100], 200.0)),
-            ("Kirchhoff cantilever, inextensible, pulse 0.5 s (h0 = 1e-3, seed 000 §6.2)",
-             sc.large_step(args, "kirchhoff", kirchhoff, "cantilever", 1e-3, [1, 10, 100], 2.0,
-                           atol=1e-12, conserved=False)),
-            ("se3_pg soft heavy top, 5 precessions (h0 = t1/64000, seed 002 §4.5)",
-             sc.large_step(args, "heavy_top_soft", top, "top", HEAVY_TOP_T1 / 64000, [1, 10, 100],
-                           5 * HEAVY_TOP_T1, invariants=False)),
-            ("se3_strand spinning strip 8 Hz (h0 = 2e-3, seed 004 §3.3)",
-             sc.large_step(args, "strand_strip", strip, "strip", 2e-3, [1, 10, 100], 8.0,
-                           invariants=False))]
+    # (label, key, scene, rod, h0, t_end, options of large_step) of the Newton-based cases
+    cases = [("ph_director spinning free rod (h0 = 0.1, seed 000 §6.1)", "ph_director",
+              sc.spinning_free_rod(args, "ph_director"), "spaghetti", 0.1, 200.0, {}),
+             ("ph_planar spinning free rod (h0 = 0.1, seed 001 §5.1)", "ph_planar",
+              sc.spinning_free_rod(args, "ph_planar"), "spaghetti", 0.1, 200.0, {}),
+             ("Kirchhoff cantilever, inextensible, pulse 0.5 s (h0 = 1e-3, seed 000 §6.2)",
+              "kirchhoff", kirchhoff, "cantilever", 1e-3, 2.0,
+              {"atol": 1e-12, "conserved": False}),
+             ("se3_pg soft heavy top, 5 precessions (h0 = t1/64000, seed 002 §4.5)",
+              "heavy_top_soft", top, "top", HEAVY_TOP_T1 / 64000, 5 * HEAVY_TOP_T1,
+              {"invariants": False})]
+    # Order 2 at 1, 10 and 100 h0; order 4 at 10 and 100 h0 (at h0 order 2 is accurate
+    # already); adaptive steps with records 100 h0 apart (the controller picks the steps).
+    variants = [("", (), [1, 10, 100]), (", order 4", sc.ORDER_4, [10, 100]),
+                (", adaptive", ADAPTIVE, [100])]
+    runs = [(label + suffix, sc.large_step(args, key + re.sub(r"\W+", "_", suffix),
+                                           sc.edited(text, edits), rod, h0, factors, t_end,
+                                           **options))
+            for label, key, text, rod, h0, t_end, options in cases
+            for suffix, edits, factors in variants]
+    runs.append(("se3_strand spinning strip 8 Hz (h0 = 2e-3, seed 004 §3.3)",
+                 sc.large_step(args, "strand_strip", strip, "strip", 2e-3, [1, 10, 100], 8.0,
+                               invariants=False)))
     rows = []
     for label, r in runs:
-        for row in r.values["rows"]:
-            rows.append([label if row["factor"] == 1 else "", f"{row['factor']:g}", f"{row['h']:.3g}",
+        for i, row in enumerate(r.values["rows"]):
+            rows.append([label if i == 0 else "", f"{row['factor']:g}", f"{row['h']:.3g}",
                          "yes" if row["status"] == 0 else
                          f"no (status {row['status']}, t = {row['t_reached']:.4g})",
                          row["cutbacks"], f"{row['smallest_dt']:.3g}",
@@ -118,7 +159,8 @@ def item_large(args):
                          e(row.get("momentum_drift", float("nan"))),
                          e(row.get("angular_drift", float("nan"))),
                          e(row.get("energy_per_residual", float("nan"))),
-                         "(" + ", ".join(f"{c:.3f}" for c in row["tip"]) + ")"])
+                         "(" + ", ".join(f"{c:.3f}" for c in row["tip"]) + ")",
+                         steps_cell(row["adaptive"])])
     text = ("### 2. Steps 10 and 100 times the papers'\n\n"
             "Columns: step factor, h, completed, cut-backs, smallest sub-step, Newton "
             "iterations per record (mean / max, sub-steps summed), max |H - H0| / max H (free "
@@ -128,10 +170,14 @@ def item_large(args):
             "100; exact schemes only), the last node at t_end (to compare the step sizes; the "
             "strip spins about e_x, its tip radius is sqrt(y^2 + z^2)). The free rods spin at "
             "1 to 1.1 rad/s: at 100 h0 (h = 10) one step turns them 10 rad, so these runs show "
-            "stability and conservation, not accuracy.\n\n" +
+            "stability and conservation, not accuracy. Cases ending in 'order 4' compose five "
+            "midpoint steps per step (smallest dt: the backward sub-step); 'adaptive' ones "
+            f"choose their steps (rtol {ADAPTIVE[1][2]}, atol {ADAPTIVE[2][2]}) within records "
+            "h apart (cut-backs: Newton failures; per record; last column: the steps taken)."
+            "\n\n" +
             table(["case", "factor", "h", "completed", "cut-backs", "smallest dt", "its mean / max",
                    "max dH/max H", "max balance/H", "max abs(p - p0)", "max dl/max l", "balance/r_n",
-                   "last node at t_end"], rows))
+                   "last node at t_end", "adaptive steps"], rows))
     return [r for _, r in runs], text
 
 
@@ -177,10 +223,21 @@ def item_random(args):
 
 
 def item_spin(args):
-    runs = [("se3_pg heavy top, stiff, 1 precession", sc.spinning(args, "se3_pg", HEAVY_TOP_T1)),
-            ("se3_strand strip, 8 Hz, 8 s", sc.spinning(args, "se3_strand", 8.0)),
-            ("ph_director spinning helix, 6 s", sc.spinning(args, "ph_director", 6.0)),
-            ("ph_planar free rod, 5 rad/s, 200 s", sc.spinning(args, "ph_planar", 200.0))]
+    cases = [("se3_pg heavy top, stiff, 1 precession", "se3_pg", HEAVY_TOP_T1),
+             ("se3_strand strip, 8 Hz, 8 s", "se3_strand", 8.0),
+             ("ph_director spinning helix, 6 s", "ph_director", 6.0),
+             ("ph_planar free rod, 5 rad/s, 200 s", "ph_planar", 200.0)]
+    # Order 4 and adaptive steps (records at the scene's dt) where the formulation has them;
+    # the planar rod once more with Newton at 1e-9: its scene's 1e-11 is below the residual's
+    # rounding floor at the small steps the controller takes (docs/stability.md).
+    variants = [("", "", ()), (", order 4", "_order4", sc.ORDER_4),
+                (", adaptive", "_adaptive", ADAPTIVE)]
+    runs = [(label + suffix, sc.spinning(args, key, t_end, name=f"spin_{key}{tag}", edits=edits))
+            for label, key, t_end in cases for suffix, tag, edits in variants
+            if not edits or key != "se3_strand"]
+    runs.append(("ph_planar free rod, 5 rad/s, 200 s, adaptive, newton_atol 1e-9",
+                 sc.spinning(args, "ph_planar", 200.0, name="spin_ph_planar_adaptive_newton_1e-9",
+                             edits=ADAPTIVE + (("solver", "newton_atol", "1e-9"),))))
     rows = []
     for label, r in runs:
         v = r.values
@@ -189,7 +246,8 @@ def item_spin(args):
                      e(v["orthonormality"]), f"{v['step_angle_max'] / v['step_angle_median']:.3f}",
                      e(v["continued_quaternion_jump"]),
                      f"{v['iterations_mean']:.2f} / {v['iterations_max']}", e(v["energy_drift"]),
-                     e(v.get("balance_ratio", float("nan")) * sc.ENERGY_PER_RESIDUAL)])
+                     e(v.get("balance_ratio", float("nan")) * sc.ENERGY_PER_RESIDUAL),
+                     steps_cell(v["adaptive"])])
     text = ("### 5. Rotations through pi and long spinning\n\n"
             "The frame of the rod's last node over every record: turns (sum of the record-to-record "
             "rotation angles), passes of its rotation from the initial frame through pi, sign flips "
@@ -198,10 +256,12 @@ def item_spin(args):
             "rotation angle (a jump where a parametrization switches would show), largest step of "
             "the sign-continued quaternion, Newton iterations per step, accumulated energy balance "
             "error / max H (se3_strand: driven and damped, its numerical dissipation), max "
-            "|balance_n| / r_n (exact schemes).\n\n" +
+            "|balance_n| / r_n (exact schemes), the steps of adaptive runs (rtol "
+            f"{ADAPTIVE[1][2]}, atol {ADAPTIVE[2][2]}; records at the scene's dt; iterations "
+            "then per record).\n\n" +
             table(["case", "completed", "turns", "passes through pi", "q0 >= 0 flips",
                    "max abs(DD^T - I)", "max/median step angle", "max step of q", "its mean / max",
-                   "energy error", "balance/r_n"], rows))
+                   "energy error", "balance/r_n", "adaptive steps"], rows))
     return [r for _, r in runs], text
 
 
@@ -209,20 +269,29 @@ def item_failures(args):
     labels = {"max_newton_1": "max_newton = 1", "max_newton_2": "max_newton = 2 (t_end 0.3)",
               "absurd_step": "h = 5 (50 h0: the whole load in one step)",
               "nan_load": "end force 1e300 N (overflow: Inf/NaN residual)"}
-    results = [sc.provoked_failure(args, label) for label in labels]
+    # Every failure with fixed steps and with adaptive steps (the scene's dt, or h, is then the
+    # record interval); the two that recover also at order 4 (a failed sub-step is halved).
+    runs = [(label, what, "", ()) for label, what in labels.items()]
+    runs += [(label, what + ", adaptive", "_adaptive", ADAPTIVE) for label, what in labels.items()]
+    runs += [(label, labels[label] + ", order 4", "_order4", sc.ORDER_4)
+             for label in ("max_newton_2", "absurd_step")]
+    results = [sc.provoked_failure(args, label, name=f"failure_{label}{tag}", edits=edits)
+               for label, _, tag, edits in runs]
     rows = []
-    for (label, what), r in zip(labels.items(), results):
+    for (_, what, _, _), r in zip(runs, results):
         v = r.values
         rows.append([what, v["status"], v["cutbacks"], v["file_status"], v["records"],
                      f"{v['last_t']:g}", "yes" if v["finite"] else "no",
                      (v["message"].split(": ", 1)[-1][:160] or "-").replace("|", "/"),
-                     v.get("last_progress", "")[:60]])
+                     v.get("last_progress", "")[:60], steps_cell(v["adaptive"])])
     text = ("### 6. Newton failures provoked on purpose\n\n"
             "Flying spaghetti, t_end = 1 (10 steps) unless stated; max_cutbacks = 6 (default). "
             "Records: records in the file; last t: the last record's time; the message is the "
-            "rod's (truncated); the last column is the last progress line of the run.\n\n" +
+            "rod's (truncated); then the last progress line of the run and the steps of "
+            f"adaptive runs (rtol {ADAPTIVE[1][2]}, atol {ADAPTIVE[2][2]}; a Newton failure cuts "
+            "the step by 4, at most max_cutbacks times in a row).\n\n" +
             table(["provoked by", "exit status", "cut-backs", "file status", "records", "last t",
-                   "all finite", "message", "last progress line"], rows))
+                   "all finite", "message", "last progress line", "adaptive steps"], rows))
     return results, text
 
 

@@ -121,6 +121,46 @@ def series(path, rod):
     return data
 
 
+def edited(text, edits):
+    """`text` with the (group, variable, value) triples of `edits` set (the order-4 and
+    adaptive variants of a case: `ORDER_4`, `adaptive_steps`)."""
+    for group, variable, value in edits:
+        text = rs.set_variable(text, group, variable, value)
+    return text
+
+
+#: &time order = 4: Suzuki's composition of five midpoint steps (docs/theory/time_integration.md);
+#: its backward sub-step is SUZUKI_BACKWARD h long.
+ORDER_4 = (("time", "order", "4"),)
+SUZUKI_BACKWARD = 4.0 / (4.0 - 4.0 ** (1.0 / 3.0)) - 1.0
+
+
+def composed(text):
+    """True if the scene steps at order 4 (&time order = 4)."""
+    return re.search(r"^&time\b[^/]*\border\s*=\s*4\b", text, flags=re.M) is not None
+
+
+def adaptive_steps(rtol, atol):
+    """The edits of error-controlled steps (&time adaptive): dt becomes the record interval and
+    the largest step."""
+    return (("time", "adaptive", ".true."), ("time", "rtol", repr(rtol)),
+            ("time", "atol", repr(atol)))
+
+
+ADAPTIVE_LINE = re.compile(r": adaptive steps: (\d+) accepted, (\d+) rejected by the error "
+                           r"control, (\d+) cut by Newton failures; steps from (\S+) to (\S+) s")
+
+
+def adaptive_summary(log):
+    """The adaptive steps of a run from the rod's summary line: accepted, rejected by the
+    error control, cut by Newton failures, smallest and largest step; None for fixed steps."""
+    m = ADAPTIVE_LINE.search(log)
+    if m is None:
+        return None
+    return {"accepted": int(m[1]), "rejected": int(m[2]), "newton_cut": int(m[3]),
+            "smallest": float(m[4]), "largest": float(m[5])}
+
+
 def without_loads(text):
     """The scene text without its &load groups."""
     while "&load" in text:
@@ -153,9 +193,19 @@ def step_drift(values):
 
 # ---- item 1: long runs -----------------------------------------------------------------------
 
-def long_run(args, formulation, free_steps, comoving=False, name=None):
+#: What long_run measures of the free flight (NaN if the run stopped before it).
+LONG_RUN_MEASURES = (
+    "H_free", "energy_step_max", "energy_step_median", "energy_accumulated",
+    "energy_max_excursion", "residual_max", "residual_median", "energy_per_residual_max",
+    "momentum_step_max", "momentum_accumulated", "angular_step_max", "angular_accumulated",
+    "iterations_mean", "iterations_max", "iterations_first", "iterations_last", "position_max",
+    "walk_estimate")
+
+
+def long_run(args, formulation, free_steps, comoving=False, name=None, edits=()):
     """The flying spaghetti (3D, seed 000 §6.1, or planar, seed 001 §5.1) with `free_steps`
-    steps of free flight after its load phase (t = 5, resp. 2.5), every step recorded.
+    steps of free flight after its load phase (t = 5, resp. 2.5), every step recorded (with
+    adaptive steps in `edits`: a record every 0.1, the scene's dt, each of several steps).
     `comoving`: an initial velocity -p/m so that the total momentum after the load is zero
     (the same motion seen from the centre of mass: positions stay bounded)."""
     if formulation == "ph_director":
@@ -170,19 +220,25 @@ def long_run(args, formulation, free_steps, comoving=False, name=None):
     text = rs.set_variable(text, "output", "flush_every", "1000")
     if comoving:
         text = rs.set_variable(text, "rod", "velocity", velocity)
+    text = edited(text, edits)
     name = name or f"long_{formulation}_{free_steps}{'_comoving' if comoving else ''}"
     res = Result(name)
     status, log, path = run_any(args, text, name)
     d = series(path, "spaghetti")
     t = d["time"]
     res.values.update(status=status, file_status=d["status"], t_end=t_end, t_reached=float(t[-1]),
-                      free_steps=free_steps)
+                      free_steps=free_steps, adaptive=adaptive_summary(log))
     free = t >= t_load - 1e-9
     h = d["energy/total"][free]
-    res.values["free_steps_done"] = int(np.count_nonzero(free) - 1)
+    res.values["free_steps_done"] = max(int(np.count_nonzero(free) - 1), 0)
     if status != 0:
         line = next((l for l in log.splitlines() if "did not converge" in l), log.strip()[-300:])
         res.note(f"run stopped with status {status} at t = {t[-1]:.6g}: {line.strip()}")
+    if np.count_nonzero(free) < 2:
+        # Stopped in the load phase: nothing of the free flight to measure.
+        res.values.update({key: float("nan") for key in LONG_RUN_MEASURES})
+        res.check("the run reached t_end (no Newton failure)", float(t_end - t[-1] > 1e-6), 0.0)
+        return res
     r = d["newton/residual"][free][1:]
     dh = np.abs(np.diff(h))
     p = d["momentum/linear"][free]
@@ -199,7 +255,7 @@ def long_run(args, formulation, free_steps, comoving=False, name=None):
         # Free flight: no work, the balance error is H_(n+1) - H_n (sub-steps: balance_ratio).
         energy_per_residual_max=ENERGY_PER_RESIDUAL * balance_ratio(
             {key: value[free] for key, value in d.items() if key.startswith(("energy", "newton", "dt"))},
-            1e-11, 0.1),
+            1e-11, 0.1, composed(text)),
         momentum_step_max=step_drift(p) / max(np.linalg.norm(p[0]), 1.0),
         momentum_accumulated=float(np.linalg.norm(p[-1] - p[0]) / max(np.linalg.norm(p[0]), 1.0)),
         angular_step_max=step_drift(l) / np.linalg.norm(l[0]),
@@ -265,8 +321,10 @@ def large_step(args, label, text, rod, h0, factors, t_end, invariants=True, atol
         t, energy = d["time"], d["energy/total"]
         cutbacks = count_cutbacks(log, rod)
         its = d["newton/iterations"][1:]
+        # A record's dt is its smallest (sub-)step, signed: an order-4 step's is its backward one.
         row = {"factor": factor, "h": h, "status": status, "t_reached": float(t[-1]),
-               "steps": int(len(t) - 1), "cutbacks": cutbacks, "smallest_dt": float(d["dt"][1:].min()),
+               "steps": int(len(t) - 1), "cutbacks": cutbacks,
+               "smallest_dt": float(np.abs(d["dt"][1:]).min()), "adaptive": adaptive_summary(log),
                "iterations_mean": float(its.mean()), "iterations_max": int(its.max()),
                # Relative to the largest value: the cantilever starts at rest (H0 = 0, p0 = 0).
                "energy_drift": float(np.max(np.abs(energy - energy[0])) / np.max(np.abs(energy))),
@@ -279,7 +337,8 @@ def large_step(args, label, text, rod, h0, factors, t_end, invariants=True, atol
                 # Absolute: a rod spinning in place has p = 0 up to round-off.
                 row["momentum_drift"] = float(np.max(np.linalg.norm(p - p[0], axis=1)))
                 row["angular_drift"] = scaled_drift(l)
-            row["energy_per_residual"] = ENERGY_PER_RESIDUAL * balance_ratio(d, atol, h)
+            row["energy_per_residual"] = ENERGY_PER_RESIDUAL * balance_ratio(d, atol, h,
+                                                                             composed(scene))
         rows.append(row)
         res.check(f"h = {factor:g} h0: the run reaches t_end (status {status})",
                   float(t_end - t[-1] > 1e-6 * t_end), 0.0)
@@ -399,13 +458,18 @@ def stiff_elastica(args, ratios, name="stiff_elastica"):
 
 # ---- energy balance against the Newton residual, with cut-back sub-steps --------------------
 
-def balance_ratio(d, atol, h):
+def balance_ratio(d, atol, h, composed=False):
     """max over records of |balance_n| / (ENERGY_PER_RESIDUAL r_eff): r_eff is the record's
     achieved residual, or with sub-steps (a cut-back: the recorded dt is the smallest sub-step)
     the count of sub-steps, at most h / dt_n, times newton_atol (the other sub-steps' residuals
-    are not recorded, each is at most newton_atol)."""
+    are not recorded, each is at most newton_atol). A `composed` (order-4) step is always five
+    sub-steps or more: r_eff is their count times newton_atol, the count from its recorded dt,
+    the backward sub-step (1 - 4p) h = -0.658 h or a part of it after cut-backs."""
     balance = np.abs(d["energy/balance_error"][1:])
     r = d["newton/residual"][1:]
+    if composed:
+        sub = 5.0 * np.maximum(np.rint(SUZUKI_BACKWARD * h / np.abs(d["dt"][1:])), 1.0)
+        return float(np.max(balance / (ENERGY_PER_RESIDUAL * sub * atol))) if balance.size else 0.0
     sub = np.maximum(np.rint(h / d["dt"][1:]), 1.0)
     r_eff = np.where(sub > 1, sub * atol, np.maximum(r, 1e-300))
     return float(np.max(balance / (ENERGY_PER_RESIDUAL * r_eff))) if balance.size else 0.0
@@ -572,12 +636,14 @@ def spin_analysis(directors, node):
             "continued_quaternion_jump": q_jump}
 
 
-def spinning(args, label, t_end, name=None):
+def spinning(args, label, t_end, name=None, edits=()):
     """Long spinning of one scene (label): se3_pg heavy top (rotation vector with the complement
     update at every |psi| > pi), se3_strand spinning strip (driven at 8 Hz), ph_director spinning
     helix (directors as unknowns), ph_planar free rigid spin at 5 rad/s (nodal angle theta).
     Checks: the run completes, frames stay orthonormal, the frame turns smoothly from record to
-    record (no jump where a parametrization switches), energy as the scheme allows."""
+    record (no jump where a parametrization switches), energy as the scheme allows.
+    `edits`: (group, variable, value) changes (order 4, adaptive steps with the scene's dt as
+    the record interval)."""
     res = Result(name or f"spin_{label}")
     if label == "se3_pg":
         text = rs.read_example(args.source, "se3_heavy_top.nml")
@@ -599,9 +665,11 @@ def spinning(args, label, t_end, name=None):
     text = rs.set_variable(text, "time", "t_end", repr(t_end))
     text = rs.set_variable(text, "output", "fields", "'position,directors'")
     text = rs.set_variable(text, "output", "flush_every", "1000")
+    text = edited(text, edits)
     status, log, path = run_any(args, text, res.name)
     d = series(path, rod)
     t = d["time"]
+    res.values["adaptive"] = adaptive_summary(log)
     spin = spin_analysis(d["directors"], node)
     energy = d["energy/total"]
     its = d["newton/iterations"][1:]
@@ -623,22 +691,24 @@ def spinning(args, label, t_end, name=None):
     res.check(f"{label}: sign-continued quaternion: max |q_(n+1) - q_n| / (record angle max)",
               spin["continued_quaternion_jump"] / max(spin["step_angle_max"], 1e-300), 1.0)
     if exact:
-        atol = 1e-12 if label == "ph_director" else 1e-11
         h = 0.005 if label == "ph_director" else 0.1
-        res.values["balance_ratio"] = balance_ratio(d, atol, h)
+        res.values["balance_ratio"] = balance_ratio(d, rs.number(text, "solver", "newton_atol"), h,
+                                                    composed(text))
         res.check(f"{label}: |balance_n| / (100 r_n)", res.values["balance_ratio"], 1.0)
     return res
 
 
 # ---- item 6: Newton failures provoked on purpose ---------------------------------------------
 
-def provoked_failure(args, label, name=None):
+def provoked_failure(args, label, name=None, edits=()):
     """Flying spaghetti (t_end = 1, 10 steps) with Newton made to fail: 'max_newton_1' and
     'max_newton_2' (too few iterations), 'absurd_step' (h = 5: the whole load phase in one
     step, 50 times the paper's h, then two free steps), 'nan_load' (an end force of 1e300 N: the
     residual overflows to Inf/NaN). The
     contract (DESIGN.md §3): the cut-backs recover, or the run ends with status 1, a message
-    that says where and why, and a readable file whose records end at the last good state."""
+    that says where and why, and a readable file whose records end at the last good state.
+    `edits`: (group, variable, value) changes (order 4; adaptive steps, whose Newton failures
+    cut the step by TSAdapt's factor 0.25 instead of halving it)."""
     text = rs.read_example(args.source, "flying_spaghetti.nml")
     text = rs.set_variable(text, "time", "t_end", "1.0")
     if label == "max_newton_1":
@@ -652,7 +722,7 @@ def provoked_failure(args, label, name=None):
     elif label == "nan_load":
         text = rs.set_variable(text, "load", "force", "1e300, 0.0, 0.0")
     res = Result(name or f"failure_{label}")
-    status, log, path = run_any(args, text, res.name)
+    status, log, path = run_any(args, edited(text, edits), res.name)
     res.values["status"] = status
     res.values["log"] = [l for l in log.splitlines() if l.startswith("rodsolve") or
                          l.startswith("  spaghetti")]
@@ -669,7 +739,8 @@ def provoked_failure(args, label, name=None):
         res.note(f"result file not readable: {error}")
         increasing = False
     res.values.update(readable=readable, records=records, last_t=last_t, finite=finite,
-                      file_status=file_status, cutbacks=count_cutbacks(log, "spaghetti"))
+                      file_status=file_status, cutbacks=count_cutbacks(log, "spaghetti"),
+                      adaptive=adaptive_summary(log))
     message = next((l for l in log.splitlines() if "did not converge" in l), "")
     res.values["message"] = message.strip()
     res.check(f"{label}: the result file is readable", float(not readable), 0.0)

@@ -2,7 +2,11 @@
 
 For each benchmark of the method documents, every formulation that can run it
 (docs/user/capabilities.md) runs over a grid of element counts and, for dynamic problems, time
-steps. Each run gives
+steps. Where they apply (issue 25: dynamics without dissipation; adaptive steps not with
+contact, quasistatics, relaxation, se3_strand), variants run the same formulation at order 4
+(`&time order = 4`) and with error-controlled steps (`&time adaptive`, a ladder of rtol instead
+of a ladder of steps), and a table sets each of their runs against the formulation's order-2
+fixed steps at the same error. Each run gives
 
 - an error: the benchmark's quantity (the tip or end point position at the end time, relative
   to the rod's length; for the free vibration the first frequency, relative) against a
@@ -53,20 +57,36 @@ from bench_common import SUMMARY, rs, measured_on, write_generated  # noqa: E402
 from ph_planar_bench import set_all_rods  # noqa: E402
 import elastica_reference  # noqa: E402
 
-class Variant(collections.namedtuple("Variant", "formulation elements steps quick edits label")):
+class Variant(collections.namedtuple("Variant",
+                                     "formulation elements steps quick edits label tolerances")):
     """A formulation on a benchmark: the formulation, the element counts and time steps of its
     grid (None: the scene's), the `--quick` subsets, extra (group, variable, value) edits of the
     scene (e.g. the Newton tolerance in the formulation's residual norm, or &time order = 4),
-    and its name in tables and plots (the formulation's unless given)."""
+    and its name in tables and plots (the formulation's unless given). An adaptive variant
+    (`adaptive`) has a ladder of `tolerances` (rtol) instead of a ladder of steps: its one
+    `steps` entry is the record interval, which is also the largest step."""
     __slots__ = ()
 
-    def __new__(cls, formulation, elements, steps, quick, edits, label=None):
+    def __new__(cls, formulation, elements, steps, quick, edits, label=None, tolerances=None):
         return super().__new__(cls, formulation, elements, steps, quick, edits,
-                               label or formulation)
+                               label or formulation, tolerances)
+
+    @property
+    def adaptive(self):
+        return self.tolerances is not None
 
 
-#: A run: the variant (its label), its element count and time step.
-Point = collections.namedtuple("Point", "formulation n dt")
+def adaptive_variant(formulation, elements, interval, tolerances, quick, edits=(), label=None):
+    """A variant with error-controlled steps (&time adaptive): element counts times `tolerances`
+    (rtol, atol = ATOL_PER_RTOL rtol L), records every `interval`; `quick` = (element counts,
+    tolerances)."""
+    return Variant(formulation, elements, (interval,), quick, edits,
+                   label or f"{formulation}, adaptive", tolerances)
+
+
+#: A run: the variant (its label), its element count and time step; adaptive runs: the record
+#: interval as dt and their rtol.
+Point = collections.namedtuple("Point", "formulation n dt rtol", defaults=(None,))
 
 
 class Benchmark:
@@ -99,11 +119,24 @@ SPAGHETTI_STEPS = (0.1, 0.05, 0.025, 0.0125)
 # as h^4 once the steps resolve the mesh's stiffest modes (tests/regression/solver/time_order.py),
 # so it reaches with a coarse step what order 2 reaches with a fine one.
 ORDER_4 = (("time", "order", "4"),)
+# Adaptive steps (&time adaptive, order 2): a ladder of rtol instead of a ladder of steps, on
+# the meshes where the step's error shows; atol = ATOL_PER_RTOL rtol L, so that rtol decides
+# for every node but those within a hundredth of the rod's length of the origin. The record
+# interval (the largest step) is at least the coarsest fixed step and a divisor of the loads'
+# kinks (the spaghetti's hat peaks at 2.5 and ends at 5, the cantilever's pulse ends at 0.05).
+ATOL_PER_RTOL = 0.01
+TOLERANCES = (1e-2, 1e-3, 1e-4, 1e-5)
 FOURBAR_STEPS = (0.04, 0.02, 0.01, 0.005, 0.0025)
+FOURBAR_PH = (("solver", "newton_atol", "1e-8"),)
+FOURBAR_CL = CL_EM + (("solver", "newton_atol", "1e-5"),)
+VIBRATION_NEWTON = (("solver", "newton_atol", "1e-10"),)
 # The Euler-Bernoulli period of input/strand_vibration.nml, whose dt is a 200th of it.
 VIBRATION_PERIOD = 200 * 5.925872307404123e-4
 VIBRATION_PERIODS = 3
 
+
+#: The rod's line on its adaptive steps (src/solver/rod_run.F90).
+ADAPTIVE_STEPS = re.compile(r"adaptive steps: (\d+) accepted")
 
 # Runs whose time loop is below CHEAP seconds run CHEAP_ROUNDS times as often.
 CHEAP, CHEAP_ROUNDS = 0.1, 2
@@ -122,8 +155,11 @@ BENCHMARKS = [
                     ((5,), (0.1, 0.05)), ()),
             Variant("ph_director", (5, 10), SPAGHETTI_STEPS,
                     ((5,), (0.1, 0.05)), ORDER_4, "ph_director, order 4"),
+            adaptive_variant("ph_director", (5, 10), 0.5, TOLERANCES, ((5,), (1e-2, 1e-3))),
             Variant("se3_pg", (10, 20, 40), SPAGHETTI_STEPS[:3],
-                    ((10, 20), (0.1, 0.05)), PG_SPAGHETTI)],
+                    ((10, 20), (0.1, 0.05)), PG_SPAGHETTI),
+            adaptive_variant("se3_pg", (10, 20), 0.5, TOLERANCES, ((10,), (1e-2, 1e-3)),
+                             PG_SPAGHETTI)],
         reference=Point("ph_director", 20, 0.003125), check=Point("ph_director", 10, 0.00625)),
     Benchmark(
         "spaghetti_planar", "planar flying spaghetti (seed 001 §5.1), t_end = 5",
@@ -133,8 +169,11 @@ BENCHMARKS = [
                     ((10, 20), (0.1, 0.05)), ()),
             Variant("ph_planar", (20, 40, 80), SPAGHETTI_STEPS,
                     ((10, 20), (0.1, 0.05)), ORDER_4, "ph_planar, order 4"),
+            adaptive_variant("ph_planar", (40, 80), 0.5, TOLERANCES, ((20,), (1e-2, 1e-3))),
             Variant("cl_em_planar", (5, 10, 20, 40, 80), SPAGHETTI_STEPS,
                     ((10, 20), (0.1, 0.05)), CL_EM),
+            adaptive_variant("cl_em_planar", (40, 80), 0.5, TOLERANCES, ((20,), (1e-2, 1e-3)),
+                             CL_EM),
             Variant("ph_director", (10, 20, 40), SPAGHETTI_STEPS[:3],
                     ((10,), (0.1,)), IN_PLANE),
             Variant("se3_pg", (10, 20, 40, 80), SPAGHETTI_STEPS[:3],
@@ -146,7 +185,9 @@ BENCHMARKS = [
         variants=[Variant("ph_director", (4, 8, 16), (2e-3, 1e-3, 5e-4, 2.5e-4),
                           ((4, 8), (2e-3, 1e-3)), ()),
                   Variant("ph_director", (8, 16), (2e-3, 1e-3, 5e-4, 2.5e-4),
-                          ((4, 8), (2e-3, 1e-3)), ORDER_4, "ph_director, order 4")],
+                          ((4, 8), (2e-3, 1e-3)), ORDER_4, "ph_director, order 4"),
+                  adaptive_variant("ph_director", (8, 16), 0.01, TOLERANCES[1:],
+                                   ((8,), (1e-3, 1e-4)))],
         reference=Point("ph_director", 32, 6.25e-5), check=Point("ph_director", 16, 1.25e-4)),
     Benchmark(
         "elastica", "quasistatic elastica (seed 000 §6.3, extensible and shear-deformable)",
@@ -190,7 +231,15 @@ BENCHMARKS = [
             Variant("se3_strand", (8, 16, 32), per_period((50, 100, 200, 400, 800)),
                     ((8, 16), per_period((50, 100))), ()),
             Variant("ph_director", (2, 4, 8), per_period((25, 50, 100)),
-                    ((2, 4), per_period((25,))), (("solver", "newton_atol", "1e-10"),))],
+                    ((2, 4), per_period((25,))), VIBRATION_NEWTON),
+            Variant("ph_director", (2, 4), per_period((12.5, 25, 50)),
+                    ((2,), per_period((25,))), VIBRATION_NEWTON + ORDER_4,
+                    "ph_director, order 4"),
+            # Records every T/25 for the fit. Below rtol 1e-3 the steps resolve the tube's
+            # stiff modes, which the release from the arc excites: 43,000 steps for 3 periods
+            # at 1e-4 with 2 elements, at the mesh's error floor.
+            adaptive_variant("ph_director", (2, 4), VIBRATION_PERIOD / 25, (1e-1, 1e-2, 1e-3),
+                             ((2,), (1e-1, 1e-2)), VIBRATION_NEWTON)],
         reference=Point("ph_director", 16, VIBRATION_PERIOD / 800),
         check=Point("ph_director", 8, VIBRATION_PERIOD / 400)),
     Benchmark(
@@ -199,9 +248,15 @@ BENCHMARKS = [
         what="position of P (the coupler's middle) at t = 1",
         variants=[
             Variant("ph_planar", (10, 20, 40), FOURBAR_STEPS,
-                    ((10, 20), (0.02, 0.01)), (("solver", "newton_atol", "1e-8"),)),
+                    ((10, 20), (0.02, 0.01)), FOURBAR_PH),
+            Variant("ph_planar", (10, 20), FOURBAR_STEPS,
+                    ((10,), (0.02, 0.01)), FOURBAR_PH + ORDER_4, "ph_planar, order 4"),
+            adaptive_variant("ph_planar", (10, 20), 0.04, TOLERANCES, ((10,), (1e-2, 1e-3)),
+                             FOURBAR_PH),
             Variant("cl_em_planar", (10, 20, 40), FOURBAR_STEPS,
-                    ((10, 20), (0.02, 0.01)), CL_EM + (("solver", "newton_atol", "1e-5"),))],
+                    ((10, 20), (0.02, 0.01)), FOURBAR_CL),
+            adaptive_variant("cl_em_planar", (10, 20), 0.04, TOLERANCES, ((10,), (1e-2, 1e-3)),
+                             FOURBAR_CL)],
         reference=Point("ph_planar", 160, 0.0003125), check=Point("ph_planar", 80, 0.000625)),
 ]
 
@@ -232,9 +287,19 @@ def scene_text(args, bench, point):
     if point.dt is not None:
         text = rs.set_variable(text, "time", "dt", repr(point.dt))
     text = rs.set_variable(text, "output", "stride", "1000000")  # the end state only
-    for group, variable, value in bench.edits + variant.edits:
+    for group, variable, value in bench.edits + variant.edits + adaptive_edits(bench, point):
         text = edit(text, group, variable, value)
     return rs.set_variable(text, "output", "fields", "'position,directors'")
+
+
+def adaptive_edits(bench, point):
+    """The &time edits of an adaptive run (none for a fixed step): its rtol and an atol in
+    proportion to it and to the rod's length (docs/user/input.md: about rtol times the rod's
+    size; the positions decide, the directors' entries are at most 1)."""
+    if point.rtol is None:
+        return ()
+    return (("time", "adaptive", ".true."), ("time", "rtol", repr(point.rtol)),
+            ("time", "atol", repr(ATOL_PER_RTOL * point.rtol * bench.length)))
 
 
 def edit(text, group, variable, value):
@@ -247,8 +312,9 @@ def edit(text, group, variable, value):
 
 
 def run_once(args, text, name):
-    """Run `text` as `name`.nml on one rank. Returns the summary line's time loop (s), steps,
-    Newton iterations and cut-backs, or None (and prints why) if rodsolve failed."""
+    """Run `text` as `name`.nml on one rank. Returns the summary line's time loop (s), steps
+    (adaptive runs: the steps accepted), Newton iterations and cut-backs, or None (and prints
+    why) if rodsolve failed."""
     os.makedirs(args.workdir, exist_ok=True)
     path = os.path.join(args.workdir, name + ".nml")
     with open(path, "w", encoding="utf-8") as f:
@@ -260,7 +326,8 @@ def run_once(args, text, name):
         reason = re.search(r"Newton did not converge[^;]*", result.stdout + result.stderr)
         print(f"  {name}: failed ({reason[0] if reason else 'status %d' % result.returncode})")
         return None
-    return {"loop": float(summary[4]), "steps": int(summary[1]),
+    accepted = ADAPTIVE_STEPS.search(result.stdout)
+    return {"loop": float(summary[4]), "steps": int(accepted[1] if accepted else summary[1]),
             "iterations": int(summary[2]), "cutbacks": int(summary[3]),
             "output": path[:-4] + ".h5"}
 
@@ -307,8 +374,9 @@ def error(bench, value, reference):
 
 def point_name(bench, point):
     dt = "qs" if point.dt is None else f"{point.dt:.6g}"
+    rtol = "" if point.rtol is None else f"_rtol{point.rtol:.0e}"
     label = re.sub(r"\W+", "_", point.formulation)
-    return f"{bench.key}_{label}_{point.n}_{dt}"
+    return f"{bench.key}_{label}_{point.n}_{dt}{rtol}"
 
 
 def reference(args, bench):
@@ -344,11 +412,17 @@ def describe(point):
 
 
 def grid(bench, quick):
-    """The runs of a benchmark: every variant's element counts times its time steps."""
+    """The runs of a benchmark: every variant's element counts times its time steps (adaptive
+    variants: times its tolerances)."""
     points = []
     for variant in bench.variants:
-        elements, steps = variant.quick if quick else (variant.elements, variant.steps)
-        points += [Point(variant.label, n, dt) for n in elements for dt in steps]
+        elements, ladder = variant.quick if quick else (
+            variant.elements, variant.tolerances if variant.adaptive else variant.steps)
+        if variant.adaptive:
+            points += [Point(variant.label, n, variant.steps[0], rtol)
+                       for n in elements for rtol in ladder]
+        else:
+            points += [Point(variant.label, n, dt) for n in elements for dt in ladder]
     return points
 
 
@@ -385,26 +459,37 @@ def valid(result, check):
     return result is not None and result["error"] >= 10 * check
 
 
-def cell(result, check):
-    """'error · time' of a run, '†' if below 10 times the reference check."""
+def cell(result, check, steps=False):
+    """'error · time' of a run (`steps`: and its steps), '†' if below 10 times the reference
+    check."""
     if result is None:
         return "failed"
     mark = "" if valid(result, check) else " †"
-    return f"{result['error']:.1e}{mark} · {result['loop']:.3g} s"
+    count = f" · {result['steps']} steps" if steps else ""
+    return f"{result['error']:.1e}{mark} · {result['loop']:.3g} s{count}"
 
 
-def runs_table(bench, results, check):
-    """Error · time loop for every run: a row per formulation and element count, a column per
-    time step."""
-    steps = sorted({p.dt for p in results if p.dt is not None}, reverse=True)
-    steps += [None] if any(p.dt is None for p in results) else []
-    head = ["formulation", "n_e"] + ["the scene's h" if dt is None else f"h = {dt:.4g}"
-                                     for dt in steps]
-    lines = ["| " + " | ".join(head) + " |", "|---|---:|" + "---:|" * len(steps)]
-    for variant in bench.variants:
-        for n in sorted({p.n for p in results if p.formulation == variant.label}):
-            cells = [cell(results[Point(variant.label, n, dt)], check)
-                     if Point(variant.label, n, dt) in results else "" for dt in steps]
+def runs_table(bench, results, check, adaptive=False):
+    """Error · time loop for every run of the fixed-step variants (`adaptive`: of the adaptive
+    ones, with their steps taken): a row per variant and element count, a column per time step
+    (per rtol)."""
+    variants = [v for v in bench.variants if v.adaptive == adaptive]
+    labels = {v.label for v in variants}
+    runs = [p for p in results if p.formulation in labels]
+    if adaptive:
+        columns = sorted({p.rtol for p in runs}, reverse=True)
+        head = [f"rtol = {rtol:.0e}" for rtol in columns]
+    else:
+        columns = sorted({p.dt for p in runs if p.dt is not None}, reverse=True)
+        columns += [None] if any(p.dt is None for p in runs) else []
+        head = ["the scene's h" if dt is None else f"h = {dt:.4g}" for dt in columns]
+    lines = ["| " + " | ".join(["formulation", "n_e"] + head) + " |",
+             "|---|---:|" + "---:|" * len(columns)]
+    for variant in variants:
+        for n in sorted({p.n for p in runs if p.formulation == variant.label}):
+            points = [Point(variant.label, n, variant.steps[0], c) if adaptive
+                      else Point(variant.label, n, c) for c in columns]
+            cells = [cell(results[p], check, adaptive) if p in results else "" for p in points]
             lines.append(f"| {variant.label} | {n} | " + " | ".join(cells) + " |")
     return "\n".join(lines)
 
@@ -443,7 +528,50 @@ def cheapest_table(bench, results, check):
 
 
 def describe_short(point):
+    if point.rtol is not None:
+        return f"n_e {point.n}, rtol {point.rtol:.0e}"
     return f"n_e {point.n}" + ("" if point.dt is None else f", h {point.dt:.4g}")
+
+
+def cost_at(front, target):
+    """The time loop at error `target` on a Pareto front (error ascending, time descending):
+    ('interpolated', time) log-log between the two runs that bracket it, ('below', time of the
+    cheapest run, already more accurate) or ('unreached', time of the most accurate run)."""
+    if target < front[0][0]:
+        return "unreached", front[0][1]
+    if target >= front[-1][0]:
+        return "below", front[-1][1]
+    for (e0, t0), (e1, t1) in zip(front, front[1:]):
+        if e0 <= target < e1:
+            return "interpolated", t0 * (t1 / t0) ** (math.log(target / e0) / math.log(e1 / e0))
+
+
+def matched_table(bench, results, check):
+    """Each order-4 and adaptive variant against its formulation's order-2 fixed steps at the
+    same error: for every run on the variant's front, the base's time loop at that error on
+    the base's front over all its meshes, and the ratio base / variant (> 1: the variant is
+    cheaper). None if the benchmark has no such variant."""
+    lines = []
+    for variant in [v for v in bench.variants if v.label != v.formulation]:
+        base = [(r["error"], r["loop"]) for p, r in results.items()
+                if p.formulation == variant.formulation and valid(r, check)]
+        own = {(r["error"], r["loop"]): p for p, r in results.items()
+               if p.formulation == variant.label and valid(r, check)}
+        if not base or not own:
+            continue
+        front = pareto(base)
+        for e, t in reversed(pareto(own)):
+            kind, cost = cost_at(front, e)
+            ratio = {"interpolated": f"{cost / t:.2f}", "below": f"≤ {cost / t:.2g}",
+                     "unreached": f"> {cost / t:.2g} (not reached)"}[kind]
+            lines.append(f"| {variant.label} | {describe_short(own[(e, t)])} | {e:.1e} | "
+                         f"{t:.3g} s | {results[own[(e, t)]]['steps']} | {cost:.3g} s | "
+                         f"{ratio} |")
+    if not lines:
+        return None
+    return "\n".join(["| variant | run | error | time loop | steps | order 2, fixed steps, at "
+                      "that error | order 2 / variant |", "|---|---|---:|---:|---:|---:|---:|"]
+                     + lines)
 
 
 def pareto(points):
@@ -455,49 +583,80 @@ def pareto(points):
     return front
 
 
+#: Plot styles of a formulation's variants: order 2 fixed steps, order 4, adaptive steps.
+STYLES = {"fixed": ("o", "-"), "order 4": ("s", "--"), "adaptive": ("^", ":")}
+
+
+def kind(variant):
+    if variant.adaptive:
+        return "adaptive"
+    return "order 4" if ORDER_4[0] in variant.edits else "fixed"
+
+
 def plot(bench, results, check, path):
-    """Log-log work against precision: every valid run as a marker, each formulation's
-    Pareto front as a line."""
+    """Log-log work against precision: every valid run as a marker, each variant's Pareto front
+    as a line; one colour per formulation, the marker and line style tell its variants apart
+    (STYLES)."""
     fig, ax = plt.subplots(figsize=(6.4, 4.6))
-    for variant, marker in zip(bench.variants, "osD^v<>"):
+    formulations = list(dict.fromkeys(v.formulation for v in bench.variants))
+    for variant in bench.variants:
         points = [(r["error"], r["loop"]) for p, r in results.items()
                   if p.formulation == variant.label and valid(r, check)]
         if not points:
             continue
+        marker, line = STYLES[kind(variant)]
+        color = f"C{formulations.index(variant.formulation)}"
         e, t = zip(*points)
-        dots = ax.loglog(e, t, marker, alpha=0.45, label=variant.label)
+        ax.loglog(e, t, marker, color=color, alpha=0.45, label=variant.label)
         fe, ft = zip(*pareto(points))
-        ax.loglog(fe, ft, "-", color=dots[0].get_color())
+        ax.loglog(fe, ft, line, color=color)
     ax.set_xlabel(f"relative error ({bench.what})")
     ax.set_ylabel("time loop (s), median")
     ax.set_title(bench.title, fontsize=9)
     ax.grid(True, which="both", alpha=0.3)
-    ax.legend(fontsize=8)
+    ax.legend(fontsize=7)
     fig.tight_layout()
     fig.savefig(path, dpi=100)
     plt.close(fig)
 
 
-def element_counts(results, formulation):
-    counts = sorted({p.n for p in results if p.formulation == formulation})
-    return ", ".join(str(n) for n in counts)
+def describe_variant(results, variant):
+    """'label: n_e = ...' and, for an adaptive variant, its tolerances and record interval."""
+    counts = sorted({p.n for p in results if p.formulation == variant.label})
+    text = f"{variant.label}: n_e = {', '.join(str(n) for n in counts)}"
+    if variant.adaptive:
+        tolerances = sorted({p.rtol for p in results if p.formulation == variant.label},
+                            reverse=True)
+        text += (f", rtol = {', '.join(f'{r:.0e}' for r in tolerances)}, records (the largest "
+                 f"step) every {variant.steps[0]:.4g}")
+    return text
 
 
 def section(bench, results, check, how):
     """The benchmark's part of the GENERATED block: what was run, the reference, the plot and
-    the two tables."""
-    runs = "; ".join(f"{v.label}: n_e = {element_counts(results, v.label)}"
-                     for v in bench.variants)
+    the tables."""
+    runs = "; ".join(describe_variant(results, v) for v in bench.variants)
     measure_text = ("relative" if bench.quantity == "frequency"
                     else f"distance to the reference over the length {bench.length:.4g}")
-    return (f"**{bench.title}** (input/{bench.scene}). Error: {bench.what}, {measure_text}. "
+    text = (f"**{bench.title}** (input/{bench.scene}). Error: {bench.what}, {measure_text}. "
             f"Runs: {runs}. {how}\n\n"
             f"![work against precision: {bench.title}](figures/workprecision_{bench.key}.png)\n\n"
-            "Cheapest run of each formulation per error level (time loop, median):\n\n"
-            + cheapest_table(bench, results, check) +
-            "\n\nAll runs (relative error · time loop; † below 10 times the reference check, "
-            "left out of the plot and of the table above):\n\n"
-            + runs_table(bench, results, check) + "\n")
+            "Cheapest run of each variant per error level (time loop, median):\n\n"
+            + cheapest_table(bench, results, check))
+    if (matched := matched_table(bench, results, check)) is not None:
+        text += ("\n\nOrder 4 and adaptive steps against order 2 at the same error: each run on "
+                 "the variant's front, and the time loop of its formulation's order-2 fixed "
+                 "steps at that error (log-log between the two runs of their front, over all "
+                 "meshes, that bracket it; ≤: their cheapest run is already as accurate; >: "
+                 "their most accurate run is not):\n\n" + matched)
+    text += ("\n\nAll runs with fixed steps (relative error · time loop; † below 10 times the "
+             "reference check, left out of the plot and of the tables above):\n\n"
+             + runs_table(bench, results, check))
+    if any(v.adaptive for v in bench.variants):
+        text += (f"\n\nAll runs with adaptive steps (atol = {ATOL_PER_RTOL:g} rtol L; relative "
+                 "error · time loop · steps accepted):\n\n"
+                 + runs_table(bench, results, check, adaptive=True))
+    return text + "\n"
 
 
 def load_average():
