@@ -907,7 +907,9 @@ typedef struct {
     int         diverged;   /* Newton failed after all cut-backs */
     double      t_failed;   /* start of the failing substep: the time of the state left in x */
     double      h_smallest; /* the last step tried there */
-    int         halvings;   /* tried there */
+    int         halvings;   /* cut-backs tried there */
+    double      cut_factor; /* each by this factor: 1/2 with fixed steps, TSAdapt's
+                               scale_solve_failed with adaptive ones */
     const char *snes_reason;
 } RsAdvanceResult;
 
@@ -970,6 +972,7 @@ static PetscErrorCode advance_span(RsStepper *s, PetscReal span, RsAdvanceResult
             r->t_failed    = t0;
             r->h_smallest  = h_taken;
             r->halvings    = (int)max_cutbacks;
+            r->cut_factor  = 0.5;
             r->cutbacks += (int)max_cutbacks;
             r->snes_reason = SNESConvergedReasons[snes_reason];
             break;
@@ -1141,6 +1144,7 @@ static PetscErrorCode adaptive_advance(RsStepper *s, double t_n, double dt, RsAd
                 r->t_failed   = t;
                 r->h_smallest = h;
                 r->halvings   = failures - 1;
+                r->cut_factor = cut;
                 PetscFunctionReturn(0);
             }
             s->h_next = PetscMax(cut * h, dt_min);
@@ -1244,12 +1248,20 @@ int rs_stepper_advance(void *handle, double t_n, double dt, double *x, int *subs
         set_petsc_message(errmsg, errlen, "rod stepper: advance failed", ierr, &capture);
         return (int)ierr;
     }
-    if (r.diverged) {
+    if (r.diverged && r.cut_factor == 0.5) {
         set_message(errmsg, errlen,
                     "Newton did not converge at t = %.10g after %d halvings of the step (smallest "
                     "step %.6g); "
                     "last SNES reason %s. The state returned is the last good one, at t = %.10g.",
                     r.t_failed, r.halvings, r.h_smallest, r.snes_reason, r.t_failed);
+        return RS_STEPPER_DIVERGED;
+    }
+    if (r.diverged) {
+        set_message(errmsg, errlen,
+                    "Newton did not converge at t = %.10g after %d cut-backs of the step by %g "
+                    "each (smallest step %.6g); last SNES reason %s. The state returned is the "
+                    "last good one, at t = %.10g.",
+                    r.t_failed, r.halvings, r.cut_factor, r.h_smallest, r.snes_reason, r.t_failed);
         return RS_STEPPER_DIVERGED;
     }
     return 0;

@@ -6,6 +6,9 @@
                                 none straddles it
     adaptive.py newton_failure  Newton limited to 2 iterations: failed steps are cut and the run
                                 recovers, as accurate as without failures
+    adaptive.py divergence      a step no cut-back saves (an end force of 1e300 N): the run stops
+                                with the cut-backs counted and their factor named, the last good
+                                state kept
     adaptive.py order4          adaptive steps of the order-4 composition: the error at rtol 1e-6
     adaptive.py ph_planar       the planar flying spaghetti (its spin wraps the angles by 2 pi,
     adaptive.py cl_em_planar    which the error leaves out): completes, the error follows rtol
@@ -136,6 +139,25 @@ def newton_failure(args, checks):
     checks.check("relative tip error after the failures", error, 1e-3)
 
 
+def divergence(args, checks):
+    """An end force of 1e300 N makes every residual overflow: each attempt fails, TSAdapt cuts
+    the step by its scale_solve_failed (0.25) until max_cutbacks (6, the default) is spent. The
+    message counts the cut-backs and names their factor (it said "halvings" before); the run's
+    exit status is not 0."""
+    text = rs.set_variable(spaghetti(args), "time", "t_end", "0.1")
+    text = text.replace("force = 20.0, 0.0, 0.0", "force = 1e300, 0.0, 0.0")
+    output = os.path.join(args.workdir, "divergence.h5")
+    if os.path.exists(output):
+        os.remove(output)
+    text = rs.set_variable(text, "output", "path", f"'{output}'")
+    status, log = rs.run_failing(args, adaptive(text, 1e-4, 1e-6), "divergence")
+    checks.check("exit status is not 0", float(status == 0), 0.0)
+    for fragment in ("Newton did not converge at t = 0 after 6 cut-backs of the step by 0.25 each",
+                     "The state returned is the last good one, at t = 0."):
+        print(f"info: expected in the log: {fragment}")
+        checks.check("the fragment is in the log (0: yes)", float(fragment not in log), 0.0)
+
+
 def order4(args, checks):
     """Adaptive steps of the order-4 composition, rtol 1e-6: measured relative tip error 6.7e-8
     in 942 steps (order 2 needs 7,086 for 6.2e-6). Bound: rtol."""
@@ -181,6 +203,7 @@ def planar(args, checks, formulation):
 
 if __name__ == "__main__":
     rs.run_cases(__doc__, {"tolerance": tolerance, "pulse_end": pulse_end,
-                           "newton_failure": newton_failure, "order4": order4,
+                           "newton_failure": newton_failure, "divergence": divergence,
+                           "order4": order4,
                            "ph_planar": lambda args, checks: planar(args, checks, "ph_planar"),
                            "cl_em_planar": lambda args, checks: planar(args, checks, "cl_em_planar")})
