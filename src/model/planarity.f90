@@ -27,12 +27,12 @@
 module rs_model_planarity
     use rs_core_kinds, only: rk
     use rs_core_strings, only: str, vector_text
-    use rs_model_scene, only: scene_t, unset_real
+    use rs_model_scene, only: scene_t, unset_real, coordinate_axis
     implicit none
     private
 
     public :: plane_of_rods, point_in_plane, vector_in_plane, point_from_plane, vector_from_plane
-    public :: angle_in_plane, plane_text, cross
+    public :: angle_in_plane, plane_text, cross, planar_coordinate_axis
 
     !> Relative tolerance of every planarity condition (a component along the normal of at most
     !> this times the vector's norm, or the scene's length scale for points, counts as zero).
@@ -149,6 +149,17 @@ contains
         real(rk) :: xy(2)
         xy = [dot_product(v, plane%e1), dot_product(v, plane%e2)]
     end function vector_in_plane
+
+    !> 1 or 2 if `v` lies along e1 or e2 of the plane (its other components below 1e-12 |v|),
+    !> else 0: the coordinate a sliding end of a planar rod keeps free.
+    pure integer function planar_coordinate_axis(plane, v) result(i)
+        type(plane_t), intent(in) :: plane
+        real(rk), intent(in) :: v(3)
+        real(rk) :: c(3)
+        c = [dot_product(v, plane%e1), dot_product(v, plane%e2), dot_product(v, plane%normal)]
+        i = coordinate_axis(c)
+        if (i == 3) i = 0
+    end function planar_coordinate_axis
 
     !> The point origin + x e1 + y e2 of planar coordinates `xy`.
     pure function point_from_plane(plane, xy) result(p)

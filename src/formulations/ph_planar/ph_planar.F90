@@ -27,13 +27,13 @@
 module rs_ph_planar
     use rs_core_kinds, only: rk, pi
     use rs_core_error, only: error_t, set_error
-    use rs_core_strings, only: str
+    use rs_core_strings, only: str, vector_text
     use rs_model_scene, only: scene_t, rod_input_t, load_applies_to, unset_real, element_properties
     use rs_model_damping, only: kv_axial, kv_shear1, kv_shear2, kv_bend1, kv_bend2
     use rs_model_rod_history, only: rod_history_t
     use rs_model_time_function, only: time_function_t, time_function_from_load
     use rs_model_planarity, only: plane_t, plane_of_rods, point_in_plane, vector_in_plane, &
-        point_from_plane, vector_from_plane, angle_in_plane, cross
+        point_from_plane, vector_from_plane, angle_in_plane, cross, planar_coordinate_axis
     use rs_assembly_csr_pattern, only: csr_builder_t, csr_pattern_t
     use rs_formulations_formulation, only: rod_formulation_t, formulation_traits_t, &
         state_measures_t, state_valid, state_invalid
@@ -464,7 +464,8 @@ contains
         this%theta_shift = 0.0_rk
     end subroutine find_angles
 
-    !> Supports (methods §6.2, §6.3): clamped fixes x, y, theta of the end node, pinned x, y.
+    !> Supports (methods §6.2, §6.3): clamped fixes x, y, theta of the end node, pinned x, y,
+    !> sliding (a prismatic support, issue 26 item 3) theta and the coordinate across its axis.
     !> The remaining unknowns are numbered in q order.
     subroutine fix_supports(this, scene, rods, err)
         type(ph_planar_t), intent(inout) :: this
@@ -473,7 +474,7 @@ contains
         type(error_t), allocatable, intent(out) :: err
         character(len=:), allocatable :: message
         logical :: fixed(this%n_q)
-        integer :: i, r, node, next
+        integer :: i, r, node, next, slide
         fixed = .false.
         do i = 1, size(scene%bcs)
             associate (bc => scene%bcs(i))
@@ -485,6 +486,21 @@ contains
                         fixed(this%rods(r)%dofs(:, node)) = .true.
                     case ('pinned')
                         fixed(this%rods(r)%dofs(1:2, node)) = .true.
+                    case ('sliding')
+                        ! A prismatic support: theta and the position across the axis held,
+                        ! by elimination, so the axis must be a planar coordinate axis.
+                        fixed(this%rods(r)%dofs(:, node)) = .true.
+                        slide = planar_coordinate_axis(this%plane, bc%axis)
+                        if (slide == 0) then
+                            message = 'rod ''' // trim(bc%rod) // ''': ' // this%formulation_name // &
+                                ' holds the planar coordinates x, y (along e1 = (' // &
+                                vector_text(this%plane%e1) // '), e2 = (' // &
+                                vector_text(this%plane%e2) // ')), so a sliding end''s axis must ' // &
+                                'be one of them; axis = (' // vector_text(bc%axis) // ')'
+                            RS_SET_ERROR(err, 'ph_planar%init', message)
+                            return
+                        end if
+                        fixed(this%rods(r)%dofs(slide, node)) = .false.
                     case ('free')
                     case default
                         message = 'rod ''' // trim(bc%rod) // ''': a ''' // trim(bc%kind) // &

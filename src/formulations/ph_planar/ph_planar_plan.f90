@@ -85,7 +85,7 @@ contains
                 select case (trim(scene%bcs(j)%kind))
                 case ('clamped')
                     n_fixed = n_fixed + 3
-                case ('pinned')
+                case ('pinned', 'sliding')
                     n_fixed = n_fixed + 2
                 end select
             end do
@@ -164,6 +164,9 @@ contains
                     t = 'clamped (x, y, theta fixed)'
                 case ('pinned')
                     t = 'pinned (x, y fixed, theta free)'
+                case ('sliding')
+                    t = 'sliding along (' // vector_text(scene%bcs(b)%axis) // ') (theta and ' // &
+                        'the other coordinate fixed)'
                 end select
             end do
         end function support_text
