@@ -6,7 +6,9 @@
 !> Unknowns of a step (uncondensed, methods §5.6): per free node q = (phi, d1, d2, d3) and
 !> v at t_{n+1} (12 + 12) and the midpoint multipliers lambda (6); per element the stress
 !> coefficients sigma at t_{n+1} (6 p). A clamped node has no unknowns: its q is fixed, v = 0,
-!> and its multipliers are dropped (methods §2.9). The state X has the same layout as the
+!> and its multipliers are dropped (methods §2.9). A pinned node (issue 26 item 2) holds only
+!> phi: its phi and v_phi are not unknowns (phi fixed, v_phi = 0, the Dirichlet part of methods
+!> §2.9 on phi alone), its directors, their velocities and its multipliers are. The state X has the same layout as the
 !> unknown Y; the lambda slots of X hold the multipliers of the last step's midpoint, which
 !> no residual uses (methods §5.2, last bullet).
 !>
@@ -120,6 +122,8 @@ module rs_ph_director
         real(rk) :: row_scale = 0.0_rk
         real(rk), allocatable :: anchor(:)
         logical, allocatable :: clamped(:)
+        !> Pinned nodes (&bc kind = 'pinned'): phi held, directors free (module header).
+        logical, allocatable :: pinned(:)
         !> Rigid bodies on the ends (&bc kind = 'body'; rs_ph_director_body).
         type(ph_director_body_t), allocatable :: bodies(:)
         real(rk), allocatable :: fixed_q(:, :)
@@ -437,7 +441,7 @@ contains
         type(error_t), allocatable, intent(out) :: err
         character(len=:), allocatable :: message
         integer :: i, node
-        allocate(this%clamped(this%n_nodes), source=.false.)
+        allocate(this%clamped(this%n_nodes), this%pinned(this%n_nodes), source=.false.)
         allocate(this%bodies(0))
         do i = 1, size(scene%bcs)
             associate (bc => scene%bcs(i))
@@ -446,6 +450,8 @@ contains
                 select case (trim(bc%kind))
                 case ('clamped')
                     this%clamped(node) = .true.
+                case ('pinned')
+                    this%pinned(node) = .true.
                 case ('body')
                     this%bodies = [this%bodies, ph_director_body_init(node, bc%mass, bc%centre, &
                         body_inertia_tensor(bc), reshape(this%fixed_q(4:12, node), [3, 3]))]
@@ -550,11 +556,19 @@ contains
             integer :: i
             if (this%clamped(node)) return
             do i = 1, node_dofs
+                if (this%pinned(node) .and. is_position_dof(i)) cycle
                 next = next + 1
                 this%node_dof(i, node) = next
             end do
         end subroutine number_node
     end subroutine number_dofs
+
+    !> Whether local dof i of a node (node kernel layout: q 1:12, v 13:24, lambda 25:30) is phi
+    !> or v_phi, the dofs a pinned node holds.
+    pure logical function is_position_dof(i)
+        integer, intent(in) :: i
+        is_position_dof = i <= 3 .or. (i >= 13 .and. i <= 15)
+    end function is_position_dof
 
     !> Stress coefficients of an element: 6 p per branch, elastic branch included.
     pure integer function n_stress(this)
@@ -741,10 +755,12 @@ contains
     subroutine ph_director_error_entries(this, weigh)
         class(ph_director_t), intent(in) :: this
         logical, intent(out) :: weigh(:)
-        integer :: k
+        integer :: k, i
         weigh = .false.
         do k = 1, this%n_nodes
-            if (this%node_dof(1, k) > 0) weigh(this%node_dof(1:12, k)) = .true.
+            do i = 1, 12
+                if (this%node_dof(i, k) > 0) weigh(this%node_dof(i, k)) = .true.
+            end do
         end do
     end subroutine ph_director_error_entries
 
@@ -801,9 +817,15 @@ contains
                 v(:, k) = 0.0_rk
                 lambda(:, k) = 0.0_rk
             else
+                ! A pinned node's phi is held at the reference, its v_phi zero.
                 do i = 1, 12
-                    q(i, k) = x(this%node_dof(i, k))
-                    v(i, k) = x(this%node_dof(12 + i, k))
+                    if (this%node_dof(i, k) > 0) then
+                        q(i, k) = x(this%node_dof(i, k))
+                        v(i, k) = x(this%node_dof(12 + i, k))
+                    else
+                        q(i, k) = this%fixed_q(i, k)
+                        v(i, k) = 0.0_rk
+                    end if
                 end do
                 do i = 1, 6
                     lambda(i, k) = x(this%node_dof(24 + i, k))
@@ -1010,7 +1032,8 @@ contains
             end if
             if (present(f)) then
                 do i = 1, node_dofs
-                    f(this%node_dof(i, k)) = f(this%node_dof(i, k)) + r_k(i)
+                    if (this%node_dof(i, k) > 0) f(this%node_dof(i, k)) = &
+                        f(this%node_dof(i, k)) + r_k(i)
                 end do
             end if
         end do
@@ -1033,6 +1056,7 @@ contains
         do k = 1, this%n_nodes
             if (this%clamped(k)) cycle
             do i = 1, 18
+                if (this%pinned(k) .and. i <= 3) cycle
                 next = next + 1
                 this%node_unknown(i, k) = next
             end do
@@ -1127,7 +1151,8 @@ contains
             dofs = element_q_unknowns(this, e)
             do j = 1, nq
                 do i = 1, nq
-                    this%element_map(i, j, e) = this%pattern%position(dofs(i), dofs(j))
+                    if (dofs(i) > 0 .and. dofs(j) > 0) &
+                        this%element_map(i, j, e) = this%pattern%position(dofs(i), dofs(j))
                 end do
             end do
         end do
@@ -1135,7 +1160,8 @@ contains
         do k = 1, this%n_nodes
             do j = 1, 18
                 do i = 1, 18
-                    if (nmask(i, j)) this%node_map(i, j, k) = &
+                    if (nmask(i, j) .and. this%node_unknown(i, k) > 0 .and. &
+                        this%node_unknown(j, k) > 0) this%node_map(i, j, k) = &
                         this%pattern%position(this%node_unknown(i, k), this%node_unknown(j, k))
                 end do
             end do
@@ -1164,7 +1190,9 @@ contains
         end if
         do k = 1, this%n_nodes
             if (this%clamped(k)) cycle
-            y(this%node_unknown(1:12, k)) = x_n(this%node_dof(1:12, k))
+            do i = 1, 12
+                if (this%node_unknown(i, k) > 0) y(this%node_unknown(i, k)) = x_n(this%node_dof(i, k))
+            end do
             y(this%node_unknown(13:18, k)) = x_n(this%node_dof(25:30, k))
         end do
     end subroutine ph_director_predictor
@@ -1174,7 +1202,7 @@ contains
         class(ph_director_t), intent(inout) :: this
         real(rk), intent(in) :: t_n, h, x_n(:), y(:)
         real(rk), intent(out) :: x_1(:)
-        integer :: k, e
+        integer :: k, e, i
         if (.not. this%condensed) then
             x_1 = y
             return
@@ -1182,8 +1210,11 @@ contains
         call condensed_fields(this, h, x_n, y)
         do k = 1, this%n_nodes
             if (this%clamped(k)) cycle
-            x_1(this%node_dof(1:12, k)) = this%q_1(:, k)
-            x_1(this%node_dof(13:24, k)) = this%v_1(:, k)
+            do i = 1, 12
+                if (this%node_dof(i, k) == 0) cycle
+                x_1(this%node_dof(i, k)) = this%q_1(i, k)
+                x_1(this%node_dof(12 + i, k)) = this%v_1(i, k)
+            end do
             x_1(this%node_dof(25:30, k)) = this%lambda(:, k)
         end do
         do e = 1, this%n_elements
@@ -1205,8 +1236,13 @@ contains
                 this%v_1(:, k) = 0.0_rk
                 this%lambda(:, k) = 0.0_rk
             else
+                ! A pinned node's phi is held (v_phi = 0 follows from q_1 = q_n, v_n = 0).
                 do i = 1, 12
-                    this%q_1(i, k) = y(this%node_unknown(i, k))
+                    if (this%node_unknown(i, k) > 0) then
+                        this%q_1(i, k) = y(this%node_unknown(i, k))
+                    else
+                        this%q_1(i, k) = this%fixed_q(i, k)
+                    end if
                 end do
                 do i = 1, 6
                     this%lambda(i, k) = y(this%node_unknown(12 + i, k))
@@ -1298,8 +1334,8 @@ contains
                     k = nodes(1) + a - 1
                     if (this%clamped(k)) cycle
                     do i = 1, 12
-                        f(this%node_unknown(i, k)) = f(this%node_unknown(i, k)) + &
-                            r_e(24 * (a - 1) + 12 + i)
+                        if (this%node_unknown(i, k) > 0) f(this%node_unknown(i, k)) = &
+                            f(this%node_unknown(i, k)) + r_e(24 * (a - 1) + 12 + i)
                     end do
                 end do
             end if
@@ -1329,7 +1365,10 @@ contains
                 call node_kernel(this, k, h, t_mid, r_k)
             end if
             if (present(f)) then
-                f(this%node_unknown(1:12, k)) = f(this%node_unknown(1:12, k)) + r_k(13:24)
+                do i = 1, 12
+                    if (this%node_unknown(i, k) > 0) f(this%node_unknown(i, k)) = &
+                        f(this%node_unknown(i, k)) + r_k(12 + i)
+                end do
                 f(this%node_unknown(13:18, k)) = f(this%node_unknown(13:18, k)) + r_k(25:30)
             end if
         end do

@@ -64,6 +64,9 @@ contains
         call run_test('damped_material', test_damped_material)
         call run_test('jacobian_matches_differences_damped', test_jacobian_damped)
         call run_test('newton_step_balances_energy_damped', test_newton_step_energy_damped)
+        call run_test('pinned_sizes', test_pinned_sizes)
+        call run_test('jacobian_matches_differences_pinned', test_jacobian_pinned)
+        call run_test('newton_step_balances_energy_pinned', test_newton_step_energy_pinned)
     end subroutine run_all_tests
 
     !> A rod along (1, 2, 2)/3 with a clamped start, an end load and gravity.
@@ -845,8 +848,8 @@ contains
     !> dissipation, H_1 - H_0 = W - D, D > 0 (docs/theory/ph_director.md "Damping"); the
     !> condensed step reaches the same state and books the same terms.
     subroutine test_newton_step_energy_damped()
-        type(ph_director_t) :: rod, condensed
-        real(rk), allocatable :: x_n(:), x_1(:), x_c(:)
+        type(ph_director_t) :: rod
+        real(rk), allocatable :: x_n(:), x_1(:)
         type(step_energy_t) :: terms(1), terms_c(1)
         real(rk) :: tol
         call build_scene(damped_scene(3, 2, .false.), rod)
@@ -854,12 +857,80 @@ contains
         CHECK_TRUE(terms(1)%dissipated > 1.0e-6_rk * terms(1)%after, 'the damping dissipates')
         tol = 1.0e-9_rk * terms(1)%after
         CHECK_CLOSE(step_balance(terms(1)), 0.0_rk, tol, 0.0_rk, 'H_1 - H_0 - W + D = 0')
-        call build_scene(damped_scene(3, 2, .true.), condensed)
-        call newton_solve(condensed, 0.5_rk, 0.01_rk, x_n, x_c, terms_c)
-        CHECK_CLOSE(x_c, x_1, 1.0e-10_rk, 0.0_rk, 'condensed: same state at t_{n+1}')
+        call check_condensed_step(damped_scene(3, 2, .true.), x_1, tol, terms_c)
         CHECK_CLOSE(terms_c(1)%dissipated, terms(1)%dissipated, 0.0_rk, 1.0e-8_rk, 'condensed: same D')
-        CHECK_CLOSE(step_balance(terms_c(1)), 0.0_rk, tol, 0.0_rk, 'condensed: balance with D')
     end subroutine test_newton_step_energy_damped
+
+    !> The condensed rod of `scene` takes the same Newton step (0.5, 0.01) from rest as the
+    !> uncondensed one that reached x_1, and its books balance within tol.
+    subroutine check_condensed_step(scene, x_1, tol, terms)
+        type(scene_t), intent(in) :: scene
+        real(rk), intent(in) :: x_1(:), tol
+        type(step_energy_t), intent(out) :: terms(1)
+        type(ph_director_t) :: condensed
+        real(rk), allocatable :: x_n(:), x_c(:)
+        call build_scene(scene, condensed)
+        call newton_solve(condensed, 0.5_rk, 0.01_rk, x_n, x_c, terms)
+        CHECK_CLOSE(x_c, x_1, 1.0e-10_rk, 0.0_rk, 'condensed: same state at t_{n+1}')
+        CHECK_CLOSE(step_balance(terms(1)), 0.0_rk, tol, 0.0_rk, 'condensed: balance')
+    end subroutine check_condensed_step
+
+    ! ---- Supports and loads (issue 26 item 2) ----------------------------------------------
+
+    !> The cantilever with both ends pinned (phi held, directors free): its end load then works
+    !> through its moment only.
+    function pinned_scene(n_elements, degree, condensed) result(scene)
+        integer, intent(in) :: n_elements, degree
+        logical, intent(in) :: condensed
+        type(scene_t) :: scene
+        scene = cantilever_scene(n_elements, degree, condensed)
+        scene%bcs(1)%kind = 'pinned'
+        scene%bcs = [scene%bcs(1), scene%bcs(1)]
+        scene%bcs(2)%end = 'end'
+    end function pinned_scene
+
+    !> A pinned node has 6 unknowns fewer than a free one (phi, v_phi), 3 fewer condensed (phi).
+    subroutine test_pinned_sizes()
+        type(ph_director_t) :: rod, condensed
+        call build_scene(pinned_scene(4, 2, .false.), rod)
+        CHECK_EQUAL(rod%n_unknown(), 30 * 9 - 2 * 6 + 12 * 4, 'unknowns of 4 quadratic elements, both ends pinned')
+        call build_scene(pinned_scene(4, 2, .true.), condensed)
+        CHECK_EQUAL(condensed%n_unknown(), 18 * 9 - 2 * 3, 'condensed unknowns, both ends pinned')
+    end subroutine test_pinned_sizes
+
+    !> The pinned-pinned rod's Jacobian against central differences, p = 2 and p = 1,
+    !> uncondensed and condensed.
+    subroutine test_jacobian_pinned()
+        type(ph_director_t) :: p2, p1, p2_condensed, p1_condensed
+        call set_random_seed(20261126, 2)
+        call build_scene(pinned_scene(3, 2, .false.), p2)
+        call check_jacobian_of(p2, 'pinned p = 2', .false.)
+        call build_scene(pinned_scene(4, 1, .false.), p1)
+        call check_jacobian_of(p1, 'pinned p = 1', .false.)
+        call build_scene(pinned_scene(3, 2, .true.), p2_condensed)
+        call check_jacobian_of(p2_condensed, 'pinned p = 2 condensed', .false.)
+        call build_scene(pinned_scene(4, 1, .true.), p1_condensed)
+        call check_jacobian_of(p1_condensed, 'pinned p = 1 condensed', .false.)
+    end subroutine test_jacobian_pinned
+
+    !> One Newton step of the pinned-pinned rod: the pinned positions stay at the reference, the
+    !> end directors turn, the books balance (the held positions do no work), and the
+    !> condensed rod takes the same step.
+    subroutine test_newton_step_energy_pinned()
+        type(ph_director_t) :: rod
+        real(rk), allocatable :: x_n(:), x_1(:)
+        type(step_energy_t) :: terms(1), terms_c(1)
+        real(rk) :: tol
+        call build_scene(pinned_scene(3, 2, .false.), rod)
+        call newton_solve(rod, 0.5_rk, 0.01_rk, x_n, x_1, terms)
+        CHECK_CLOSE(rod%q_1(1:3, 1), rod%fixed_q(1:3, 1), 0.0_rk, 0.0_rk, 'start position held')
+        CHECK_CLOSE(rod%q_1(1:3, rod%n_nodes), rod%fixed_q(1:3, rod%n_nodes), 0.0_rk, 0.0_rk, 'end position held')
+        CHECK_TRUE(norm2(rod%q_1(4:12, rod%n_nodes) - rod%fixed_q(4:12, rod%n_nodes)) > 1.0e-8_rk, 'end directors turn')
+        CHECK_TRUE(abs(terms(1)%work) > 1.0e-8_rk * terms(1)%after, 'the end moment works')
+        tol = 1.0e-9_rk * terms(1)%after
+        CHECK_CLOSE(step_balance(terms(1)), 0.0_rk, tol, 0.0_rk, 'H_1 - H_0 - W = 0')
+        call check_condensed_step(pinned_scene(3, 2, .true.), x_1, tol, terms_c)
+    end subroutine test_newton_step_energy_pinned
 
 end module rs_test_ph_director
 
