@@ -48,6 +48,8 @@ module rs_ph_director
         ph_director_element_damping_dissipation, ph_director_local_size, ph_director_element_reference_strains, &
         ph_director_element_initial_stress, ph_director_straight_strain
     use rs_ph_director_node_tie, only: ph_director_node_tie
+    use rs_ph_director_follower, only: ph_director_follower_vector, ph_director_node_follower, &
+        ph_director_element_follower, ph_director_element_follower_work
     use rs_ph_director_body, only: ph_director_body_t, ph_director_body_init, &
         ph_director_body_kinetic_energy, ph_director_body_momenta, ph_director_body_weight, &
         ph_director_body_centre
@@ -63,6 +65,9 @@ module rs_ph_director
         logical :: distributed = .false.
         !> Gravity (distributed): its acceleration, for the weight of a body on an end.
         logical :: gravity = .false.
+        !> A follower load (&load frame = 'follower'): force and moment are components in the
+        !> director basis (rs_ph_director_follower).
+        logical :: follower = .false.
         real(rk) :: acceleration(3) = 0.0_rk
         real(rk) :: force(3) = 0.0_rk
         real(rk) :: moment(3) = 0.0_rk
@@ -494,13 +499,9 @@ contains
         do i = 1, size(scene%loads)
             associate (input => scene%loads(i))
                 if (.not. load_applies_to(input, this%name)) cycle
-                if (trim(input%frame) /= 'spatial') then
-                    message = 'rod ''' // this%name // &
-                        ''': follower loads are not available for ph_director in this version (docs/user/capabilities.md)'
-                    RS_SET_ERROR(err, 'read_loads', message)
-                    return
-                end if
                 load = rod_load_t()
+                ! The input check refuses a follower weight (gravity is dead).
+                load%follower = trim(input%frame) == 'follower'
                 call time_function_from_load(input, load%factor, err)
                 RS_RETURN_IF_ERROR(err)
                 select case (trim(input%where))
@@ -648,12 +649,14 @@ contains
     !> end-moment terms) and the multipliers; constraint rows to the directors. On a rod with
     !> a body on an end, the momentum rows couple to all v (the body's mass matrix couples
     !> the point's and the directors' velocities).
-    pure function node_mask(with_body) result(mask)
-        logical, intent(in) :: with_body
+    pure function node_mask(with_body, with_follower) result(mask)
+        logical, intent(in) :: with_body, with_follower
         logical :: mask(node_dofs, node_dofs)
         integer :: c
         mask = .false.
         if (with_body) mask(13:24, 13:24) = .true.
+        ! A follower end force turns with the directors (rs_ph_director_follower).
+        if (with_follower) mask(13:15, 4:12) = .true.
         do c = 1, 12
             mask(c, c) = .true.
             mask(c, 12 + c) = .true.
@@ -671,7 +674,7 @@ contains
         logical, allocatable :: touched(:)
         integer :: e, k
         emask = element_mask(this)
-        nmask = node_mask(size(this%bodies) > 0)
+        nmask = node_mask(size(this%bodies) > 0, any(this%loads%follower .and. this%loads%node > 0))
         call builder%init(this%n_dofs, this%n_elements * count(emask) + this%n_nodes * count(nmask))
         do e = 1, this%n_elements
             call builder%add_block(this%element_dof(:, e), this%element_dof(:, e), emask)
@@ -861,35 +864,41 @@ contains
         load_time = merge(this%t_static, t_n + 0.5_rk * h, this%static)
     end function load_time
 
-    !> Distributed force and moment per unit length at time t (gravity included).
-    pure subroutine distributed_loads(this, t, force, moment)
+    !> Distributed force and moment per unit length at time t (gravity included): the dead
+    !> ones as spatial vectors or, with `follower`, the follower ones as components in the
+    !> director basis.
+    pure subroutine distributed_loads(this, t, follower, force, moment)
         type(ph_director_t), intent(in) :: this
         real(rk), intent(in) :: t
+        logical, intent(in) :: follower
         real(rk), intent(out) :: force(3), moment(3)
         integer :: i
         real(rk) :: f
         force = 0.0_rk
         moment = 0.0_rk
         do i = 1, size(this%loads)
-            if (.not. this%loads(i)%distributed) cycle
+            if (.not. this%loads(i)%distributed .or. (this%loads(i)%follower .neqv. follower)) cycle
             f = this%loads(i)%factor%value(t)
             force = force + f * this%loads(i)%force
             moment = moment + f * this%loads(i)%moment
         end do
     end subroutine distributed_loads
 
-    !> Concentrated force and moment at node k and time t.
-    pure subroutine node_loads(this, k, t, force, moment)
+    !> Concentrated force and moment at node k and time t: the dead ones, or with `follower`
+    !> the follower ones (components in the director basis).
+    pure subroutine node_loads(this, k, t, follower, force, moment)
         type(ph_director_t), intent(in) :: this
         integer, intent(in) :: k
         real(rk), intent(in) :: t
+        logical, intent(in) :: follower
         real(rk), intent(out) :: force(3), moment(3)
         integer :: i
         real(rk) :: f
         force = 0.0_rk
         moment = 0.0_rk
         do i = 1, size(this%loads)
-            if (this%loads(i)%distributed .or. this%loads(i)%node /= k) cycle
+            if (this%loads(i)%distributed .or. this%loads(i)%node /= k .or. &
+                (this%loads(i)%follower .neqv. follower)) cycle
             f = this%loads(i)%factor%value(t)
             force = force + f * this%loads(i)%force
             moment = moment + f * this%loads(i)%moment
@@ -968,12 +977,25 @@ contains
         real(rk), intent(out) :: r_k(node_dofs)
         real(rk), intent(out), optional :: j_k(node_dofs, node_dofs)
         real(rk) :: force(3), moment(3)
-        real(rk) :: weight(12)
+        real(rk) :: weight(12), r_f(12), j_f(12, 12)
         integer :: b
         logical :: carries
-        call node_loads(this, k, t_load, force, moment)
+        call node_loads(this, k, t_load, .false., force, moment)
         call ph_director_node_residual(h, this%static, this%q_n(:, k), this%q_1(:, k), &
             this%v_n(:, k), this%v_1(:, k), this%lambda(:, k), .true., force, moment, r_k, j_k)
+        ! Follower end loads at the midpoint directors (rs_ph_director_follower).
+        call node_loads(this, k, t_load, .true., force, moment)
+        if (any(force /= 0.0_rk) .or. any(moment /= 0.0_rk)) then
+            if (present(j_k)) then
+                call ph_director_node_follower(h, this%static, this%q_n(:, k), this%q_1(:, k), &
+                    force, moment, r_f, j_f)
+                j_k(13:24, 1:12) = j_k(13:24, 1:12) + j_f
+            else
+                call ph_director_node_follower(h, this%static, this%q_n(:, k), this%q_1(:, k), &
+                    force, moment, r_f)
+            end if
+            r_k(13:24) = r_k(13:24) + r_f
+        end if
         if (size(this%bodies) == 0) return
         ! A body on the node (rs_ph_director_body): its weight, and its inertia in time steps.
         call body_forces(this, k, t_load, weight, carries)
@@ -996,23 +1018,24 @@ contains
         real(rk), intent(out), optional :: f(:), values(:)
         real(rk) :: r_e(this%n_local), j_e(this%n_local, this%n_local)
         real(rk) :: r_k(node_dofs), j_k(node_dofs, node_dofs)
-        real(rk) :: nbar(3), mbar(3), t_mid
+        real(rk) :: nbar(3), mbar(3), follower(6), t_mid
         type(ph_director_actuation_t) :: actuation
         integer :: e, k, i
         call this%unpack(x_n, this%q_n, this%v_n, this%lambda, this%s_n)
         call this%unpack(y, this%q_1, this%v_1, this%lambda, this%s_1)
         t_mid = load_time(this, t_n, h)
-        call distributed_loads(this, t_mid, nbar, mbar)
+        call distributed_loads(this, t_mid, .false., nbar, mbar)
+        call distributed_loads(this, t_mid, .true., follower(1:3), follower(4:6))
         actuation = actuation_at(this, t_mid)
         if (present(f)) f = 0.0_rk
         ! No zeroing of the values: every position is assigned by its first block (scatter_t).
         do e = 1, this%n_elements
             if (present(values) .and. present(f)) then
-                call element_kernel(this, e, h, nbar, mbar, actuation, r_e, j_e)
+                call element_kernel(this, e, h, nbar, mbar, follower, actuation, r_e, j_e)
             else if (present(values)) then
-                call element_kernel(this, e, h, nbar, mbar, actuation, j_e=j_e)
+                call element_kernel(this, e, h, nbar, mbar, follower, actuation, j_e=j_e)
             else
-                call element_kernel(this, e, h, nbar, mbar, actuation, r_e)
+                call element_kernel(this, e, h, nbar, mbar, follower, actuation, r_e)
             end if
             if (present(values)) call scatter_block(this%element_scatter, e, size(j_e), j_e, values)
             if (present(f)) then
@@ -1134,6 +1157,7 @@ contains
         nmask = .false.
         ! A body's mass matrix couples all q of its node (through v = 2 (q - q_n)/h - v_n).
         if (size(this%bodies) > 0) nmask(1:12, 1:12) = .true.
+        if (any(this%loads%follower .and. this%loads%node > 0)) nmask(1:3, 4:12) = .true.
         nmask(4:12, 4:12) = .true.
         nmask(4:12, 13:18) = .true.
         nmask(13:18, 4:12) = .true.
@@ -1257,27 +1281,44 @@ contains
             nodes = this%element_nodes(e)
             ! R_S is linear in sigma_{n+1} with the matrix C_e: one correction from sigma_n.
             this%s_1(:, :, :, e) = this%s_n(:, :, :, e)
-            call element_kernel(this, e, h, zero, zero, ph_director_actuation_t(), r_e)
+            call element_kernel(this, e, h, zero, zero, [zero, zero], ph_director_actuation_t(), r_e)
             this%s_1(:, :, 0, e) = this%s_n(:, :, 0, e) - reshape(matmul( &
                 this%compliance_inverse(:, :, e), r_e(first:)), [6, this%degree])
         end do
     end subroutine condensed_fields
 
     !> The element kernel (methods §5.6 rows R_M, R_S) of element e on the workspace fields at
-    !> t_n and t_{n+1}: its residual `r_e` and/or its Jacobian `j_e`, those present.
-    subroutine element_kernel(this, e, h, nbar, mbar, actuation, r_e, j_e)
+    !> t_n and t_{n+1}: its residual `r_e` and/or its Jacobian `j_e`, those present. nbar, mbar:
+    !> the dead distributed loads; follower: the follower ones' force and moment components in
+    !> the director basis (rs_ph_director_follower).
+    subroutine element_kernel(this, e, h, nbar, mbar, follower, actuation, r_e, j_e)
         type(ph_director_t), intent(in) :: this
         integer, intent(in) :: e
-        real(rk), intent(in) :: h, nbar(3), mbar(3)
+        real(rk), intent(in) :: h, nbar(3), mbar(3), follower(6)
         type(ph_director_actuation_t), intent(in) :: actuation
         real(rk), intent(out), contiguous, optional :: r_e(:)
         real(rk), intent(out), contiguous, optional :: j_e(:, :)
-        integer :: nodes(2)
+        real(rk) :: r_f(12, this%degree + 1), j_f(12, this%degree + 1, 12, this%degree + 1)
+        integer :: nodes(2), a, b
         nodes = this%element_nodes(e)
         call ph_director_element_residual(this%basis, this%material, this%element_length(e), &
             this%eps_ref(:, :, e), h, this%static, this%q_n(:, nodes(1):nodes(2)), this%q_1(:, nodes(1):nodes(2)), &
             this%v_n(:, nodes(1):nodes(2)), this%v_1(:, nodes(1):nodes(2)), this%s_n(:, :, :, e), &
             this%s_1(:, :, :, e), nbar, mbar, actuation, r_e, j_e)
+        if (all(follower == 0.0_rk)) return
+        ! The momentum (v) rows of node a are 24 (a - 1) + 13:24, the q columns of node b
+        ! 24 (b - 1) + 1:12 (rs_ph_director_element's local layout).
+        call ph_director_element_follower(this%basis, this%element_length(e), h, this%static, &
+            this%q_n(:, nodes(1):nodes(2)), this%q_1(:, nodes(1):nodes(2)), follower(1:3), &
+            follower(4:6), r_f, j_f)
+        do a = 1, this%degree + 1
+            if (present(r_e)) r_e(24 * a - 11:24 * a) = r_e(24 * a - 11:24 * a) + r_f(:, a)
+            if (.not. present(j_e)) cycle
+            do b = 1, this%degree + 1
+                j_e(24 * a - 11:24 * a, 24 * b - 23:24 * b - 12) = &
+                    j_e(24 * a - 11:24 * a, 24 * b - 23:24 * b - 12) + j_f(:, a, :, b)
+            end do
+        end do
     end subroutine element_kernel
 
     !> Residual (and, if `values` is present, the Schur-complement Jacobian) of the condensed
@@ -1290,14 +1331,15 @@ contains
         real(rk) :: schur(12 * (this%degree + 1), 12 * (this%degree + 1))
         real(rk) :: coupling(6 * this%degree, 12 * (this%degree + 1))
         real(rk) :: r_k(node_dofs), j_k(node_dofs, node_dofs)
-        real(rk) :: nbar(3), mbar(3), t_mid
+        real(rk) :: nbar(3), mbar(3), follower(6), t_mid
         type(ph_director_actuation_t) :: actuation
         integer :: rows_m(12 * (this%degree + 1)), cols_q(12 * (this%degree + 1))
         integer :: cols_v(12 * (this%degree + 1))
         integer :: e, k, a, i, j, p, nodes(2), nq, first
         call condensed_fields(this, h, x_n, y)
         t_mid = load_time(this, t_n, h)
-        call distributed_loads(this, t_mid, nbar, mbar)
+        call distributed_loads(this, t_mid, .false., nbar, mbar)
+        call distributed_loads(this, t_mid, .true., follower(1:3), follower(4:6))
         actuation = actuation_at(this, t_mid)
         nq = 12 * (this%degree + 1)
         first = 24 * (this%degree + 1) + 1
@@ -1313,7 +1355,7 @@ contains
         do e = 1, this%n_elements
             nodes = this%element_nodes(e)
             if (present(values)) then
-                call element_kernel(this, e, h, nbar, mbar, actuation, r_e, j_e)
+                call element_kernel(this, e, h, nbar, mbar, follower, actuation, r_e, j_e)
                 ! d/dq_{n+1} through v_{n+1} = 2 (q_{n+1} - q_n)/h - v_n, then the Schur
                 ! complement of the stress block: A - B C_e^{-1} C.
                 schur = j_e(rows_m, cols_q) + (2.0_rk / h) * j_e(rows_m, cols_v)
@@ -1327,7 +1369,7 @@ contains
                     end do
                 end do
             else
-                call element_kernel(this, e, h, nbar, mbar, actuation, r_e)
+                call element_kernel(this, e, h, nbar, mbar, follower, actuation, r_e)
             end if
             if (present(f)) then
                 do a = 1, this%degree + 1
@@ -1408,6 +1450,7 @@ contains
         real(rk), intent(in) :: t_n, h, x_n(:), x_1(:)
         type(step_energy_t), intent(out) :: terms(:)
         real(rk) :: work, actuator_work, dissipated, nbar(3), mbar(3), force(3), moment(3), t_mid
+        real(rk) :: follower(6), d_mid(9)
         real(rk) :: kinetic_n, strain_n, kinetic_1, strain_1, weight(12), viscous, external
         type(ph_director_actuation_t) :: actuation
         integer :: e, k, nodes(2)
@@ -1423,7 +1466,8 @@ contains
         call this%unpack(x_n, this%q_n, this%v_n, this%lambda, this%s_n)
         call this%unpack(x_1, this%q_1, this%v_1, this%lambda, this%s_1)
         t_mid = t_n + 0.5_rk * h
-        call distributed_loads(this, t_mid, nbar, mbar)
+        call distributed_loads(this, t_mid, .false., nbar, mbar)
+        call distributed_loads(this, t_mid, .true., follower(1:3), follower(4:6))
         actuation = actuation_at(this, t_mid)
         work = 0.0_rk
         actuator_work = 0.0_rk
@@ -1434,6 +1478,11 @@ contains
                     v_n => this%v_n(:, nodes(1):nodes(2)), v_1 => this%v_1(:, nodes(1):nodes(2)))
                 work = work + ph_director_element_external_work(this%basis, &
                     this%element_length(e), h, q_n, q_1, v_n, v_1, nbar, mbar)
+                ! Follower loads: the work of the midpoint value the step applied
+                ! (rs_ph_director_follower), so the balance stays exact.
+                if (any(follower /= 0.0_rk)) work = work + ph_director_element_follower_work( &
+                    this%basis, this%element_length(e), h, q_n, q_1, v_n, v_1, follower(1:3), &
+                    follower(4:6))
                 if (size(this%actuators) > 0) actuator_work = actuator_work + &
                     ph_director_element_actuator_work(this%basis, this%element_length(e), h, &
                     q_n, q_1, v_n, v_1, actuation)
@@ -1452,10 +1501,17 @@ contains
             ! A body's weight: its generalized force on the step of the node's coordinates.
             call body_forces(this, k, t_mid, weight, carries)
             if (carries) work = work + dot_product(weight, this%q_1(:, k) - this%q_n(:, k))
-            call node_loads(this, k, t_mid, force, moment)
-            if (all(force == 0.0_rk) .and. all(moment == 0.0_rk)) cycle
-            work = work + ph_director_node_external_work(h, this%q_n(:, k), this%q_1(:, k), &
+            call node_loads(this, k, t_mid, .false., force, moment)
+            if (any(force /= 0.0_rk) .or. any(moment /= 0.0_rk)) work = work + &
+                ph_director_node_external_work(h, this%q_n(:, k), this%q_1(:, k), &
                 this%v_n(:, k), this%v_1(:, k), force, moment)
+            ! A follower end load works as the dead load of its midpoint value.
+            call node_loads(this, k, t_mid, .true., force, moment)
+            if (all(force == 0.0_rk) .and. all(moment == 0.0_rk)) cycle
+            d_mid = 0.5_rk * (this%q_n(4:12, k) + this%q_1(4:12, k))
+            work = work + ph_director_node_external_work(h, this%q_n(:, k), this%q_1(:, k), &
+                this%v_n(:, k), this%v_1(:, k), ph_director_follower_vector(d_mid, force), &
+                ph_director_follower_vector(d_mid, moment))
         end do
         terms(1) = step_energy_t(reported=.true., before=kinetic_n + strain_n, &
             after=kinetic_1 + strain_1, work=work, actuator_work=actuator_work, &

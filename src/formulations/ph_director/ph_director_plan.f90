@@ -195,7 +195,9 @@ contains
                 t = 'none'
             else
                 t = str(n_end) // ' end load(s), ' // str(n_distributed) // ' distributed, ' // &
-                    str(n_gravity) // ' gravity (dead, spatial)'
+                    str(n_gravity) // ' gravity; ' // str(count(rod%loads%follower)) // &
+                    ' follower (components in the director basis, at the midpoint directors; ' // &
+                    'their work booked at that value), the others dead (spatial)'
             end if
         end function loads_text
 

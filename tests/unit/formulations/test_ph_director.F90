@@ -67,6 +67,8 @@ contains
         call run_test('pinned_sizes', test_pinned_sizes)
         call run_test('jacobian_matches_differences_pinned', test_jacobian_pinned)
         call run_test('newton_step_balances_energy_pinned', test_newton_step_energy_pinned)
+        call run_test('jacobian_matches_differences_follower', test_jacobian_follower)
+        call run_test('newton_step_balances_energy_follower', test_newton_step_energy_follower)
     end subroutine run_all_tests
 
     !> A rod along (1, 2, 2)/3 with a clamped start, an end load and gravity.
@@ -931,6 +933,61 @@ contains
         CHECK_CLOSE(step_balance(terms(1)), 0.0_rk, tol, 0.0_rk, 'H_1 - H_0 - W = 0')
         call check_condensed_step(pinned_scene(3, 2, .true.), x_1, tol, terms_c)
     end subroutine test_newton_step_energy_pinned
+
+    !> The cantilever with its tip load and a distributed load as follower loads (components
+    !> in the director basis) besides its gravity (dead).
+    function follower_scene(n_elements, degree, condensed) result(scene)
+        integer, intent(in) :: n_elements, degree
+        logical, intent(in) :: condensed
+        type(scene_t) :: scene
+        type(load_input_t) :: spread
+        scene = cantilever_scene(n_elements, degree, condensed)
+        scene%loads(1)%frame = 'follower'
+        spread%rod = 'beam'
+        spread%where = 'distributed'
+        spread%frame = 'follower'
+        spread%force = [4.0_rk, -3.0_rk, 7.0_rk]
+        spread%moment = [-1.5_rk, 2.0_rk, 0.5_rk]
+        spread%time_function = 'ramp'
+        spread%t_on = 0.0_rk
+        spread%t_off = 1.0_rk
+        scene%loads = [scene%loads, spread]
+    end function follower_scene
+
+    !> Follower end and distributed loads (rs_ph_director_follower): the assembled Jacobian
+    !> against central differences, p = 2 and p = 1, condensed, and in the endpoint
+    !> equilibrium (the loads at t_{n+1}).
+    subroutine test_jacobian_follower()
+        type(ph_director_t) :: p2, p1, p2_condensed, p2_endpoint
+        type(scene_t) :: scene
+        call set_random_seed(20261127, 2)
+        call build_scene(follower_scene(3, 2, .false.), p2)
+        call check_jacobian_of(p2, 'follower p = 2', .false.)
+        call build_scene(follower_scene(4, 1, .false.), p1)
+        call check_jacobian_of(p1, 'follower p = 1', .false.)
+        call build_scene(follower_scene(3, 2, .true.), p2_condensed)
+        call check_jacobian_of(p2_condensed, 'follower p = 2 condensed', .false.)
+        scene = follower_scene(3, 2, .false.)
+        scene%time%quasistatic = .true.
+        call build_scene(scene, p2_endpoint)
+        call check_jacobian_of(p2_endpoint, 'follower p = 2 endpoint', .true.)
+    end subroutine test_jacobian_follower
+
+    !> One Newton step under the follower loads: the work booked at the midpoint value of the
+    !> loads balances the step (H_1 - H_0 - W = 0 to the Newton tolerance), the same as the
+    !> condensed rod's; and it differs from the dead loads' work (the loads turned).
+    subroutine test_newton_step_energy_follower()
+        type(ph_director_t) :: rod
+        real(rk), allocatable :: x_n(:), x_1(:)
+        type(step_energy_t) :: terms(1), terms_c(1)
+        real(rk) :: tol
+        call build_scene(follower_scene(3, 2, .false.), rod)
+        call newton_solve(rod, 0.5_rk, 0.01_rk, x_n, x_1, terms)
+        CHECK_TRUE(abs(terms(1)%work) > 1.0e-6_rk * terms(1)%after, 'the follower loads work')
+        tol = 1.0e-9_rk * terms(1)%after
+        CHECK_CLOSE(step_balance(terms(1)), 0.0_rk, tol, 0.0_rk, 'H_1 - H_0 - W = 0')
+        call check_condensed_step(follower_scene(3, 2, .true.), x_1, tol, terms_c)
+    end subroutine test_newton_step_energy_follower
 
 end module rs_test_ph_director
 
