@@ -280,7 +280,10 @@ contains
         character(len=:), allocatable :: message
         real(rk) :: stiffness(6), tau(6), elastic_fraction
         logical :: rigid(6)
-        integer :: nb, br
+        integer :: nb, br, i, j
+        !> The stiffnesses in the order of the stress components (N1, N2, N3, M1, M2, M3).
+        character(len=3), parameter :: rigid_names(6) = [character(len=3) :: 'GA1', 'GA2', &
+            'EA', 'EI1', 'EI2', 'GJ']
         ! &rod kelvin_voigt_time is in the order (EA, GA1, GA2, EI1, EI2, GJ); these stresses
         ! are (N1, N2, N3, M1, M2, M3) = (GA1, GA2, EA, EI1, EI2, GJ).
         integer, parameter :: kv_order(6) = [kv_shear1, kv_shear2, kv_axial, kv_bend1, &
@@ -302,6 +305,18 @@ contains
             RS_SET_ERROR(err, 'build_material', message)
             return
         end select
+        ! &rod rigid (issue 26 item 2): any further infinite stiffnesses, the singular
+        ! compliance of methods §2.3 with those entries zero.
+        do i = 1, size(rod%rigid)
+            if (len_trim(rod%rigid(i)) == 0) cycle
+            j = findloc(rigid_names, trim(rod%rigid(i)), 1)
+            if (j == 0) then
+                message = 'rod ''' // this%name // ''': unknown rigid stiffness ''' // trim(rod%rigid(i)) // ''''
+                RS_SET_ERROR(err, 'build_material', message)
+                return
+            end if
+            rigid(j) = .true.
+        end do
         nb = count(rod%maxwell_fraction /= unset_real)
         if (nb > ph_director_max_branches) then
             message = 'rod ''' // this%name // ''': at most ' // str(ph_director_max_branches) // &

@@ -34,7 +34,7 @@ contains
         ! that value, so the balance stays exact).
         d%capability = capability_t(formulation=d%name, available=.true., &
             end_kinds='clamped|pinned|free|body', load_places='start|end|distributed|gravity', &
-            load_frames='spatial|follower', constraints='none|kirchhoff|inextensible', quasistatic=.true., &
+            load_frames='spatial|follower', constraints='none|kirchhoff|inextensible|rigid', quasistatic=.true., &
             viscoelastic=.true., actuation=.true., curved_reference=.true., prestressed=.true., &
             joints='rigid|spherical|revolute', end_plates=.true., floating_plates=.true., &
             contact=.true., order_4=.true., adaptive=.true., damping=.true.)

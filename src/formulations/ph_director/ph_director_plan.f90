@@ -102,16 +102,7 @@ contains
                     ' coefficients x ' // str(1 + nb) // ' branch(es))')
             end if
             call add('orthonormality multipliers: 6 per free node (' // str(6 * n_free) // ')')
-            select case (trim(input%constraint))
-            case ('kirchhoff')
-                call add('constraint multipliers: kirchhoff: the shear stresses N1, N2 (' // &
-                    str(2 * p * n_elements) // ' coefficients) are multipliers; GA1, GA2 not used')
-            case ('inextensible')
-                call add('constraint multipliers: inextensible: N1, N2, N3 (' // &
-                    str(3 * p * n_elements) // ' coefficients) are multipliers; GA1, GA2, EA not used')
-            case default
-                call add('constraint multipliers: none (constraint = ''none'')')
-            end select
+            call add('constraint multipliers: ' // rigid_text())
             if (nb > 0) then
                 call add('Maxwell internal variables: ' // str(nb) // ' branch(es), ' // &
                     str(6 * p * nb) // ' branch stresses per element; dissipation recorded')
@@ -347,6 +338,33 @@ contains
                 end if
             end associate
         end function velocity_text
+
+        !> The rigid stress components (zero compliance: multipliers, methods §2.3), from the
+        !> built rod: constraint = 'kirchhoff' or 'inextensible' and &rod rigid.
+        function rigid_text() result(t)
+            character(len=:), allocatable :: t, names, stresses
+            character(len=3), parameter :: stiffness(6) = [character(len=3) :: 'GA1', 'GA2', &
+                'EA', 'EI1', 'EI2', 'GJ']
+            character(len=2), parameter :: stress(6) = [character(len=2) :: 'N1', 'N2', 'N3', &
+                'M1', 'M2', 'M3']
+            integer :: c, n_rigid
+            n_rigid = count(rod%material%compliance == 0.0_rk)
+            if (n_rigid == 0) then
+                t = 'none (constraint = ''none'', no rigid)'
+                return
+            end if
+            names = ''
+            stresses = ''
+            do c = 1, 6
+                if (rod%material%compliance(c) /= 0.0_rk) cycle
+                names = join(names, trim(stiffness(c)))
+                stresses = join(stresses, trim(stress(c)))
+            end do
+            t = 'constraint = ''' // trim(scene%rods(i)%constraint) // ''''
+            if (len_trim(scene%rods(i)%rigid(1)) > 0) t = t // ' and rigid'
+            t = t // ': ' // stresses // ' (' // str(n_rigid * p * n_elements) // &
+                ' coefficients) are multipliers; ' // names // ' infinite (the values given not used)'
+        end function rigid_text
 
         function condensation_obstacle() result(t)
             character(len=:), allocatable :: t

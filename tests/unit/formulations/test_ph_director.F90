@@ -69,6 +69,7 @@ contains
         call run_test('newton_step_balances_energy_pinned', test_newton_step_energy_pinned)
         call run_test('jacobian_matches_differences_follower', test_jacobian_follower)
         call run_test('newton_step_balances_energy_follower', test_newton_step_energy_follower)
+        call run_test('rigid_subset', test_rigid_subset)
     end subroutine run_all_tests
 
     !> A rod along (1, 2, 2)/3 with a clamped start, an end load and gravity.
@@ -988,6 +989,26 @@ contains
         CHECK_CLOSE(step_balance(terms(1)), 0.0_rk, tol, 0.0_rk, 'H_1 - H_0 - W = 0')
         call check_condensed_step(follower_scene(3, 2, .true.), x_1, tol, terms_c)
     end subroutine test_newton_step_energy_follower
+
+    !> &rod rigid = 'EA', 'GJ' (issue 26 item 2): exactly those compliances are zero, the
+    !> Jacobian matches central differences and a Newton step balances its books.
+    subroutine test_rigid_subset()
+        type(ph_director_t) :: rod, dynamic
+        type(scene_t) :: scene
+        real(rk), allocatable :: x_n(:), x_1(:)
+        type(step_energy_t) :: terms(1)
+        logical :: expected(6)
+        call set_random_seed(20261128, 2)
+        scene = cantilever_scene(3, 2, .false.)
+        scene%rods(1)%rigid(1:2) = ['EA', 'GJ']
+        call build_scene(scene, rod)
+        expected = [.false., .false., .true., .false., .false., .true.]
+        CHECK_TRUE(all((rod%material%compliance == 0.0_rk) .eqv. expected), 'N3 and M3 rigid, the rest compliant')
+        call check_jacobian_of(rod, 'rigid EA, GJ, p = 2', .false.)
+        call build_scene(scene, dynamic)
+        call newton_solve(dynamic, 0.5_rk, 0.01_rk, x_n, x_1, terms)
+        CHECK_CLOSE(step_balance(terms(1)), 0.0_rk, 1.0e-9_rk * terms(1)%after, 0.0_rk, 'H_1 - H_0 - W = 0')
+    end subroutine test_rigid_subset
 
 end module rs_test_ph_director
 
