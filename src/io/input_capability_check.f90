@@ -451,6 +451,10 @@ contains
         integer :: j, e
         associate (rod => scene%rods(i))
             what = 'formulation ''' // trim(row%formulation) // ''''
+            ! &rod rigid (issue 26 item 2): a formulation whose constraints list 'rigid'.
+            if (len_trim(rod%rigid(1)) > 0 .and. .not. lists_name(row%constraints, 'rigid')) &
+                call errors%add(at(scene, rod%input_line) // '&rod rigid: infinite stiffnesses ' // &
+                'are not available for ' // what // ' (docs/user/capabilities.md)')
             if (.not. lists_name(row%constraints, rod%constraint)) call errors%add(at(scene, &
                 rod%input_line) // '&rod constraint: ''' // trim(rod%constraint) // &
                 ''' is not available for ' // what // '; available: ' // trim(row%constraints) // &

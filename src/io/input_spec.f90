@@ -503,6 +503,12 @@ contains
                 "the constrained components (GA1, GA2, and EA for 'inextensible') are ignored, " // &
                 'so they may be given or derived from a section.', &
                 allowed='none|kirchhoff|inextensible', example="'kirchhoff'"), &
+            spec_v('rigid', 'string', '-', '(none)', &
+                'Stiffnesses made infinite besides those of constraint, 1 to 6 names (e.g. ' // &
+                "'EA' for an inextensible but shearable rod, 'GJ' torsion-rigid): zero " // &
+                'compliance, the stress component a Lagrange multiplier (methods/ph_director_3d.md ' // &
+                '§2.3); the stiffness given is ignored. ph_director only.', count=1, max_count=6, &
+                allowed='EA|GA1|GA2|EI1|EI2|GJ', example="'EA', 'GJ'"), &
             spec_v('maxwell_fraction', 'real', '-', '-', &
                 'Generalized Maxwell viscoelasticity (seed 000 §5.1, methods/ph_director_3d.md ' // &
                 '§3.1): the fraction of every stiffness taken by branch i = 1..m; the branches ' // &

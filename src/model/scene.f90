@@ -173,6 +173,9 @@ module rs_model_scene
         character(len=name_len) :: torsion_constant = ''
         logical :: prestressed = .false.
         character(len=name_len) :: constraint = 'none'
+        !> Stiffnesses made infinite besides those of `constraint` (issue 26 item 2): any of
+        !> 'EA', 'GA1', 'GA2', 'EI1', 'EI2', 'GJ' (leading given entries; '' unset).
+        character(len=8) :: rigid(6) = ''
         !> Generalized Maxwell branches (seed 000 §5.1, methods §3.1): branch i takes the
         !> fraction maxwell_fraction(i) of every stiffness, relaxes with tau_E (dilatation,
         !> bending) and tau_G (shear, torsion); the elastic branch keeps 1 - sum of fractions.

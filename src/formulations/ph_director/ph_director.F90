@@ -6,7 +6,9 @@
 !> Unknowns of a step (uncondensed, methods §5.6): per free node q = (phi, d1, d2, d3) and
 !> v at t_{n+1} (12 + 12) and the midpoint multipliers lambda (6); per element the stress
 !> coefficients sigma at t_{n+1} (6 p). A clamped node has no unknowns: its q is fixed, v = 0,
-!> and its multipliers are dropped (methods §2.9). The state X has the same layout as the
+!> and its multipliers are dropped (methods §2.9). A pinned node (issue 26 item 2) holds only
+!> phi: its phi and v_phi are not unknowns (phi fixed, v_phi = 0, the Dirichlet part of methods
+!> §2.9 on phi alone), its directors, their velocities and its multipliers are. The state X has the same layout as the
 !> unknown Y; the lambda slots of X hold the multipliers of the last step's midpoint, which
 !> no residual uses (methods §5.2, last bullet).
 !>
@@ -46,6 +48,8 @@ module rs_ph_director
         ph_director_element_damping_dissipation, ph_director_local_size, ph_director_element_reference_strains, &
         ph_director_element_initial_stress, ph_director_straight_strain
     use rs_ph_director_node_tie, only: ph_director_node_tie
+    use rs_ph_director_follower, only: ph_director_follower_vector, ph_director_node_follower, &
+        ph_director_element_follower, ph_director_element_follower_work
     use rs_ph_director_body, only: ph_director_body_t, ph_director_body_init, &
         ph_director_body_kinetic_energy, ph_director_body_momenta, ph_director_body_weight, &
         ph_director_body_centre
@@ -61,6 +65,9 @@ module rs_ph_director
         logical :: distributed = .false.
         !> Gravity (distributed): its acceleration, for the weight of a body on an end.
         logical :: gravity = .false.
+        !> A follower load (&load frame = 'follower'): force and moment are components in the
+        !> director basis (rs_ph_director_follower).
+        logical :: follower = .false.
         real(rk) :: acceleration(3) = 0.0_rk
         real(rk) :: force(3) = 0.0_rk
         real(rk) :: moment(3) = 0.0_rk
@@ -127,6 +134,8 @@ module rs_ph_director
         real(rk) :: row_scale = 0.0_rk
         real(rk), allocatable :: anchor(:)
         logical, allocatable :: clamped(:)
+        !> Pinned nodes (&bc kind = 'pinned'): phi held, directors free (module header).
+        logical, allocatable :: pinned(:)
         !> Rigid bodies on the ends (&bc kind = 'body'; rs_ph_director_body).
         type(ph_director_body_t), allocatable :: bodies(:)
         real(rk), allocatable :: fixed_q(:, :)
@@ -282,7 +291,10 @@ contains
         character(len=:), allocatable :: message
         real(rk) :: tau(6), elastic_fraction
         logical :: rigid(6)
-        integer :: nb, br, e
+        integer :: nb, br, e, i, j
+        !> The stiffnesses in the order of the stress components (N1, N2, N3, M1, M2, M3).
+        character(len=3), parameter :: rigid_names(6) = [character(len=3) :: 'GA1', 'GA2', &
+            'EA', 'EI1', 'EI2', 'GJ']
         ! &rod kelvin_voigt_time is in the order (EA, GA1, GA2, EI1, EI2, GJ); these stresses
         ! are (N1, N2, N3, M1, M2, M3) = (GA1, GA2, EA, EI1, EI2, GJ).
         integer, parameter :: kv_order(6) = [kv_shear1, kv_shear2, kv_axial, kv_bend1, &
@@ -299,6 +311,18 @@ contains
             RS_SET_ERROR(err, 'build_material', message)
             return
         end select
+        ! &rod rigid (issue 26 item 2): any further infinite stiffnesses, the singular
+        ! compliance of methods §2.3 with those entries zero.
+        do i = 1, size(rod%rigid)
+            if (len_trim(rod%rigid(i)) == 0) cycle
+            j = findloc(rigid_names, trim(rod%rigid(i)), 1)
+            if (j == 0) then
+                message = 'rod ''' // this%name // ''': unknown rigid stiffness ''' // trim(rod%rigid(i)) // ''''
+                RS_SET_ERROR(err, 'build_material', message)
+                return
+            end if
+            rigid(j) = .true.
+        end do
         nb = count(rod%maxwell_fraction /= unset_real)
         if (nb > ph_director_max_branches) then
             message = 'rod ''' // this%name // ''': at most ' // str(ph_director_max_branches) // &
@@ -465,7 +489,7 @@ contains
         type(error_t), allocatable, intent(out) :: err
         character(len=:), allocatable :: message
         integer :: i, node
-        allocate(this%clamped(this%n_nodes), source=.false.)
+        allocate(this%clamped(this%n_nodes), this%pinned(this%n_nodes), source=.false.)
         allocate(this%bodies(0))
         do i = 1, size(scene%bcs)
             associate (bc => scene%bcs(i))
@@ -474,6 +498,8 @@ contains
                 select case (trim(bc%kind))
                 case ('clamped')
                     this%clamped(node) = .true.
+                case ('pinned')
+                    this%pinned(node) = .true.
                 case ('body')
                     this%bodies = [this%bodies, ph_director_body_init(node, bc%mass, bc%centre, &
                         body_inertia_tensor(bc), reshape(this%fixed_q(4:12, node), [3, 3]))]
@@ -516,13 +542,9 @@ contains
         do i = 1, size(scene%loads)
             associate (input => scene%loads(i))
                 if (.not. load_applies_to(input, this%name)) cycle
-                if (trim(input%frame) /= 'spatial') then
-                    message = 'rod ''' // this%name // &
-                        ''': follower loads are not available for ph_director in this version (docs/user/capabilities.md)'
-                    RS_SET_ERROR(err, 'read_loads', message)
-                    return
-                end if
                 load = rod_load_t()
+                ! The input check refuses a follower weight (gravity is dead).
+                load%follower = trim(input%frame) == 'follower'
                 call time_function_from_load(input, load%factor, err)
                 RS_RETURN_IF_ERROR(err)
                 select case (trim(input%where))
@@ -578,11 +600,19 @@ contains
             integer :: i
             if (this%clamped(node)) return
             do i = 1, node_dofs
+                if (this%pinned(node) .and. is_position_dof(i)) cycle
                 next = next + 1
                 this%node_dof(i, node) = next
             end do
         end subroutine number_node
     end subroutine number_dofs
+
+    !> Whether local dof i of a node (node kernel layout: q 1:12, v 13:24, lambda 25:30) is phi
+    !> or v_phi, the dofs a pinned node holds.
+    pure logical function is_position_dof(i)
+        integer, intent(in) :: i
+        is_position_dof = i <= 3 .or. (i >= 13 .and. i <= 15)
+    end function is_position_dof
 
     !> Stress coefficients of an element: 6 p per branch, elastic branch included.
     pure integer function n_stress(this)
@@ -662,12 +692,14 @@ contains
     !> end-moment terms) and the multipliers; constraint rows to the directors. On a rod with
     !> a body on an end, the momentum rows couple to all v (the body's mass matrix couples
     !> the point's and the directors' velocities).
-    pure function node_mask(with_body) result(mask)
-        logical, intent(in) :: with_body
+    pure function node_mask(with_body, with_follower) result(mask)
+        logical, intent(in) :: with_body, with_follower
         logical :: mask(node_dofs, node_dofs)
         integer :: c
         mask = .false.
         if (with_body) mask(13:24, 13:24) = .true.
+        ! A follower end force turns with the directors (rs_ph_director_follower).
+        if (with_follower) mask(13:15, 4:12) = .true.
         do c = 1, 12
             mask(c, c) = .true.
             mask(c, 12 + c) = .true.
@@ -685,7 +717,7 @@ contains
         logical, allocatable :: touched(:)
         integer :: e, k
         emask = element_mask(this)
-        nmask = node_mask(size(this%bodies) > 0)
+        nmask = node_mask(size(this%bodies) > 0, any(this%loads%follower .and. this%loads%node > 0))
         call builder%init(this%n_dofs, this%n_elements * count(emask) + this%n_nodes * count(nmask))
         do e = 1, this%n_elements
             call builder%add_block(this%element_dof(:, e), this%element_dof(:, e), emask)
@@ -769,10 +801,12 @@ contains
     subroutine ph_director_error_entries(this, weigh)
         class(ph_director_t), intent(in) :: this
         logical, intent(out) :: weigh(:)
-        integer :: k
+        integer :: k, i
         weigh = .false.
         do k = 1, this%n_nodes
-            if (this%node_dof(1, k) > 0) weigh(this%node_dof(1:12, k)) = .true.
+            do i = 1, 12
+                if (this%node_dof(i, k) > 0) weigh(this%node_dof(i, k)) = .true.
+            end do
         end do
     end subroutine ph_director_error_entries
 
@@ -829,9 +863,15 @@ contains
                 v(:, k) = 0.0_rk
                 lambda(:, k) = 0.0_rk
             else
+                ! A pinned node's phi is held at the reference, its v_phi zero.
                 do i = 1, 12
-                    q(i, k) = x(this%node_dof(i, k))
-                    v(i, k) = x(this%node_dof(12 + i, k))
+                    if (this%node_dof(i, k) > 0) then
+                        q(i, k) = x(this%node_dof(i, k))
+                        v(i, k) = x(this%node_dof(12 + i, k))
+                    else
+                        q(i, k) = this%fixed_q(i, k)
+                        v(i, k) = 0.0_rk
+                    end if
                 end do
                 do i = 1, 6
                     lambda(i, k) = x(this%node_dof(24 + i, k))
@@ -867,11 +907,14 @@ contains
         load_time = merge(this%t_static, t_n + 0.5_rk * h, this%static)
     end function load_time
 
-    !> Distributed force and moment per unit length at time t, and the gravity acceleration:
-    !> an element's weight per length is its own line mass times it (&segment).
-    pure subroutine distributed_loads(this, t, force, moment, gravity)
+    !> Distributed force and moment per unit length at time t, and the gravity acceleration
+    !> (an element's weight per length is its own line mass times it, &segment): the dead ones
+    !> as spatial vectors or, with `follower`, the follower ones as components in the director
+    !> basis (gravity is dead: zero then).
+    pure subroutine distributed_loads(this, t, follower, force, moment, gravity)
         type(ph_director_t), intent(in) :: this
         real(rk), intent(in) :: t
+        logical, intent(in) :: follower
         real(rk), intent(out) :: force(3), moment(3), gravity(3)
         integer :: i
         real(rk) :: f
@@ -879,7 +922,7 @@ contains
         moment = 0.0_rk
         gravity = 0.0_rk
         do i = 1, size(this%loads)
-            if (.not. this%loads(i)%distributed) cycle
+            if (.not. this%loads(i)%distributed .or. (this%loads(i)%follower .neqv. follower)) cycle
             f = this%loads(i)%factor%value(t)
             if (this%loads(i)%gravity) then
                 gravity = gravity + f * this%loads(i)%acceleration
@@ -890,18 +933,21 @@ contains
         end do
     end subroutine distributed_loads
 
-    !> Concentrated force and moment at node k and time t.
-    pure subroutine node_loads(this, k, t, force, moment)
+    !> Concentrated force and moment at node k and time t: the dead ones, or with `follower`
+    !> the follower ones (components in the director basis).
+    pure subroutine node_loads(this, k, t, follower, force, moment)
         type(ph_director_t), intent(in) :: this
         integer, intent(in) :: k
         real(rk), intent(in) :: t
+        logical, intent(in) :: follower
         real(rk), intent(out) :: force(3), moment(3)
         integer :: i
         real(rk) :: f
         force = 0.0_rk
         moment = 0.0_rk
         do i = 1, size(this%loads)
-            if (this%loads(i)%distributed .or. this%loads(i)%node /= k) cycle
+            if (this%loads(i)%distributed .or. this%loads(i)%node /= k .or. &
+                (this%loads(i)%follower .neqv. follower)) cycle
             f = this%loads(i)%factor%value(t)
             force = force + f * this%loads(i)%force
             moment = moment + f * this%loads(i)%moment
@@ -980,12 +1026,25 @@ contains
         real(rk), intent(out) :: r_k(node_dofs)
         real(rk), intent(out), optional :: j_k(node_dofs, node_dofs)
         real(rk) :: force(3), moment(3)
-        real(rk) :: weight(12)
+        real(rk) :: weight(12), r_f(12), j_f(12, 12)
         integer :: b
         logical :: carries
-        call node_loads(this, k, t_load, force, moment)
+        call node_loads(this, k, t_load, .false., force, moment)
         call ph_director_node_residual(h, this%static, this%q_n(:, k), this%q_1(:, k), &
             this%v_n(:, k), this%v_1(:, k), this%lambda(:, k), .true., force, moment, r_k, j_k)
+        ! Follower end loads at the midpoint directors (rs_ph_director_follower).
+        call node_loads(this, k, t_load, .true., force, moment)
+        if (any(force /= 0.0_rk) .or. any(moment /= 0.0_rk)) then
+            if (present(j_k)) then
+                call ph_director_node_follower(h, this%static, this%q_n(:, k), this%q_1(:, k), &
+                    force, moment, r_f, j_f)
+                j_k(13:24, 1:12) = j_k(13:24, 1:12) + j_f
+            else
+                call ph_director_node_follower(h, this%static, this%q_n(:, k), this%q_1(:, k), &
+                    force, moment, r_f)
+            end if
+            r_k(13:24) = r_k(13:24) + r_f
+        end if
         if (size(this%bodies) == 0) return
         ! A body on the node (rs_ph_director_body): its weight, and its inertia in time steps.
         call body_forces(this, k, t_load, weight, carries)
@@ -1008,23 +1067,24 @@ contains
         real(rk), intent(out), optional :: f(:), values(:)
         real(rk) :: r_e(this%n_local), j_e(this%n_local, this%n_local)
         real(rk) :: r_k(node_dofs), j_k(node_dofs, node_dofs)
-        real(rk) :: nbar(3), mbar(3), gravity(3), t_mid
+        real(rk) :: nbar(3), mbar(3), gravity(3), follower(6), no_gravity(3), t_mid
         type(ph_director_actuation_t) :: actuation
         integer :: e, k, i
         call this%unpack(x_n, this%q_n, this%v_n, this%lambda, this%s_n)
         call this%unpack(y, this%q_1, this%v_1, this%lambda, this%s_1)
         t_mid = load_time(this, t_n, h)
-        call distributed_loads(this, t_mid, nbar, mbar, gravity)
+        call distributed_loads(this, t_mid, .false., nbar, mbar, gravity)
+        call distributed_loads(this, t_mid, .true., follower(1:3), follower(4:6), no_gravity)
         actuation = actuation_at(this, t_mid)
         if (present(f)) f = 0.0_rk
         ! No zeroing of the values: every position is assigned by its first block (scatter_t).
         do e = 1, this%n_elements
             if (present(values) .and. present(f)) then
-                call element_kernel(this, e, h, nbar, gravity, mbar, actuation, r_e, j_e)
+                call element_kernel(this, e, h, nbar, gravity, mbar, follower, actuation, r_e, j_e)
             else if (present(values)) then
-                call element_kernel(this, e, h, nbar, gravity, mbar, actuation, j_e=j_e)
+                call element_kernel(this, e, h, nbar, gravity, mbar, follower, actuation, j_e=j_e)
             else
-                call element_kernel(this, e, h, nbar, gravity, mbar, actuation, r_e)
+                call element_kernel(this, e, h, nbar, gravity, mbar, follower, actuation, r_e)
             end if
             if (present(values)) call scatter_block(this%element_scatter, e, size(j_e), j_e, values)
             if (present(f)) then
@@ -1044,7 +1104,8 @@ contains
             end if
             if (present(f)) then
                 do i = 1, node_dofs
-                    f(this%node_dof(i, k)) = f(this%node_dof(i, k)) + r_k(i)
+                    if (this%node_dof(i, k) > 0) f(this%node_dof(i, k)) = &
+                        f(this%node_dof(i, k)) + r_k(i)
                 end do
             end if
         end do
@@ -1067,6 +1128,7 @@ contains
         do k = 1, this%n_nodes
             if (this%clamped(k)) cycle
             do i = 1, 18
+                if (this%pinned(k) .and. i <= 3) cycle
                 next = next + 1
                 this%node_unknown(i, k) = next
             end do
@@ -1144,6 +1206,7 @@ contains
         nmask = .false.
         ! A body's mass matrix couples all q of its node (through v = 2 (q - q_n)/h - v_n).
         if (size(this%bodies) > 0) nmask(1:12, 1:12) = .true.
+        if (any(this%loads%follower .and. this%loads%node > 0)) nmask(1:3, 4:12) = .true.
         nmask(4:12, 4:12) = .true.
         nmask(4:12, 13:18) = .true.
         nmask(13:18, 4:12) = .true.
@@ -1161,7 +1224,8 @@ contains
             dofs = element_q_unknowns(this, e)
             do j = 1, nq
                 do i = 1, nq
-                    this%element_map(i, j, e) = this%pattern%position(dofs(i), dofs(j))
+                    if (dofs(i) > 0 .and. dofs(j) > 0) &
+                        this%element_map(i, j, e) = this%pattern%position(dofs(i), dofs(j))
                 end do
             end do
         end do
@@ -1169,7 +1233,8 @@ contains
         do k = 1, this%n_nodes
             do j = 1, 18
                 do i = 1, 18
-                    if (nmask(i, j)) this%node_map(i, j, k) = &
+                    if (nmask(i, j) .and. this%node_unknown(i, k) > 0 .and. &
+                        this%node_unknown(j, k) > 0) this%node_map(i, j, k) = &
                         this%pattern%position(this%node_unknown(i, k), this%node_unknown(j, k))
                 end do
             end do
@@ -1198,7 +1263,9 @@ contains
         end if
         do k = 1, this%n_nodes
             if (this%clamped(k)) cycle
-            y(this%node_unknown(1:12, k)) = x_n(this%node_dof(1:12, k))
+            do i = 1, 12
+                if (this%node_unknown(i, k) > 0) y(this%node_unknown(i, k)) = x_n(this%node_dof(i, k))
+            end do
             y(this%node_unknown(13:18, k)) = x_n(this%node_dof(25:30, k))
         end do
     end subroutine ph_director_predictor
@@ -1208,7 +1275,7 @@ contains
         class(ph_director_t), intent(inout) :: this
         real(rk), intent(in) :: t_n, h, x_n(:), y(:)
         real(rk), intent(out) :: x_1(:)
-        integer :: k, e
+        integer :: k, e, i
         if (.not. this%condensed) then
             x_1 = y
             return
@@ -1216,8 +1283,11 @@ contains
         call condensed_fields(this, h, x_n, y)
         do k = 1, this%n_nodes
             if (this%clamped(k)) cycle
-            x_1(this%node_dof(1:12, k)) = this%q_1(:, k)
-            x_1(this%node_dof(13:24, k)) = this%v_1(:, k)
+            do i = 1, 12
+                if (this%node_dof(i, k) == 0) cycle
+                x_1(this%node_dof(i, k)) = this%q_1(i, k)
+                x_1(this%node_dof(12 + i, k)) = this%v_1(i, k)
+            end do
             x_1(this%node_dof(25:30, k)) = this%lambda(:, k)
         end do
         do e = 1, this%n_elements
@@ -1239,8 +1309,13 @@ contains
                 this%v_1(:, k) = 0.0_rk
                 this%lambda(:, k) = 0.0_rk
             else
+                ! A pinned node's phi is held (v_phi = 0 follows from q_1 = q_n, v_n = 0).
                 do i = 1, 12
-                    this%q_1(i, k) = y(this%node_unknown(i, k))
+                    if (this%node_unknown(i, k) > 0) then
+                        this%q_1(i, k) = y(this%node_unknown(i, k))
+                    else
+                        this%q_1(i, k) = this%fixed_q(i, k)
+                    end if
                 end do
                 do i = 1, 6
                     this%lambda(i, k) = y(this%node_unknown(12 + i, k))
@@ -1255,28 +1330,47 @@ contains
             nodes = this%element_nodes(e)
             ! R_S is linear in sigma_{n+1} with the matrix C_e: one correction from sigma_n.
             this%s_1(:, :, :, e) = this%s_n(:, :, :, e)
-            call element_kernel(this, e, h, zero, zero, zero, ph_director_actuation_t(), r_e)
+            call element_kernel(this, e, h, zero, zero, zero, [zero, zero], &
+                ph_director_actuation_t(), r_e)
             this%s_1(:, :, 0, e) = this%s_n(:, :, 0, e) - reshape(matmul( &
                 this%compliance_inverse(:, :, e), r_e(first:)), [6, this%degree])
         end do
     end subroutine condensed_fields
 
     !> The element kernel (methods §5.6 rows R_M, R_S) of element e on the workspace fields at
-    !> t_n and t_{n+1}: its residual `r_e` and/or its Jacobian `j_e`, those present.
-    subroutine element_kernel(this, e, h, nbar, gravity, mbar, actuation, r_e, j_e)
+    !> t_n and t_{n+1}: its residual `r_e` and/or its Jacobian `j_e`, those present. nbar, mbar:
+    !> the dead distributed loads, gravity the acceleration (times the element's line mass);
+    !> follower: the follower ones' force and moment components in the director basis
+    !> (rs_ph_director_follower).
+    subroutine element_kernel(this, e, h, nbar, gravity, mbar, follower, actuation, r_e, j_e)
         type(ph_director_t), intent(in) :: this
         integer, intent(in) :: e
-        real(rk), intent(in) :: h, nbar(3), gravity(3), mbar(3)
+        real(rk), intent(in) :: h, nbar(3), gravity(3), mbar(3), follower(6)
         type(ph_director_actuation_t), intent(in) :: actuation
         real(rk), intent(out), contiguous, optional :: r_e(:)
         real(rk), intent(out), contiguous, optional :: j_e(:, :)
-        integer :: nodes(2)
+        real(rk) :: r_f(12, this%degree + 1), j_f(12, this%degree + 1, 12, this%degree + 1)
+        integer :: nodes(2), a, b
         nodes = this%element_nodes(e)
         call ph_director_element_residual(this%basis, this%element_material(e), &
             this%element_length(e), this%eps_ref(:, :, e), h, this%static, this%q_n(:, nodes(1):nodes(2)), this%q_1(:, nodes(1):nodes(2)), &
             this%v_n(:, nodes(1):nodes(2)), this%v_1(:, nodes(1):nodes(2)), this%s_n(:, :, :, e), &
             this%s_1(:, :, :, e), nbar + this%element_line_mass(e) * gravity, mbar, actuation, &
             r_e, j_e)
+        if (all(follower == 0.0_rk)) return
+        ! The momentum (v) rows of node a are 24 (a - 1) + 13:24, the q columns of node b
+        ! 24 (b - 1) + 1:12 (rs_ph_director_element's local layout).
+        call ph_director_element_follower(this%basis, this%element_length(e), h, this%static, &
+            this%q_n(:, nodes(1):nodes(2)), this%q_1(:, nodes(1):nodes(2)), follower(1:3), &
+            follower(4:6), r_f, j_f)
+        do a = 1, this%degree + 1
+            if (present(r_e)) r_e(24 * a - 11:24 * a) = r_e(24 * a - 11:24 * a) + r_f(:, a)
+            if (.not. present(j_e)) cycle
+            do b = 1, this%degree + 1
+                j_e(24 * a - 11:24 * a, 24 * b - 23:24 * b - 12) = &
+                    j_e(24 * a - 11:24 * a, 24 * b - 23:24 * b - 12) + j_f(:, a, :, b)
+            end do
+        end do
     end subroutine element_kernel
 
     !> Residual (and, if `values` is present, the Schur-complement Jacobian) of the condensed
@@ -1289,14 +1383,15 @@ contains
         real(rk) :: schur(12 * (this%degree + 1), 12 * (this%degree + 1))
         real(rk) :: coupling(6 * this%degree, 12 * (this%degree + 1))
         real(rk) :: r_k(node_dofs), j_k(node_dofs, node_dofs)
-        real(rk) :: nbar(3), mbar(3), gravity(3), t_mid
+        real(rk) :: nbar(3), mbar(3), gravity(3), follower(6), no_gravity(3), t_mid
         type(ph_director_actuation_t) :: actuation
         integer :: rows_m(12 * (this%degree + 1)), cols_q(12 * (this%degree + 1))
         integer :: cols_v(12 * (this%degree + 1))
         integer :: e, k, a, i, j, p, nodes(2), nq, first
         call condensed_fields(this, h, x_n, y)
         t_mid = load_time(this, t_n, h)
-        call distributed_loads(this, t_mid, nbar, mbar, gravity)
+        call distributed_loads(this, t_mid, .false., nbar, mbar, gravity)
+        call distributed_loads(this, t_mid, .true., follower(1:3), follower(4:6), no_gravity)
         actuation = actuation_at(this, t_mid)
         nq = 12 * (this%degree + 1)
         first = 24 * (this%degree + 1) + 1
@@ -1312,7 +1407,7 @@ contains
         do e = 1, this%n_elements
             nodes = this%element_nodes(e)
             if (present(values)) then
-                call element_kernel(this, e, h, nbar, gravity, mbar, actuation, r_e, j_e)
+                call element_kernel(this, e, h, nbar, gravity, mbar, follower, actuation, r_e, j_e)
                 ! d/dq_{n+1} through v_{n+1} = 2 (q_{n+1} - q_n)/h - v_n, then the Schur
                 ! complement of the stress block: A - B C_e^{-1} C.
                 schur = j_e(rows_m, cols_q) + (2.0_rk / h) * j_e(rows_m, cols_v)
@@ -1326,15 +1421,15 @@ contains
                     end do
                 end do
             else
-                call element_kernel(this, e, h, nbar, gravity, mbar, actuation, r_e)
+                call element_kernel(this, e, h, nbar, gravity, mbar, follower, actuation, r_e)
             end if
             if (present(f)) then
                 do a = 1, this%degree + 1
                     k = nodes(1) + a - 1
                     if (this%clamped(k)) cycle
                     do i = 1, 12
-                        f(this%node_unknown(i, k)) = f(this%node_unknown(i, k)) + &
-                            r_e(24 * (a - 1) + 12 + i)
+                        if (this%node_unknown(i, k) > 0) f(this%node_unknown(i, k)) = &
+                            f(this%node_unknown(i, k)) + r_e(24 * (a - 1) + 12 + i)
                     end do
                 end do
             end if
@@ -1364,7 +1459,10 @@ contains
                 call node_kernel(this, k, h, t_mid, r_k)
             end if
             if (present(f)) then
-                f(this%node_unknown(1:12, k)) = f(this%node_unknown(1:12, k)) + r_k(13:24)
+                do i = 1, 12
+                    if (this%node_unknown(i, k) > 0) f(this%node_unknown(i, k)) = &
+                        f(this%node_unknown(i, k)) + r_k(12 + i)
+                end do
                 f(this%node_unknown(13:18, k)) = f(this%node_unknown(13:18, k)) + r_k(25:30)
             end if
         end do
@@ -1405,6 +1503,7 @@ contains
         type(step_energy_t), intent(out) :: terms(:)
         real(rk) :: work, actuator_work, dissipated, nbar(3), mbar(3), gravity(3), force(3), &
             moment(3), t_mid
+        real(rk) :: follower(6), d_mid(9), no_gravity(3)
         real(rk) :: kinetic_n, strain_n, kinetic_1, strain_1, weight(12), viscous, external
         type(ph_director_actuation_t) :: actuation
         integer :: e, k, nodes(2)
@@ -1420,7 +1519,8 @@ contains
         call this%unpack(x_n, this%q_n, this%v_n, this%lambda, this%s_n)
         call this%unpack(x_1, this%q_1, this%v_1, this%lambda, this%s_1)
         t_mid = t_n + 0.5_rk * h
-        call distributed_loads(this, t_mid, nbar, mbar, gravity)
+        call distributed_loads(this, t_mid, .false., nbar, mbar, gravity)
+        call distributed_loads(this, t_mid, .true., follower(1:3), follower(4:6), no_gravity)
         actuation = actuation_at(this, t_mid)
         work = 0.0_rk
         actuator_work = 0.0_rk
@@ -1432,6 +1532,11 @@ contains
                 work = work + ph_director_element_external_work(this%basis, &
                     this%element_length(e), h, q_n, q_1, v_n, v_1, &
                     nbar + this%element_line_mass(e) * gravity, mbar)
+                ! Follower loads: the work of the midpoint value the step applied
+                ! (rs_ph_director_follower), so the balance stays exact.
+                if (any(follower /= 0.0_rk)) work = work + ph_director_element_follower_work( &
+                    this%basis, this%element_length(e), h, q_n, q_1, v_n, v_1, follower(1:3), &
+                    follower(4:6))
                 if (size(this%actuators) > 0) actuator_work = actuator_work + &
                     ph_director_element_actuator_work(this%basis, this%element_length(e), h, &
                     q_n, q_1, v_n, v_1, actuation)
@@ -1450,10 +1555,17 @@ contains
             ! A body's weight: its generalized force on the step of the node's coordinates.
             call body_forces(this, k, t_mid, weight, carries)
             if (carries) work = work + dot_product(weight, this%q_1(:, k) - this%q_n(:, k))
-            call node_loads(this, k, t_mid, force, moment)
-            if (all(force == 0.0_rk) .and. all(moment == 0.0_rk)) cycle
-            work = work + ph_director_node_external_work(h, this%q_n(:, k), this%q_1(:, k), &
+            call node_loads(this, k, t_mid, .false., force, moment)
+            if (any(force /= 0.0_rk) .or. any(moment /= 0.0_rk)) work = work + &
+                ph_director_node_external_work(h, this%q_n(:, k), this%q_1(:, k), &
                 this%v_n(:, k), this%v_1(:, k), force, moment)
+            ! A follower end load works as the dead load of its midpoint value.
+            call node_loads(this, k, t_mid, .true., force, moment)
+            if (all(force == 0.0_rk) .and. all(moment == 0.0_rk)) cycle
+            d_mid = 0.5_rk * (this%q_n(4:12, k) + this%q_1(4:12, k))
+            work = work + ph_director_node_external_work(h, this%q_n(:, k), this%q_1(:, k), &
+                this%v_n(:, k), this%v_1(:, k), ph_director_follower_vector(d_mid, force), &
+                ph_director_follower_vector(d_mid, moment))
         end do
         terms(1) = step_energy_t(reported=.true., before=kinetic_n + strain_n, &
             after=kinetic_1 + strain_1, work=work, actuator_work=actuator_work, &

@@ -28,9 +28,13 @@ contains
         ! Damping (issue 26 item 1, docs/theory/ph_director.md "Damping"): Kelvin-Voigt as a
         ! Maxwell branch of zero compliance (seed 000 Remark 5.2), condensed per element, and
         ! the external drags, all in the exact energy balance.
+        ! Supports and loads (issue 26 item 2): pinned ends (phi held, directors free; the
+        ! Dirichlet part of methods §2.9 on phi alone); follower end and distributed loads
+        ! (rs_ph_director_follower: evaluated at the midpoint directors, their work booked at
+        ! that value, so the balance stays exact).
         d%capability = capability_t(formulation=d%name, available=.true., &
-            end_kinds='clamped|free|body', load_places='start|end|distributed|gravity', &
-            load_frames='spatial', constraints='none|kirchhoff|inextensible', quasistatic=.true., &
+            end_kinds='clamped|pinned|free|body', load_places='start|end|distributed|gravity', &
+            load_frames='spatial|follower', constraints='none|kirchhoff|inextensible|rigid', quasistatic=.true., &
             viscoelastic=.true., actuation=.true., curved_reference=.true., prestressed=.true., &
             joints='rigid|spherical|revolute', end_plates=.true., floating_plates=.true., &
             contact=.true., order_4=.true., adaptive=.true., damping=.true., &

@@ -36,6 +36,8 @@ contains
         type(rod_sizes_t) :: sizes
         character(len=:), allocatable :: units
         integer :: n_free, n_stress, n_pneumatic, n_tendons, nb, p, j, n_elements, n_nodes
+        integer :: n_pinned
+        character(len=:), allocatable :: pinned_text
 
         text = ''
         ! Built first without condensation, so that a request the rod cannot honour is reported
@@ -63,6 +65,9 @@ contains
         n_nodes = n_elements * p + 1
         ! Only the end nodes can be clamped (&bc acts at 'start' or 'end').
         n_free = n_nodes - count(rod%clamped)
+        ! A pinned node holds phi and v_phi (issue 26 item 2): 6 unknowns fewer, 3 condensed.
+        n_pinned = count(rod%pinned)
+        pinned_text = ''
         n_stress = 6 * p * (1 + nb)
         associate (input => scene%rods(i))
             call add('geometry: ' // geometry_text(scene, i))
@@ -77,31 +82,27 @@ contains
             call add('mesh: ' // str(n_elements) // ' elements of degree ' // str(p) // ', ' // &
                 str(n_nodes) // ' nodes at equal arc length, ' // str(rod%basis%n_gauss) // &
                 ' Gauss points per element')
-            call add('supports: ' // supports_text(scene, i, rod%clamped(1), rod%clamped(rod%n_nodes)))
+            call add('supports: ' // supports_text(scene, i, rod%clamped(1), rod%clamped(rod%n_nodes), &
+                rod%pinned(1), rod%pinned(rod%n_nodes)))
+            if (n_pinned > 0) pinned_text = ', less ' // str(merge(3, 6, rod%condensed)) // &
+                ' per pinned node (phi' // trim(merge('       ', ', v_phi', rod%condensed)) // ' held)'
             if (rod%condensed) then
                 call add('unknowns: ' // str(int(sizes%n_unknown)) // ' Newton unknowns = ' // &
-                    str(n_free) // ' free nodes x 18 (q 12, multipliers 6); velocities ' // &
+                    str(n_free) // ' free nodes x 18 (q 12, multipliers 6)' // pinned_text // &
+                    '; velocities ' // &
                     'and the ' // &
                     str(n_elements) // ' x ' // str(n_stress) // ' element stresses are ' // &
                     'condensed (state: ' // str(int(sizes%n_state)) // ')')
             else
                 call add('unknowns: ' // str(int(sizes%n_unknown)) // ' Newton unknowns = ' // &
-                    str(n_free) // ' free nodes x 30 (q 12, v 12, multipliers 6) + ' // &
+                    str(n_free) // ' free nodes x 30 (q 12, v 12, multipliers 6)' // pinned_text // &
+                    ' + ' // &
                     str(n_elements) // &
                     ' elements x ' // str(n_stress) // ' stresses (6 components x ' // str(p) // &
                     ' coefficients x ' // str(1 + nb) // ' branch(es))')
             end if
             call add('orthonormality multipliers: 6 per free node (' // str(6 * n_free) // ')')
-            select case (trim(input%constraint))
-            case ('kirchhoff')
-                call add('constraint multipliers: kirchhoff: the shear stresses N1, N2 (' // &
-                    str(2 * p * n_elements) // ' coefficients) are multipliers; GA1, GA2 not used')
-            case ('inextensible')
-                call add('constraint multipliers: inextensible: N1, N2, N3 (' // &
-                    str(3 * p * n_elements) // ' coefficients) are multipliers; GA1, GA2, EA not used')
-            case default
-                call add('constraint multipliers: none (constraint = ''none'')')
-            end select
+            call add('constraint multipliers: ' // rigid_text())
             if (nb > 0) then
                 call add('Maxwell internal variables: ' // str(nb) // ' branch(es), ' // &
                     str(6 * p * nb) // ' branch stresses per element; dissipation recorded')
@@ -185,7 +186,9 @@ contains
                 t = 'none'
             else
                 t = str(n_end) // ' end load(s), ' // str(n_distributed) // ' distributed, ' // &
-                    str(n_gravity) // ' gravity (dead, spatial)'
+                    str(n_gravity) // ' gravity; ' // str(count(rod%loads%follower)) // &
+                    ' follower (components in the director basis, at the midpoint directors; ' // &
+                    'their work booked at that value), the others dead (spatial)'
             end if
         end function loads_text
 
@@ -336,6 +339,33 @@ contains
             end associate
         end function velocity_text
 
+        !> The rigid stress components (zero compliance: multipliers, methods §2.3), from the
+        !> built rod: constraint = 'kirchhoff' or 'inextensible' and &rod rigid.
+        function rigid_text() result(t)
+            character(len=:), allocatable :: t, names, stresses
+            character(len=3), parameter :: stiffness(6) = [character(len=3) :: 'GA1', 'GA2', &
+                'EA', 'EI1', 'EI2', 'GJ']
+            character(len=2), parameter :: stress(6) = [character(len=2) :: 'N1', 'N2', 'N3', &
+                'M1', 'M2', 'M3']
+            integer :: c, n_rigid
+            n_rigid = count(rod%material%compliance == 0.0_rk)
+            if (n_rigid == 0) then
+                t = 'none (constraint = ''none'', no rigid)'
+                return
+            end if
+            names = ''
+            stresses = ''
+            do c = 1, 6
+                if (rod%material%compliance(c) /= 0.0_rk) cycle
+                names = join(names, trim(stiffness(c)))
+                stresses = join(stresses, trim(stress(c)))
+            end do
+            t = 'constraint = ''' // trim(scene%rods(i)%constraint) // ''''
+            if (len_trim(scene%rods(i)%rigid(1)) > 0) t = t // ' and rigid'
+            t = t // ': ' // stresses // ' (' // str(n_rigid * p * n_elements) // &
+                ' coefficients) are multipliers; ' // names // ' infinite (the values given not used)'
+        end function rigid_text
+
         function condensation_obstacle() result(t)
             character(len=:), allocatable :: t
             t = ''
@@ -384,20 +414,27 @@ contains
 
     !> The supports of rod `i`'s two ends: clamped (from the built rod), else held by a plate or a
     !> joint (multipliers, issue 10), else free.
-    function supports_text(scene, i, start_clamped, end_clamped) result(text)
+    function supports_text(scene, i, start_clamped, end_clamped, start_pinned, end_pinned) &
+            result(text)
         type(scene_t), intent(in) :: scene
         integer, intent(in) :: i
-        logical, intent(in) :: start_clamped, end_clamped
+        logical, intent(in) :: start_clamped, end_clamped, start_pinned, end_pinned
         character(len=:), allocatable :: text
-        text = 'start ' // end_text('start', start_clamped) // ', end ' // end_text('end', end_clamped)
+        text = 'start ' // end_text('start', start_clamped, start_pinned) // ', end ' // &
+            end_text('end', end_clamped, end_pinned)
     contains
-        function end_text(end_name, clamped) result(t)
+        function end_text(end_name, clamped, pinned) result(t)
             character(len=*), intent(in) :: end_name
-            logical, intent(in) :: clamped
+            logical, intent(in) :: clamped, pinned
             character(len=:), allocatable :: t
             integer :: k
             if (clamped) then
                 t = 'clamped (no unknowns at its node)'
+                return
+            end if
+            if (pinned) then
+                t = 'pinned (position held: no phi, v_phi unknowns; directors free with ' // &
+                    'their 6 multipliers)'
                 return
             end if
             t = 'free'

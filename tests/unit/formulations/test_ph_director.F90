@@ -64,6 +64,12 @@ contains
         call run_test('damped_material', test_damped_material)
         call run_test('jacobian_matches_differences_damped', test_jacobian_damped)
         call run_test('newton_step_balances_energy_damped', test_newton_step_energy_damped)
+        call run_test('pinned_sizes', test_pinned_sizes)
+        call run_test('jacobian_matches_differences_pinned', test_jacobian_pinned)
+        call run_test('newton_step_balances_energy_pinned', test_newton_step_energy_pinned)
+        call run_test('jacobian_matches_differences_follower', test_jacobian_follower)
+        call run_test('newton_step_balances_energy_follower', test_newton_step_energy_follower)
+        call run_test('rigid_subset', test_rigid_subset)
     end subroutine run_all_tests
 
     !> A rod along (1, 2, 2)/3 with a clamped start, an end load and gravity.
@@ -845,8 +851,8 @@ contains
     !> dissipation, H_1 - H_0 = W - D, D > 0 (docs/theory/ph_director.md "Damping"); the
     !> condensed step reaches the same state and books the same terms.
     subroutine test_newton_step_energy_damped()
-        type(ph_director_t) :: rod, condensed
-        real(rk), allocatable :: x_n(:), x_1(:), x_c(:)
+        type(ph_director_t) :: rod
+        real(rk), allocatable :: x_n(:), x_1(:)
         type(step_energy_t) :: terms(1), terms_c(1)
         real(rk) :: tol
         call build_scene(damped_scene(3, 2, .false.), rod)
@@ -854,12 +860,155 @@ contains
         CHECK_TRUE(terms(1)%dissipated > 1.0e-6_rk * terms(1)%after, 'the damping dissipates')
         tol = 1.0e-9_rk * terms(1)%after
         CHECK_CLOSE(step_balance(terms(1)), 0.0_rk, tol, 0.0_rk, 'H_1 - H_0 - W + D = 0')
-        call build_scene(damped_scene(3, 2, .true.), condensed)
-        call newton_solve(condensed, 0.5_rk, 0.01_rk, x_n, x_c, terms_c)
-        CHECK_CLOSE(x_c, x_1, 1.0e-10_rk, 0.0_rk, 'condensed: same state at t_{n+1}')
+        call check_condensed_step(damped_scene(3, 2, .true.), x_1, tol, terms_c)
         CHECK_CLOSE(terms_c(1)%dissipated, terms(1)%dissipated, 0.0_rk, 1.0e-8_rk, 'condensed: same D')
-        CHECK_CLOSE(step_balance(terms_c(1)), 0.0_rk, tol, 0.0_rk, 'condensed: balance with D')
     end subroutine test_newton_step_energy_damped
+
+    !> The condensed rod of `scene` takes the same Newton step (0.5, 0.01) from rest as the
+    !> uncondensed one that reached x_1, and its books balance within tol.
+    subroutine check_condensed_step(scene, x_1, tol, terms)
+        type(scene_t), intent(in) :: scene
+        real(rk), intent(in) :: x_1(:), tol
+        type(step_energy_t), intent(out) :: terms(1)
+        type(ph_director_t) :: condensed
+        real(rk), allocatable :: x_n(:), x_c(:)
+        call build_scene(scene, condensed)
+        call newton_solve(condensed, 0.5_rk, 0.01_rk, x_n, x_c, terms)
+        CHECK_CLOSE(x_c, x_1, 1.0e-10_rk, 0.0_rk, 'condensed: same state at t_{n+1}')
+        CHECK_CLOSE(step_balance(terms(1)), 0.0_rk, tol, 0.0_rk, 'condensed: balance')
+    end subroutine check_condensed_step
+
+    ! ---- Supports and loads (issue 26 item 2) ----------------------------------------------
+
+    !> The cantilever with both ends pinned (phi held, directors free): its end load then works
+    !> through its moment only.
+    function pinned_scene(n_elements, degree, condensed) result(scene)
+        integer, intent(in) :: n_elements, degree
+        logical, intent(in) :: condensed
+        type(scene_t) :: scene
+        scene = cantilever_scene(n_elements, degree, condensed)
+        scene%bcs(1)%kind = 'pinned'
+        scene%bcs = [scene%bcs(1), scene%bcs(1)]
+        scene%bcs(2)%end = 'end'
+    end function pinned_scene
+
+    !> A pinned node has 6 unknowns fewer than a free one (phi, v_phi), 3 fewer condensed (phi).
+    subroutine test_pinned_sizes()
+        type(ph_director_t) :: rod, condensed
+        call build_scene(pinned_scene(4, 2, .false.), rod)
+        CHECK_EQUAL(rod%n_unknown(), 30 * 9 - 2 * 6 + 12 * 4, 'unknowns of 4 quadratic elements, both ends pinned')
+        call build_scene(pinned_scene(4, 2, .true.), condensed)
+        CHECK_EQUAL(condensed%n_unknown(), 18 * 9 - 2 * 3, 'condensed unknowns, both ends pinned')
+    end subroutine test_pinned_sizes
+
+    !> The pinned-pinned rod's Jacobian against central differences, p = 2 and p = 1,
+    !> uncondensed and condensed.
+    subroutine test_jacobian_pinned()
+        type(ph_director_t) :: p2, p1, p2_condensed, p1_condensed
+        call set_random_seed(20261126, 2)
+        call build_scene(pinned_scene(3, 2, .false.), p2)
+        call check_jacobian_of(p2, 'pinned p = 2', .false.)
+        call build_scene(pinned_scene(4, 1, .false.), p1)
+        call check_jacobian_of(p1, 'pinned p = 1', .false.)
+        call build_scene(pinned_scene(3, 2, .true.), p2_condensed)
+        call check_jacobian_of(p2_condensed, 'pinned p = 2 condensed', .false.)
+        call build_scene(pinned_scene(4, 1, .true.), p1_condensed)
+        call check_jacobian_of(p1_condensed, 'pinned p = 1 condensed', .false.)
+    end subroutine test_jacobian_pinned
+
+    !> One Newton step of the pinned-pinned rod: the pinned positions stay at the reference, the
+    !> end directors turn, the books balance (the held positions do no work), and the
+    !> condensed rod takes the same step.
+    subroutine test_newton_step_energy_pinned()
+        type(ph_director_t) :: rod
+        real(rk), allocatable :: x_n(:), x_1(:)
+        type(step_energy_t) :: terms(1), terms_c(1)
+        real(rk) :: tol
+        call build_scene(pinned_scene(3, 2, .false.), rod)
+        call newton_solve(rod, 0.5_rk, 0.01_rk, x_n, x_1, terms)
+        CHECK_CLOSE(rod%q_1(1:3, 1), rod%fixed_q(1:3, 1), 0.0_rk, 0.0_rk, 'start position held')
+        CHECK_CLOSE(rod%q_1(1:3, rod%n_nodes), rod%fixed_q(1:3, rod%n_nodes), 0.0_rk, 0.0_rk, 'end position held')
+        CHECK_TRUE(norm2(rod%q_1(4:12, rod%n_nodes) - rod%fixed_q(4:12, rod%n_nodes)) > 1.0e-8_rk, 'end directors turn')
+        CHECK_TRUE(abs(terms(1)%work) > 1.0e-8_rk * terms(1)%after, 'the end moment works')
+        tol = 1.0e-9_rk * terms(1)%after
+        CHECK_CLOSE(step_balance(terms(1)), 0.0_rk, tol, 0.0_rk, 'H_1 - H_0 - W = 0')
+        call check_condensed_step(pinned_scene(3, 2, .true.), x_1, tol, terms_c)
+    end subroutine test_newton_step_energy_pinned
+
+    !> The cantilever with its tip load and a distributed load as follower loads (components
+    !> in the director basis) besides its gravity (dead).
+    function follower_scene(n_elements, degree, condensed) result(scene)
+        integer, intent(in) :: n_elements, degree
+        logical, intent(in) :: condensed
+        type(scene_t) :: scene
+        type(load_input_t) :: spread
+        scene = cantilever_scene(n_elements, degree, condensed)
+        scene%loads(1)%frame = 'follower'
+        spread%rod = 'beam'
+        spread%where = 'distributed'
+        spread%frame = 'follower'
+        spread%force = [4.0_rk, -3.0_rk, 7.0_rk]
+        spread%moment = [-1.5_rk, 2.0_rk, 0.5_rk]
+        spread%time_function = 'ramp'
+        spread%t_on = 0.0_rk
+        spread%t_off = 1.0_rk
+        scene%loads = [scene%loads, spread]
+    end function follower_scene
+
+    !> Follower end and distributed loads (rs_ph_director_follower): the assembled Jacobian
+    !> against central differences, p = 2 and p = 1, condensed, and in the endpoint
+    !> equilibrium (the loads at t_{n+1}).
+    subroutine test_jacobian_follower()
+        type(ph_director_t) :: p2, p1, p2_condensed, p2_endpoint
+        type(scene_t) :: scene
+        call set_random_seed(20261127, 2)
+        call build_scene(follower_scene(3, 2, .false.), p2)
+        call check_jacobian_of(p2, 'follower p = 2', .false.)
+        call build_scene(follower_scene(4, 1, .false.), p1)
+        call check_jacobian_of(p1, 'follower p = 1', .false.)
+        call build_scene(follower_scene(3, 2, .true.), p2_condensed)
+        call check_jacobian_of(p2_condensed, 'follower p = 2 condensed', .false.)
+        scene = follower_scene(3, 2, .false.)
+        scene%time%quasistatic = .true.
+        call build_scene(scene, p2_endpoint)
+        call check_jacobian_of(p2_endpoint, 'follower p = 2 endpoint', .true.)
+    end subroutine test_jacobian_follower
+
+    !> One Newton step under the follower loads: the work booked at the midpoint value of the
+    !> loads balances the step (H_1 - H_0 - W = 0 to the Newton tolerance), the same as the
+    !> condensed rod's; and it differs from the dead loads' work (the loads turned).
+    subroutine test_newton_step_energy_follower()
+        type(ph_director_t) :: rod
+        real(rk), allocatable :: x_n(:), x_1(:)
+        type(step_energy_t) :: terms(1), terms_c(1)
+        real(rk) :: tol
+        call build_scene(follower_scene(3, 2, .false.), rod)
+        call newton_solve(rod, 0.5_rk, 0.01_rk, x_n, x_1, terms)
+        CHECK_TRUE(abs(terms(1)%work) > 1.0e-6_rk * terms(1)%after, 'the follower loads work')
+        tol = 1.0e-9_rk * terms(1)%after
+        CHECK_CLOSE(step_balance(terms(1)), 0.0_rk, tol, 0.0_rk, 'H_1 - H_0 - W = 0')
+        call check_condensed_step(follower_scene(3, 2, .true.), x_1, tol, terms_c)
+    end subroutine test_newton_step_energy_follower
+
+    !> &rod rigid = 'EA', 'GJ' (issue 26 item 2): exactly those compliances are zero, the
+    !> Jacobian matches central differences and a Newton step balances its books.
+    subroutine test_rigid_subset()
+        type(ph_director_t) :: rod, dynamic
+        type(scene_t) :: scene
+        real(rk), allocatable :: x_n(:), x_1(:)
+        type(step_energy_t) :: terms(1)
+        logical :: expected(6)
+        call set_random_seed(20261128, 2)
+        scene = cantilever_scene(3, 2, .false.)
+        scene%rods(1)%rigid(1:2) = ['EA', 'GJ']
+        call build_scene(scene, rod)
+        expected = [.false., .false., .true., .false., .false., .true.]
+        CHECK_TRUE(all((rod%material%compliance == 0.0_rk) .eqv. expected), 'N3 and M3 rigid, the rest compliant')
+        call check_jacobian_of(rod, 'rigid EA, GJ, p = 2', .false.)
+        call build_scene(scene, dynamic)
+        call newton_solve(dynamic, 0.5_rk, 0.01_rk, x_n, x_1, terms)
+        CHECK_CLOSE(step_balance(terms(1)), 0.0_rk, 1.0e-9_rk * terms(1)%after, 0.0_rk, 'H_1 - H_0 - W = 0')
+    end subroutine test_rigid_subset
 
 end module rs_test_ph_director
 

@@ -60,16 +60,20 @@ contains
             'inextensible']
         character(len=12), parameter :: joints(3) = [character(len=12) :: 'revolute', 'rigid', &
             'spherical']
-        character(len=12) :: supported_kinds(2), supported_frames(1)
+        character(len=12) :: supported_kinds(3), supported_frames(2)
         type(capability_t) :: row
         row = capability_of('ph_director')
         CHECK_TRUE(row%available, 'ph_director is available')
         CHECK_EQUAL(trim(row%formulation), 'ph_director', 'row names its formulation')
         supported_kinds(1) = 'clamped'
         supported_kinds(2) = 'free'
+        ! Issue 26 item 2: pinned ends.
+        supported_kinds(3) = 'pinned'
         call check_column(row%end_kinds, kinds, supported_kinds, 'end kind')
         call check_column(row%load_places, places, places, 'load place')
         supported_frames(1) = 'spatial'
+        ! Issue 26 item 2: follower loads.
+        supported_frames(2) = 'follower'
         call check_column(row%load_frames, frames, supported_frames, 'load frame')
         call check_column(row%constraints, constraints, constraints, 'constraint')
         CHECK_TRUE(row%quasistatic, 'quasistatic runs')
