@@ -254,6 +254,11 @@ contains
                         ', EI = ' // str(seg%values(4)) // ', ' // str(seg%values(5)) // &
                         ', GJ = ' // str(seg%values(6)) // ', rhoA = ' // str(seg%values(7)) // &
                         new_line('a')
+                    if (len_trim(seg%taper) > 0) text = text // '!         tapered ' // &
+                        trim(seg%taper) // ' (values above at its start): ' // &
+                        taper_text(seg%taper_dims) // ' at s_end; each element''s ' // &
+                        'stiffnesses and inertias are those of its midpoint''s section' // &
+                        new_line('a')
                     previous = seg%s_end
                 end associate
             end do
@@ -262,6 +267,21 @@ contains
                 str(nint(previous / element) + 1) // ' to ' // str(rod%n_elements) // &
                 ', the &rod values' // new_line('a')
         end associate
+    contains
+        !> The dimensions of a taper that change, 'name start -> end'.
+        function taper_text(dims) result(text)
+            real(rk), intent(in) :: dims(4, 2)
+            character(len=:), allocatable :: text
+            character(len=12), parameter :: names(4) = [character(len=12) :: 'radius', &
+                'inner_radius', 'width', 'height']
+            integer :: j
+            text = ''
+            do j = 1, 4
+                if (dims(j, 1) == 0.0_rk .and. dims(j, 2) == 0.0_rk) cycle
+                if (len(text) > 0) text = text // ', '
+                text = text // trim(names(j)) // ' ' // str(dims(j, 1)) // ' -> ' // str(dims(j, 2))
+            end do
+        end function taper_text
     end function segment_plan_lines
 
     !> The sweep part of the plan ('' without &sweep): the number of members and how the sweeps

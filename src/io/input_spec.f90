@@ -579,7 +579,7 @@ contains
             'rest of the rod keeps the &rod values (docs/user/input.md, "Rods that vary along ' // &
             'their length").'
         rod = rod_group()
-        allocate(g%variables(2 + size(taken)))
+        allocate(g%variables(6 + size(taken)))
         g%variables(1) = spec_v('rod', 'string', '-', '(required)', 'Name of the rod (&rod name).', &
             required=.true., example="'beam'")
         g%variables(2) = spec_v('s_end', 'real', 'm', '(required)', &
@@ -593,6 +593,23 @@ contains
             g%variables(2 + k)%required_if = ''
             g%variables(2 + k)%only_if = ''
         end do
+        g%variables(3 + size(taken)) = taper_variable('radius_end', 'Radius of a circle, ' // &
+            'outer radius of a tube')
+        g%variables(4 + size(taken)) = taper_variable('inner_radius_end', 'Inner radius of a tube')
+        g%variables(5 + size(taken)) = taper_variable('width_end', 'Rectangle side along d1')
+        g%variables(6 + size(taken)) = taper_variable('height_end', 'Rectangle side along d2')
+    contains
+        !> A dimension of a linearly tapered segment at its end s_end.
+        function taper_variable(name, what) result(v)
+            character(len=*), intent(in) :: name, what
+            type(variable_spec_t) :: v
+            v = spec_v(name, 'real', 'm', '(no taper)', what // ' at s_end: the segment ' // &
+                'tapers linearly from its start''s value (its own or the rod''s) to this one, ' // &
+                'its stiffnesses and inertias following the section formulas along s, ' // &
+                'evaluated at each element''s midpoint (docs/user/input.md, "Tapered ' // &
+                'segments"). Directly given EA ... rhoI2 stay constant.', lower=0.0_rk, &
+                lower_inclusive=.false., example='0.005')
+        end function taper_variable
     end function segment_group
 
     function bc_group() result(g)

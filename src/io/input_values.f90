@@ -14,7 +14,7 @@ module rs_io_input_values
         section_derived_names, rod_is_damped, segment_input_t
     use rs_model_rod_geometry, only: rod_geometry_t, straight_geometry, helix_geometry, &
         polyline_geometry, centreline_tangent, default_normal
-    use rs_model_section, only: section_properties_t, circle_section, tube_section, &
+    use rs_model_section, only: section_properties_t, section_values, circle_section, tube_section, &
         rectangle_section
     use rs_io_result_file, only: unknown_fields, selectable_fields
     use rs_io_input_check_common, only: at, leading_count
@@ -333,6 +333,7 @@ contains
                             cycle
                         end if
                     end if
+                    seg%s_start = previous
                     call resolve_segment_values(scene, rod, seg, here, errors)
                 end associate
             end associate
@@ -391,6 +392,12 @@ contains
         end if
         values = [part%EA, part%GA1, part%GA2, part%EI1, part%EI2, part%GJ, part%rhoA, &
             part%rhoI1, part%rhoI2]
+        if (any([seg%radius_end, seg%inner_radius_end, seg%width_end, seg%height_end] /= &
+                unset_real)) then
+            n_errors = errors%count
+            call resolve_taper(part, seg, here, errors)
+            if (errors%count > n_errors) return
+        end if
         given = [seg%EA, seg%GA1, seg%GA2, seg%EI1, seg%EI2, seg%GJ, seg%rhoA, seg%rhoI1, seg%rhoI2]
         where (given /= unset_real) values = given
         seg%values = values
@@ -399,6 +406,57 @@ contains
         part%rhoI2 = values(9)
         if (.not. scene%time%quasistatic) call check_inertia(part, here, errors)
     end subroutine resolve_segment_values
+
+    !> A linear taper of segment `seg` (issue 26 item 5): its section `part` (resolved) has
+    !> the dimensions given at s_end (radius_end for a circle, radius_end and inner_radius_end
+    !> for a tube, width_end and height_end for a rectangle; each not given stays the start's),
+    !> positive, a tube's inner radius below its outer one at the end too.
+    subroutine resolve_taper(part, seg, here, errors)
+        type(rod_input_t), intent(in) :: part
+        type(segment_input_t), intent(inout) :: seg
+        character(len=*), intent(in) :: here
+        type(error_list_t), intent(inout) :: errors
+        character(len=16), parameter :: names(4) = [character(len=16) :: 'radius_end', &
+            'inner_radius_end', 'width_end', 'height_end']
+        real(rk) :: start(4), finish(4)
+        character(len=:), allocatable :: allowed
+        logical :: used(4)
+        integer :: k
+        select case (trim(part%section))
+        case ('circle')
+            used = [.true., .false., .false., .false.]
+        case ('tube')
+            used = [.true., .true., .false., .false.]
+        case ('rectangle')
+            used = [.false., .false., .true., .true.]
+        case default
+            call errors%add(here // 'radius_end: a taper needs a section (circle, tube or ' // &
+                'rectangle), not section = ''' // trim(part%section) // '''')
+            return
+        end select
+        allowed = ''
+        do k = 1, 4
+            if (.not. used(k)) cycle
+            if (len(allowed) > 0) allowed = allowed // ' and '
+            allowed = allowed // trim(names(k))
+        end do
+        start = [part%radius, part%inner_radius, part%width, part%height]
+        finish = [seg%radius_end, seg%inner_radius_end, seg%width_end, seg%height_end]
+        do k = 1, 4
+            if (finish(k) /= unset_real .and. .not. used(k)) call errors%add(here // &
+                trim(names(k)) // ': not a dimension of a ' // trim(part%section) // &
+                ' (a taper gives ' // allowed // ')')
+            if (.not. used(k)) start(k) = 0.0_rk
+            if (finish(k) == unset_real .or. .not. used(k)) finish(k) = start(k)
+        end do
+        if (used(2) .and. finish(2) >= finish(1)) call errors%add(here // 'inner_radius_end: ' // &
+            str(finish(2)) // ' must be smaller than the outer radius at s_end, ' // str(finish(1)))
+        seg%taper = part%section
+        seg%taper_dims(:, 1) = start
+        seg%taper_dims(:, 2) = finish
+        seg%taper_material = [part%E, part%G, part%density, part%shear_factor]
+        seg%saint_venant = trim(part%torsion_constant) == 'saint_venant'
+    end subroutine resolve_taper
 
     !> A dynamic run needs mass and rotary inertia: with rhoA or rhoI = 0 the step's equations
     !> have no acceleration for that motion, and the scheme alternates between 0 and twice the
@@ -612,7 +670,7 @@ contains
         type(rod_input_t), intent(inout) :: rod
         character(len=*), intent(in) :: here
         type(error_list_t), intent(inout) :: errors
-        real(rk) :: direct(9), torsion
+        real(rk) :: direct(9)
         type(section_properties_t) :: s
         character(len=:), allocatable :: missing
         integer :: k
@@ -674,17 +732,17 @@ contains
             rod%G = rod%E / (2.0_rk * (1.0_rk + rod%nu))
         end if
         if (rod%shear_factor == unset_real) rod%shear_factor = 1.0_rk
-        torsion = s%polar
-        if (trim(rod%torsion_constant) == 'saint_venant') torsion = s%saint_venant
-        rod%EA = rod%E * s%area
-        rod%GA1 = rod%shear_factor * rod%G * s%area
-        rod%GA2 = rod%GA1
-        rod%EI1 = rod%E * s%i1
-        rod%EI2 = rod%E * s%i2
-        rod%GJ = rod%G * torsion
-        rod%rhoA = rod%density * s%area
-        rod%rhoI1 = rod%density * s%i1
-        rod%rhoI2 = rod%density * s%i2
+        direct = section_values(s, rod%E, rod%G, rod%density, rod%shear_factor, &
+            trim(rod%torsion_constant) == 'saint_venant')
+        rod%EA = direct(1)
+        rod%GA1 = direct(2)
+        rod%GA2 = direct(3)
+        rod%EI1 = direct(4)
+        rod%EI2 = direct(5)
+        rod%GJ = direct(6)
+        rod%rhoA = direct(7)
+        rod%rhoI1 = direct(8)
+        rod%rhoI2 = direct(9)
     contains
         logical function need(value, name)
             real(rk), intent(in) :: value

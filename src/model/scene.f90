@@ -8,6 +8,7 @@
 !> `unset_int`; strings that were not given are blank unless a default is stated.
 module rs_model_scene
     use rs_core_kinds, only: rk
+    use rs_model_section, only: shaped_section, section_values
     implicit none
     private
 
@@ -243,9 +244,25 @@ module rs_model_scene
         real(rk) :: rhoI2 = unset_real
         real(rk) :: shear_factor = unset_real
         character(len=name_len) :: torsion_constant = ''
+        !> A linear taper (issue 26 item 5): the section's dimensions at s_end; at the
+        !> segment's start they are its radius, inner_radius, width and height.
+        real(rk) :: radius_end = unset_real
+        real(rk) :: inner_radius_end = unset_real
+        real(rk) :: width_end = unset_real
+        real(rk) :: height_end = unset_real
         !> The resolved EA, GA1, GA2, EI1, EI2, GJ, rhoA, rhoI1, rhoI2 of the segment (in the
-        !> order of section_derived_names; set by the resolver, not input variables).
+        !> order of section_derived_names; set by the resolver, not input variables); of its
+        !> start if it tapers.
         real(rk) :: values(9) = unset_real
+        !> Resolved, not input variables: where the segment starts; a taper's shape ('' if
+        !> the segment does not taper), its dimensions (radius, inner_radius, width, height)
+        !> at the start (1) and the end (2), its material (E, G, density, shear_factor) and
+        !> torsion constant (Saint-Venant's if saint_venant, else polar).
+        real(rk) :: s_start = 0.0_rk
+        character(len=name_len) :: taper = ''
+        real(rk) :: taper_dims(4, 2) = 0.0_rk
+        real(rk) :: taper_material(4) = 0.0_rk
+        logical :: saint_venant = .false.
     end type segment_input_t
 
     !> &bc: the support at one end of a rod.
@@ -522,11 +539,29 @@ contains
                 associate (seg => scene%segments(k))
                     if (seg%rod /= rod%name .or. seg%s_end <= s_mid .or. seg%s_end >= best) cycle
                     best = seg%s_end
-                    values(:, e) = seg%values
+                    values(:, e) = segment_values_at(seg, s_mid)
                 end associate
             end do
         end do
     end function element_properties
+
+    !> The section-derived values of segment `seg` at arc length s: its resolved values, or
+    !> for a taper those of the section whose dimensions are linear in s between the
+    !> segment's start and end (the section formulas of rs_model_section), with the
+    !> segment's directly given stiffnesses and inertias on top (constant along it).
+    pure function segment_values_at(seg, s) result(values)
+        type(segment_input_t), intent(in) :: seg
+        real(rk), intent(in) :: s
+        real(rk) :: values(9), given(9), t
+        values = seg%values
+        if (len_trim(seg%taper) == 0) return
+        t = (s - seg%s_start) / (seg%s_end - seg%s_start)
+        values = section_values(shaped_section(trim(seg%taper), (1.0_rk - t) * &
+            seg%taper_dims(:, 1) + t * seg%taper_dims(:, 2)), seg%taper_material(1), &
+            seg%taper_material(2), seg%taper_material(3), seg%taper_material(4), seg%saint_venant)
+        given = [seg%EA, seg%GA1, seg%GA2, seg%EI1, seg%EI2, seg%GJ, seg%rhoA, seg%rhoI1, seg%rhoI2]
+        where (given /= unset_real) values = given
+    end function segment_values_at
 
     !> The inertia tensor of the body of a &bc (kind = 'body') about its centre of mass,
     !> inertial components in the reference configuration: diagonal `inertia`, off-diagonal

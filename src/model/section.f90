@@ -7,7 +7,8 @@ module rs_model_section
     implicit none
     private
 
-    public :: section_properties_t, circle_section, tube_section, rectangle_section
+    public :: section_properties_t, circle_section, tube_section, rectangle_section, &
+        section_values, shaped_section
 
     !> Geometric properties of a section; I1 about d1, I2 about d2.
     type :: section_properties_t
@@ -63,5 +64,36 @@ contains
         end do
         s%saint_venant = a * b**3 / 3.0_rk * (1.0_rk - 192.0_rk * b / (pi**5 * a) * series)
     end function rectangle_section
+
+    !> The section of shape `kind` ('circle', 'tube' or 'rectangle') with dims = (radius,
+    !> inner_radius, width, height); the entries a shape does not use are ignored.
+    pure function shaped_section(kind, dims) result(s)
+        character(len=*), intent(in) :: kind
+        real(rk), intent(in) :: dims(4)
+        type(section_properties_t) :: s
+        select case (kind)
+        case ('circle')
+            s = circle_section(dims(1))
+        case ('tube')
+            s = tube_section(dims(1), dims(2))
+        case ('rectangle')
+            s = rectangle_section(dims(3), dims(4))
+        end select
+    end function shaped_section
+
+    !> EA, GA1, GA2, EI1, EI2, GJ, rhoA, rhoI1, rhoI2 of section `s` of a material: Young's
+    !> modulus E, shear modulus G, density, shear factor k (GA = k G A) and the torsion constant
+    !> (Saint-Venant's if `saint_venant`, else the polar moment).
+    pure function section_values(s, e, g, density, shear_factor, saint_venant) result(values)
+        type(section_properties_t), intent(in) :: s
+        real(rk), intent(in) :: e, g, density, shear_factor
+        logical, intent(in) :: saint_venant
+        real(rk) :: values(9)
+        real(rk) :: torsion
+        torsion = s%polar
+        if (saint_venant) torsion = s%saint_venant
+        values = [e * s%area, shear_factor * g * s%area, shear_factor * g * s%area, e * s%i1, &
+            e * s%i2, g * torsion, density * s%area, density * s%i1, density * s%i2]
+    end function section_values
 
 end module rs_model_section

@@ -27,11 +27,13 @@
 !>   need not dissipate, methods §2.6);
 !> - a driven end by prescribed spatial velocity and angular velocity (P_0 = M V_0, eq. 13),
 !>   its pose advanced by the exponential of the prescribed twist.
+!> - rods that vary along their length (&segment, issue 26 item 5): A per segment, M per node
+!>   as the half-cell-weighted mean of its two segments' (docs/theory/se3_strand.md).
 module rs_se3_strand
     use rs_core_kinds, only: rk
     use rs_core_error, only: error_t, set_error
     use rs_core_strings, only: str
-    use rs_model_scene, only: scene_t, rod_input_t, load_applies_to
+    use rs_model_scene, only: scene_t, rod_input_t, load_applies_to, element_properties
     use rs_model_rod_history, only: rod_history_t
     use rs_model_time_function, only: time_function_t, time_function_from_load, time_function_from_bc
     use rs_model_rod_geometry, only: rod_geometry_t, rod_geometry_of, centreline_point, &
@@ -56,6 +58,8 @@ module rs_se3_strand
         logical :: follower = .false.
         real(rk) :: force(3) = 0.0_rk
         real(rk) :: moment(3) = 0.0_rk
+        !> Gravity: force is the acceleration, times each node's rhoA.
+        logical :: per_mass = .false.
         type(time_function_t) :: factor
     end type strand_load_t
 
@@ -76,10 +80,13 @@ module rs_se3_strand
         !> (s_{k+1} - s_{k-1}) / 2 of eq. (11) (k = 1..N, with the ghost node s_{N+1}), and the
         !> nodal weights of the energy (trapezoidal: h/2 at both ends).
         real(rk), allocatable :: seg_h(:), dual(:), weight(:)
-        !> Diagonal inertia M = (rhoI1 + rhoI2, rhoI1, rhoI2, rhoA, rhoA, rhoA) and stiffness
-        !> A = (GJ, EI1, EI2, EA, GA1, GA2) (paper eq. 3), and their inverses.
-        real(rk) :: mass(6) = 0.0_rk, mass_inv(6) = 0.0_rk
-        real(rk) :: stiff(6) = 0.0_rk, stiff_inv(6) = 0.0_rk
+        !> Diagonal inertia M = (rhoI1 + rhoI2, rhoI1, rhoI2, rhoA, rhoA, rhoA) per node
+        !> (0..N) and stiffness A = (GJ, EI1, EI2, EA, GA1, GA2) per segment (-1..N, the ghosts
+        !> copy their neighbours) (paper eq. 3), and their inverses. With &segment (issue 26
+        !> item 5) A is the segment's and a node's M the half-cell-weighted mean
+        !> (h_- M_- + h_+ M_+) / (h_- + h_+) of its two segments', which keeps the total mass.
+        real(rk), allocatable :: mass(:, :), mass_inv(:, :)
+        real(rk), allocatable :: stiff(:, :), stiff_inv(:, :)
         !> Relaxed strains per segment, -1..N (ghosts repeat their neighbours).
         real(rk), allocatable :: u_bar(:, :)
         real(rk) :: eta_internal = 0.0_rk
@@ -163,14 +170,8 @@ contains
             n = this%n_seg
             this%n_blocks = 2 * n + 3
             this%length = rod%length
-            this%mass = [rod%rhoI1 + rod%rhoI2, rod%rhoI1, rod%rhoI2, rod%rhoA, rod%rhoA, rod%rhoA]
-            this%stiff = [rod%GJ, rod%EI1, rod%EI2, rod%EA, rod%GA1, rod%GA2]
-            if (any(this%mass <= 0.0_rk) .or. any(this%stiff <= 0.0_rk)) then
-                RS_SET_ERROR(err, 'se3_strand%init', 'rod ''' // this%name // ''': se3_strand needs positive inertia and stiffness in all six components')
-                return
-            end if
-            this%mass_inv = 1.0_rk / this%mass
-            this%stiff_inv = 1.0_rk / this%stiff
+            call build_properties(this, element_properties(scene, rod, n), err)
+            RS_RETURN_IF_ERROR(err)
             this%eta_external = rod%external_damping + [spread(rod%angular_drag, 1, 3), &
                 spread(rod%drag, 1, 3)]
             this%eta_internal = rod%internal_damping
@@ -193,7 +194,48 @@ contains
             source=0.0_rk)
     end subroutine strand_init
 
-    !> Uniform segments; the relaxed strains are the discrete strains of the initial placement
+    !> Uniform segments (lengths, dual cells, nodal weights) and their properties: `properties`
+    !> (rs_model_scene element_properties: EA, GA1, GA2, EI1, EI2, GJ, rhoA, rhoI1, rhoI2 per
+    !> segment) give each segment its stiffness A and each node the half-cell-weighted mean of
+    !> its segments' inertias M (docs/theory/se3_strand.md, "Rods that vary along their length").
+    subroutine build_properties(this, properties, err)
+        type(se3_strand_t), intent(inout) :: this
+        real(rk), intent(in) :: properties(:, :)
+        type(error_t), allocatable, intent(out) :: err
+        real(rk) :: seg_mass(6, 0:this%n_seg - 1), h
+        integer :: k, n
+        n = this%n_seg
+        h = this%length / real(n, rk)
+        allocate(this%seg_h(0:n), this%dual(0:n), this%weight(0:n))
+        this%seg_h = h
+        this%dual = h
+        this%weight = h
+        this%weight(0) = 0.5_rk * h
+        this%weight(n) = 0.5_rk * h
+        allocate(this%mass(6, 0:n), this%mass_inv(6, 0:n), this%stiff(6, -1:n), &
+            this%stiff_inv(6, -1:n))
+        do k = 0, n - 1
+            this%stiff(:, k) = properties([6, 4, 5, 1, 2, 3], k + 1)
+            seg_mass(:, k) = [properties(8, k + 1) + properties(9, k + 1), properties(8, k + 1), &
+                properties(9, k + 1), spread(properties(7, k + 1), 1, 3)]
+        end do
+        this%stiff(:, -1) = this%stiff(:, 0)
+        this%stiff(:, n) = this%stiff(:, n - 1)
+        this%mass(:, 0) = seg_mass(:, 0)
+        this%mass(:, n) = seg_mass(:, n - 1)
+        do k = 1, n - 1
+            this%mass(:, k) = (this%seg_h(k - 1) * seg_mass(:, k - 1) + this%seg_h(k) * &
+                seg_mass(:, k)) / (this%seg_h(k - 1) + this%seg_h(k))
+        end do
+        if (any(this%mass <= 0.0_rk) .or. any(this%stiff <= 0.0_rk)) then
+            RS_SET_ERROR(err, 'se3_strand%init', 'rod ''' // this%name // ''': se3_strand needs positive inertia and stiffness in all six components')
+            return
+        end if
+        this%mass_inv = 1.0_rk / this%mass
+        this%stiff_inv = 1.0_rk / this%stiff
+    end subroutine build_properties
+
+    !> The relaxed strains are the discrete strains of the initial placement
     !> (the SE(3) logarithm of the relative pose of neighbouring nodes, exact for a straight rod,
     !> a circle or a helix with its frame), or those of the straight rod if `prestressed` (the
     !> rod starts with the stresses of its initial shape). Initial state: P = M V of the rigid
@@ -208,12 +250,7 @@ contains
         integer :: k, n
         n = this%n_seg
         h = rod%length / real(n, rk)
-        allocate(this%seg_h(0:n), this%dual(0:n), this%weight(0:n), this%u_bar(6, -1:n))
-        this%seg_h = h
-        this%dual = h
-        this%weight = h
-        this%weight(0) = 0.5_rk * h
-        this%weight(n) = 0.5_rk * h
+        allocate(this%u_bar(6, -1:n))
         geometry = rod_geometry_of(rod)
         do k = 0, n
             d = centreline_frame(geometry, h * real(k, rk))
@@ -241,7 +278,8 @@ contains
         ! start, mirrors it (no start stress), the ghost at N mirrors N-1 (eq. 15 with no end
         ! load).
         do k = 0, n - 1
-            this%initial(s_index(k) + 1:s_index(k) + 6) = this%stiff * (u0(:, k) - this%u_bar(:, k))
+            this%initial(s_index(k) + 1:s_index(k) + 6) = this%stiff(:, k) * (u0(:, k) - &
+                this%u_bar(:, k))
         end do
         this%initial(s_index(-1) + 1:s_index(-1) + 6) = this%initial(s_index(0) + 1:s_index(0) + 6)
         if (this%free_start) this%initial(s_index(-1) + 1:s_index(-1) + 6) = &
@@ -254,7 +292,7 @@ contains
             v = rod%velocity + matmul(hat(omega), x(:, k) - rod%rotation_center)
             vk(1:3) = -matmul(transpose(a(:, :, k)), omega)
             vk(4:6) = matmul(transpose(a(:, :, k)), v)
-            this%initial(p_index(k) + 1:p_index(k) + 6) = this%mass * vk
+            this%initial(p_index(k) + 1:p_index(k) + 6) = this%mass(:, k) * vk
         end do
         ! Pose of the section at s = 0.
         this%initial(pose_index(this) + 1:pose_index(this) + 3) = x(:, 0)
@@ -335,7 +373,8 @@ contains
                     return
                 end select
                 if (trim(input%where) == 'gravity') then
-                    load%force = this%mass(4) * input%acceleration
+                    load%force = input%acceleration
+                    load%per_mass = .true.
                 else if (load%follower) then
                     load%force = [input%force(3), input%force(1), input%force(2)]
                     load%moment = [input%moment(3), input%moment(1), input%moment(2)]
@@ -490,7 +529,7 @@ contains
         x_1(1:at) = y
         a0 = reshape(x_n(at + 4:at + 12), [3, 3])
         if (this%free_start) then
-            v0 = this%mass_inv * p_at(y, 0)
+            v0 = this%mass_inv(:, 0) * p_at(y, 0)
             omega = -matmul(a0, v0(1:3))
             a0 = matmul(exp_so3(h * omega), a0)
             v = matmul(a0, v0(4:6))
@@ -600,9 +639,7 @@ contains
         do i = 1, 6
             eye_h(i, i) = 1.0_rk / h
         end do
-        diag_p = 1.0_rk / h + this%eta_external * this%mass_inv
         diag_s = 1.0_rk / h
-        quarter_stiff = 0.25_rk * this%stiff
         ! The placement at t_n only if a dead load needs its directors.
         if (this%needs_pose) call this%march_poses(x_n)
         call this%distributed_loads(t_n + h)
@@ -623,7 +660,7 @@ contains
             p0(1:3) = -matmul(transpose(a0), omega)
             p0(4:6) = matmul(transpose(a0), vel)
             this%blocks(:, :, 1, 1) = eye_h
-            this%rhs(:, 1) = this%mass * p0 / h
+            this%rhs(:, 1) = this%mass(:, 0) * p0 / h
         end if
 
         ! Eq. (11) at the nodes k = 1..N (§3.5), and k = 0 at a free start: blocks
@@ -631,11 +668,12 @@ contains
         do k = merge(0, 1, this%free_start), n
             b = 2 * k + 1
             p = p_at(x_n, k)
-            v = this%mass_inv * p
+            v = this%mass_inv(:, k) * p
+            diag_p = 1.0_rk / h + this%eta_external * this%mass_inv(:, k)
             s_prev = s_at(x_n, k - 1)
             s_here = s_at(x_n, k)
-            u_prev = this%stiff_inv * s_prev + this%u_bar(:, k - 1)
-            u_here = this%stiff_inv * s_here + this%u_bar(:, k)
+            u_prev = this%stiff_inv(:, k - 1) * s_prev + this%u_bar(:, k - 1)
+            u_here = this%stiff_inv(:, k) * s_here + this%u_bar(:, k)
             diag_c = 1.0_rk / this%dual(k)
             if (k == 0) then
                 ! The free start's half cell [0, h/2] takes the ad^T term of its one physical
@@ -686,9 +724,9 @@ contains
             ! The paper's internal law: + D_in A^-1 (Sigma_k - Sigma_k^n) / dt (right segment).
             do i = 1, 6
                 this%blocks(i, i, 3, b) = this%blocks(i, i, 3, b) + this%eta_internal * &
-                    this%stiff_inv(i) / h
+                    this%stiff_inv(i, k) / h
             end do
-            this%rhs(:, b) = this%rhs(:, b) + this%eta_internal * this%stiff_inv * s_here / h
+            this%rhs(:, b) = this%rhs(:, b) + this%eta_internal * this%stiff_inv(:, k) * s_here / h
             ! External loads -F_k: paper sign (-torque, force); dead ones turn with the
             ! section, linearized implicitly: f_{n+1} = f - h [f]x w_{n+1}.
             this%rhs(1:3, b) = this%rhs(1:3, b) - this%load_m(:, k) - this%load_m_follower(:, k)
@@ -701,24 +739,25 @@ contains
             end if
         end do
 
-        ! Eq. (12) on the segments k = 0..N-1 (§3.5): blocks (P_k, Sigma_k, P_{k+1}).
+        ! Eq. (12) on the segments k = 0..N-1 (§3.5): blocks (P_k, Sigma_k, P_{k+1}), with the
+        ! segment's A and each node's own M (&segment: they differ at a jump).
         do k = 0, n - 1
             b = 2 * k + 2
-            v = this%mass_inv * p_at(x_n, k)
-            v_next = this%mass_inv * p_at(x_n, k + 1)
+            v = this%mass_inv(:, k) * p_at(x_n, k)
+            v_next = this%mass_inv(:, k + 1) * p_at(x_n, k + 1)
             s_here = s_at(x_n, k)
-            u_here = this%stiff_inv * s_here + this%u_bar(:, k)
+            u_here = this%stiff_inv(:, k) * s_here + this%u_bar(:, k)
+            quarter_stiff = 0.25_rk * this%stiff(:, k)
             ! Sigma_k: I/dt + A ad_{V_k + V_{k+1}} A^-1 / 4.
-            call strand_ad_block(v + v_next, quarter_stiff, this%stiff_inv, diag_s, &
+            call strand_ad_block(v + v_next, quarter_stiff, this%stiff_inv(:, k), diag_s, &
                 this%blocks(:, :, 2, b))
-            ! P_k and P_{k+1}: +-A M^-1 / h_k - A ad_U M^-1 / 4.
-            diag_c = this%stiff * this%mass_inv / this%seg_h(k)
-            call strand_ad_block(u_here, -quarter_stiff, this%mass_inv, diag_c, &
+            ! P_k and P_{k+1}: +-A M_k^-1 / h_k - A ad_U M_k^-1 / 4 (M_{k+1} for P_{k+1}).
+            diag_c = this%stiff(:, k) * this%mass_inv(:, k) / this%seg_h(k)
+            call strand_ad_block(u_here, -quarter_stiff, this%mass_inv(:, k), diag_c, &
                 this%blocks(:, :, 1, b))
-            this%blocks(:, :, 3, b) = this%blocks(:, :, 1, b)
-            do i = 1, 6
-                this%blocks(i, i, 3, b) = -diag_c(i)
-            end do
+            diag_c = -this%stiff(:, k) * this%mass_inv(:, k + 1) / this%seg_h(k)
+            call strand_ad_block(u_here, -quarter_stiff, this%mass_inv(:, k + 1), diag_c, &
+                this%blocks(:, :, 3, b))
             this%rhs(:, b) = s_here / h - quarter_stiff * strand_ad_times(v + v_next, &
                 this%u_bar(:, k))
         end do
@@ -735,8 +774,8 @@ contains
             c_here(1:3, 1:3) = cross_matrix(this%end_m)
             c_here(4:6, 1:3) = cross_matrix(this%end_f)
             do i = 1, 3
-                this%blocks(1:3, i, 2, b) = -2.0_rk * c_here(1:3, i) * this%mass_inv(i)
-                this%blocks(4:6, i, 2, b) = 2.0_rk * c_here(4:6, i) * this%mass_inv(i)
+                this%blocks(1:3, i, 2, b) = -2.0_rk * c_here(1:3, i) * this%mass_inv(i, n)
+                this%blocks(4:6, i, 2, b) = 2.0_rk * c_here(4:6, i) * this%mass_inv(i, n)
             end do
         end if
         if (any(this%rhs /= this%rhs)) status = state_invalid
@@ -755,7 +794,7 @@ contains
         integer :: j
         g = h * cross_matrix(this%load_f(:, k))
         do j = 1, 3
-            g(:, j) = g(:, j) * this%mass_inv(j)
+            g(:, j) = g(:, j) * this%mass_inv(j, k)
         end do
     end subroutine dead_turn_block
 
@@ -769,7 +808,7 @@ contains
         integer :: j
         g = -h * cross_matrix(this%load_m(:, k))
         do j = 1, 3
-            g(:, j) = g(:, j) * this%mass_inv(j)
+            g(:, j) = g(:, j) * this%mass_inv(j, k)
         end do
     end subroutine dead_moment_turn_block
 
@@ -783,7 +822,7 @@ contains
         this%pose_x(:, 0) = x(pose_index(this) + 1:pose_index(this) + 3)
         this%pose_a(:, :, 0) = reshape(x(pose_index(this) + 4:pose_index(this) + 12), [3, 3])
         do k = 0, this%n_seg - 1
-            u = this%stiff_inv * s_at(x, k) + this%u_bar(:, k)
+            u = this%stiff_inv(:, k) * s_at(x, k) + this%u_bar(:, k)
             call strand_march(this%pose_a(:, :, k), this%pose_x(:, k), u, this%seg_h(k), &
                 this%pose_a(:, :, k + 1), this%pose_x(:, k + 1))
         end do
@@ -808,7 +847,10 @@ contains
                 f = load%factor%value(t)
                 if (f == 0.0_rk) cycle
                 do k = 0, this%n_seg
-                    if (load%follower) then
+                    if (load%per_mass) then
+                        this%load_f(:, k) = this%load_f(:, k) + f * this%mass(4, k) * &
+                            matmul(load%force, this%pose_a(:, :, k))
+                    else if (load%follower) then
                         this%load_f_follower(:, k) = this%load_f_follower(:, k) + f * load%force
                         this%load_m_follower(:, k) = this%load_m_follower(:, k) + f * load%moment
                     else
@@ -875,7 +917,7 @@ contains
         work = 0.0_rk
         dissipated = 0.0_rk
         do k = merge(0, 1, this%free_start), n
-            v = this%mass_inv * p_at(x_1, k)
+            v = this%mass_inv(:, k) * p_at(x_1, k)
             w = v(1:3)
             ! F_k as the step applied it (dead loads turned by h w x f, follower ones as given).
             f(1:3) = -(this%load_m(:, k) + h * strand_cross(w, this%load_m(:, k)) + &
@@ -884,11 +926,11 @@ contains
                 this%load_f_follower(:, k)
             work = work + h * this%weight(k) * dot_product(v, f)
             dissipated = dissipated + h * this%weight(k) * dot_product(v, this%eta_external * v)
-            rate = this%stiff_inv * (s_at(x_1, k) - s_at(x_n, k)) / h
+            rate = this%stiff_inv(:, k) * (s_at(x_1, k) - s_at(x_n, k)) / h
             dissipated = dissipated + h * this%weight(k) * this%eta_internal * dot_product(v, rate)
         end do
         ! The end load's power V_N . Sigma_e.
-        v = this%mass_inv * p_at(x_1, n)
+        v = this%mass_inv(:, n) * p_at(x_1, n)
         w = v(1:3)
         se(1:3) = -(this%end_m + h * strand_cross(w, this%end_m) + this%end_m_follower)
         se(4:6) = this%end_f + h * strand_cross(w, this%end_f) + this%end_f_follower
@@ -898,16 +940,16 @@ contains
         ! s = 0, whose momentum P_0 = M V_0 the drive prescribes (eq. 13: no balance row moves
         ! it, so the drive supplies its change).
         if (.not. this%free_start) then
-            v = this%mass_inv * p_at(x_1, 0)
+            v = this%mass_inv(:, 0) * p_at(x_1, 0)
             work = work - h * dot_product(v, s_at(x_1, 0) + this%tau_kv * (s_at(x_1, 0) - &
                 s_at(x_n, 0)) / h)
             work = work + 0.5_rk * this%weight(0) * (dot_product(p_at(x_1, 0), v) - &
-                dot_product(p_at(x_n, 0), this%mass_inv * p_at(x_n, 0)))
+                dot_product(p_at(x_n, 0), this%mass_inv(:, 0) * p_at(x_n, 0)))
         end if
         do k = 0, n - 1
             rate = (s_at(x_1, k) - s_at(x_n, k)) / h
             dissipated = dissipated + h * this%seg_h(k) * dot_product(this%tau_kv * rate, &
-                this%stiff_inv * rate)
+                this%stiff_inv(:, k) * rate)
         end do
         call this%energies(x_n, kin_n, str_n)
         call this%energies(x_1, kin_1, str_1)
@@ -928,11 +970,11 @@ contains
         strain = 0.0_rk
         do k = 0, this%n_seg
             p = p_at(x, k)
-            kinetic = kinetic + 0.5_rk * this%weight(k) * dot_product(p, this%mass_inv * p)
+            kinetic = kinetic + 0.5_rk * this%weight(k) * dot_product(p, this%mass_inv(:, k) * p)
         end do
         do k = 0, this%n_seg - 1
             s = s_at(x, k)
-            strain = strain + 0.5_rk * this%seg_h(k) * dot_product(s, this%stiff_inv * s)
+            strain = strain + 0.5_rk * this%seg_h(k) * dot_product(s, this%stiff_inv(:, k) * s)
         end do
     end subroutine energies
 
@@ -984,7 +1026,7 @@ contains
             do k = 0, this%n_seg
                 a = this%pose_a(:, :, k)
                 p = p_at(x, k)
-                v = this%mass_inv * p
+                v = this%mass_inv(:, k) * p
                 omega = -matmul(a, v(1:3))
                 vel = matmul(a, v(4:6))
                 hs%position(:, k + 1, rec) = this%pose_x(:, k)
@@ -996,11 +1038,11 @@ contains
                 linear = linear + this%weight(k) * matmul(a, p(4:6))
                 angular = angular + this%weight(k) * (matmul(hat(this%pose_x(:, k)), matmul(a, p(4:6))) - &
                     matmul(a, p(1:3)))
-                centre = centre + this%weight(k) * this%pose_x(:, k)
+                centre = centre + this%weight(k) * this%mass(4, k) * this%pose_x(:, k)
             end do
             do k = 0, this%n_seg - 1
                 s = s_at(x, k)
-                u = this%stiff_inv * s + this%u_bar(:, k)
+                u = this%stiff_inv(:, k) * s + this%u_bar(:, k)
                 hs%stress(:, k + 1, rec) = [s(5), s(6), s(4), -s(2), -s(3), -s(1)]
                 hs%strains(:, k + 1, rec) = [u(5), u(6), u(4), -u(2), -u(3), -u(1)]
             end do
@@ -1010,7 +1052,7 @@ contains
             hs%total(rec) = kinetic + strain
             hs%linear_momentum(:, rec) = linear
             hs%angular_momentum(:, rec) = angular
-            hs%center_of_mass(:, rec) = centre / this%length
+            hs%center_of_mass(:, rec) = centre / sum(this%weight * this%mass(4, :))
         end associate
     end subroutine strand_record
 

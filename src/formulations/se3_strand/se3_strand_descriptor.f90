@@ -27,7 +27,7 @@ contains
         ! quasistatics. Its damping: seed 004's external and internal laws (&rod
         ! external_damping, internal_damping, its own) and the Kelvin-Voigt stress and drag of
         ! every damped formulation (kelvin_voigt_time, drag, angular_drag), not Maxwell
-        ! branches.
+        ! branches. &segment: a stiffness per segment, an inertia per node (issue 26 item 5).
         d%capability = capability_t(formulation=d%name, available=.true., &
             end_kinds='clamped|driven|free', end_kinds_at_end='free', &
             end_kinds_note='; se3_strand prescribes the motion or no stress at s = 0 and the ' // &
@@ -35,7 +35,7 @@ contains
             load_places='end|distributed|gravity', load_frames='spatial|follower', &
             constraints='none', quasistatic=.false., viscoelastic=.false., actuation=.false., &
             curved_reference=.true., prestressed=.true., joints='', planar=.false., &
-            relaxation=.true., damping=.true., drive='velocity')
+            relaxation=.true., damping=.true., drive='velocity', segments=.true.)
         ! The damping of seed 004 (methods/se3_strands.md §2.7) and the treatment of the free
         ! end are read by this formulation only.
         d%own_rod_variables = 'free_end|external_damping|internal_damping'
