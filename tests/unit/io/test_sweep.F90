@@ -455,13 +455,13 @@ contains
         type(scene_t) :: scene
         type(error_list_t) :: errors
         character(len=:), allocatable :: text
-        ! A member error (a follower load, which ph_director lacks: check_capabilities; the base
+        ! A member error (a driven end, which ph_director lacks: check_capabilities; the base
         ! is not checked here) on line 9 of the file, the &sweep on lines 1-2.
         text = "&sweep parameter = 'rod(1)%EI2'," // nl // '  values = 1 /' // nl // base // &
-            "&load rod = 'beam', where = 'end', frame = 'follower' /" // nl
+            "&bc rod = 'beam', end = 'end', kind = 'driven' /" // nl
         call parse(text, scene, errors, 0)
         call check_sweep_members(text, 'sweep.nml', scene, errors)
-        want = 'sweep member 1 (rod(1)%EI2 = 1.0): sweep.nml:9: &load frame'
+        want = 'sweep member 1 (rod(1)%EI2 = 1.0): sweep.nml:9: &bc kind'
         CHECK_CONTAINS(errors%joined(), want, 'line of the scene file')
     end subroutine test_line_numbers_kept
 
