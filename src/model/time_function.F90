@@ -169,33 +169,40 @@ contains
         if (allocated(scene%loads)) then
             do i = 1, size(scene%loads)
                 call time_function_from_load(scene%loads(i), tf, err)
-                if (.not. allocated(err)) times = [times, tf%kinks()]
+                call add(tf, err)
             end do
         end if
         if (allocated(scene%actuators)) then
             do i = 1, size(scene%actuators)
                 call time_function_from_actuator(scene%actuators(i), tf, err)
-                if (.not. allocated(err)) times = [times, tf%kinks()]
+                call add(tf, err)
             end do
         end if
         if (allocated(scene%bcs)) then
             do i = 1, size(scene%bcs)
                 call time_function_from_bc(scene%bcs(i), tf, err)
-                if (.not. allocated(err)) times = [times, tf%kinks()]
+                call add(tf, err)
             end do
         end if
         if (allocated(scene%plates)) then
             do i = 1, size(scene%plates)
                 call time_function_from_plate(scene%plates(i), tf, err)
-                if (.not. allocated(err)) times = [times, tf%kinks()]
+                call add(tf, err)
             end do
         end if
         if (allocated(scene%obstacles)) then
             do i = 1, size(scene%obstacles)
                 call time_function_from_obstacle(scene%obstacles(i), tf, err)
-                if (.not. allocated(err)) times = [times, tf%kinks()]
+                call add(tf, err)
             end do
         end if
+    contains
+        !> The kinks of `tf`, unless building it failed (the input checks report that).
+        subroutine add(tf, err)
+            type(time_function_t), intent(in) :: tf
+            type(error_t), allocatable, intent(in) :: err
+            if (.not. allocated(err)) times = [times, tf%kinks()]
+        end subroutine add
     end function scene_time_kinks
 
     !> f(t).

@@ -324,8 +324,9 @@ contains
                 case ('pinned')
                     fixed(1:3, node) = .true.
                 case ('sliding')
-                    ! A prismatic support: the rotation and the position across the axis held;
-                    ! held by elimination, so the axis must be a coordinate axis of r.
+                    ! A prismatic support: the rotation and the position across the axis held,
+                    ! by elimination of nodal unknowns (methods/se3_petrov_galerkin.md §5.1: r
+                    ! in inertial coordinates), so the axis must be a coordinate axis of r.
                     fixed(:, node) = .true.
                     slide = coordinate_axis(bc%axis)
                     if (slide == 0) then

@@ -629,11 +629,16 @@ contains
         integer, intent(out) :: status
         real(rk) :: eye_h(6, 6), p(6), v(6), v_next(6), s_prev(6), s_here(6), u_prev(6)
         real(rk) :: u_here(6), c_prev(6, 6), c_here(6, 6), theta(6), p0(6), diag_p(6), diag_s(6)
+        real(rk) :: theta_cols(6, 6), total_cols(6, 6)
         real(rk) :: diag_c(6), quarter_stiff(6), vel(3), omega(3), a0(3, 3), g(3, 3)
         integer :: k, n, b, i
         status = state_valid
         n = this%n_seg
         theta = this%tau_kv / h
+        ! theta is diagonal (one time per component): it scales the blocks' columns, by theta
+        ! (the viscous part) or 1 + theta (the total stress).
+        theta_cols = spread(theta, 1, 6)
+        total_cols = 1.0_rk + theta_cols
         ! Every entry of every block in the pattern is written below: no zero fill.
         eye_h = 0.0_rk
         do i = 1, 6
@@ -702,21 +707,18 @@ contains
             ! Stresses, with the Kelvin-Voigt viscous part theta (Sigma - Sigma_n); at k = N the
             ! ghost's viscous stress mirrors Sigma_{N-1}'s, so the end's total stress is the
             ! prescribed one, and at a free start (k = 0) the ghost's mirrors Sigma_0's.
-            ! theta is diagonal (one time per component): it scales the blocks' columns.
             if (k == 0) then
                 this%blocks(:, :, 1, b) = c_prev
-                this%blocks(:, :, 3, b) = c_here * spread(1.0_rk + theta, 1, 6) - &
-                    c_prev * spread(theta, 1, 6)
+                this%blocks(:, :, 3, b) = c_here * total_cols - c_prev * theta_cols
                 if (any(theta /= 0.0_rk)) this%rhs(:, b) = this%rhs(:, b) + &
                     matmul(c_here, theta * s_here) - matmul(c_prev, theta * s_here)
             else if (k < n) then
-                this%blocks(:, :, 1, b) = c_prev * spread(1.0_rk + theta, 1, 6)
-                this%blocks(:, :, 3, b) = c_here * spread(1.0_rk + theta, 1, 6)
+                this%blocks(:, :, 1, b) = c_prev * total_cols
+                this%blocks(:, :, 3, b) = c_here * total_cols
                 if (any(theta /= 0.0_rk)) this%rhs(:, b) = this%rhs(:, b) + &
                     matmul(c_prev, theta * s_prev) + matmul(c_here, theta * s_here)
             else
-                this%blocks(:, :, 1, b) = c_prev * spread(1.0_rk + theta, 1, 6) - &
-                    c_here * spread(theta, 1, 6)
+                this%blocks(:, :, 1, b) = c_prev * total_cols - c_here * theta_cols
                 this%blocks(:, :, 3, b) = c_here
                 if (any(theta /= 0.0_rk)) this%rhs(:, b) = this%rhs(:, b) + &
                     matmul(c_prev, theta * s_prev) - matmul(c_here, theta * s_prev)
