@@ -8,8 +8,8 @@
 module rs_io_input_spec
     use rs_core_kinds, only: rk
     use rs_core_strings, only: to_lower, str
-    use rs_model_scene, only: max_table, max_branches, max_polyline_points, max_sweep_values, &
-        max_sweep_members, max_plate_rods
+    use rs_model_scene, only: max_table, max_branches, max_polyline_points, max_curvature_rows, &
+        max_sweep_values, max_sweep_members, max_plate_rods
     use rs_model_units, only: unit_systems
     use rs_model_time_function, only: time_function_names
     use rs_formulations_registry, only: available_formulations, default_formulation
@@ -381,24 +381,30 @@ contains
             spec_v('geometry', 'string', '-', "'straight'", &
                 "Shape of the reference centreline (stress-free unless prestressed): 'straight' " // &
                 "(start, direction, length), 'helix' (start, direction = its axis, helix_radius, " // &
-                "helix_pitch, helix_turns) or 'polyline' (points). The nodes are placed at equal " // &
-                'arc length along it.', allowed='straight|helix|polyline', example="'helix'"), &
+                "helix_pitch, helix_turns), 'polyline' (points) or 'curvature' (start, direction " // &
+                '= d3 at s = 0, d1, and rest_curvature with length, or rest_curvature_table: a ' // &
+                'rest curvature and pre-twist as functions of s). The nodes are placed at equal ' // &
+                'arc length along it.', allowed='straight|helix|polyline|curvature', &
+                example="'helix'"), &
             spec_v('start', 'real', 'm', '0, 0, 0', &
                 'Position of the end s = 0. Polyline: derived, the first point (a given value must ' // &
                 'equal it).', count=3, example='0, 0, 1'), &
             spec_v('direction', 'real', '-', '1, 0, 0', &
-                'Straight: the direction of the centreline; helix: the direction of its axis ' // &
-                '(normalized). Polyline: derived, the direction of the first segment (a given ' // &
+                'Straight: the direction of the centreline; helix: the direction of its axis; ' // &
+                'curvature: the tangent d3 at s = 0 (normalized). Polyline: derived, the direction of the first segment (a given ' // &
                 'value must be parallel to it).', count=3, example='0, 0, 1'), &
             spec_v('d1', 'real', '-', '(derived)', &
                 'First cross-section director at s = 0, made orthonormal to the tangent t(0) there ' // &
                 '(must not be parallel to it); default: e_z x t(0) normalized, or e_x when t(0) is ' // &
-                'along e_z. Along a curved centreline d1 is carried by parallel transport (no ' // &
-                'twist about d3 = the tangent); d2 = d3 x d1.', count=3, example='0, 1, 0'), &
+                'along e_z. Along a helix or polyline d1 is carried by parallel transport (no ' // &
+                'twist about d3 = the tangent), along a curvature rod by its rest curvature; ' // &
+                'd2 = d3 x d1.', count=3, example='0, 1, 0'), &
             spec_v('length', 'real', 'm', '(straight: required)', &
-                'Length of a straight rod. Derived for a helix, helix_turns sqrt((2 pi ' // &
-                'helix_radius)^2 + helix_pitch^2), and for a polyline, the sum of its segments; a ' // &
-                'given value must then agree to 1e-9 relative.', lower=0.0_rk, lower_inclusive=.false., &
+                'Length of a straight rod or of a constant rest_curvature (required there). ' // &
+                'Derived for a helix, helix_turns sqrt((2 pi helix_radius)^2 + helix_pitch^2), ' // &
+                'for a polyline, the sum of its segments, and for a rest_curvature_table, its ' // &
+                'last s; a given value must then agree to 1e-9 relative.', lower=0.0_rk, &
+                lower_inclusive=.false., &
                 required_if='geometry=straight', example='2.5'), &
             spec_v('helix_radius', 'real', 'm', '(helix: required)', &
                 'Radius of the helix. The centreline starts at start; the axis is the line through ' // &
@@ -428,6 +434,21 @@ contains
                 'segments.', count=6, max_count=3 * max_polyline_points, &
                 required_if='geometry=polyline', only_if='geometry=polyline', &
                 example='0, 0, 0, 1, 0, 0, 1, 1, 0'), &
+            spec_v('rest_curvature', 'real', '1/m', '(curvature: this or the table)', &
+                'Constant Darboux vector kappa = (kappa1, kappa2, kappa3) of the stress-free ' // &
+                'shape in the cross-section frame: kappa1, kappa2 bend about d1, d2, kappa3 ' // &
+                'twists about d3 (the pre-twist, rad/m). The frame R = (d1, d2, d3) and ' // &
+                'centreline solve R'' = R hat(kappa), phi'' = d3 (docs/theory/rest_curvature.md); ' // &
+                'a constant kappa gives a helix of radius kb / |kappa|^2 and pitch 2 pi ' // &
+                'kappa3 / |kappa|^2 about R(0) kappa, kb = (kappa1^2 + kappa2^2)^(1/2).', &
+                count=3, only_if='geometry=curvature', example='0, 2.0, 0.5'), &
+            spec_v('rest_curvature_table', 'real', 'm, 1/m', '(curvature: this or the constant)', &
+                'kappa(s) as rows s, kappa1, kappa2, kappa3 (2 to ' // str(max_curvature_rows) // &
+                ' rows), linear in s between rows: s from 0, non-decreasing (two rows at one s ' // &
+                'make a jump), the last s is the length. Integrated to ~1e-14 relative by ' // &
+                'sixth-order Magnus steps (exact where kappa is constant).', count=8, &
+                max_count=4 * max_curvature_rows, only_if='geometry=curvature', &
+                example='0, 0, 0, 6.28, 1, 0, 0, 6.28'), &
             spec_v('velocity', 'real', 'm/s', '0, 0, 0', &
                 'Initial velocity of translation: the centreline starts with v(s) = velocity + ' // &
                 'angular_velocity x (phi(s) - rotation_center). A clamped end starts at rest, so ' // &

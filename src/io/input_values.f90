@@ -4,7 +4,7 @@
 !> origin, the centreline's start, direction and length, directors, the centre of the
 !> initial rotation, Maxwell branches and their shear relaxation times, stiffnesses from
 !> section and material, inertia; a helix length that contradicts its turns, a polyline that
-!> doubles back). Every problem is added to `errors`, naming the file, line, group and
+!> doubles back, a rest-curvature table whose s goes back). Every problem is added to `errors`, naming the file, line, group and
 !> variable.
 module rs_io_input_values
     use rs_core_kinds, only: rk
@@ -13,7 +13,7 @@ module rs_io_input_values
     use rs_model_scene, only: scene_t, rod_input_t, time_input_t, unset_real, unset_int, &
         section_derived_names, rod_is_damped, segment_input_t
     use rs_model_rod_geometry, only: rod_geometry_t, straight_geometry, helix_geometry, &
-        polyline_geometry, centreline_tangent, default_normal
+        polyline_geometry, centreline_tangent, default_normal, curvature_geometry, curvature_rows
     use rs_model_section, only: section_properties_t, section_values, circle_section, tube_section, &
         rectangle_section
     use rs_io_result_file, only: unknown_fields, selectable_fields
@@ -489,11 +489,11 @@ contains
         type(rod_geometry_t), intent(out) :: geometry
         logical, intent(out) :: ok
         type(error_list_t), intent(inout) :: errors
-        real(rk), allocatable :: points(:, :)
+        real(rk), allocatable :: points(:, :), s(:), kappa(:, :)
         real(rk), parameter :: e_x(3) = [1.0_rk, 0.0_rk, 0.0_rk]
         real(rk) :: t(3)
-        character(len=:), allocatable :: formula
-        integer :: n_values, n_points, j
+        character(len=:), allocatable :: formula, shape
+        integer :: n_points, j
         logical :: start_given, direction_given
 
         ok = .false.
@@ -503,24 +503,9 @@ contains
         where (rod%start == unset_real) rod%start = 0.0_rk
         where (rod%direction == unset_real) rod%direction = e_x
         if (trim(rod%geometry) == 'polyline') then
-            n_values = leading_count(rod%points)
-            if (any(rod%points(n_values + 1:) /= unset_real)) then
-                call errors%add(here // 'points: entry ' // str(n_values + 1) // ' is not ' // &
-                    'given but a later one is; give the points from the first on without gaps')
-                return
-            end if
-            if (mod(n_values, 3) /= 0) then
-                call errors%add(here // 'points: ' // str(n_values) // ' values given; each ' // &
-                    'point takes 3 (x, y, z)')
-                return
-            end if
-            n_points = n_values / 3
-            if (n_points < 2) then
-                call errors%add(here // 'points: a polyline needs at least 2 points (' // &
-                    str(n_points) // ' given)')
-                return
-            end if
-            points = reshape(rod%points(1:n_values), [3, n_points])
+            if (.not. table_rows(rod%points, 3, here // 'points: ', 'points', &
+                'point takes 3 (x, y, z)', 'a polyline', errors, n_points)) return
+            points = reshape(rod%points(1:3 * n_points), [3, n_points])
             do j = 1, n_points - 1
                 if (all(points(:, j + 1) == points(:, j))) then
                     call errors%add(here // 'points: points ' // str(j) // ' and ' // str(j + 1) // &
@@ -569,6 +554,10 @@ contains
                 if (any([rod%helix_radius, rod%helix_pitch, rod%helix_turns] == unset_real)) return
                 geometry = helix_geometry(rod%start, rod%direction, rod%helix_radius, &
                     rod%helix_pitch, rod%helix_turns, rod%helix_phase)
+            else if (trim(rod%geometry) == 'curvature') then
+                if (.not. curvature_ok(rod, here, errors)) return
+                call curvature_rows(rod, s, kappa)
+                geometry = curvature_geometry(rod%start, rod%direction, s, kappa)
             else
                 if (rod%length == unset_real) return
                 geometry = straight_geometry(rod%start, rod%direction, rod%length)
@@ -577,13 +566,17 @@ contains
         if (trim(rod%geometry) /= 'straight') then
             if (rod%length /= unset_real .and. abs(rod%length - geometry%length) > &
                     length_tolerance * geometry%length) then
+                shape = trim(rod%geometry)
                 if (trim(rod%geometry) == 'helix') then
                     formula = 'helix_turns sqrt((2 pi helix_radius)^2 + helix_pitch^2)'
+                else if (trim(rod%geometry) == 'curvature') then
+                    shape = 'rod'
+                    formula = 'the last s of its rest_curvature_table'
                 else
                     formula = 'the sum of its segments'
                 end if
                 call errors%add(here // 'length: ' // str(rod%length) // ' given, but the ' // &
-                    trim(rod%geometry) // ' is ' // str(geometry%length) // ' long (' // formula // &
+                    shape // ' is ' // str(geometry%length) // ' long (' // formula // &
                     '); leave length out or give that value')
                 return
             end if
@@ -591,6 +584,95 @@ contains
         end if
         ok = .true.
     end subroutine resolve_geometry
+
+
+    !> The rest curvature of a 'curvature' rod (rs_model_rest_curvature): exactly one of
+    !> rest_curvature (constant; with length) and rest_curvature_table (rows s, kappa1, kappa2,
+    !> kappa3 without gaps: at least two, s from 0, never decreasing, at most two rows at one s
+    !> (a jump), the last s > 0, which is the length).
+    logical function curvature_ok(rod, here, errors) result(ok)
+        type(rod_input_t), intent(in) :: rod
+        character(len=*), intent(in) :: here
+        type(error_list_t), intent(inout) :: errors
+        real(rk), allocatable :: s(:)
+        integer :: n_rows, j
+        logical :: constant, table
+        ok = .false.
+        constant = any(rod%rest_curvature /= unset_real)
+        table = any(rod%rest_curvature_table /= unset_real)
+        if (constant .and. table) then
+            call errors%add(here // 'rest_curvature, rest_curvature_table: both given; give ' // &
+                'either a constant rest_curvature (with length) or a rest_curvature_table')
+            return
+        else if (.not. (constant .or. table)) then
+            call errors%add(here // 'rest_curvature: geometry = ''curvature'' needs a constant ' // &
+                'rest_curvature (with length) or a rest_curvature_table; neither is given')
+            return
+        else if (constant) then
+            ok = rod%length /= unset_real
+            if (.not. ok) call errors%add(here // 'length: required with a constant ' // &
+                'rest_curvature (a rest_curvature_table gives it as its last s)')
+            return
+        end if
+        if (.not. table_rows(rod%rest_curvature_table, 4, here // 'rest_curvature_table: ', &
+            'rows', 'row takes 4 (s, kappa1, kappa2, kappa3)', 'a table', errors, n_rows)) return
+        s = rod%rest_curvature_table(1:4 * n_rows:4)
+        if (s(1) /= 0.0_rk) then
+            call errors%add(here // 'rest_curvature_table: the first row is at s = ' // &
+                str(s(1)) // '; the table starts at s = 0')
+            return
+        end if
+        do j = 1, n_rows - 1
+            if (s(j + 1) < s(j)) then
+                call errors%add(here // 'rest_curvature_table: s decreases from ' // str(s(j)) // &
+                    ' (row ' // str(j) // ') to ' // str(s(j + 1)) // ' (row ' // str(j + 1) // &
+                    '); s must not decrease')
+                return
+            end if
+            if (j < n_rows - 1) then
+                if (s(j + 2) == s(j)) then
+                    call errors%add(here // 'rest_curvature_table: rows ' // str(j) // ' to ' // &
+                        str(j + 2) // ' are all at s = ' // str(s(j)) // '; at most two rows ' // &
+                        'may share an s (a jump)')
+                    return
+                end if
+            end if
+        end do
+        if (s(n_rows) <= 0.0_rk) then
+            call errors%add(here // 'rest_curvature_table: the last s is ' // str(s(n_rows)) // &
+                '; it is the length of the rod and must be > 0')
+            return
+        end if
+        ok = .true.
+    end function curvature_ok
+
+
+    !> The rows of a flat table of `width` numbers per row (its leading given entries): false,
+    !> with an error after `prefix` (file, line, group, variable), if a given entry follows a
+    !> gap, the count is not a multiple of `width` or there are fewer than 2 rows.
+    logical function table_rows(values, width, prefix, rows, row_text, owner, errors, n_rows) &
+            result(ok)
+        real(rk), intent(in) :: values(:)
+        integer, intent(in) :: width
+        character(len=*), intent(in) :: prefix, rows, row_text, owner
+        type(error_list_t), intent(inout) :: errors
+        integer, intent(out) :: n_rows
+        integer :: n_values
+        ok = .false.
+        n_values = leading_count(values)
+        n_rows = n_values / width
+        if (any(values(n_values + 1:) /= unset_real)) then
+            call errors%add(prefix // 'entry ' // str(n_values + 1) // ' is not given but a ' // &
+                'later one is; give the ' // rows // ' from the first on without gaps')
+        else if (mod(n_values, width) /= 0) then
+            call errors%add(prefix // str(n_values) // ' values given; each ' // row_text)
+        else if (n_rows < 2) then
+            call errors%add(prefix // owner // ' needs at least 2 ' // rows // ' (' // &
+                str(n_rows) // ' given)')
+        else
+            ok = .true.
+        end if
+    end function table_rows
 
 
     !> Maxwell branches (methods/ph_director_3d.md §3.1): m = the number of leading given

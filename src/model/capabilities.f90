@@ -36,7 +36,8 @@ module rs_model_capabilities
         logical :: segments = .false.
         !> Pneumatic chambers and tendons (&actuator).
         logical :: actuation = .false.
-        !> A curved stress-free reference (&rod geometry = 'helix' or 'polyline').
+        !> A curved stress-free reference (&rod geometry = 'helix', 'polyline' or 'curvature':
+        !> rest curvature and pre-twist as functions of s).
         logical :: curved_reference = .false.
         !> A straight stress-free shape under a curved initial one (&rod prestressed).
         logical :: prestressed = .false.

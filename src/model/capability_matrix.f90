@@ -41,7 +41,8 @@ contains
             ' | ' // drive_text(row%drive) // &
             ' | ' // end_load_text(row) // &
             ' | ' // distributed_load_text(row) // &
-            ' | ' // yes_no(row%curved_reference, 'yes: `geometry` helix, polyline') // &
+            ' | ' // yes_no(row%curved_reference, 'yes: `geometry` helix, polyline, curvature ' // &
+                '(rest curvature and pre-twist of s: `rest_curvature`, `rest_curvature_table`)') // &
             ' | ' // yes_no(row%prestressed, 'yes (`prestressed`)') // &
             ' | ' // listed(row%constraints) // &
             ' | ' // yes_no(row%viscoelastic, 'generalized Maxwell (`maxwell_*`)') // &

@@ -1,6 +1,7 @@
 !> The reference centreline of a rod and its initial director frame as functions of the arc
-!> length s in [0, L] (&rod geometry, docs/user/input.md): a straight line, a circular helix or
-!> a polyline. Pure procedures on plain data; no input file, no formulation.
+!> length s in [0, L] (&rod geometry, docs/user/input.md): a straight line, a circular helix, a
+!> polyline, or the curve and frame of a given rest curvature and pre-twist. Pure procedures on
+!> plain data; no input file, no formulation.
 !>
 !> Conventions:
 !> - straight: phi(s) = start + s t with t the unit `direction`.
@@ -21,18 +22,28 @@
 !>   turned at a vertex by the smallest rotation taking one segment's tangent to the next (the
 !>   discrete parallel transport); at a vertex itself the tangent is the bisector and the frame
 !>   is turned half way.
+!> - curvature: the frame and centreline integrated from the Darboux vector kappa(s) in
+!>   material components, R' = R hat(kappa), phi' = d3 (rs_model_rest_curvature), from
+!>   phi(0) = start, d3(0) = the unit `direction` and the given d1 at s = 0; this frame twists
+!>   about d3 at the rate kappa3 (the pre-twist) and is stress-free like every other.
 module rs_model_rod_geometry
     use rs_core_kinds, only: rk, pi
+    use rs_core_strings, only: str, vector_text
     use rs_model_scene, only: rod_input_t, unset_real
+    use rs_model_units, only: unit_in_system
+    use rs_model_rest_curvature, only: rest_curvature_t, rest_curvature_table, &
+        place_rest_curvature, rest_curvature_pose
     implicit none
     private
 
     public :: rod_geometry_t, straight_geometry, helix_geometry, polyline_geometry
     public :: set_start_director, centreline_point, centreline_tangent, centreline_frame
-    public :: default_normal, helix_axis_point, rod_geometry_of
+    public :: default_normal, helix_axis_point, rod_geometry_of, curvature_geometry
+    public :: curvature_rows, centreline_text
 
     !> Kinds of centreline.
-    integer, parameter, public :: geometry_straight = 1, geometry_helix = 2, geometry_polyline = 3
+    integer, parameter, public :: geometry_straight = 1, geometry_helix = 2, geometry_polyline = 3, &
+        geometry_curvature = 4
 
     !> Relative distance of s from a polyline vertex below which s is at the vertex.
     real(rk), parameter :: vertex_tolerance = 1.0e-12_rk
@@ -44,7 +55,7 @@ module rs_model_rod_geometry
         real(rk) :: length = 0.0_rk
         !> phi(0).
         real(rk) :: start(3) = 0.0_rk
-        !> Straight: the unit tangent; helix: the unit axis a.
+        !> Straight: the unit tangent; helix: the unit axis a; curvature: the unit d3(0).
         real(rk) :: axis(3) = 0.0_rk
         !> Helix: R, b = rise / (2 pi), c = sqrt(R^2 + b^2), u and w = a x u.
         real(rk) :: radius = 0.0_rk
@@ -60,6 +71,8 @@ module rs_model_rod_geometry
         real(rk), allocatable :: tangents(:, :)
         !> Polyline: d1 on each segment (set by set_start_director).
         real(rk), allocatable :: normals(:, :)
+        !> Curvature: the table of kappa(s) and its placed pieces.
+        type(rest_curvature_t) :: curvature
         !> d1 at s = 0 (unit, normal to the tangent there).
         real(rk) :: d1_start(3) = 0.0_rk
     end type rod_geometry_t
@@ -123,6 +136,43 @@ contains
         g%axis = g%tangents(:, 1)
     end function polyline_geometry
 
+    !> The centreline of rest curvature kappa(:, j) at the rows s(j) of a table (piecewise
+    !> linear; rs_model_rest_curvature, whose rules the caller checks), starting at `start`
+    !> with d3 = `direction` (unit); placed with d1 = default_normal(direction) until
+    !> set_start_director gives another.
+    pure function curvature_geometry(start, direction, s, kappa) result(g)
+        real(rk), intent(in) :: start(3), direction(3), s(:), kappa(:, :)
+        type(rod_geometry_t) :: g
+        g%kind = geometry_curvature
+        g%start = start
+        g%axis = direction
+        g%length = s(size(s))
+        g%curvature = rest_curvature_table(s, kappa)
+        call set_start_director(g, default_normal(direction))
+    end function curvature_geometry
+
+    !> The rows (s, kappa) of a resolved curvature rod: its rest_curvature_table, or the two
+    !> rows (0, kappa) and (length, kappa) of a constant rest_curvature.
+    pure subroutine curvature_rows(rod, s, kappa)
+        type(rod_input_t), intent(in) :: rod
+        real(rk), allocatable, intent(out) :: s(:), kappa(:, :)
+        real(rk), allocatable :: rows(:, :)
+        integer :: n_rows
+        if (rod%rest_curvature(1) /= unset_real) then
+            s = [0.0_rk, rod%length]
+            kappa = reshape([rod%rest_curvature, rod%rest_curvature], [3, 2])
+            return
+        end if
+        n_rows = 0
+        do while (4 * n_rows + 4 <= size(rod%rest_curvature_table))
+            if (rod%rest_curvature_table(4 * n_rows + 4) == unset_real) exit
+            n_rows = n_rows + 1
+        end do
+        rows = reshape(rod%rest_curvature_table(1:4 * n_rows), [4, n_rows])
+        s = rows(1, :)
+        kappa = rows(2:4, :)
+    end subroutine curvature_rows
+
     !> Give the frame its d1 at s = 0: a unit vector normal to centreline_tangent(g, 0).
     pure subroutine set_start_director(g, d1)
         type(rod_geometry_t), intent(inout) :: g
@@ -142,16 +192,23 @@ contains
                 g%normals(:, j) = minimal_rotation(g%tangents(:, j - 1), g%tangents(:, j), &
                     g%normals(:, j - 1))
             end do
+        case (geometry_curvature)
+            call place_rest_curvature(g%curvature, reshape([d1, cross(g%axis, d1), g%axis], &
+                [3, 3]), g%start)
         end select
     end subroutine set_start_director
 
     !> The centreline and frame of a resolved &rod (rs_io_input_check): its geometry with its
-    !> start, direction, length, helix_* or points, and d1 at s = 0.
+    !> start, direction, length, helix_*, points or rest_curvature*, and d1 at s = 0.
     pure function rod_geometry_of(rod) result(g)
         type(rod_input_t), intent(in) :: rod
         type(rod_geometry_t) :: g
+        real(rk), allocatable :: s(:), kappa(:, :)
         integer :: n_points
         select case (trim(rod%geometry))
+        case ('curvature')
+            call curvature_rows(rod, s, kappa)
+            g = curvature_geometry(rod%start, rod%direction, s, kappa)
         case ('helix')
             g = helix_geometry(rod%start, rod%direction, rod%helix_radius, rod%helix_pitch, &
                 rod%helix_turns, rod%helix_phase)
@@ -173,9 +230,11 @@ contains
         type(rod_geometry_t), intent(in) :: g
         real(rk), intent(in) :: s
         real(rk) :: x(3)
-        real(rk) :: theta
+        real(rk) :: theta, d(3, 3)
         integer :: j
         select case (g%kind)
+        case (geometry_curvature)
+            call rest_curvature_pose(g%curvature, s, d, x)
         case (geometry_helix)
             theta = s / g%speed
             x = g%start + g%radius * (cos(theta) - 1.0_rk) * g%radial &
@@ -193,9 +252,12 @@ contains
         type(rod_geometry_t), intent(in) :: g
         real(rk), intent(in) :: s
         real(rk) :: t(3)
-        real(rk) :: n(3), b(3)
+        real(rk) :: n(3), b(3), d(3, 3), x(3)
         integer :: j
         select case (g%kind)
+        case (geometry_curvature)
+            call rest_curvature_pose(g%curvature, s, d, x)
+            t = d(:, 3)
         case (geometry_helix)
             call helix_frenet(g, s, t, n, b)
         case (geometry_polyline)
@@ -215,9 +277,11 @@ contains
         type(rod_geometry_t), intent(in) :: g
         real(rk), intent(in) :: s
         real(rk) :: d(3, 3)
-        real(rk) :: t(3), n(3), b(3), alpha
+        real(rk) :: t(3), n(3), b(3), alpha, x(3)
         integer :: j
         select case (g%kind)
+        case (geometry_curvature)
+            call rest_curvature_pose(g%curvature, s, d, x)
         case (geometry_helix)
             call helix_frenet(g, s, t, n, b)
             alpha = g%alpha_0 - g%rise / g%speed**2 * s
@@ -246,6 +310,42 @@ contains
         real(rk) :: x(3)
         x = g%start - g%radius * g%radial
     end function helix_axis_point
+
+    !> The centreline of a resolved &rod in words (the --check-input plans): its kind,
+    !> parameters, length and, for a helix, its axis; lengths in the &run `units`.
+    function centreline_text(rod, units) result(text)
+        type(rod_input_t), intent(in) :: rod
+        character(len=*), intent(in) :: units
+        character(len=:), allocatable :: text, m
+        type(rod_geometry_t) :: geometry
+        m = unit_in_system('m', units)
+        geometry = rod_geometry_of(rod)
+        select case (trim(rod%geometry))
+        case ('helix')
+            text = 'helix of radius ' // str(rod%helix_radius) // ' ' // m // ', pitch ' // &
+                str(rod%helix_pitch) // ' ' // m // ', ' // str(rod%helix_turns) // &
+                ' turns, axis through (' // vector_text(helix_axis_point(geometry)) // &
+                ') along (' // vector_text(rod%direction) // ')'
+        case ('polyline')
+            text = 'polyline of ' // str(size(geometry%vertices, 2)) // ' points from (' // &
+                vector_text(rod%start) // ')'
+        case ('curvature')
+            if (rod%rest_curvature(1) /= unset_real) then
+                text = 'constant rest curvature and pre-twist (' // vector_text(rod%rest_curvature) // &
+                    ') ' // unit_in_system('1/m', units)
+            else
+                text = 'rest curvature and pre-twist from a table of ' // &
+                    str(size(geometry%curvature%s)) // ' rows, piecewise linear in s'
+            end if
+            text = text // ' (material d1, d2, d3) from (' // vector_text(rod%start) // &
+                ') with d3 = (' // vector_text(rod%direction) // ')'
+        case default
+            text = 'straight from (' // vector_text(rod%start) // ') along (' // &
+                vector_text(rod%direction) // ')'
+        end select
+        text = text // ', length ' // str(rod%length) // ' ' // m // ', d1(0) = (' // &
+            vector_text(rod%d1) // ')'
+    end function centreline_text
 
     !> A unit vector normal to the unit vector t: e_z x t normalized, or e_x when t is along
     !> e_z. The default d1 of a rod (for t along e_x: e_y) and the radial direction u of a helix.

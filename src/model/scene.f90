@@ -26,6 +26,8 @@ module rs_model_scene
     integer, parameter, public :: max_branches = 8
     !> Capacity of polyline centrelines (&rod points: 3 coordinates per point).
     integer, parameter, public :: max_polyline_points = 64
+    !> Capacity of rest-curvature tables (&rod rest_curvature_table: 4 numbers per row).
+    integer, parameter, public :: max_curvature_rows = 64
     !> Rods tied to one &plate.
     integer, parameter, public :: max_plate_rods = 128
     !> Capacity of the values of one &sweep (values = ...; also the largest count of linspace
@@ -133,7 +135,8 @@ module rs_model_scene
         !> scheme, §5.2). Blank = not given; the resolver sets 'stander_stein' for cl_em_planar
         !> rods and refuses a given value for any other formulation.
         character(len=name_len) :: em_variant = ''
-        !> Reference centreline (rs_model_rod_geometry): 'straight', 'helix' or 'polyline'.
+        !> Reference centreline (rs_model_rod_geometry): 'straight', 'helix', 'polyline' or
+        !> 'curvature'.
         character(len=name_len) :: geometry = 'straight'
         !> Start, direction (helix: axis) and rotation_center default to (0, 0, 0), e_x and
         !> start; they are unset until resolved so that a value given for a polyline, where
@@ -147,6 +150,11 @@ module rs_model_scene
         real(rk) :: helix_turns = unset_real
         !> Polyline vertices x1, y1, z1, x2, ... (the leading given entries).
         real(rk) :: points(3 * max_polyline_points) = unset_real
+        !> Curvature only (rs_model_rest_curvature): the constant Darboux vector (kappa1, kappa2,
+        !> kappa3) in material components, or the rows s, kappa1, kappa2, kappa3 of a table
+        !> (the leading given entries), piecewise linear in s.
+        real(rk) :: rest_curvature(3) = unset_real
+        real(rk) :: rest_curvature_table(4 * max_curvature_rows) = unset_real
         !> Initial rigid-body velocity field: v(s) = velocity + angular_velocity x
         !> (phi(s) - rotation_center), director rates angular_velocity x d_i.
         real(rk) :: velocity(3) = 0.0_rk

@@ -11,7 +11,7 @@ module rs_ph_director_plan
     use rs_core_strings, only: str
     use rs_model_scene, only: scene_t, unset_real, unset_int, rod_is_damped
     use rs_model_damping, only: damping_plan_text
-    use rs_model_rod_geometry, only: rod_geometry_t, rod_geometry_of, helix_axis_point
+    use rs_model_rod_geometry, only: centreline_text
     use rs_model_units, only: unit_in_system
     use rs_ph_director, only: ph_director_t
     use rs_formulations_rod_sizes, only: rod_sizes_t, rod_sizes_of, single_rod_scene
@@ -70,7 +70,7 @@ contains
         pinned_text = ''
         n_stress = 6 * p * (1 + nb)
         associate (input => scene%rods(i))
-            call add('geometry: ' // geometry_text(scene, i))
+            call add('geometry: ' // centreline_text(input, trim(scene%run%units)))
             if (input%prestressed) then
                 call add('reference: prestressed: the stress-free shape is straight (Gamma_0 = ' // &
                     '(0, 0, 1), K_0 = 0); the rod starts with the elastic stresses of its ' // &
@@ -384,33 +384,6 @@ contains
             end if
         end function join
     end subroutine ph_director_plan_lines
-
-    !> The centreline in words: its kind, parameters, length and, for a helix, its axis.
-    function geometry_text(scene, i) result(text)
-        type(scene_t), intent(in) :: scene
-        integer, intent(in) :: i
-        character(len=:), allocatable :: text, m
-        type(rod_geometry_t) :: geometry
-        m = unit_in_system('m', trim(scene%run%units))
-        associate (rod => scene%rods(i))
-            geometry = rod_geometry_of(rod)
-            select case (trim(rod%geometry))
-            case ('helix')
-                text = 'helix of radius ' // str(rod%helix_radius) // ' ' // m // ', pitch ' // &
-                    str(rod%helix_pitch) // ' ' // m // ', ' // str(rod%helix_turns) // &
-                    ' turns, axis through (' // vector_text(helix_axis_point(geometry)) // &
-                    ') along (' // vector_text(rod%direction) // ')'
-            case ('polyline')
-                text = 'polyline of ' // str(size(geometry%vertices, 2)) // ' points from (' // &
-                    vector_text(rod%start) // ')'
-            case default
-                text = 'straight from (' // vector_text(rod%start) // ') along (' // &
-                    vector_text(rod%direction) // ')'
-            end select
-            text = text // ', length ' // str(rod%length) // ' ' // m // ', d1(0) = (' // &
-                vector_text(rod%d1) // ')'
-        end associate
-    end function geometry_text
 
     !> The supports of rod `i`'s two ends: clamped (from the built rod), else held by a plate or a
     !> joint (multipliers, issue 10), else free.

@@ -4,6 +4,7 @@ module rs_se3_pg_plan
     use rs_core_strings, only: str, vector_text
     use rs_model_scene, only: scene_t, load_applies_to, rod_is_damped
     use rs_model_damping, only: damping_plan_text
+    use rs_model_rod_geometry, only: centreline_text
     implicit none
     private
 
@@ -24,6 +25,9 @@ contains
             call add('element: ' // str(rod%n_elements) // ' two-node SE(3) Petrov-Galerkin ' // &
                 'elements (methods/se3_petrov_galerkin.md §5): relative-twist interpolation, ' // &
                 'constant strains per element, 2 Gauss points; degree and n_gauss do not apply')
+            call add('geometry: ' // centreline_text(rod, trim(scene%run%units)))
+            call add('reference: stress-free initial geometry (the relative twist of each ' // &
+                'element''s two nodal poses over its length is its reference strain, methods §5.3)')
             n_fixed = 0
             supports = ''
             do j = 1, size(scene%bcs)

@@ -5,6 +5,7 @@ module rs_se3_strand_plan
     use rs_core_strings, only: str, str_significant
     use rs_model_scene, only: scene_t, load_applies_to, rod_is_damped
     use rs_model_damping, only: damping_plan_text
+    use rs_model_rod_geometry, only: centreline_text
     implicit none
     private
 
@@ -25,6 +26,14 @@ contains
             call add('grid: ' // str(n) // ' segments, staggered (methods/se3_strands.md §3.1): ' // &
                 'momenta P at ' // str(n + 1) // ' nodes, stresses Sigma at ' // str(n) // &
                 ' segment midpoints + 2 ghosts; degree and n_gauss do not apply')
+            call add('geometry: ' // centreline_text(rod, trim(scene%run%units)))
+            if (rod%prestressed) then
+                call add('reference: prestressed: the stress-free shape is straight; the rod ' // &
+                    'starts with the elastic stresses of its initial geometry')
+            else
+                call add('reference: stress-free initial geometry (the SE(3) logarithm of each ' // &
+                    'segment''s relative nodal pose over its length is its relaxed strain)')
+            end if
             call add('unknowns: 6 x (2 N + 3) = ' // str(6 * (2 * n + 3)) // ', interleaved ' // &
                 '(Sigma_-1, P_0, Sigma_0, P_1, ...): block tridiagonal, half bandwidth 11')
             call add('step: semi-implicit (eqs. 11-15), coefficients frozen at t_n, one sparse ' // &
