@@ -391,8 +391,9 @@ contains
                 'equal it).', count=3, example='0, 0, 1'), &
             spec_v('direction', 'real', '-', '1, 0, 0', &
                 'Straight: the direction of the centreline; helix: the direction of its axis; ' // &
-                'curvature: the tangent d3 at s = 0 (normalized). Polyline: derived, the direction of the first segment (a given ' // &
-                'value must be parallel to it).', count=3, example='0, 0, 1'), &
+                'curvature: the tangent d3 at s = 0 (normalized). Polyline: derived, the ' // &
+                'direction of the first segment (a given value must be parallel to it).', &
+                count=3, example='0, 0, 1'), &
             spec_v('d1', 'real', '-', '(derived)', &
                 'First cross-section director at s = 0, made orthonormal to the tangent t(0) there ' // &
                 '(must not be parallel to it); default: e_z x t(0) normalized, or e_x when t(0) is ' // &

@@ -4,8 +4,8 @@
 !> origin, the centreline's start, direction and length, directors, the centre of the
 !> initial rotation, Maxwell branches and their shear relaxation times, stiffnesses from
 !> section and material, inertia; a helix length that contradicts its turns, a polyline that
-!> doubles back, a rest-curvature table whose s goes back). Every problem is added to `errors`, naming the file, line, group and
-!> variable.
+!> doubles back, a rest-curvature table whose s goes back). Every problem is added to
+!> `errors`, naming the file, line, group and variable.
 module rs_io_input_values
     use rs_core_kinds, only: rk
     use rs_core_error, only: error_list_t

@@ -18,8 +18,9 @@
 !> h max(|kappa_a|, |kappa_b|, |kappa_b - kappa_a|^(1/2) / H^(1/2)) <= `piece_angle` (H the
 !> interval, so both the turning and the change of kappa are resolved): the error of the
 !> sixth-order step is then about 1e-14 of the length (measured in
-!> tests/unit/model/test_rest_curvature.F90; 5e-13 with the turning alone at 0.03). The poses at the piece starts are computed once
-!> (place_rest_curvature); a pose at any s is one Magnus step from its piece's start.
+!> tests/unit/model/test_rest_curvature.F90; 5e-13 with the turning alone at 0.03). The poses
+!> at the piece starts are computed once (place_rest_curvature); a pose at any s is one Magnus
+!> step from its piece's start.
 !> Pure procedures on plain data.
 module rs_model_rest_curvature
     use rs_core_kinds, only: rk
@@ -62,7 +63,7 @@ contains
     pure subroutine place_rest_curvature(c, frame0, point0)
         type(rest_curvature_t), intent(inout) :: c
         real(rk), intent(in) :: frame0(3, 3), point0(3)
-        real(rk) :: h, kappa_a(3), kappa_b(3), frame(3, 3), point(3)
+        real(rk) :: h, kappa_a(3), kappa_b(3), step(3), frame(3, 3), point(3)
         integer :: j, k, n, m, n_pieces
         n_pieces = 0
         do j = 1, size(c%s) - 1
@@ -82,8 +83,9 @@ contains
                 m = m + 1
                 c%piece_s(:, m) = c%s(j) + h * [real(k - 1, rk), real(k, rk)]
                 if (k == n) c%piece_s(2, m) = c%s(j + 1)
-                kappa_a = c%kappa(:, j) + (c%kappa(:, j + 1) - c%kappa(:, j)) * real(k - 1, rk) / real(n, rk)
-                kappa_b = c%kappa(:, j) + (c%kappa(:, j + 1) - c%kappa(:, j)) * real(k, rk) / real(n, rk)
+                step = (c%kappa(:, j + 1) - c%kappa(:, j)) / real(n, rk)
+                kappa_a = c%kappa(:, j) + step * real(k - 1, rk)
+                kappa_b = c%kappa(:, j) + step * real(k, rk)
                 c%piece_kappa(:, 1, m) = kappa_a
                 c%piece_kappa(:, 2, m) = kappa_b
                 c%piece_frame(:, :, m) = frame
@@ -123,7 +125,8 @@ contains
             (t - c%piece_s(1, m)) / (c%piece_s(2, m) - c%piece_s(1, m))
         frame = c%piece_frame(:, :, m)
         point = c%piece_point(:, m)
-        call advance_pose(frame, point, magnus_twist(c%piece_kappa(:, 1, m), kappa_s, t - c%piece_s(1, m)))
+        call advance_pose(frame, point, magnus_twist(c%piece_kappa(:, 1, m), kappa_s, &
+            t - c%piece_s(1, m)))
     end subroutine rest_curvature_pose
 
     !> kappa(s) of the table (at a jump: the value after it; clamped to [0, L]).

@@ -42,8 +42,8 @@ module rs_model_rod_geometry
     public :: curvature_rows, centreline_text
 
     !> Kinds of centreline.
-    integer, parameter, public :: geometry_straight = 1, geometry_helix = 2, geometry_polyline = 3, &
-        geometry_curvature = 4
+    integer, parameter, public :: geometry_straight = 1, geometry_helix = 2, &
+        geometry_polyline = 3, geometry_curvature = 4
 
     !> Relative distance of s from a polyline vertex below which s is at the vertex.
     real(rk), parameter :: vertex_tolerance = 1.0e-12_rk
@@ -331,8 +331,8 @@ contains
                 vector_text(rod%start) // ')'
         case ('curvature')
             if (rod%rest_curvature(1) /= unset_real) then
-                text = 'constant rest curvature and pre-twist (' // vector_text(rod%rest_curvature) // &
-                    ') ' // unit_in_system('1/m', units)
+                text = 'constant rest curvature and pre-twist (' // &
+                    vector_text(rod%rest_curvature) // ') ' // unit_in_system('1/m', units)
             else
                 text = 'rest curvature and pre-twist from a table of ' // &
                     str(size(geometry%curvature%s)) // ' rows, piecewise linear in s'

@@ -258,9 +258,10 @@ def coil_pose(s):
 def stress_free(args, checks):
     """A free rod at its curved, twisted reference stays there: the reference strains are the
     discrete strains of the initial nodes in every formulation (measured: 0 for ph_director and
-    se3_strand, 6e-15 m and 9e-13 m/s for se3_pg). prestressed = .true. keeps meaning "the stress-free shape is
-    straight": the coil then starts with the moments C_m kappa = (1.5, -8, 1.05) N m (measured
-    2.3e-5 relative for ph_director, exact for se3_strand's segment logarithms) and moves."""
+    se3_strand, 6e-15 m and 9e-13 m/s for se3_pg). prestressed = .true. keeps meaning "the
+    stress-free shape is straight": the coil then starts with the moments
+    C_m kappa = (1.5, -8, 1.05) N m (measured 2.2e-5 relative for ph_director, 1.8e-15 for
+    se3_strand's segment logarithms) and moves."""
     for formulation in FORMULATIONS:
         for kind in ("coil", "table"):
             r = rod(run(args, scene(formulation, 12, curvature_text(kind)),
@@ -465,8 +466,8 @@ def spring(formulation, meshes, bound, atol, order=None):
         u, theta = tip_response(args, formulation, n, straight, SPRING_STIFF, force,
                                 np.zeros(3), "axial", atol)
         stretch = AXIAL_FORCE * length / SPRING_STIFF["ea"]
-        print(f"straight pre-twisted rod, {formulation}, {n} elements: u {u}, F L / EA {stretch:.15e}, "
-              f"rotation {theta}")
+        print(f"straight pre-twisted rod, {formulation}, {n} elements: u {u}, "
+              f"F L / EA {stretch:.15e}, rotation {theta}")
         checks.check(f"straight pre-twisted, {formulation}: |u - F L / EA d3| / (F L / EA)",
                      np.linalg.norm(u - stretch * frame0[:, 2]) / stretch, bound)
         checks.check(f"straight pre-twisted, {formulation}: |rotation| [rad] (no "

@@ -98,7 +98,8 @@ contains
             radius = norm2(d3_perp) / k
             pitch = 2.0_rk * pi * dot_product(a, frame0(:, 3)) / k
             CHECK_CLOSE(radius, kb / k**2, tight, 0.0_rk, 'radius kb / |kappa|^2')
-            CHECK_CLOSE(pitch, 2.0_rk * pi * kappa(3) / k**2, tight, 0.0_rk, 'pitch 2 pi tau / |kappa|^2')
+            x(1) = 2.0_rk * pi * kappa(3) / k**2
+            CHECK_CLOSE(pitch, x(1), tight, 0.0_rk, 'pitch 2 pi tau / |kappa|^2')
             do j = 0, 16
                 s = 0.25_rk * real(j, rk)
                 call rest_curvature_pose(c, s, frame, point)
@@ -138,7 +139,8 @@ contains
         CHECK_CLOSE(centreline_tangent(turned_g, 2.0_rk), d(:, 3), 0.0_rk, 0.0_rk, 'tangent = d3')
         ! Turning d1(0) by a about d3(0) turns the whole rod by a about that line.
         expected = turned(direction, a, centreline_point(g, 3.0_rk) - start)
-        CHECK_CLOSE(centreline_point(turned_g, 3.0_rk) - start, expected, tight, 0.0_rk, 'turns with d1(0)')
+        d1 = centreline_point(turned_g, 3.0_rk) - start
+        CHECK_CLOSE(d1, expected, tight, 0.0_rk, 'turns with d1(0)')
     end subroutine test_geometry_start_and_frame
 
     ! Two rows at s = 1: the pose at 2 is H0 Exp(xi_a) Exp(xi_b), each piece constant.
@@ -149,7 +151,8 @@ contains
         ka = [0.3_rk, 1.2_rk, -0.8_rk]
         kb = [-2.0_rk, 0.1_rk, 0.6_rk]
         frame0 = random_frame(random_unit_vector())
-        c = rest_curvature_table([0.0_rk, 1.0_rk, 1.0_rk, 2.0_rk], reshape([ka, ka, kb, kb], [3, 4]))
+        c = rest_curvature_table([0.0_rk, 1.0_rk, 1.0_rk, 2.0_rk], &
+            reshape([ka, ka, kb, kb], [3, 4]))
         call place_rest_curvature(c, frame0, [0.0_rk, 0.0_rk, 0.0_rk])
         CHECK_TRUE(size(c%piece_s, 2) == 2, 'two constant pieces, the jump has none')
         call exp_se3([0.0_rk, 0.0_rk, 1.0_rk, ka], a1, r1)
@@ -167,7 +170,7 @@ contains
     subroutine test_table_frame_derivative()
         type(rest_curvature_t) :: c
         real(rk) :: frame(3, 3), plus(3, 3), minus(3, 3), point(3), p_plus(3), p_minus(3)
-        real(rk) :: eye(3, 3), rate(3, 3), s
+        real(rk) :: eye(3, 3), rate(3, 3), third(3), s
         integer :: sample, j, i
         eye = 0.0_rk
         do i = 1, 3
@@ -180,12 +183,14 @@ contains
                 s = 0.1_rk * real(j, rk) + 0.013_rk
                 call rest_curvature_pose(c, s, frame, point)
                 CHECK_CLOSE(matmul(transpose(frame), frame), eye, tight, 0.0_rk, 'orthonormal')
-                CHECK_CLOSE(crossed(frame(:, 1), frame(:, 2)), frame(:, 3), tight, 0.0_rk, 'right-handed')
+                third = crossed(frame(:, 1), frame(:, 2))
+                CHECK_CLOSE(third, frame(:, 3), tight, 0.0_rk, 'right-handed')
                 call rest_curvature_pose(c, s + hs, plus, p_plus)
                 call rest_curvature_pose(c, s - hs, minus, p_minus)
                 rate = matmul(transpose(frame), plus - minus) / (2.0_rk * hs)
-                CHECK_CLOSE(rate, hat(rest_curvature_at(c, s)), fd_tol, 0.0_rk, 'R^T R'' = hat(kappa)')
-                CHECK_CLOSE((p_plus - p_minus) / (2.0_rk * hs), frame(:, 3), fd_tol, 0.0_rk, 'phi'' = d3')
+                CHECK_CLOSE(rate, hat(rest_curvature_at(c, s)), fd_tol, 0.0_rk, 'R^T R'' = hat k')
+                p_plus = (p_plus - p_minus) / (2.0_rk * hs)
+                CHECK_CLOSE(p_plus, frame(:, 3), fd_tol, 0.0_rk, 'phi'' = d3')
             end do
         end do
     end subroutine test_table_frame_derivative
@@ -206,8 +211,9 @@ contains
                 if (c%s(j + 1) == c%s(j)) cycle
                 h = (c%s(j + 1) - c%s(j)) / real(steps, rk)
                 do k = 1, steps
-                    ka = c%kappa(:, j) + (c%kappa(:, j + 1) - c%kappa(:, j)) * real(k - 1, rk) / real(steps, rk)
-                    kb = c%kappa(:, j) + (c%kappa(:, j + 1) - c%kappa(:, j)) * real(k, rk) / real(steps, rk)
+                    kb = (c%kappa(:, j + 1) - c%kappa(:, j)) / real(steps, rk)
+                    ka = c%kappa(:, j) + kb * real(k - 1, rk)
+                    kb = ka + kb
                     call advance_pose(a, r, magnus_twist(ka, kb, h))
                 end do
             end do
