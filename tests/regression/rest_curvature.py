@@ -7,7 +7,7 @@ theory, not read from rodsolve.
     rest_curvature.py stress_free   a constant-curvature coil and a table rod (a jump and a
                         linear stretch) with no load, in each of the three formulations, 20
                         dynamic steps: every node stays put and at rest (round-off, 1e-13 m and
-                        1e-12 m/s); with prestressed = .true. (ph_director, se3_strand) the same
+                        1e-11 m/s); with prestressed = .true. (ph_director, se3_strand) the same
                         coil starts with the bending and twisting moments EI kappa of its
                         straight stress-free shape (1e-2 relative: the discrete strains of the
                         elements, O(h^2))
