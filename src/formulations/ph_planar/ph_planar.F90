@@ -28,7 +28,8 @@ module rs_ph_planar
     use rs_core_kinds, only: rk, pi
     use rs_core_error, only: error_t, set_error
     use rs_core_strings, only: str, vector_text
-    use rs_model_scene, only: scene_t, rod_input_t, load_applies_to, unset_real, element_properties
+    use rs_model_scene, only: scene_t, rod_input_t, load_applies_to, unset_real, element_properties, &
+        axial_reference
     use rs_model_damping, only: kv_axial, kv_shear1, kv_shear2, kv_bend1, kv_bend2
     use rs_model_rod_history, only: rod_history_t
     use rs_model_time_function, only: time_function_t, time_function_from_load
@@ -81,6 +82,9 @@ module rs_ph_planar
             element_rho(:, :), element_line_mass(:)
         !> Reference angle theta_0 of the straight rod (methods §3.1).
         real(rk) :: theta0 = 0.0_rk
+        !> The reference axial strain per unit given length, 1 / (1 + prestrain) (&rod
+        !> prestrain; docs/theory/prestretched_starts.md); 1 for a stress-free start.
+        real(rk) :: axial_reference = 1.0_rk
         !> Initial 3D directors (columns d1, d2, d3) and the maps of the planar stress (N1, N2,
         !> M) to the material 3D components (N1, N2, N3, M1, M2, M3).
         real(rk) :: directors0(3, 3) = 0.0_rk
@@ -109,8 +113,8 @@ module rs_ph_planar
         integer, allocatable :: element_rod(:), element_dofs(:, :)
         real(rk), allocatable :: element_length(:)
         !> Per element in system order: (EA, GA, EI) and their Kelvin-Voigt viscosities (the
-        !> rods' element_stiffness, element_viscosity).
-        real(rk), allocatable :: stiffness(:, :), viscosity(:, :)
+        !> rods' element_stiffness, element_viscosity), and the rod's axial_reference.
+        real(rk), allocatable :: stiffness(:, :), viscosity(:, :), axial_reference(:)
         !> Per element: the consistent mass (6, 6) in its q ordering (methods §3.2), built once:
         !> residual and Jacobian need it at every Newton iteration.
         real(rk), allocatable :: mass(:, :, :)
@@ -224,7 +228,8 @@ contains
         ! Elements in system order.
         allocate(this%element_rod(this%n_elements), this%element_dofs(6, this%n_elements), &
             this%element_length(this%n_elements), this%mass(6, 6, this%n_elements), &
-            this%stiffness(3, this%n_elements), this%viscosity(3, this%n_elements))
+            this%stiffness(3, this%n_elements), this%viscosity(3, this%n_elements), &
+            this%axial_reference(this%n_elements))
         do r = 1, size(this%rods)
             associate (rod => this%rods(r))
                 do e = 1, rod%n_elements
@@ -234,6 +239,7 @@ contains
                     this%element_length(next) = rod%length / real(rod%n_elements, rk)
                     this%stiffness(:, next) = rod%element_stiffness(:, e)
                     this%viscosity(:, next) = rod%element_viscosity(:, e)
+                    this%axial_reference(next) = rod%axial_reference
                     call element_mass(this%element_length(next), rod%element_rho(1, e), &
                         rod%element_rho(2, e), this%mass(:, :, next))
                 end do
@@ -267,8 +273,11 @@ contains
         call set_initial_state(this, scene, rods)
     end subroutine planar_init
 
-    !> The straight, stress-free rods at rest or in rigid motion (methods §3.1, §6): nodes along
-    !> the rod, theta_0 from its direction, strains zero; v = velocity + omega x (x -
+    !> The straight rods at rest or in rigid motion (methods §3.1, §6): nodes along the rod,
+    !> theta_0 from its direction, elastic strains zero, or (1 - axial_reference, 0, 0) for a
+    !> prestrained rod (the axial strain of its given length over its stress-free one,
+    !> docs/theory/prestretched_starts.md) in the history of PH-EM (per element) and PH-EMi
+    !> (per Gauss point); v = velocity + omega x (x -
     !> rotation_center) and theta' = omega . normal. A shared node takes the values of the
     !> first rod that reaches it (joined rods agree there by the input check).
     subroutine set_initial_state(this, scene, rods)
@@ -277,8 +286,17 @@ contains
         integer, intent(in) :: rods(:)
         real(rk) :: p(3), v(3), t(3)
         logical :: done(this%n_q)
-        integer :: r, k
+        integer :: r, k, e, at
         allocate(this%initial(this%n_state()), source=0.0_rk)
+        ! The axial strain is the first of each element's or Gauss point's history entries
+        ! (PH-EM: Gamma1, Gamma2, kappa; PH-EMi: (Gamma1, Gamma2) per point).
+        if (this%n_history > 0) then
+            do e = 1, this%n_elements
+                at = 2 * this%n_q + this%n_history * (e - 1)
+                this%initial(at + 1:at + this%n_history:merge(3, 2, this%scheme == scheme_ph_em)) = &
+                    1.0_rk - this%axial_reference(e)
+            end do
+        end if
         done = .false.
         do r = 1, size(rods)
             associate (input => scene%rods(rods(r)), rod => this%rods(r))
@@ -324,6 +342,7 @@ contains
         rod%n_elements = input%n_elements
         rod%length = input%length
         rod%theta0 = angle_in_plane(this%plane, t)
+        rod%axial_reference = axial_reference(input)
         rod%directors0(:, 1) = d1
         rod%directors0(:, 2) = d2
         rod%directors0(:, 3) = t
@@ -718,11 +737,12 @@ contains
         if (this%static) then
             ! An equilibrium: the strains of the state itself (ph_em_static, cl_em_static).
             call compatible_strains(this%element_length(e), this%n_gauss, q_16, &
-                gammas3(:, 1:this%n_gauss))
+                gammas3(:, 1:this%n_gauss), this%axial_reference(e))
             select case (this%scheme)
             case (scheme_ph_em)
                 if (this%condensed) then
-                    hist = ph_em_projected_strains(this%element_length(e), this%n_gauss, q_16)
+                    hist = ph_em_projected_strains(this%element_length(e), this%n_gauss, q_16, &
+                        this%axial_reference(e))
                 else
                     hist = y(this%n_free + 3 * (e - 1) + 1:this%n_free + 3 * e)
                 end if
@@ -818,7 +838,7 @@ contains
                     end if
                 case (scheme_stander_stein)
                     call cl_em_residual(le, this%stiffness(:, e), this%viscosity(:, e), this%n_gauss, h, q_n6, &
-                        q_16, r9(1:6))
+                        q_16, r9(1:6), this%axial_reference(e))
                 case (scheme_ph_irreducible)
                     call history_at_gauss_points(this, x_n, at, gamma_n)
                     call ph_emi_residual(le, this%stiffness(:, e), this%viscosity(:, e), this%n_gauss, h, q_n6, &
@@ -871,24 +891,25 @@ contains
                 case (scheme_ph_em)
                     if (this%condensed .and. present(values)) then
                         call ph_em_static_condensed(le, this%stiffness(:, e), this%n_gauss, &
-                            this%q_1(dofs), r9(1:6), e_1, k9(1:6, 1:6))
+                            this%q_1(dofs), r9(1:6), e_1, k9(1:6, 1:6), this%axial_reference(e))
                     else if (this%condensed) then
                         call ph_em_static_condensed(le, this%stiffness(:, e), this%n_gauss, &
-                            this%q_1(dofs), r9(1:6), e_1)
+                            this%q_1(dofs), r9(1:6), e_1, axial_reference=this%axial_reference(e))
                     else if (present(values)) then
                         call ph_em_static(le, this%stiffness(:, e), this%n_gauss, scale, this%q_1(dofs), &
-                            y(row + 1:row + 3), r9, k9)
+                            y(row + 1:row + 3), r9, k9, this%axial_reference(e))
                     else
                         call ph_em_static(le, this%stiffness(:, e), this%n_gauss, scale, this%q_1(dofs), &
-                            y(row + 1:row + 3), r9)
+                            y(row + 1:row + 3), r9, axial_reference=this%axial_reference(e))
                         f(row + 1:row + 3) = r9(7:9)
                     end if
                 case default
                     if (present(values)) then
                         call cl_em_static(le, this%stiffness(:, e), this%n_gauss, this%q_1(dofs), &
-                            r9(1:6), k9(1:6, 1:6))
+                            r9(1:6), k9(1:6, 1:6), this%axial_reference(e))
                     else
-                        call cl_em_static(le, this%stiffness(:, e), this%n_gauss, this%q_1(dofs), r9(1:6))
+                        call cl_em_static(le, this%stiffness(:, e), this%n_gauss, this%q_1(dofs), &
+                            r9(1:6), axial_reference=this%axial_reference(e))
                     end if
                 end select
             end associate
@@ -964,7 +985,7 @@ contains
                     end if
                 case (scheme_stander_stein)
                     call cl_em_jacobian(le, this%stiffness(:, e), this%viscosity(:, e), this%n_gauss, h, q_n6, &
-                        q_16, k6)
+                        q_16, k6, this%axial_reference(e))
                     k9(1:6, 1:6) = k6
                 case (scheme_ph_irreducible)
                     call history_at_gauss_points(this, x_n, at, gamma_n)
@@ -1080,7 +1101,7 @@ contains
                         strain = strain + mixed_strain_energy(le, this%stiffness(:, e), x(at + 1:at + 3))
                     case (scheme_stander_stein)
                         strain = strain + compatible_strain_energy(le, this%stiffness(:, e), &
-                            this%n_gauss, q6)
+                            this%n_gauss, q6, this%axial_reference(e))
                     case (scheme_ph_irreducible)
                         call history_at_gauss_points(this, x, at, g)
                         strain = strain + ph_emi_strain_energy(le, this%stiffness(:, e), &
@@ -1216,7 +1237,8 @@ contains
                     case (scheme_ph_em)
                         planar = x(at + 1:at + 3)
                     case (scheme_stander_stein)
-                        call compatible_strains(le, this%n_gauss, q6, gammas(:, 1:this%n_gauss))
+                        call compatible_strains(le, this%n_gauss, q6, gammas(:, 1:this%n_gauss), &
+                            this%axial_reference(i))
                         planar = sum(gammas(:, 1:this%n_gauss), dim=2) / real(this%n_gauss, rk)
                     case default
                         call history_at_gauss_points(this, x, at, history)

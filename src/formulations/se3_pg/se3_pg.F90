@@ -49,7 +49,7 @@ module rs_se3_pg
     use rs_core_error, only: error_t, set_error
     use rs_core_strings, only: str, vector_text
     use rs_model_scene, only: scene_t, rod_input_t, bc_input_t, load_applies_to, coordinate_axis, &
-        element_properties
+        element_properties, axial_reference
     use rs_model_rod_history, only: rod_history_t
     use rs_model_time_function, only: time_function_t, time_function_from_load, time_function_from_bc
     use rs_model_rod_geometry, only: rod_geometry_t, rod_geometry_of, centreline_point, &
@@ -264,7 +264,10 @@ contains
     !> Nodal reference poses from the centreline and its frame (rs_model_rod_geometry), the
     !> elements' reference lengths l_e = |theta_v(Q)| and strains theta(Q) / l_e (methods §5.3:
     !> exact for any reference the SE(3) interpolation represents, e.g. a straight rod, a circle
-    !> or a helix with its frame); the initial rigid velocity field.
+    !> or a helix with its frame); the initial rigid velocity field. A prestrained rod (&rod
+    !> prestrain) has the translational reference strains divided by 1 + prestrain: those of
+    !> its stress-free shape, the given one shortened with the same frames, per unit given
+    !> length (docs/theory/prestretched_starts.md; the rotational ones stay).
     subroutine reference_configuration(this, rod)
         type(se3_pg_t), intent(inout) :: this
         type(rod_input_t), intent(in) :: rod
@@ -302,6 +305,7 @@ contains
             theta = log_se3(a_rel, r_rel)
             this%element_length(e) = norm2(theta(1:3))
             if (this%element_length(e) > 0.0_rk) this%eps_ref(:, e) = theta / this%element_length(e)
+            this%eps_ref(1:3, e) = axial_reference(rod) * this%eps_ref(1:3, e)
         end do
     end subroutine reference_configuration
 
