@@ -231,6 +231,15 @@ contains
                 if (size(scene%obstacles) > 0) call errors%add(here // 'not with &obstacle ' // &
                     '(an obstacle coupling has no continued equilibrium yet)')
             end if
+            do i = 1, size(scene%rods)
+                associate (rod => scene%rods(i))
+                    if (any(rod%velocity /= 0.0_rk) .or. any(rod%angular_velocity /= 0.0_rk)) &
+                        call errors%add(at(scene, rod%input_line) // '&rod velocity, ' // &
+                        'angular_velocity: rod ''' // trim(rod%name) // ''' is given an ' // &
+                        'initial motion, but with &time initial_equilibrium the dynamics ' // &
+                        'start at rest in the equilibrium; allowed: 0, 0, 0')
+                end associate
+            end do
         end if
         do i = 1, size(scene%rods)
             associate (rod => scene%rods(i))

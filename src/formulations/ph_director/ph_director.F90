@@ -249,12 +249,14 @@ contains
         end associate
         this%condensed = scene%solver%condense_stresses
         if (this%condensed .and. (any(this%material%compliance == 0.0_rk) .or. &
-            this%material%n_branches > 0 .or. this%quasistatic)) then
+            this%material%n_branches > 0 .or. this%quasistatic .or. &
+            scene%time%initial_equilibrium)) then
             ! Condensation needs an invertible, step-independent stress block and the dynamic
-            ! kinematic rows (methods §5.5).
+            ! kinematic rows (methods §5.5); the continued equilibrium (quasistatics, the
+            ! initial equilibrium) has the stresses among its unknowns.
             call log_info('rod ''' // this%name // ''': condense_stresses ignored: ' // &
-                'constrained components, Maxwell branches or a quasistatic run keep the ' // &
-                'stresses as unknowns')
+                'constrained components, Maxwell branches, a quasistatic run or an initial ' // &
+                'equilibrium keep the stresses as unknowns')
             this%condensed = .false.
         end if
         call number_dofs(this)

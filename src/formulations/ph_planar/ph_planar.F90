@@ -13,7 +13,9 @@
 !>
 !> Joints share nodal unknowns (methods §6.3, the authors' master-slave elimination; DESIGN.md
 !> §5): a revolute joint shares the position of the two rod ends, a rigid joint also the angle.
-!> Supports fix unknowns (clamped: x, y, theta; pinned: x, y). Loads are inputs evaluated at
+!> Supports fix unknowns (clamped: x, y, theta; pinned: x, y); a support released at a time
+!> (&bc release_time) keeps them as unknowns with held rows until then (rs_formulations_
+!> held_rows, docs/theory/prestretched_starts.md). Loads are inputs evaluated at
 !> t_{n+1/2} (methods §3.4, §4.1), so the energy balance H_{n+1} - H_n = f(t_{n+1/2}) . (q_{n+1}
 !> - q_n) is exact whatever the load; gravity is a distributed input (methods §6.3).
 !>
@@ -39,6 +41,7 @@ module rs_ph_planar
     use rs_formulations_formulation, only: rod_formulation_t, formulation_traits_t, &
         state_measures_t, state_valid, state_invalid
     use rs_formulations_energy_sentinel, only: step_energy_t, energy_consistent, energy_unchecked
+    use rs_formulations_held_rows, only: held_rows_t
     use rs_ph_planar_element, only: ph_em_residual, ph_em_jacobian, ph_em_condensed, &
         cl_em_residual, cl_em_jacobian, ph_emi_residual, ph_emi_jacobian, ph_emi_strains, &
         element_mass, mixed_strain_energy, compatible_strain_energy, compatible_strains, &
@@ -109,6 +112,11 @@ module rs_ph_planar
         integer :: n_q = 0, n_elements = 0, n_history = 0, n_free = 0, n_y = 0
         !> unknown_of(i): index of q(i) in Y (0: fixed by a support).
         integer, allocatable :: unknown_of(:)
+        !> Supports released at a time (&bc release_time): their q indices and times (set by
+        !> fix_supports), and the held rows of their unknowns (set with the pattern).
+        integer, allocatable :: released_q(:)
+        real(rk), allocatable :: released_time(:)
+        type(held_rows_t) :: held
         !> Per element: its rod, its index there, its 6 q indices.
         integer, allocatable :: element_rod(:), element_dofs(:, :)
         real(rk), allocatable :: element_length(:)
@@ -493,8 +501,10 @@ contains
         type(error_t), allocatable, intent(out) :: err
         character(len=:), allocatable :: message
         logical :: fixed(this%n_q)
+        real(rk) :: release(this%n_q)
         integer :: i, r, node, next, slide
         fixed = .false.
+        release = unset_real
         do i = 1, size(scene%bcs)
             associate (bc => scene%bcs(i))
                 do r = 1, size(rods)
@@ -503,8 +513,10 @@ contains
                     select case (trim(bc%kind))
                     case ('clamped')
                         fixed(this%rods(r)%dofs(:, node)) = .true.
+                        release(this%rods(r)%dofs(:, node)) = bc%release_time
                     case ('pinned')
                         fixed(this%rods(r)%dofs(1:2, node)) = .true.
+                        release(this%rods(r)%dofs(1:2, node)) = bc%release_time
                     case ('sliding')
                         ! A prismatic support: theta and the position across the axis held,
                         ! by elimination, so the axis must be a planar coordinate axis.
@@ -531,6 +543,10 @@ contains
                 end do
             end associate
         end do
+        ! A released support's coordinates are unknowns (held rows until the release).
+        this%released_q = pack([(i, i = 1, this%n_q)], fixed .and. release /= unset_real)
+        this%released_time = release(this%released_q)
+        fixed(this%released_q) = .false.
         allocate(this%unknown_of(this%n_q), source=0)
         next = 0
         do i = 1, this%n_q
@@ -600,6 +616,8 @@ contains
             call builder%add_block(local, local)
         end do
         call builder%build(this%pattern)
+        call this%held%init(this%unknown_of(this%released_q), this%released_q, &
+            this%released_time, this%pattern%row_ptr, this%pattern%cols)
         allocate(this%element_map(n_local, n_local, this%n_elements), source=0)
         do e = 1, this%n_elements
             call local_unknowns(this, e, local)
@@ -692,7 +710,8 @@ contains
     end subroutine planar_predictor
 
     !> X_{n+1}: q from Y, v_{n+1} = 2 (q_{n+1} - q_n) / h - v_n (the midpoint rule, methods §4.3;
-    !> zero in a quasistatic run, which has no velocities), and the element history. Then, when
+    !> zero in a quasistatic run, which has no velocities, and after an equilibrium solve), and
+    !> the element history. Then, when
     !> allowed (find_angles), every nodal angle is shifted by the same 2 pi k that brings the
     !> first one into [-pi, pi]: velocities and history come from the unshifted step.
     subroutine planar_update(this, t_n, h, x_n, y, x_1)
@@ -701,7 +720,9 @@ contains
         real(rk), intent(out) :: x_1(:)
         integer :: e, first
         call this%full_q(x_n(1:this%n_q), y, x_1(1:this%n_q))
-        if (this%quasistatic) then
+        if (this%quasistatic .or. this%static) then
+            ! No velocities in a quasistatic run; an equilibrium (the initial one of a dynamic
+            ! run, &time initial_equilibrium) is at rest.
             x_1(this%n_q + 1:2 * this%n_q) = 0.0_rk
         else
             x_1(this%n_q + 1:2 * this%n_q) = 2.0_rk * (x_1(1:this%n_q) - x_n(1:this%n_q)) / h - &
@@ -862,6 +883,7 @@ contains
         do i = 1, this%n_q
             if (this%unknown_of(i) > 0) f(this%unknown_of(i)) = f(this%unknown_of(i)) - this%f_ext(i)
         end do
+        call this%held%apply_residual(t_n, h, .false., x_n, y, f)
     end subroutine residual_values
 
     !> dF/dY: the element tangents (methods §10: analytic, checked against finite differences in
@@ -927,13 +949,17 @@ contains
                 end do
             end if
         end do
-        if (.not. present(f)) return
+        if (.not. present(f)) then
+            call this%held%apply_jacobian(this%t_static, 0.0_rk, .true., values)
+            return
+        end if
         call this%load_vectors(this%t_static)
         do i = 1, this%n_q
             if (this%unknown_of(i) > 0) &
                 f(this%unknown_of(i)) = f(this%unknown_of(i)) - this%f_ext(i)
         end do
         if (this%continuing) f = f - max(0.0_rk, 1.0_rk - tau) * this%anchor
+        call this%held%apply_residual(this%t_static, 0.0_rk, .true., x_n, y, f)
     end subroutine static_rows
 
     subroutine planar_step_jacobian(this, t_n, h, x_n, y, values, status)
@@ -941,7 +967,7 @@ contains
         real(rk), intent(in) :: t_n, h, x_n(:), y(:)
         real(rk), intent(out) :: values(:)
         integer, intent(out) :: status
-        call jacobian_values(this, h, x_n, y, size(values), values)
+        call jacobian_values(this, t_n, h, x_n, y, size(values), values)
         status = state_valid
         if (has_nan(size(values), values)) status = state_invalid
     end subroutine planar_step_jacobian
@@ -949,9 +975,9 @@ contains
     ! The CSR values of planar_step_jacobian, on an explicit-shape values: with the interface's
     ! values(:), of a stride unknown at compile time, zeroing and NaN-checking the 729 values of
     ! the 10-element spaghetti were strided scalar loops, a third of this routine's own time.
-    subroutine jacobian_values(this, h, x_n, y, n_values, values)
+    subroutine jacobian_values(this, t_n, h, x_n, y, n_values, values)
         type(ph_planar_t), intent(inout) :: this
-        real(rk), intent(in) :: h, x_n(:), y(:)
+        real(rk), intent(in) :: t_n, h, x_n(:), y(:)
         integer, intent(in) :: n_values
         real(rk), intent(out) :: values(n_values)
         real(rk) :: k9(9, 9), k6(6, 6), r6(6), e_1(3), q_n6(6), q_16(6), gamma_n(2, 2)
@@ -1004,6 +1030,7 @@ contains
                 end do
             end associate
         end do
+        call this%held%apply_jacobian(t_n, h, .false., values)
     end subroutine jacobian_values
 
     !> Nodal load vectors at time t: per rod (f_rod, for its work) and in total (f_ext).
