@@ -30,8 +30,8 @@ module rs_ph_planar
     use rs_core_kinds, only: rk, pi
     use rs_core_error, only: error_t, set_error
     use rs_core_strings, only: str, vector_text
-    use rs_model_scene, only: scene_t, rod_input_t, load_applies_to, unset_real, element_properties, &
-        axial_reference
+    use rs_model_scene, only: scene_t, rod_input_t, load_applies_to, unset_real, &
+        element_properties, axial_reference
     use rs_model_damping, only: kv_axial, kv_shear1, kv_shear2, kv_bend1, kv_bend2
     use rs_model_rod_history, only: rod_history_t
     use rs_model_time_function, only: time_function_t, time_function_from_load
@@ -294,15 +294,15 @@ contains
         integer, intent(in) :: rods(:)
         real(rk) :: p(3), v(3), t(3)
         logical :: done(this%n_q)
-        integer :: r, k, e, at
+        integer :: r, k, e, at, stride
         allocate(this%initial(this%n_state()), source=0.0_rk)
         ! The axial strain is the first of each element's or Gauss point's history entries
         ! (PH-EM: Gamma1, Gamma2, kappa; PH-EMi: (Gamma1, Gamma2) per point).
         if (this%n_history > 0) then
+            stride = merge(3, 2, this%scheme == scheme_ph_em)
             do e = 1, this%n_elements
                 at = 2 * this%n_q + this%n_history * (e - 1)
-                this%initial(at + 1:at + this%n_history:merge(3, 2, this%scheme == scheme_ph_em)) = &
-                    1.0_rk - this%axial_reference(e)
+                this%initial(at + 1:at + this%n_history:stride) = 1.0_rk - this%axial_reference(e)
             end do
         end if
         done = .false.

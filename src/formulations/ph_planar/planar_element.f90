@@ -568,8 +568,8 @@ contains
 
     ! Nodal rows of the displacement-based schemes (methods §5.1 eq. 75 for cl-EM, §5.2 eq. 77
     ! for PH-EMi) and optionally k(6, 6) = dr/dq_1. cl-EM's strains are relative to the
-    ! reference axial strain axial_reference (PH-EMi's history carries its own). Bending is G1 M05 with M05 = EI d_s phi05 in
-    ! both. `stander_stein` selects cl-EM (endpoint-average strain, Z1, Z2); otherwise PH-EMi
+    ! reference axial strain axial_reference (PH-EMi's history carries its own). Bending is
+    ! G1 M05 with M05 = EI d_s phi05 in both. `stander_stein` selects cl-EM (endpoint-average strain, Z1, Z2); otherwise PH-EMi
     ! (history strain gamma_n, Z1 = Z2 = 1). rate(3) = V/h: the stresses of the step are
     ! N_g = D_ts Gamma05_g + rate (Gamma_1,g - Gamma_n,g) and M05 = EI kappa05 + rate_EI dkappa,
     ! with the scheme's own strain increment (compatible, or the history update of eq. 78a);

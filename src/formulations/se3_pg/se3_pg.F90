@@ -48,9 +48,9 @@
 !>
 !> Supports eliminate unknowns: clamped fixes r and psi, pinned fixes r (the heavy top's
 !> spherical joint; a clamp or pin released at a time, &bc release_time, keeps them as unknowns
-!> with held rows until then: rs_formulations_held_rows), driven prescribes r and psi (a clamp moved and turned in time, e.g. the
-!> superimposed rotation of methods §10.3). Loads: dead (spatial) and follower end forces and moments, dead
-!> distributed forces and moments, gravity.
+!> with held rows until then: rs_formulations_held_rows), driven prescribes r and psi (a clamp
+!> moved and turned in time, e.g. the superimposed rotation of methods §10.3). Loads: dead
+!> (spatial) and follower end forces and moments, dead distributed forces and moments, gravity.
 module rs_se3_pg
     use rs_core_kinds, only: rk, pi
     use rs_core_error, only: error_t, set_error

@@ -240,8 +240,8 @@ contains
     !> (the SE(3) logarithm of the relative pose of neighbouring nodes, exact for a straight rod,
     !> a circle or a helix with its frame), or those of the straight rod if `prestressed` (the
     !> rod starts with the stresses of its initial shape); a prestrained rod's translational
-    !> ones divided by 1 + prestrain (docs/theory/prestretched_starts.md). Initial state: P = M V of the rigid
-    !> velocity field, Sigma = A (U_0 - U_bar), ghosts mirrored so that eqs. (14)-(15) hold with
+    !> ones divided by 1 + prestrain (docs/theory/prestretched_starts.md). Initial state:
+    !> P = M V of the rigid velocity field, Sigma = A (U_0 - U_bar), ghosts mirrored so that eqs. (14)-(15) hold with
     !> no end stress.
     subroutine reference_configuration(this, rod)
         type(se3_strand_t), intent(inout) :: this
