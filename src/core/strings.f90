@@ -8,7 +8,7 @@ module rs_core_strings
     private
 
     public :: str_significant, to_lower, str, edit_distance, closest_name, vector_text, did_you_mean
-    public :: to_c_string, from_c_string, split_list
+    public :: to_c_string, from_c_string, split_list, append_joined
 
     !> Text built by appending pieces, grown by doubling: appending n pieces costs time linear
     !> in the total length (appending to a deferred-length string copies all of it each time,
@@ -222,6 +222,14 @@ contains
             text(i:i) = chars(i)
         end do
     end function from_c_string
+
+    !> Append `part` to `text`, after `separator` unless `text` is empty (a list in words).
+    pure subroutine append_joined(text, separator, part)
+        character(len=:), allocatable, intent(inout) :: text
+        character(len=*), intent(in) :: separator, part
+        if (len(text) > 0) text = text // separator
+        text = text // part
+    end subroutine append_joined
 
     !> The names of a '|'-separated list ('a|b|c'; an empty list gives one blank name).
     pure function split_list(list) result(names)

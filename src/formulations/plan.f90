@@ -9,7 +9,7 @@ module rs_formulations_plan
     use rs_core_kinds, only: rk
     use rs_core_error, only: error_t
     use rs_core_strings, only: str, text_buffer_t, vector_text
-    use rs_model_scene, only: scene_t, step_count, obstacle_input_t, rod_segment_count
+    use rs_model_scene, only: scene_t, step_count, obstacle_input_t, rod_segment_count, unset_real
     use rs_model_units, only: unit_in_system
     use rs_model_coupling, only: coupled_systems, system_costs
     use rs_formulations_formulation, only: rod_formulation_t
@@ -73,6 +73,10 @@ contains
                 str(scene%time%t_end) // ' ' // unit_in_system('s', units) // &
                 ' (halved up to ' // str(scene%solver%max_cutbacks) // ' times on Newton failure)')
         end if
+        if (scene%time%initial_equilibrium) call add('start: the static equilibrium with the ' // &
+            'loads and supports at t = 0, continued from the initial placement, then the ' // &
+            'dynamics from it at rest (&time initial_equilibrium; docs/theory/' // &
+            'prestretched_starts.md)')
         if (len(semi_implicit_step) > 0) then
             call add('Newton: none, one linear solve per step (PETSc''s LU)')
         else
@@ -146,6 +150,7 @@ contains
                 end if
                 call append(lines)
                 call append(segment_plan_lines(scene, i))
+                call append(prestretched_plan_lines(scene, i))
                 call create_formulation(trim(rod%formulation), mold, err)
                 if (.not. allocated(err)) call rod_sizes_of(scene, i, sizes, err, mold)
                 if (.not. allocated(err)) call append('!     memory: ' // &
@@ -283,6 +288,33 @@ contains
             end do
         end function taper_text
     end function segment_plan_lines
+
+    !> Rod `i`'s prestretched start ('' without one; docs/theory/prestretched_starts.md): its
+    !> prestrain with the stress-free length and the axial force it starts with, and its
+    !> supports released at a time.
+    function prestretched_plan_lines(scene, i) result(text)
+        type(scene_t), intent(in) :: scene
+        integer, intent(in) :: i
+        character(len=:), allocatable :: text
+        integer :: k
+        text = ''
+        associate (rod => scene%rods(i))
+            if (rod%prestrain /= 0.0_rk) text = '!     prestrain ' // str(rod%prestrain) // &
+                ': stress-free length ' // str(rod%length / (1.0_rk + rod%prestrain)) // &
+                ' (given ' // str(rod%length) // '), axial force EA prestrain = ' // &
+                str(rod%EA * rod%prestrain) // ' at the start; stiffnesses and inertias per ' // &
+                'given length scaled by (1 + prestrain)^(+-1)' // new_line('a')
+            do k = 1, size(scene%bcs)
+                associate (bc => scene%bcs(k))
+                    if (bc%rod /= rod%name .or. bc%release_time == unset_real) cycle
+                    text = text // '!     released support: the ''' // trim(bc%end) // &
+                        ''' end (' // trim(bc%kind) // ') held until t = ' // &
+                        str(bc%release_time) // ', free after it (its unknowns held by ' // &
+                        'their own rows until then)' // new_line('a')
+                end associate
+            end do
+        end associate
+    end function prestretched_plan_lines
 
     !> The sweep part of the plan ('' without &sweep): the number of members and how the sweeps
     !> combine, each swept variable with its number and range of values, and the values of the

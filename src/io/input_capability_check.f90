@@ -16,7 +16,7 @@ module rs_io_input_capability_check
     use rs_model_coupling, only: coupled_systems
     use rs_formulations_descriptor, only: formulation_descriptor_t
     use rs_formulations_registry, only: formulation_descriptors, descriptor_of, capability_of, &
-        available_formulations, default_formulation, auto_planar_formulation
+        available_formulations, default_formulation, auto_planar_formulation, is_bundle
     use rs_io_input_check_common, only: at, rod_index, see_matrix
     implicit none
     private
@@ -201,7 +201,89 @@ contains
         end if
         call check_planar_systems(scene, errors)
         call check_one_formulation_per_system(scene, errors)
+        call check_prestretched_starts(scene, errors)
     end subroutine check_capabilities
+
+    !> Prestretched starts (issue 26 item 3; docs/theory/prestretched_starts.md), besides the
+    !> capability rows: the initial equilibrium is a dynamic run's and is solved per member
+    !> (the continuation of DESIGN.md §3, which coupled systems do not have); a released end is
+    !> a clamped or pinned one that nothing else ties; a prestrain needs an extensible rod.
+    subroutine check_prestretched_starts(scene, errors)
+        type(scene_t), intent(in) :: scene
+        type(error_list_t), intent(inout) :: errors
+        integer, allocatable :: system_of(:), first(:), members(:)
+        character(len=:), allocatable :: here
+        integer :: s, i, j
+        here = at(scene, scene%time%input_line) // '&time initial_equilibrium: '
+        if (scene%time%initial_equilibrium) then
+            if (scene%time%quasistatic) call errors%add(here // 'a quasistatic run starts ' // &
+                'in equilibrium already (equilibrium_solves); it is for dynamic runs')
+            if (scene%time%relaxation) call errors%add(here // 'relaxation runs to rest from ' // &
+                'its start; choose one of relaxation and initial_equilibrium')
+            call coupled_systems(scene, system_of, first, members)
+            do s = 1, size(first) - 1
+                if (.not. is_bundle(scene, members(first(s):first(s + 1) - 1))) cycle
+                call errors%add(here // 'rod ''' // trim(scene%rods(members(first(s)))%name) // &
+                    ''' is coupled to other rods (&joint, &plate or &contact through the ' // &
+                    'system layer), whose equilibrium is not continued yet')
+            end do
+            if (allocated(scene%obstacles)) then
+                if (size(scene%obstacles) > 0) call errors%add(here // 'not with &obstacle ' // &
+                    '(an obstacle coupling has no continued equilibrium yet)')
+            end if
+            do i = 1, size(scene%rods)
+                associate (rod => scene%rods(i))
+                    if (any(rod%velocity /= 0.0_rk) .or. any(rod%angular_velocity /= 0.0_rk)) &
+                        call errors%add(at(scene, rod%input_line) // '&rod velocity, ' // &
+                        'angular_velocity: rod ''' // trim(rod%name) // ''' is given an ' // &
+                        'initial motion, but with &time initial_equilibrium the dynamics ' // &
+                        'start at rest in the equilibrium; allowed: 0, 0, 0')
+                end associate
+            end do
+        end if
+        do i = 1, size(scene%rods)
+            associate (rod => scene%rods(i))
+                if (rod%prestrain == 0.0_rk) cycle
+                if (trim(rod%constraint) == 'inextensible' .or. any(rod%rigid == 'EA')) &
+                    call errors%add(at(scene, rod%input_line) // '&rod prestrain: rod ''' // &
+                    trim(rod%name) // ''' is inextensible (constraint or rigid EA), so it has ' // &
+                    'no stress-free length other than its given one; remove prestrain')
+            end associate
+        end do
+        do j = 1, size(scene%bcs)
+            associate (bc => scene%bcs(j))
+                if (bc%release_time == unset_real) cycle
+                if (trim(bc%kind) /= 'clamped' .and. trim(bc%kind) /= 'pinned') &
+                    call errors%add(at(scene, bc%input_line) // '&bc release_time: only a ' // &
+                    'clamped or pinned end is released, this one is ''' // trim(bc%kind) // '''')
+                if (end_is_tied(bc%rod, bc%end)) call errors%add(at(scene, bc%input_line) // &
+                    '&bc release_time: the ''' // trim(bc%end) // ''' end of rod ''' // &
+                    trim(bc%rod) // ''' is also tied by a &joint or &plate; a released end ' // &
+                    'must be held by its support alone')
+            end associate
+        end do
+    contains
+        logical function end_is_tied(rod_name, end_name)
+            character(len=*), intent(in) :: rod_name, end_name
+            integer :: k
+            end_is_tied = .false.
+            if (allocated(scene%joints)) then
+                do k = 1, size(scene%joints)
+                    associate (joint => scene%joints(k))
+                        if ((joint%rod_a == rod_name .and. joint%end_a == end_name) .or. &
+                            (joint%rod_b == rod_name .and. joint%end_b == end_name)) &
+                            end_is_tied = .true.
+                    end associate
+                end do
+            end if
+            if (allocated(scene%plates)) then
+                do k = 1, size(scene%plates)
+                    if (any(scene%plates(k)%rods == rod_name) .and. &
+                        scene%plates(k)%end == end_name) end_is_tied = .true.
+                end do
+            end if
+        end function end_is_tied
+    end subroutine check_prestretched_starts
 
     !> The rods of one coupled system (joints, plates, contact; rs_model_coupling) run on one
     !> formulation: its couplings act in that formulation's coordinates and rows (ties in its
@@ -479,6 +561,14 @@ contains
                 rod%input_line) // '&rod prestressed: a straight stress-free shape under a ' // &
                 'curved initial one is not available for ' // what // ' (rod ''' // &
                 trim(rod%name) // '''): it would be ignored' // see_matrix)
+            if (rod%prestrain /= 0.0_rk .and. .not. row%prestrain) call errors%add(at(scene, &
+                rod%input_line) // '&rod prestrain: an axial prestrain is not available for ' // &
+                what // ' (rod ''' // trim(rod%name) // '''): it would be ignored' // see_matrix)
+            if (scene%time%initial_equilibrium .and. .not. row%initial_equilibrium) &
+                call errors%add(at(scene, scene%time%input_line) // '&time ' // &
+                'initial_equilibrium: a start in static equilibrium is not available for ' // &
+                what // ' (rod ''' // trim(rod%name) // '''); start from the stress-free or ' // &
+                'prestrained placement instead' // see_matrix)
             if (scene%time%quasistatic .and. .not. row%quasistatic) call errors%add(at(scene, 0) // &
                 '&time quasistatic: not available for ' // what // ' (rod ''' // trim(rod%name) // &
                 ''')' // see_matrix)
@@ -515,6 +605,10 @@ contains
                         cycle
                     end if
                     if (trim(bc%kind) == 'driven') call check_drive(bc)
+                    if (bc%release_time /= unset_real .and. .not. row%release) &
+                        call errors%add(at(scene, bc%input_line) // '&bc release_time: a ' // &
+                        'support released at a time is not available for ' // what // &
+                        ' (rod ''' // trim(rod%name) // ''')' // see_matrix)
                 end associate
             end do
             ! An end without &bc is free: refused where the formulation cannot leave it free.

@@ -290,6 +290,15 @@ contains
                 '(the last record then depends on dt: the open rings of its Fig. 7 right, ' // &
                 'methods/ph_planar.md §6.2). se3_pg solves an equilibrium at every step either way.', &
                 example='.false.'), &
+            spec_v('initial_equilibrium', 'logical', '-', '.false.', &
+                'A dynamic run that starts at rest in static equilibrium: before the first ' // &
+                'step the static problem with the loads and supports at t = 0 is solved, ' // &
+                'continued from the initial placement as in quasistatics, and the dynamics ' // &
+                'start from it with zero velocity (a rope hanging between two pins before one ' // &
+                'is released: &bc release_time). Not with quasistatic or relaxation, nor with ' // &
+                '&plate, &contact, &obstacle or joints between separate members; formulations: ' // &
+                'docs/user/capabilities.md (docs/theory/prestretched_starts.md).', &
+                example='.true.'), &
             spec_v('relaxation', 'logical', '-', '.false.', &
                 'Statics by damped dynamics (seed 004, methods/se3_strands.md §3.7): the ' // &
                 'dynamics run with the rods'' damping, and the run stops as soon as the kinetic ' // &
@@ -518,6 +527,15 @@ contains
                 'starts prestressed, with the elastic stresses of its strains (the projection of ' // &
                 'methods/ph_director_3d.md §5.4); the stresses of constrained components and of ' // &
                 'Maxwell branches start at zero. Same as false for a straight rod.', example='.true.'), &
+            spec_v('prestrain', 'real', '-', '0', &
+                'Axial prestrain eps of the given geometry: the stress-free rod is the geometry ' // &
+                'shortened along its arc length by 1/(1 + eps), same shape, so the rod starts ' // &
+                'with the axial force EA eps and no bending stress (a stretched rope: eps > 0; ' // &
+                'compressed: eps < 0). EA ... GJ, rhoA, rhoI1, rhoI2 and density are those of ' // &
+                'the stress-free rod (its mass is that of the stress-free length); loads per ' // &
+                'length and drags are per unit given length. Not with an inextensible or ' // &
+                'EA-rigid rod (docs/theory/prestretched_starts.md).', lower=-1.0_rk, &
+                lower_inclusive=.false., example='0.001'), &
             spec_v('constraint', 'string', '-', "'none'", &
                 "Kinematic constraint: 'kirchhoff' = shear-rigid, 'inextensible' = shear-rigid " // &
                 'and inextensible (seed 000 §2.3, §5; methods/ph_director_3d.md §2.3). The ' // &
@@ -660,6 +678,14 @@ contains
                 'the set-up of a twisted rod buckling into a helix). Formulations that hold ' // &
                 'coordinates need a coordinate axis (docs/user/capabilities.md).', count=3, &
                 required_if='kind=sliding', only_if='kind=sliding', example='1, 0, 0'), &
+            spec_v('release_time', 'real', 's', '(never)', 'A clamped or pinned end held ' // &
+                'until this time and free afterwards (a rope released from a pin): steps ' // &
+                'whose midpoint is before it hold the end, later ones do not (on the time ' // &
+                'grid, the first step that starts there is free; adaptive steps end there); ' // &
+                'the initial equilibrium (&time initial_equilibrium) holds it. The end''s ' // &
+                'unknowns are in the system throughout, their equations held ones until the ' // &
+                'release (docs/theory/prestretched_starts.md).', lower=0.0_rk, &
+                example='0.5'), &
             spec_v('displacement', 'real', 'm', '0, 0, 0', 'Driven end of a formulation that ' // &
                 'drives the pose (se3_pg): its displacement at f(t) = 1 (inertial components); ' // &
                 'the end is at its reference position plus f(t) displacement.', count=3, &

@@ -41,6 +41,13 @@ module rs_model_capabilities
         logical :: curved_reference = .false.
         !> A straight stress-free shape under a curved initial one (&rod prestressed).
         logical :: prestressed = .false.
+        !> Prestretched starts (issue 26 item 3; docs/theory/prestretched_starts.md): an axial
+        !> prestrain of the given geometry (&rod prestrain), a dynamic run that starts from its
+        !> static equilibrium (&time initial_equilibrium), a support released at a time (&bc
+        !> release_time).
+        logical :: prestrain = .false.
+        logical :: initial_equilibrium = .false.
+        logical :: release = .false.
         !> Kinds of &joint it can tie its rods' ends with ('revolute', 'rigid', 'spherical').
         character(len=64) :: joints = ''
         !> Rod ends tied to rigid end plates, fixed or driven (&plate).

@@ -4,7 +4,7 @@
 !> GENERATED markers and the input_capabilities_doc test compares the two, so the matrix a
 !> reader sees is the one `--check-input` enforces (issue 21 item 15).
 module rs_model_capability_matrix
-    use rs_core_strings, only: split_list
+    use rs_core_strings, only: split_list, append_joined
     use rs_model_capabilities, only: capability_t, lists_name
     implicit none
     private
@@ -22,10 +22,11 @@ contains
         character(len=*), parameter :: nl = new_line('a')
         integer :: i
         text = '| formulation | ends | ends at s = L, if other | driven ends by | end loads | ' // &
-            'distributed loads, gravity | curved reference | prestressed | constraints | ' // &
+            'distributed loads, gravity | curved reference | prestressed | ' // &
+            'prestretched starts | constraints | ' // &
             'viscoelasticity | damping | varying along the rod | actuation | joints | end plates | ' // &
             'contact | quasistatics | relaxation | order 4 in time | adaptive steps | ' // &
-            'generalized-α | planar |' // nl // '|' // repeat('---|', 22)
+            'generalized-α | planar |' // nl // '|' // repeat('---|', 23)
         do i = 1, size(rows)
             if (rows(i)%available) text = text // nl // row_markdown(rows(i))
         end do
@@ -44,6 +45,7 @@ contains
             ' | ' // yes_no(row%curved_reference, 'yes: `geometry` helix, polyline, curvature ' // &
                 '(rest curvature and pre-twist of s: `rest_curvature`, `rest_curvature_table`)') // &
             ' | ' // yes_no(row%prestressed, 'yes (`prestressed`)') // &
+            ' | ' // prestretched_text(row) // &
             ' | ' // listed(row%constraints) // &
             ' | ' // yes_no(row%viscoelastic, 'generalized Maxwell (`maxwell_*`)') // &
             ' | ' // yes_no(row%damping, 'Kelvin-Voigt (`kelvin_voigt_time`), drag (`drag`, ' // &
@@ -97,6 +99,18 @@ contains
             text = none
         end if
     end function yes_no
+
+    !> Prestretched starts: which of prestrain, initial equilibrium and release the row has.
+    function prestretched_text(row) result(text)
+        type(capability_t), intent(in) :: row
+        character(len=:), allocatable :: text
+        text = ''
+        if (row%prestrain) call append_joined(text, ', ', 'prestrain (`prestrain`)')
+        if (row%initial_equilibrium) call append_joined(text, ', ', 'initial equilibrium ' // &
+            '(`&time initial_equilibrium`)')
+        if (row%release) call append_joined(text, ', ', 'released supports (`release_time`)')
+        if (len(text) == 0) text = none
+    end function prestretched_text
 
     !> How a driven end is prescribed (the row's `drive`).
     function drive_text(drive) result(text)

@@ -4,7 +4,7 @@
 !> are in docs/theory/damping.md; each formulation applies it in its own kernels.
 module rs_model_damping
     use rs_core_kinds, only: rk
-    use rs_core_strings, only: str_significant
+    use rs_core_strings, only: str_significant, append_joined
     use rs_model_scene, only: rod_input_t
     implicit none
     private
@@ -37,16 +37,11 @@ contains
                 text = text // ' s'
             end if
         end if
-        if (rod%drag > 0.0_rk) call append('drag ' // str_significant(rod%drag, 4) // ' N s/m^2')
-        if (rod%angular_drag > 0.0_rk) call append('angular drag ' // &
+        if (rod%drag > 0.0_rk) call append_joined(text, '; ', 'drag ' // &
+            str_significant(rod%drag, 4) // ' N s/m^2')
+        if (rod%angular_drag > 0.0_rk) call append_joined(text, '; ', 'angular drag ' // &
             str_significant(rod%angular_drag, 4) // ' N s')
         if (len(text) == 0) text = 'none'
-    contains
-        subroutine append(part)
-            character(len=*), intent(in) :: part
-            if (len(text) > 0) text = text // '; '
-            text = text // part
-        end subroutine append
     end function damping_plan_text
 
 end module rs_model_damping

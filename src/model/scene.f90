@@ -14,7 +14,8 @@ module rs_model_scene
 
     public :: load_applies_to, sweep_value_count, sweep_values, sweep_member_count, &
         sweep_member_indices, step_count, body_inertia_tensor, inertia_tensor, rod_is_damped, &
-        coordinate_axis, element_properties, rod_segment_count
+        coordinate_axis, element_properties, rod_segment_count, axial_reference, &
+        end_is_held
 
     !> Marks a real variable that was not given and has no default.
     real(rk), parameter, public :: unset_real = huge(1.0_rk)
@@ -90,6 +91,11 @@ module rs_model_scene
         !> the latest time).
         logical :: relaxation = .false.
         real(rk) :: kinetic_energy_tol = 1.0e-12_rk
+        !> A dynamic run that starts in static equilibrium (issue 26 item 3): first the static
+        !> problem with the loads and supports at t = 0, continued from the initial placement
+        !> (DESIGN.md §3, "Quasistatics"), then the dynamics from that state at rest
+        !> (docs/theory/prestretched_starts.md).
+        logical :: initial_equilibrium = .false.
         !> Line of the &time group (set by the reader; not an input variable).
         integer :: input_line = 0
     end type time_input_t
@@ -181,6 +187,12 @@ module rs_model_scene
         real(rk) :: shear_factor = unset_real
         character(len=name_len) :: torsion_constant = ''
         logical :: prestressed = .false.
+        !> Axial prestrain (issue 26 item 3): the given geometry is the rod stretched by this
+        !> strain from its stress-free state, which is the geometry shortened along its arc
+        !> length by 1 / (1 + prestrain) with the same shape; stiffnesses, inertias and masses
+        !> are those of the stress-free rod (element_properties, axial_reference;
+        !> docs/theory/prestretched_starts.md).
+        real(rk) :: prestrain = 0.0_rk
         character(len=name_len) :: constraint = 'none'
         !> Stiffnesses made infinite besides those of `constraint` (issue 26 item 2): any of
         !> 'EA', 'GA1', 'GA2', 'EI1', 'EI2', 'GJ' (leading given entries; '' unset).
@@ -296,6 +308,10 @@ module rs_model_scene
         !> (inertial components) along which the end's position is free; across it the position
         !> is held, and the end's rotation is held.
         real(rk) :: axis(3) = unset_real
+        !> A clamped or pinned end held until this time and free afterwards (issue 26 item 3;
+        !> unset: held throughout): a rope released from a pin (docs/theory/
+        !> prestretched_starts.md, "Release").
+        real(rk) :: release_time = unset_real
         character(len=name_len) :: time_function = 'constant'
         real(rk) :: t_on = 0.0_rk
         real(rk) :: t_off = unset_real
@@ -527,17 +543,63 @@ contains
     !> rhoI1, rhoI2) of each of the n_elements equal elements of the resolved rod `rod`: those
     !> of the &segment of the rod whose interval holds the element's midpoint, else the rod's.
     !> The resolver puts every s_end on a node, so the midpoint names the one segment of the
-    !> whole element; with another element count (a sizing estimate) it is the nearest.
+    !> whole element; with another element count (a sizing estimate) it is the nearest. The
+    !> values are per unit arc length of the given geometry: a prestrained rod's are scaled
+    !> from its stress-free ones (below).
     pure function element_properties(scene, rod, n_elements) result(values)
         type(scene_t), intent(in) :: scene
         type(rod_input_t), intent(in) :: rod
         integer, intent(in) :: n_elements
         real(rk) :: values(9, n_elements)
-        real(rk) :: s_mid, best
-        integer :: e, k
         values = spread([rod%EA, rod%GA1, rod%GA2, rod%EI1, rod%EI2, rod%GJ, rod%rhoA, &
             rod%rhoI1, rod%rhoI2], 2, n_elements)
-        if (.not. allocated(scene%segments)) return
+        if (allocated(scene%segments)) call segment_properties(scene, rod, values)
+        ! A prestrained rod (&rod prestrain) in the arc length s of its given geometry, s =
+        ! (1 + prestrain) S with S the stress-free one (docs/theory/prestretched_starts.md):
+        ! every stiffness per unit s is (1 + prestrain) times the stress-free one, every inertia
+        ! per unit s divided by it (the mass is that of the stress-free length). Values not
+        ! given (a quasistatic rod's inertias) stay unset.
+        if (rod%prestrain == 0.0_rk) return
+        where (values(1:6, :) /= unset_real) values(1:6, :) = (1.0_rk + rod%prestrain) * &
+            values(1:6, :)
+        where (values(7:9, :) /= unset_real) values(7:9, :) = values(7:9, :) / &
+            (1.0_rk + rod%prestrain)
+    end function element_properties
+
+    !> The reference axial (force) strain Gamma_0 . d_3 per unit arc length s of the given
+    !> geometry of a prestrained rod, 1 / (1 + prestrain) (docs/theory/prestretched_starts.md):
+    !> with element_properties' stiffnesses it makes the energy per unit s that of the
+    !> stress-free rod; the shear and bending references stay those of the given geometry.
+    pure real(rk) function axial_reference(rod)
+        type(rod_input_t), intent(in) :: rod
+        axial_reference = 1.0_rk / (1.0_rk + rod%prestrain)
+    end function axial_reference
+
+    !> Whether a support with release time `release_time` (&bc release_time; unset_real: never)
+    !> holds its end: in a time step from t_n of length h, until the step's midpoint passes the
+    !> release (a release on the time grid frees the end from the first step that starts
+    !> there); in an equilibrium at load time t (`static`), while t <= release_time, so the
+    !> initial equilibrium holds an end released at t = 0 (docs/theory/prestretched_starts.md).
+    pure logical function end_is_held(release_time, t_n, h, static)
+        real(rk), intent(in) :: release_time, t_n, h
+        logical, intent(in) :: static
+        if (release_time == unset_real) then
+            end_is_held = .true.
+        else if (static) then
+            end_is_held = t_n <= release_time
+        else
+            end_is_held = t_n + 0.5_rk * h < release_time
+        end if
+    end function end_is_held
+
+    !> The values of the &segment groups of `rod` over those of the rod (element_properties).
+    pure subroutine segment_properties(scene, rod, values)
+        type(scene_t), intent(in) :: scene
+        type(rod_input_t), intent(in) :: rod
+        real(rk), intent(inout) :: values(:, :)
+        real(rk) :: s_mid, best
+        integer :: e, k, n_elements
+        n_elements = size(values, 2)
         do e = 1, n_elements
             s_mid = rod%length * (real(e, rk) - 0.5_rk) / real(n_elements, rk)
             best = huge(1.0_rk)
@@ -551,7 +613,7 @@ contains
                 end associate
             end do
         end do
-    end function element_properties
+    end subroutine segment_properties
 
     !> The section-derived values of segment `seg` at arc length s: its resolved values, or
     !> for a taper those of the section whose dimensions are linear in s between the

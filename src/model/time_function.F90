@@ -158,7 +158,7 @@ contains
     end function time_function_kinks
 
     !> The kinks of every time function of a checked scene (loads, actuators, driven ends and
-    !> plates, moving obstacles), in no particular order.
+    !> plates, moving obstacles) and the release times of supports, in no particular order.
     function scene_time_kinks(scene) result(times)
         type(scene_t), intent(in) :: scene
         real(rk), allocatable :: times(:)
@@ -182,6 +182,9 @@ contains
             do i = 1, size(scene%bcs)
                 call time_function_from_bc(scene%bcs(i), tf, err)
                 call add(tf, err)
+                ! A support released at a time (&bc release_time) changes the equations there.
+                if (scene%bcs(i)%release_time /= unset_real) &
+                    times = [times, scene%bcs(i)%release_time]
             end do
         end if
         if (allocated(scene%plates)) then

@@ -161,6 +161,18 @@ contains
         allocate(this%context)
         this%context%system => this%system
         this%context%traits = this%system%traits()
+        if (.not. restarting .and. scene%time%initial_equilibrium) then
+            ! A dynamic run that starts in static equilibrium (issue 26 item 3, docs/theory/
+            ! prestretched_starts.md): the statics at t = 0, continued from the initial
+            ! placement as a quasistatic run's initial equilibrium, on a stepper of plain
+            ! midpoint steps in the pseudo-time with a pivoting LU (the static Jacobian lacks
+            ! the mass that makes a dynamic one's diagonal safe); the formulation leaves the
+            ! state at rest. Then the dynamics' own stepper.
+            call build_stepper(this, err, static_stage=.true.)
+            RS_RETURN_IF_ERROR(err)
+            call continue_equilibrium(this, 0.0_rk, 'initial equilibrium at t = 0')
+            if (allocated(this%err)) this%failed = .true.
+        end if
         call build_stepper(this, err)
         RS_RETURN_IF_ERROR(err)
         if (.not. restarting .and. this%context%traits%continues_equilibrium .and. &
@@ -314,14 +326,29 @@ contains
         text = system%describe()
     end function system_plan_text
 
-    !> The stepper of the formulation's current pattern (again after a pattern change).
-    subroutine build_stepper(this, err)
+    !> The stepper of the formulation's current pattern (again after a pattern change); with
+    !> static_stage, that of the initial equilibrium of a dynamic run: order 2, fixed steps,
+    !> the pivoting LU.
+    subroutine build_stepper(this, err, static_stage)
         type(rod_runner_t), intent(inout) :: this
         type(error_t), allocatable, intent(out) :: err
+        logical, intent(in), optional :: static_stage
         integer, allocatable :: row_ptr(:), cols(:), state_entries(:), unknown_entries(:)
         logical, allocatable :: weigh(:)
         integer :: owned(4)
         integer :: jacobians, floor_steps, shortened
+        type(time_input_t) :: time
+        type(formulation_traits_t) :: traits
+        logical :: static
+        static = .false.
+        if (present(static_stage)) static = static_stage
+        time = this%time
+        traits = this%context%traits
+        if (static) then
+            time%order = 2
+            time%adaptive = .false.
+            traits%native_lu = .false.
+        end if
         call this%system%jacobian_pattern(row_ptr, cols)
         call this%stepper%run_stats(jacobians, floor_steps, shortened)
         this%jacobians_before = this%jacobians_before + jacobians
@@ -335,7 +362,7 @@ contains
             call this%stepper%create(this%context%n_state, this%context%n_unknown, row_ptr, cols, &
                 c_funloc(residual_callback), c_funloc(jacobian_callback), &
                 c_funloc(predictor_callback), c_funloc(update_callback), c_funloc(poststep_callback), &
-                c_loc(this%context), stepper_traits(this%solver, this%context%traits, this%time), err, &
+                c_loc(this%context), stepper_traits(this%solver, traits, time), err, &
                 owned=owned, blocks=this%system%solver_blocks())
             RS_RETURN_IF_ERROR(err)
             call this%system%needed_entries(state_entries, unknown_entries)
@@ -345,7 +372,7 @@ contains
             call this%stepper%create(this%context%n_state, this%context%n_unknown, row_ptr, cols, &
                 c_funloc(residual_callback), c_funloc(jacobian_callback), &
                 c_funloc(predictor_callback), c_funloc(update_callback), c_funloc(poststep_callback), &
-                c_loc(this%context), stepper_traits(this%solver, this%context%traits, this%time), err, &
+                c_loc(this%context), stepper_traits(this%solver, traits, time), err, &
                 blocks=this%system%solver_blocks())
             RS_RETURN_IF_ERROR(err)
         end if
@@ -355,7 +382,7 @@ contains
             call this%stepper%set_admissible(c_funloc(admissible_callback), err)
             RS_RETURN_IF_ERROR(err)
         end if
-        if (this%time%adaptive) then
+        if (time%adaptive) then
             call this%stepper%set_breakpoints(this%kinks, err)
             RS_RETURN_IF_ERROR(err)
             allocate(weigh(this%context%n_state))

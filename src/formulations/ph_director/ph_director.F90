@@ -25,7 +25,7 @@ module rs_ph_director
     use rs_core_error, only: error_t, set_error
     use rs_core_strings, only: str
     use rs_model_scene, only: scene_t, rod_input_t, unset_real, load_applies_to, &
-        body_inertia_tensor, inertia_tensor, element_properties
+        body_inertia_tensor, inertia_tensor, element_properties, axial_reference
     use rs_model_damping, only: kv_axial, kv_shear1, kv_shear2, kv_bend1, kv_bend2, kv_torsion
     use rs_model_rod_geometry, only: rod_geometry_t, rod_geometry_of, centreline_point, &
         centreline_frame
@@ -249,12 +249,14 @@ contains
         end associate
         this%condensed = scene%solver%condense_stresses
         if (this%condensed .and. (any(this%material%compliance == 0.0_rk) .or. &
-            this%material%n_branches > 0 .or. this%quasistatic)) then
+            this%material%n_branches > 0 .or. this%quasistatic .or. &
+            scene%time%initial_equilibrium)) then
             ! Condensation needs an invertible, step-independent stress block and the dynamic
-            ! kinematic rows (methods §5.5).
+            ! kinematic rows (methods §5.5); the continued equilibrium (quasistatics, the
+            ! initial equilibrium) has the stresses among its unknowns.
             call log_info('rod ''' // this%name // ''': condense_stresses ignored: ' // &
-                'constrained components, Maxwell branches or a quasistatic run keep the ' // &
-                'stresses as unknowns')
+                'constrained components, Maxwell branches, a quasistatic run or an initial ' // &
+                'equilibrium keep the stresses as unknowns')
             this%condensed = .false.
         end if
         call number_dofs(this)
@@ -433,7 +435,11 @@ contains
     !> from its value at s = 0, d2 = d3 x d1. The reference strains at the Gauss points are
     !> those of these nodes (stress-free, docs/theory/ph_director.md), or with `prestressed`
     !> the straight Gamma_0 = (0, 0, 1), K_0 = 0 with the consistent elastic stresses as
-    !> initial stresses (methods §5.4). The initial velocity is the rigid motion v_phi =
+    !> initial stresses (methods §5.4). A prestrained rod (&rod prestrain) has its reference
+    !> force strains Gamma_0 divided by 1 + prestrain (the stress-free rod is the given one
+    !> shortened with the same shape, per unit given length; docs/theory/
+    !> prestretched_starts.md) and starts with the consistent stresses too. The initial
+    !> velocity is the rigid motion v_phi =
     !> velocity + omega x (phi - rotation_center), v_di = omega x d_i.
     subroutine reference_configuration(this, rod)
         type(ph_director_t), intent(inout) :: this
@@ -458,13 +464,15 @@ contains
                 do g = 1, this%basis%n_gauss
                     this%eps_ref(:, g, e) = ph_director_straight_strain
                 end do
-                call ph_director_element_initial_stress(this%basis, this%element_material(e), &
-                    this%element_length(e), this%fixed_q(:, nodes(1):nodes(2)), &
-                    this%eps_ref(:, :, e), this%initial_s(:, :, e))
             else
                 call ph_director_element_reference_strains(this%basis, this%element_length(e), &
                     this%fixed_q(:, nodes(1):nodes(2)), this%eps_ref(:, :, e))
             end if
+            this%eps_ref(1:3, :, e) = axial_reference(rod) * this%eps_ref(1:3, :, e)
+            if (rod%prestressed .or. rod%prestrain /= 0.0_rk) &
+                call ph_director_element_initial_stress(this%basis, this%element_material(e), &
+                this%element_length(e), this%fixed_q(:, nodes(1):nodes(2)), &
+                this%eps_ref(:, :, e), this%initial_s(:, :, e))
         end do
         center = rod%rotation_center
         if (center(1) == unset_real) center = rod%start

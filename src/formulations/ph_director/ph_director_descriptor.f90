@@ -32,13 +32,15 @@ contains
         ! Dirichlet part of methods §2.9 on phi alone); follower end and distributed loads
         ! (rs_ph_director_follower: evaluated at the midpoint directors, their work booked at
         ! that value, so the balance stays exact).
+        ! Prestrain (issue 26 item 3, docs/theory/prestretched_starts.md): the reference
+        ! strains Gamma_0 / (1 + prestrain) with the consistent initial stresses.
         d%capability = capability_t(formulation=d%name, available=.true., &
             end_kinds='clamped|pinned|free|body', load_places='start|end|distributed|gravity', &
             load_frames='spatial|follower', constraints='none|kirchhoff|inextensible|rigid', quasistatic=.true., &
             viscoelastic=.true., actuation=.true., curved_reference=.true., prestressed=.true., &
             joints='rigid|spherical|revolute', end_plates=.true., floating_plates=.true., &
             contact=.true., order_4=.true., adaptive=.true., damping=.true., &
-            segments=.true.)
+            segments=.true., prestrain=.true., initial_equilibrium=.true.)
         d%default_choice = .true.
         d%system_couplings = .true.
         d%create => create

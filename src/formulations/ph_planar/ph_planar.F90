@@ -13,7 +13,9 @@
 !>
 !> Joints share nodal unknowns (methods §6.3, the authors' master-slave elimination; DESIGN.md
 !> §5): a revolute joint shares the position of the two rod ends, a rigid joint also the angle.
-!> Supports fix unknowns (clamped: x, y, theta; pinned: x, y). Loads are inputs evaluated at
+!> Supports fix unknowns (clamped: x, y, theta; pinned: x, y); a support released at a time
+!> (&bc release_time) keeps them as unknowns with held rows until then (rs_formulations_
+!> held_rows, docs/theory/prestretched_starts.md). Loads are inputs evaluated at
 !> t_{n+1/2} (methods §3.4, §4.1), so the energy balance H_{n+1} - H_n = f(t_{n+1/2}) . (q_{n+1}
 !> - q_n) is exact whatever the load; gravity is a distributed input (methods §6.3).
 !>
@@ -28,7 +30,8 @@ module rs_ph_planar
     use rs_core_kinds, only: rk, pi
     use rs_core_error, only: error_t, set_error
     use rs_core_strings, only: str, vector_text
-    use rs_model_scene, only: scene_t, rod_input_t, load_applies_to, unset_real, element_properties
+    use rs_model_scene, only: scene_t, rod_input_t, load_applies_to, unset_real, &
+        element_properties, axial_reference
     use rs_model_damping, only: kv_axial, kv_shear1, kv_shear2, kv_bend1, kv_bend2
     use rs_model_rod_history, only: rod_history_t
     use rs_model_time_function, only: time_function_t, time_function_from_load
@@ -38,6 +41,7 @@ module rs_ph_planar
     use rs_formulations_formulation, only: rod_formulation_t, formulation_traits_t, &
         state_measures_t, state_valid, state_invalid
     use rs_formulations_energy_sentinel, only: step_energy_t, energy_consistent, energy_unchecked
+    use rs_formulations_held_rows, only: held_rows_t
     use rs_ph_planar_element, only: ph_em_residual, ph_em_jacobian, ph_em_condensed, &
         cl_em_residual, cl_em_jacobian, ph_emi_residual, ph_emi_jacobian, ph_emi_strains, &
         element_mass, mixed_strain_energy, compatible_strain_energy, compatible_strains, &
@@ -81,6 +85,9 @@ module rs_ph_planar
             element_rho(:, :), element_line_mass(:)
         !> Reference angle theta_0 of the straight rod (methods §3.1).
         real(rk) :: theta0 = 0.0_rk
+        !> The reference axial strain per unit given length, 1 / (1 + prestrain) (&rod
+        !> prestrain; docs/theory/prestretched_starts.md); 1 for a stress-free start.
+        real(rk) :: axial_reference = 1.0_rk
         !> Initial 3D directors (columns d1, d2, d3) and the maps of the planar stress (N1, N2,
         !> M) to the material 3D components (N1, N2, N3, M1, M2, M3).
         real(rk) :: directors0(3, 3) = 0.0_rk
@@ -105,12 +112,17 @@ module rs_ph_planar
         integer :: n_q = 0, n_elements = 0, n_history = 0, n_free = 0, n_y = 0
         !> unknown_of(i): index of q(i) in Y (0: fixed by a support).
         integer, allocatable :: unknown_of(:)
+        !> Supports released at a time (&bc release_time): their q indices and times (set by
+        !> fix_supports), and the held rows of their unknowns (set with the pattern).
+        integer, allocatable :: released_q(:)
+        real(rk), allocatable :: released_time(:)
+        type(held_rows_t) :: held
         !> Per element: its rod, its index there, its 6 q indices.
         integer, allocatable :: element_rod(:), element_dofs(:, :)
         real(rk), allocatable :: element_length(:)
         !> Per element in system order: (EA, GA, EI) and their Kelvin-Voigt viscosities (the
-        !> rods' element_stiffness, element_viscosity).
-        real(rk), allocatable :: stiffness(:, :), viscosity(:, :)
+        !> rods' element_stiffness, element_viscosity), and the rod's axial_reference.
+        real(rk), allocatable :: stiffness(:, :), viscosity(:, :), axial_reference(:)
         !> Per element: the consistent mass (6, 6) in its q ordering (methods §3.2), built once:
         !> residual and Jacobian need it at every Newton iteration.
         real(rk), allocatable :: mass(:, :, :)
@@ -224,7 +236,8 @@ contains
         ! Elements in system order.
         allocate(this%element_rod(this%n_elements), this%element_dofs(6, this%n_elements), &
             this%element_length(this%n_elements), this%mass(6, 6, this%n_elements), &
-            this%stiffness(3, this%n_elements), this%viscosity(3, this%n_elements))
+            this%stiffness(3, this%n_elements), this%viscosity(3, this%n_elements), &
+            this%axial_reference(this%n_elements))
         do r = 1, size(this%rods)
             associate (rod => this%rods(r))
                 do e = 1, rod%n_elements
@@ -234,6 +247,7 @@ contains
                     this%element_length(next) = rod%length / real(rod%n_elements, rk)
                     this%stiffness(:, next) = rod%element_stiffness(:, e)
                     this%viscosity(:, next) = rod%element_viscosity(:, e)
+                    this%axial_reference(next) = rod%axial_reference
                     call element_mass(this%element_length(next), rod%element_rho(1, e), &
                         rod%element_rho(2, e), this%mass(:, :, next))
                 end do
@@ -267,8 +281,11 @@ contains
         call set_initial_state(this, scene, rods)
     end subroutine planar_init
 
-    !> The straight, stress-free rods at rest or in rigid motion (methods §3.1, §6): nodes along
-    !> the rod, theta_0 from its direction, strains zero; v = velocity + omega x (x -
+    !> The straight rods at rest or in rigid motion (methods §3.1, §6): nodes along the rod,
+    !> theta_0 from its direction, elastic strains zero, or (1 - axial_reference, 0, 0) for a
+    !> prestrained rod (the axial strain of its given length over its stress-free one,
+    !> docs/theory/prestretched_starts.md) in the history of PH-EM (per element) and PH-EMi
+    !> (per Gauss point); v = velocity + omega x (x -
     !> rotation_center) and theta' = omega . normal. A shared node takes the values of the
     !> first rod that reaches it (joined rods agree there by the input check).
     subroutine set_initial_state(this, scene, rods)
@@ -277,8 +294,17 @@ contains
         integer, intent(in) :: rods(:)
         real(rk) :: p(3), v(3), t(3)
         logical :: done(this%n_q)
-        integer :: r, k
+        integer :: r, k, e, at, stride
         allocate(this%initial(this%n_state()), source=0.0_rk)
+        ! The axial strain is the first of each element's or Gauss point's history entries
+        ! (PH-EM: Gamma1, Gamma2, kappa; PH-EMi: (Gamma1, Gamma2) per point).
+        if (this%n_history > 0) then
+            stride = merge(3, 2, this%scheme == scheme_ph_em)
+            do e = 1, this%n_elements
+                at = 2 * this%n_q + this%n_history * (e - 1)
+                this%initial(at + 1:at + this%n_history:stride) = 1.0_rk - this%axial_reference(e)
+            end do
+        end if
         done = .false.
         do r = 1, size(rods)
             associate (input => scene%rods(rods(r)), rod => this%rods(r))
@@ -324,6 +350,7 @@ contains
         rod%n_elements = input%n_elements
         rod%length = input%length
         rod%theta0 = angle_in_plane(this%plane, t)
+        rod%axial_reference = axial_reference(input)
         rod%directors0(:, 1) = d1
         rod%directors0(:, 2) = d2
         rod%directors0(:, 3) = t
@@ -474,8 +501,10 @@ contains
         type(error_t), allocatable, intent(out) :: err
         character(len=:), allocatable :: message
         logical :: fixed(this%n_q)
+        real(rk) :: release(this%n_q)
         integer :: i, r, node, next, slide
         fixed = .false.
+        release = unset_real
         do i = 1, size(scene%bcs)
             associate (bc => scene%bcs(i))
                 do r = 1, size(rods)
@@ -484,8 +513,10 @@ contains
                     select case (trim(bc%kind))
                     case ('clamped')
                         fixed(this%rods(r)%dofs(:, node)) = .true.
+                        release(this%rods(r)%dofs(:, node)) = bc%release_time
                     case ('pinned')
                         fixed(this%rods(r)%dofs(1:2, node)) = .true.
+                        release(this%rods(r)%dofs(1:2, node)) = bc%release_time
                     case ('sliding')
                         ! A prismatic support: theta and the position across the axis held,
                         ! by elimination, so the axis must be a planar coordinate axis.
@@ -512,6 +543,10 @@ contains
                 end do
             end associate
         end do
+        ! A released support's coordinates are unknowns (held rows until the release).
+        this%released_q = pack([(i, i = 1, this%n_q)], fixed .and. release /= unset_real)
+        this%released_time = release(this%released_q)
+        fixed(this%released_q) = .false.
         allocate(this%unknown_of(this%n_q), source=0)
         next = 0
         do i = 1, this%n_q
@@ -581,6 +616,8 @@ contains
             call builder%add_block(local, local)
         end do
         call builder%build(this%pattern)
+        call this%held%init(this%unknown_of(this%released_q), this%released_q, &
+            this%released_time, this%pattern%row_ptr, this%pattern%cols)
         allocate(this%element_map(n_local, n_local, this%n_elements), source=0)
         do e = 1, this%n_elements
             call local_unknowns(this, e, local)
@@ -673,7 +710,8 @@ contains
     end subroutine planar_predictor
 
     !> X_{n+1}: q from Y, v_{n+1} = 2 (q_{n+1} - q_n) / h - v_n (the midpoint rule, methods §4.3;
-    !> zero in a quasistatic run, which has no velocities), and the element history. Then, when
+    !> zero in a quasistatic run, which has no velocities, and after an equilibrium solve), and
+    !> the element history. Then, when
     !> allowed (find_angles), every nodal angle is shifted by the same 2 pi k that brings the
     !> first one into [-pi, pi]: velocities and history come from the unshifted step.
     subroutine planar_update(this, t_n, h, x_n, y, x_1)
@@ -682,7 +720,9 @@ contains
         real(rk), intent(out) :: x_1(:)
         integer :: e, first
         call this%full_q(x_n(1:this%n_q), y, x_1(1:this%n_q))
-        if (this%quasistatic) then
+        if (this%quasistatic .or. this%static) then
+            ! No velocities in a quasistatic run; an equilibrium (the initial one of a dynamic
+            ! run, &time initial_equilibrium) is at rest.
             x_1(this%n_q + 1:2 * this%n_q) = 0.0_rk
         else
             x_1(this%n_q + 1:2 * this%n_q) = 2.0_rk * (x_1(1:this%n_q) - x_n(1:this%n_q)) / h - &
@@ -718,11 +758,12 @@ contains
         if (this%static) then
             ! An equilibrium: the strains of the state itself (ph_em_static, cl_em_static).
             call compatible_strains(this%element_length(e), this%n_gauss, q_16, &
-                gammas3(:, 1:this%n_gauss))
+                gammas3(:, 1:this%n_gauss), this%axial_reference(e))
             select case (this%scheme)
             case (scheme_ph_em)
                 if (this%condensed) then
-                    hist = ph_em_projected_strains(this%element_length(e), this%n_gauss, q_16)
+                    hist = ph_em_projected_strains(this%element_length(e), this%n_gauss, q_16, &
+                        this%axial_reference(e))
                 else
                     hist = y(this%n_free + 3 * (e - 1) + 1:this%n_free + 3 * e)
                 end if
@@ -818,7 +859,7 @@ contains
                     end if
                 case (scheme_stander_stein)
                     call cl_em_residual(le, this%stiffness(:, e), this%viscosity(:, e), this%n_gauss, h, q_n6, &
-                        q_16, r9(1:6))
+                        q_16, r9(1:6), this%axial_reference(e))
                 case (scheme_ph_irreducible)
                     call history_at_gauss_points(this, x_n, at, gamma_n)
                     call ph_emi_residual(le, this%stiffness(:, e), this%viscosity(:, e), this%n_gauss, h, q_n6, &
@@ -842,6 +883,7 @@ contains
         do i = 1, this%n_q
             if (this%unknown_of(i) > 0) f(this%unknown_of(i)) = f(this%unknown_of(i)) - this%f_ext(i)
         end do
+        call this%held%apply_residual(t_n, h, .false., x_n, y, f)
     end subroutine residual_values
 
     !> dF/dY: the element tangents (methods §10: analytic, checked against finite differences in
@@ -871,24 +913,25 @@ contains
                 case (scheme_ph_em)
                     if (this%condensed .and. present(values)) then
                         call ph_em_static_condensed(le, this%stiffness(:, e), this%n_gauss, &
-                            this%q_1(dofs), r9(1:6), e_1, k9(1:6, 1:6))
+                            this%q_1(dofs), r9(1:6), e_1, k9(1:6, 1:6), this%axial_reference(e))
                     else if (this%condensed) then
                         call ph_em_static_condensed(le, this%stiffness(:, e), this%n_gauss, &
-                            this%q_1(dofs), r9(1:6), e_1)
+                            this%q_1(dofs), r9(1:6), e_1, axial_reference=this%axial_reference(e))
                     else if (present(values)) then
                         call ph_em_static(le, this%stiffness(:, e), this%n_gauss, scale, this%q_1(dofs), &
-                            y(row + 1:row + 3), r9, k9)
+                            y(row + 1:row + 3), r9, k9, this%axial_reference(e))
                     else
                         call ph_em_static(le, this%stiffness(:, e), this%n_gauss, scale, this%q_1(dofs), &
-                            y(row + 1:row + 3), r9)
+                            y(row + 1:row + 3), r9, axial_reference=this%axial_reference(e))
                         f(row + 1:row + 3) = r9(7:9)
                     end if
                 case default
                     if (present(values)) then
                         call cl_em_static(le, this%stiffness(:, e), this%n_gauss, this%q_1(dofs), &
-                            r9(1:6), k9(1:6, 1:6))
+                            r9(1:6), k9(1:6, 1:6), this%axial_reference(e))
                     else
-                        call cl_em_static(le, this%stiffness(:, e), this%n_gauss, this%q_1(dofs), r9(1:6))
+                        call cl_em_static(le, this%stiffness(:, e), this%n_gauss, this%q_1(dofs), &
+                            r9(1:6), axial_reference=this%axial_reference(e))
                     end if
                 end select
             end associate
@@ -906,13 +949,17 @@ contains
                 end do
             end if
         end do
-        if (.not. present(f)) return
+        if (.not. present(f)) then
+            call this%held%apply_jacobian(this%t_static, 0.0_rk, .true., values)
+            return
+        end if
         call this%load_vectors(this%t_static)
         do i = 1, this%n_q
             if (this%unknown_of(i) > 0) &
                 f(this%unknown_of(i)) = f(this%unknown_of(i)) - this%f_ext(i)
         end do
         if (this%continuing) f = f - max(0.0_rk, 1.0_rk - tau) * this%anchor
+        call this%held%apply_residual(this%t_static, 0.0_rk, .true., x_n, y, f)
     end subroutine static_rows
 
     subroutine planar_step_jacobian(this, t_n, h, x_n, y, values, status)
@@ -920,7 +967,7 @@ contains
         real(rk), intent(in) :: t_n, h, x_n(:), y(:)
         real(rk), intent(out) :: values(:)
         integer, intent(out) :: status
-        call jacobian_values(this, h, x_n, y, size(values), values)
+        call jacobian_values(this, t_n, h, x_n, y, size(values), values)
         status = state_valid
         if (has_nan(size(values), values)) status = state_invalid
     end subroutine planar_step_jacobian
@@ -928,9 +975,9 @@ contains
     ! The CSR values of planar_step_jacobian, on an explicit-shape values: with the interface's
     ! values(:), of a stride unknown at compile time, zeroing and NaN-checking the 729 values of
     ! the 10-element spaghetti were strided scalar loops, a third of this routine's own time.
-    subroutine jacobian_values(this, h, x_n, y, n_values, values)
+    subroutine jacobian_values(this, t_n, h, x_n, y, n_values, values)
         type(ph_planar_t), intent(inout) :: this
-        real(rk), intent(in) :: h, x_n(:), y(:)
+        real(rk), intent(in) :: t_n, h, x_n(:), y(:)
         integer, intent(in) :: n_values
         real(rk), intent(out) :: values(n_values)
         real(rk) :: k9(9, 9), k6(6, 6), r6(6), e_1(3), q_n6(6), q_16(6), gamma_n(2, 2)
@@ -964,7 +1011,7 @@ contains
                     end if
                 case (scheme_stander_stein)
                     call cl_em_jacobian(le, this%stiffness(:, e), this%viscosity(:, e), this%n_gauss, h, q_n6, &
-                        q_16, k6)
+                        q_16, k6, this%axial_reference(e))
                     k9(1:6, 1:6) = k6
                 case (scheme_ph_irreducible)
                     call history_at_gauss_points(this, x_n, at, gamma_n)
@@ -983,6 +1030,7 @@ contains
                 end do
             end associate
         end do
+        call this%held%apply_jacobian(t_n, h, .false., values)
     end subroutine jacobian_values
 
     !> Nodal load vectors at time t: per rod (f_rod, for its work) and in total (f_ext).
@@ -1080,7 +1128,7 @@ contains
                         strain = strain + mixed_strain_energy(le, this%stiffness(:, e), x(at + 1:at + 3))
                     case (scheme_stander_stein)
                         strain = strain + compatible_strain_energy(le, this%stiffness(:, e), &
-                            this%n_gauss, q6)
+                            this%n_gauss, q6, this%axial_reference(e))
                     case (scheme_ph_irreducible)
                         call history_at_gauss_points(this, x, at, g)
                         strain = strain + ph_emi_strain_energy(le, this%stiffness(:, e), &
@@ -1216,7 +1264,8 @@ contains
                     case (scheme_ph_em)
                         planar = x(at + 1:at + 3)
                     case (scheme_stander_stein)
-                        call compatible_strains(le, this%n_gauss, q6, gammas(:, 1:this%n_gauss))
+                        call compatible_strains(le, this%n_gauss, q6, gammas(:, 1:this%n_gauss), &
+                            this%axial_reference(i))
                         planar = sum(gammas(:, 1:this%n_gauss), dim=2) / real(this%n_gauss, rk)
                     case default
                         call history_at_gauss_points(this, x, at, history)

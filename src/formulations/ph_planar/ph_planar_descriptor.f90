@@ -45,12 +45,16 @@ contains
         ! joints as shared nodal positions (§6.3) and rigid joints as shared positions and
         ! angles. Kelvin-Voigt viscosity and drag (issue 26, docs/theory/ph_planar.md
         ! "Damping") with their dissipation in the exact energy balance of every scheme.
+        ! Prestretched starts (issue 26 item 3, docs/theory/prestretched_starts.md): axial
+        ! prestrain, the initial equilibrium (the equilibrium rows of quasistatics in a
+        ! dynamic run) and supports released at a time (held rows).
         d%capability = capability_t(formulation=name, available=.true., &
             end_kinds='clamped|pinned|free|sliding', load_places='start|end|distributed|gravity', &
             load_frames='spatial', constraints='none', quasistatic=.true., &
             viscoelastic=.false., actuation=.false., curved_reference=.false., &
             joints='revolute|rigid', planar=.true., order_4=.true., adaptive=.true., &
-            damping=.true., segments=.true.)
+            damping=.true., segments=.true., prestrain=.true., initial_equilibrium=.true., &
+            release=.true.)
         d%create => create
         d%plan_lines => plan_lines
         d%check_rod => check_planar_rod

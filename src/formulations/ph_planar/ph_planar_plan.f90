@@ -7,7 +7,7 @@
 module rs_ph_planar_plan
     use rs_core_kinds, only: rk
     use rs_core_strings, only: str, vector_text, str_significant
-    use rs_model_scene, only: scene_t, rod_is_damped
+    use rs_model_scene, only: scene_t, rod_is_damped, unset_real
     use rs_model_damping, only: damping_plan_text, kv_axial, kv_shear1, kv_shear2, kv_bend1, &
         kv_bend2
     use rs_model_units, only: unit_in_system
@@ -81,7 +81,8 @@ contains
                 ' nodes at equal arc length, ' // str(rod%n_gauss) // ' Gauss point(s) per element')
             n_fixed = 0
             do j = 1, size(scene%bcs)
-                if (scene%bcs(j)%rod /= rod%name) cycle
+                ! A released support's unknowns stay (held by their own rows until then).
+                if (scene%bcs(j)%rod /= rod%name .or. scene%bcs(j)%release_time /= unset_real) cycle
                 select case (trim(scene%bcs(j)%kind))
                 case ('clamped')
                     n_fixed = n_fixed + 3

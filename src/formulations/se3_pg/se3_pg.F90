@@ -40,16 +40,23 @@
 !> stage rate ((eps_{n+1} - eps_n) / h for the midpoint rule); the drag and angular drag are the
 !> consistent matrix C_e on the stage velocities. D_n >= 0 is booked as dissipated.
 !>
+!> The initial equilibrium of a dynamic run (&time initial_equilibrium; issue 26 item 3,
+!> docs/theory/prestretched_starts.md): set_step_problem switches the same state layout to the
+!> statics at the load time t = 0, continued from the initial placement (the Newton homotopy of
+!> DESIGN.md §3, "Quasistatics"); its steps end at rest (u and the generalized-alpha history
+!> zero, their values at a static equilibrium) and book no energy.
+!>
 !> Supports eliminate unknowns: clamped fixes r and psi, pinned fixes r (the heavy top's
-!> spherical joint), driven prescribes r and psi (a clamp moved and turned in time, e.g. the
-!> superimposed rotation of methods §10.3). Loads: dead (spatial) and follower end forces and moments, dead
-!> distributed forces and moments, gravity.
+!> spherical joint; a clamp or pin released at a time, &bc release_time, keeps them as unknowns
+!> with held rows until then: rs_formulations_held_rows), driven prescribes r and psi (a clamp
+!> moved and turned in time, e.g. the superimposed rotation of methods §10.3). Loads: dead
+!> (spatial) and follower end forces and moments, dead distributed forces and moments, gravity.
 module rs_se3_pg
     use rs_core_kinds, only: rk, pi
     use rs_core_error, only: error_t, set_error
     use rs_core_strings, only: str, vector_text
     use rs_model_scene, only: scene_t, rod_input_t, bc_input_t, load_applies_to, coordinate_axis, &
-        element_properties
+        element_properties, axial_reference, unset_real
     use rs_model_rod_history, only: rod_history_t
     use rs_model_time_function, only: time_function_t, time_function_from_load, time_function_from_bc
     use rs_model_rod_geometry, only: rod_geometry_t, rod_geometry_of, centreline_point, &
@@ -59,7 +66,7 @@ module rs_se3_pg
     use rs_math_se3, only: log_se3, pose_relative
     use rs_assembly_csr_pattern, only: csr_builder_t, csr_pattern_t
     use rs_formulations_formulation, only: rod_formulation_t, formulation_traits_t, state_valid, &
-        state_invalid, rod_nodes_t, node_tie_t, &
+        state_invalid, rod_nodes_t, node_tie_t, state_measures_t, &
         step_energy_t
     use rs_se3_pg_tie, only: se3_pg_node_tie_t, se3_pg_node_tie
     use rs_se3_pg_element, only: se3_strains, se3_internal_force, se3_internal_tangent, &
@@ -69,6 +76,7 @@ module rs_se3_pg
     use rs_formulations_generalized_alpha, only: generalized_alpha_t, generalized_alpha, &
         midpoint_scheme
     use rs_formulations_energy_sentinel, only: energy_dissipative
+    use rs_formulations_held_rows, only: held_rows_t
     implicit none
     private
 
@@ -97,7 +105,14 @@ module rs_se3_pg
         character(len=:), allocatable :: name
         integer :: n_elements = 0, n_nodes = 0
         real(rk) :: length = 0.0_rk
-        logical :: statics = .false.
+        !> The current step problem is the statics: in a quasistatic run always, in a dynamic
+        !> one during the initial equilibrium (static_stage; set_step_problem), whose loads and
+        !> supports are those of the load time t_static, continued from the anchor's state
+        !> (continuing: a step to the pseudo-time tau solves R(Y) = (1 - tau) anchor).
+        logical :: statics = .false., quasistatic = .false., static_stage = .false.
+        logical :: continuing = .false.
+        real(rk) :: t_static = 0.0_rk
+        real(rk), allocatable :: anchor(:)
         !> The time scheme of the dynamics: the midpoint rule, or generalized-alpha, whose
         !> history y'_n the state carries (methods §7.3).
         type(generalized_alpha_t) :: scheme
@@ -123,6 +138,10 @@ module rs_se3_pg
         real(rk), allocatable :: q_driven(:, :)
         !> unknown_of(i, k): index of q(i) of node k in Y (0: fixed by a support).
         integer, allocatable :: unknown_of(:, :)
+        !> Supports released at a time (&bc release_time): the release time of q(i) of node k
+        !> (unset_real: not released), and the held rows of those unknowns.
+        real(rk), allocatable :: release_time(:, :)
+        type(held_rows_t) :: held
         integer :: n_y = 0
         type(csr_pattern_t) :: pattern
         !> CSR position of entry (i, j) of element e's 12 x 12 block (0: fixed row or column).
@@ -148,6 +167,8 @@ module rs_se3_pg
         procedure :: nodes => se3_nodes
         procedure :: error_entries => se3_error_entries
         procedure :: new_tie => se3_new_tie
+        procedure :: set_step_problem => se3_set_step_problem
+        procedure :: state_measures => se3_state_measures
         procedure, private :: full_q, nodal_loads, energies, stage_velocity, set_drives, &
             rate_of, stage_q, initial_rates, stage_strain_rate, strain_rate_at, drag_matrix
     end type se3_pg_t
@@ -173,7 +194,8 @@ contains
             this%n_elements = rod%n_elements
             this%n_nodes = rod%n_elements + 1
             this%length = rod%length
-            this%statics = scene%time%quasistatic
+            this%quasistatic = scene%time%quasistatic
+            this%statics = this%quasistatic
             this%scheme = midpoint_scheme()
             if (.not. this%statics .and. trim(scene%time%scheme) == 'generalized_alpha') &
                 this%scheme = generalized_alpha(scene%time%rho_inf)
@@ -255,8 +277,9 @@ contains
         end do
         call this%nodal_loads(0.0_rk, q, .false.)
         rows = rows + this%f_ext
-        call se3_mass_solve(this%element_length, this%rho_a, this%inertia, this%unknown_of > 0, &
-            rows, accel)
+        ! A released support is held at t = 0 (end_is_held): it does not accelerate.
+        call se3_mass_solve(this%element_length, this%rho_a, this%inertia, this%unknown_of > 0 &
+            .and. this%release_time == unset_real, rows, accel)
         this%initial(12 * n + 1:18 * n) = reshape(rate, [6 * n])
         this%initial(18 * n + 1:24 * n) = reshape(accel, [6 * n])
     end subroutine initial_rates
@@ -264,7 +287,10 @@ contains
     !> Nodal reference poses from the centreline and its frame (rs_model_rod_geometry), the
     !> elements' reference lengths l_e = |theta_v(Q)| and strains theta(Q) / l_e (methods §5.3:
     !> exact for any reference the SE(3) interpolation represents, e.g. a straight rod, a circle
-    !> or a helix with its frame); the initial rigid velocity field.
+    !> or a helix with its frame); the initial rigid velocity field. A prestrained rod (&rod
+    !> prestrain) has the translational reference strains divided by 1 + prestrain: those of
+    !> its stress-free shape, the given one shortened with the same frames, per unit given
+    !> length (docs/theory/prestretched_starts.md; the rotational ones stay).
     subroutine reference_configuration(this, rod)
         type(se3_pg_t), intent(inout) :: this
         type(rod_input_t), intent(in) :: rod
@@ -302,6 +328,7 @@ contains
             theta = log_se3(a_rel, r_rel)
             this%element_length(e) = norm2(theta(1:3))
             if (this%element_length(e) > 0.0_rk) this%eps_ref(:, e) = theta / this%element_length(e)
+            this%eps_ref(1:3, e) = axial_reference(rod) * this%eps_ref(1:3, e)
         end do
     end subroutine reference_configuration
 
@@ -314,15 +341,18 @@ contains
         logical :: fixed(6, this%n_nodes)
         integer :: i, k, node, slide
         fixed = .false.
+        allocate(this%release_time(6, this%n_nodes), source=unset_real)
         do i = 1, size(scene%bcs)
             associate (bc => scene%bcs(i))
                 if (trim(bc%rod) /= this%name) cycle
                 node = merge(1, this%n_nodes, trim(bc%end) == 'start')
                 select case (trim(bc%kind))
                 case ('clamped')
-                    fixed(:, node) = .true.
+                    fixed(:, node) = bc%release_time == unset_real
+                    this%release_time(:, node) = bc%release_time
                 case ('pinned')
-                    fixed(1:3, node) = .true.
+                    fixed(1:3, node) = bc%release_time == unset_real
+                    this%release_time(1:3, node) = bc%release_time
                 case ('sliding')
                     ! A prismatic support: the rotation and the position across the axis held,
                     ! by elimination of nodal unknowns (methods/se3_petrov_galerkin.md §5.1: r
@@ -452,6 +482,12 @@ contains
             call builder%add_block(local, local)
         end do
         call builder%build(this%pattern)
+        ! The held rows of released supports: unknowns of Y and entries of X coincide per node
+        ! (6 (k - 1) + i).
+        call this%held%init(pack(this%unknown_of, this%release_time /= unset_real), &
+            pack(reshape([(i, i = 1, 6 * this%n_nodes)], [6, this%n_nodes]), &
+            this%release_time /= unset_real), pack(this%release_time, &
+            this%release_time /= unset_real), this%pattern%row_ptr, this%pattern%cols)
         allocate(this%element_map(12, 12, this%n_elements), source=0)
         do e = 1, this%n_elements
             local = [this%unknown_of(:, e), this%unknown_of(:, e + 1)]
@@ -586,7 +622,7 @@ contains
         real(rk), intent(out) :: y(:)
         real(rk) :: q(6), u(6), turn(3, 3), shift(3), pivot(3)
         integer :: i, k, at
-        call this%set_drives(t_n + h, x_n)
+        call this%set_drives(step_end_time(this, t_n, h), x_n)
         turn = 0.0_rk
         turn(1, 1) = 1.0_rk
         turn(2, 2) = 1.0_rk
@@ -632,7 +668,7 @@ contains
         real(rk), intent(out) :: x_1(:)
         real(rk) :: u_stage(6), psi(3), eps_n(6), eps_1(6)
         integer :: k, at, au, aq, aa, n, e
-        call this%set_drives(t_n + h, x_n)
+        call this%set_drives(step_end_time(this, t_n, h), x_n)
         call this%full_q(x_n, y, this%q_1)
         n = this%n_nodes
         do k = 1, n
@@ -646,7 +682,12 @@ contains
                 u_stage = this%stage_velocity(h, x_n, k, this%q_1(:, k))
                 x_1(au + 1:au + 6) = this%scheme%end_from_stage(x_n(au + 1:au + 6), u_stage)
             end if
-            if (this%scheme%history) then
+            if (this%scheme%history .and. this%statics) then
+                ! At rest in a static equilibrium the consistent history is zero: q' = B u = 0,
+                ! and M u' = f_ext - g_int - f_gyr = 0 on the free rows.
+                x_1(aq + 1:aq + 6) = 0.0_rk
+                x_1(aa + 1:aa + 6) = 0.0_rk
+            else if (this%scheme%history) then
                 x_1(aq + 1:aq + 6) = this%scheme%end_rate(h, x_n(at + 1:at + 6), this%q_1(:, k), &
                     x_n(aq + 1:aq + 6))
                 x_1(aa + 1:aa + 6) = this%scheme%end_rate(h, x_n(au + 1:au + 6), &
@@ -663,6 +704,10 @@ contains
         if (.not. (this%scheme%history .and. this%kelvin_voigt)) return
         do e = 1, this%n_elements
             at = this%strain_rate_at(e)
+            if (this%statics) then
+                x_1(at + 1:at + 6) = 0.0_rk
+                cycle
+            end if
             call se3_strains(this%element_length(e), x_n(6 * (e - 1) + 1:6 * (e + 1)), eps_n)
             call se3_strains(this%element_length(e), [this%q_1(:, e), this%q_1(:, e + 1)], eps_1)
             x_1(at + 1:at + 6) = this%scheme%end_rate(h, eps_n, eps_1, x_n(at + 1:at + 6))
@@ -749,12 +794,30 @@ contains
         end do
     end subroutine stage_q
 
-    !> The time of the step's forces: t_{n+1} in statics, else t_n + alpha_f h.
+    !> The time of the step's forces: t_{n+1} in statics (the load time t_static in the
+    !> initial equilibrium), else t_n + alpha_f h.
     pure real(rk) function force_time(this, t_n, h)
         type(se3_pg_t), intent(in) :: this
         real(rk), intent(in) :: t_n, h
-        force_time = merge(t_n + h, t_n + this%scheme%alpha_f * h, this%statics)
+        force_time = merge(step_end_time(this, t_n, h), t_n + this%scheme%alpha_f * h, &
+            this%statics)
     end function force_time
+
+    !> The time that decides whether a released support still holds (held_rows_t): the step's
+    !> start t_n, or the load time t_static of the initial equilibrium.
+    pure real(rk) function held_time(this, t_n)
+        type(se3_pg_t), intent(in) :: this
+        real(rk), intent(in) :: t_n
+        held_time = merge(this%t_static, t_n, this%static_stage)
+    end function held_time
+
+    !> The time at the step's end, t_n + h, where drives are evaluated; the load time t_static
+    !> in the initial equilibrium, whose t_n and h are the continuation's pseudo-time.
+    pure real(rk) function step_end_time(this, t_n, h)
+        type(se3_pg_t), intent(in) :: this
+        real(rk), intent(in) :: t_n, h
+        step_end_time = merge(this%t_static, t_n + h, this%static_stage)
+    end function step_end_time
 
     ! ---- The step problem -------------------------------------------------------------------
 
@@ -774,13 +837,13 @@ contains
         real(rk) :: q_e(12), g(12), m(12, 12), u_stage(12), accel(12), gyr(12), kg(12, 12)
         real(rk) :: q_at(6, this%n_nodes), rows(6, this%n_nodes), c(12, 12), eps_1(6)
         integer :: e, k, i
-        call this%set_drives(t_n + h, x_n)
+        call this%set_drives(step_end_time(this, t_n, h), x_n)
         call this%full_q(x_n, y, this%q_1)
         call this%stage_q(x_n, this%q_1, q_at)
         rows = 0.0_rk
         do e = 1, this%n_elements
             q_e = [q_at(:, e), q_at(:, e + 1)]
-            if (this%kelvin_voigt) then
+            if (this%kelvin_voigt .and. .not. this%statics) then
                 call se3_strains(this%element_length(e), [this%q_1(:, e), this%q_1(:, e + 1)], &
                     eps_1)
                 call se3_viscous_internal_force(this%element_length(e), this%stiffness(:, e), &
@@ -811,6 +874,9 @@ contains
                 if (this%unknown_of(i, k) > 0) f(this%unknown_of(i, k)) = rows(i, k)
             end do
         end do
+        ! The Newton homotopy of the continuation: t_n + h is the pseudo-time tau.
+        if (this%continuing) f = f - max(0.0_rk, 1.0_rk - (t_n + h)) * this%anchor
+        call this%held%apply_residual(held_time(this, t_n), h, this%static_stage, x_n, y, f)
         status = state_valid
         if (any(f /= f)) status = state_invalid
     end subroutine se3_step_residual
@@ -849,7 +915,7 @@ contains
         real(rk) :: du_node(6, 6), accel(12), g(12), b_t(12, 6), theta(6), dtheta(6, 12), c(12, 12)
         real(rk) :: q_at(6, this%n_nodes), scale
         integer :: e, i, j, node
-        call this%set_drives(t_n + h, x_n)
+        call this%set_drives(step_end_time(this, t_n, h), x_n)
         call this%full_q(x_n, y, this%q_1)
         call this%stage_q(x_n, this%q_1, q_at)
         scale = merge(1.0_rk, this%scheme%alpha_f, this%statics)
@@ -857,7 +923,7 @@ contains
         values = 0.0_rk
         do e = 1, this%n_elements
             q_e = [q_at(:, e), q_at(:, e + 1)]
-            if (this%kelvin_voigt) then
+            if (this%kelvin_voigt .and. .not. this%statics) then
                 call se3_twist_tangent([this%q_1(:, e), this%q_1(:, e + 1)], theta, dtheta)
                 call se3_viscous_internal_force(this%element_length(e), this%stiffness(:, e), &
                     this%eps_ref(:, e), this%viscosity(:, e) * this%stage_strain_rate(h, x_n, e, &
@@ -908,6 +974,7 @@ contains
                 end do
             end do
         end do
+        call this%held%apply_jacobian(held_time(this, t_n), h, this%static_stage, values)
         status = state_valid
         if (any(values /= values)) status = state_invalid
     end subroutine se3_step_jacobian
@@ -997,6 +1064,11 @@ contains
         real(rk) :: ds(6, this%n_nodes), ds_e(12), c(12, 12), eps_n(6), eps_1(6)
         real(rk) :: work, kinetic_n, strain_n, kinetic_1, strain_1, dissipated
         integer :: k, e
+        if (this%static_stage) then
+            ! The initial equilibrium is not a time step: no energy terms, no grid step.
+            terms(1) = step_energy_t(reported=.false., grid_step=.false.)
+            return
+        end if
         q_n = reshape(x_n(1:6 * this%n_nodes), [6, this%n_nodes])
         q_1 = reshape(x_1(1:6 * this%n_nodes), [6, this%n_nodes])
         ! x_1 holds complemented rotation vectors: undo on the nodes whose angle jumped, so that
@@ -1017,7 +1089,7 @@ contains
         ! rule the drag's work itself).
         dissipated = 0.0_rk
         do e = 1, this%n_elements
-            if (this%kelvin_voigt) then
+            if (this%kelvin_voigt .and. .not. this%statics) then
                 call se3_strains(this%element_length(e), q_n(:, e:e + 1), eps_n)
                 call se3_strains(this%element_length(e), q_1(:, e:e + 1), eps_1)
                 dissipated = dissipated + this%element_length(e) / h * &
@@ -1152,9 +1224,51 @@ contains
         class(se3_pg_t), intent(in) :: this
         type(formulation_traits_t) :: traits
         traits%full_newton = .true.
-        traits%equilibrium_steps = this%statics
+        traits%equilibrium_steps = this%quasistatic
         if (this%scheme%history) traits%energy_scheme = energy_dissipative
     end function se3_traits
+
+    !> The initial equilibrium of a dynamic run (`endpoint` with continue_from; rod_run): the
+    !> next steps are the statics at load time t_load (the step problem of a quasistatic run,
+    !> loads and drives at t_load), continued from continue_from: its static residual, for
+    !> its own coordinates (the statics predictor's Y), is removed with the weight 1 - tau.
+    !> Back (not `endpoint`): the dynamics again. A quasistatic run steps its statics along
+    !> the time grid and asks for neither.
+    subroutine se3_set_step_problem(this, endpoint, t_load, continue_from)
+        class(se3_pg_t), intent(inout) :: this
+        logical, intent(in) :: endpoint
+        real(rk), intent(in) :: t_load
+        real(rk), intent(in), optional :: continue_from(:)
+        real(rk) :: y(this%n_y)
+        integer :: status
+        this%continuing = .false.
+        this%static_stage = endpoint .and. .not. this%quasistatic
+        this%statics = this%quasistatic .or. this%static_stage
+        this%t_static = t_load
+        if (.not. (this%static_stage .and. present(continue_from))) return
+        call this%predictor(0.0_rk, 1.0_rk, continue_from, y)
+        if (allocated(this%anchor)) deallocate(this%anchor)
+        allocate(this%anchor(this%n_y))
+        call this%step_residual(0.0_rk, 1.0_rk, continue_from, y, this%anchor, status)
+        this%continuing = .true.
+    end subroutine se3_set_step_problem
+
+    !> No kinetic energy is reported (no &time relaxation for se3_pg); with `from`, the largest
+    !> rotation of a node's section from `from` to x, |log(Exp(psi_x) Exp(psi_from)^T)| (a
+    !> continuation's increment bound, rod_run).
+    function se3_state_measures(this, x, from) result(measures)
+        class(se3_pg_t), intent(in) :: this
+        real(rk), intent(in) :: x(:)
+        real(rk), intent(in), optional :: from(:)
+        type(state_measures_t) :: measures
+        integer :: k, at
+        if (.not. present(from)) return
+        do k = 1, this%n_nodes
+            at = 6 * (k - 1)
+            measures%largest_rotation = max(measures%largest_rotation, norm2(log_so3(matmul( &
+                exp_so3(x(at + 4:at + 6)), transpose(exp_so3(from(at + 4:at + 6)))))))
+        end do
+    end function se3_state_measures
 
     !> The node table for couplings (rs_formulations_formulation): coordinates q = (r, psi),
     !> rows the virtual-displacement rows (I dr, K dphi) of the free ones, which carry forces

@@ -23,6 +23,9 @@ contains
         ! statics (&time quasistatic) and dynamics by the midpoint rule or the paper's
         ! generalized-alpha scheme (§7.3); any reference the SE(3) interpolation represents;
         ! Kelvin-Voigt viscosity and drag in both schemes (docs/theory/se3_pg.md, "Damping").
+        ! Prestretched starts (issue 26 item 3, docs/theory/prestretched_starts.md): axial
+        ! prestrain, the initial equilibrium (its statics continued in a dynamic run) and
+        ! supports released at a time (held rows).
         d%capability = capability_t(formulation=d%name, available=.true., &
             end_kinds='clamped|pinned|free|driven|sliding', &
             load_places='start|end|distributed|gravity', load_frames='spatial|follower', &
@@ -30,7 +33,7 @@ contains
             curved_reference=.true., joints='rigid|spherical|revolute', end_plates=.true., &
             contact=.true., planar=.false., drive='pose', order_4=.true., &
             adaptive=.true., generalized_alpha=.true., damping=.true., &
-            segments=.true.)
+            segments=.true., prestrain=.true., initial_equilibrium=.true., release=.true.)
         ! Joints, end plates and rod-rod contact through the system layer (src/system/) on
         ! se3_pg's node access (se3_pg%nodes, its tie rows in rs_se3_pg_tie): issue 22 item 5.
         d%system_couplings = .true.

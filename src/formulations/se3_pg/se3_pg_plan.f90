@@ -2,7 +2,7 @@
 !> element, the unknowns, statics or dynamics, supports and loads, and what is skipped.
 module rs_se3_pg_plan
     use rs_core_strings, only: str, vector_text
-    use rs_model_scene, only: scene_t, load_applies_to, rod_is_damped
+    use rs_model_scene, only: scene_t, load_applies_to, rod_is_damped, unset_real
     use rs_model_damping, only: damping_plan_text
     use rs_model_rod_geometry, only: centreline_text
     implicit none
@@ -34,9 +34,10 @@ contains
                 if (trim(scene%bcs(j)%rod) /= trim(rod%name)) cycle
                 select case (trim(scene%bcs(j)%kind))
                 case ('clamped', 'driven')
-                    n_fixed = n_fixed + 6
+                    ! A released support's unknowns stay (held by their own rows until then).
+                    if (scene%bcs(j)%release_time == unset_real) n_fixed = n_fixed + 6
                 case ('pinned')
-                    n_fixed = n_fixed + 3
+                    if (scene%bcs(j)%release_time == unset_real) n_fixed = n_fixed + 3
                 case ('sliding')
                     n_fixed = n_fixed + 5
                 end select

@@ -33,7 +33,8 @@ module rs_se3_strand
     use rs_core_kinds, only: rk
     use rs_core_error, only: error_t, set_error
     use rs_core_strings, only: str
-    use rs_model_scene, only: scene_t, rod_input_t, load_applies_to, element_properties
+    use rs_model_scene, only: scene_t, rod_input_t, load_applies_to, element_properties, &
+        axial_reference
     use rs_model_rod_history, only: rod_history_t
     use rs_model_time_function, only: time_function_t, time_function_from_load, time_function_from_bc
     use rs_model_rod_geometry, only: rod_geometry_t, rod_geometry_of, centreline_point, &
@@ -238,8 +239,9 @@ contains
     !> The relaxed strains are the discrete strains of the initial placement
     !> (the SE(3) logarithm of the relative pose of neighbouring nodes, exact for a straight rod,
     !> a circle or a helix with its frame), or those of the straight rod if `prestressed` (the
-    !> rod starts with the stresses of its initial shape). Initial state: P = M V of the rigid
-    !> velocity field, Sigma = A (U_0 - U_bar), ghosts mirrored so that eqs. (14)-(15) hold with
+    !> rod starts with the stresses of its initial shape); a prestrained rod's translational
+    !> ones divided by 1 + prestrain (docs/theory/prestretched_starts.md). Initial state:
+    !> P = M V of the rigid velocity field, Sigma = A (U_0 - U_bar), ghosts mirrored so that eqs. (14)-(15) hold with
     !> no end stress.
     subroutine reference_configuration(this, rod)
         type(se3_strand_t), intent(inout) :: this
@@ -274,6 +276,7 @@ contains
         else
             this%u_bar = u0
         end if
+        this%u_bar(4:6, :) = axial_reference(rod) * this%u_bar(4:6, :)
         ! Stresses: segments 0..N-1, the ghost at 0 copies segment 0 (eq. 14) or, at a free
         ! start, mirrors it (no start stress), the ghost at N mirrors N-1 (eq. 15 with no end
         ! load).

@@ -35,7 +35,8 @@ contains
             load_places='end|distributed|gravity', load_frames='spatial|follower', &
             constraints='none', quasistatic=.false., viscoelastic=.false., actuation=.false., &
             curved_reference=.true., prestressed=.true., joints='', planar=.false., &
-            relaxation=.true., damping=.true., drive='velocity', segments=.true.)
+            relaxation=.true., damping=.true., drive='velocity', segments=.true., &
+            prestrain=.true.)
         ! The damping of seed 004 (methods/se3_strands.md §2.7) and the treatment of the free
         ! end are read by this formulation only.
         d%own_rod_variables = 'free_end|external_damping|internal_damping'

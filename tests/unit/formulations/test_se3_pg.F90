@@ -21,6 +21,9 @@
 !>   strain-rate history of the rigid initial motion is zero;
 !> - the booked dissipation of a midpoint step is the work of the drag forces over the step
 !>   (exactly), and that of the Kelvin-Voigt forces up to the element's Petrov-Galerkin defect.
+!> A prestrained rod with a support released at a time (issue 26 item 3, docs/theory/
+!> prestretched_starts.md): the Jacobian against central differences while the end is held and
+!> after its release; while held, the end's rows are y - x_n.
 module rs_test_se3_pg
     use rs_core_kinds, only: rk, pi
     use rs_core_error, only: error_t, error_list_t
@@ -63,7 +66,57 @@ contains
         call run_test('damped_rho_inf_1_is_the_midpoint_rule', test_damped_midpoint_limit)
         call run_test('damped_initial_history_is_consistent', test_damped_initial_history)
         call run_test('dissipation_is_the_damping_work', test_dissipation)
+        call run_test('released_support_jacobian', test_released_jacobian)
     end subroutine run_all_tests
+
+    !> A prestrained rod clamped at its start and pinned at its end, released at t = 1 (held in
+    !> the step from t_n = 0.3) or at t = 0.1 (free), under gravity, midpoint rule: the step
+    !> Jacobian equals central differences at a perturbed state, and while held the rows of the
+    !> end's position are y - x_n (rs_formulations_held_rows).
+    subroutine test_released_jacobian()
+        character(len=3), parameter :: release(2) = ['1.0', '0.1']
+        type(se3_pg_t), allocatable :: rod
+        real(rk), allocatable :: x_n(:), y(:), values(:), dense(:, :), difference(:, :), f(:)
+        integer, allocatable :: row_ptr(:), cols(:)
+        real(rk) :: worst, held_value
+        integer :: k, i, status, row
+        logical :: ok
+        do k = 1, 2
+            if (allocated(rod)) deallocate(rod)
+            allocate(rod)
+            call build(rod, '&time t_end = 1, dt = 0.05 /' // nl // &
+                "&rod name = 'beam', formulation = 'se3_pg', n_elements = 4, length = 2," // nl // &
+                '     EA = 1e3, GA1 = 5e2, GA2 = 5e2, EI1 = 2, EI2 = 3, GJ = 1.5,' // nl // &
+                '     rhoA = 1, rhoI1 = 0.1, rhoI2 = 0.15, prestrain = 0.01 /' // nl // &
+                "&bc rod = 'beam', end = 'start', kind = 'clamped' /" // nl // &
+                "&bc rod = 'beam', end = 'end', kind = 'pinned', release_time = " // &
+                release(k) // ' /' // nl // &
+                "&load where = 'gravity', acceleration = 0, 0, -9.81 /" // nl, ok)
+            if (.not. ok) return
+            CHECK_EQUAL(rod%n_unknown(), 6 * 4, 'the released end''s position stays unknown')
+            call perturbed_step(rod, x_n, y)
+            call rod%jacobian_pattern(row_ptr, cols)
+            if (allocated(values)) deallocate(values, f)
+            allocate(values(size(cols)), f(size(y)))
+            call rod%step_jacobian(t_n, h, x_n, y, values, status)
+            CHECK_EQUAL(status, state_valid, 'Jacobian status')
+            dense = dense_jacobian(row_ptr, cols, values)
+            difference = central_differences(rod, t_n, h, x_n, y, 1.0e-6_rk)
+            worst = maxval(abs(difference - dense)) / maxval(abs(difference))
+            write(*, '(a,es10.3)') '  release at ' // release(k) // ': relative difference ', worst
+            CHECK_TRUE(worst <= 1.0e-8_rk, 'Jacobian with a released support = central differences')
+            call rod%step_residual(t_n, h, x_n, y, f, status)
+            do i = 1, 3
+                row = rod%unknown_of(i, 5)
+                held_value = y(row) - x_n(6 * 4 + i)
+                if (k == 1) then
+                    CHECK_CLOSE(f(row), held_value, 0.0_rk, 0.0_rk, 'held: y - x_n')
+                else
+                    CHECK_TRUE(abs(f(row) - held_value) > 1e-6_rk, 'released: the equation of motion')
+                end if
+            end do
+        end do
+    end subroutine test_released_jacobian
 
     !> A rod of 4 elements along x, pinned at its start and spinning about (0.4, -0.3, 2) through
     !> it; `scheme` is the &time line's tail; `all_loads` adds follower and dead end moments and a
