@@ -288,6 +288,10 @@ module rs_model_scene
         !> (inertial components) along which the end's position is free; across it the position
         !> is held, and the end's rotation is held.
         real(rk) :: axis(3) = unset_real
+        !> An end held in chosen directions (kind = 'held'; issue 26 item 3): which of the
+        !> position's inertial coordinates 'x', 'y', 'z' and whether its 'rotation' are held
+        !> (rs_model_support resolves every kind of support to such a hold).
+        character(len=name_len) :: hold(4) = ''
         character(len=name_len) :: time_function = 'constant'
         real(rk) :: t_on = 0.0_rk
         real(rk) :: t_off = unset_real
