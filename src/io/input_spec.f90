@@ -12,6 +12,7 @@ module rs_io_input_spec
         max_sweep_members, max_plate_rods
     use rs_model_units, only: unit_systems
     use rs_model_time_function, only: time_function_names
+    use rs_model_support, only: hold_entry_names
     use rs_formulations_registry, only: available_formulations, default_formulation
     implicit none
     private
@@ -639,7 +640,7 @@ contains
                 '''y'', ''z'', ''rotation'' slides along x; ''z'' is a roller on the plane ' // &
                 'z = z_0. Planar formulations hold the planar coordinates the held directions ' // &
                 'fix (none for the plane''s normal; docs/user/capabilities.md).', count=1, &
-                max_count=4, allowed='x|y|z|rotation', required_if='kind=held', &
+                max_count=4, allowed=hold_entry_names, required_if='kind=held', &
                 only_if='kind=held', example="'z'"), &
             spec_v('axis', 'real', '-', '(sliding: required)', 'A sliding end (kind = ' // &
                 '''sliding'', a prismatic support): the direction, in inertial components, along ' // &

@@ -22,7 +22,7 @@ module rs_model_support
     implicit none
     private
 
-    public :: end_hold, held_coordinates, held_names, hold_list, coordinate_hold_refusal
+    public :: end_hold, held_coordinates, held_names, mask_names, hold_list, coordinate_hold_refusal
 
     !> The names a `hold` entry may take (&bc kind = 'held'), in mask order.
     character(len=*), parameter, public :: hold_entry_names = 'x|y|z|rotation'
@@ -98,19 +98,24 @@ contains
     pure function held_names(mask) result(text)
         logical, intent(in) :: mask(6)
         character(len=:), allocatable :: text
-        character(len=1), parameter :: axes(3) = ['x', 'y', 'z']
+        text = mask_names(mask(1:4), [character(len=8) :: 'x', 'y', 'z', 'rotation'])
+    end function held_names
+
+    !> The names whose mask entry is true, separated by commas; 'none' if there are none (the
+    !> held coordinates of a formulation's own, e.g. the planar x, y, theta).
+    pure function mask_names(mask, names) result(text)
+        logical, intent(in) :: mask(:)
+        character(len=*), intent(in) :: names(:)
+        character(len=:), allocatable :: text
         integer :: i
         text = ''
-        do i = 1, 3
-            if (mask(i)) text = text // ', ' // axes(i)
+        do i = 1, size(mask)
+            if (.not. mask(i)) cycle
+            if (len(text) > 0) text = text // ', '
+            text = text // trim(names(i))
         end do
-        if (mask(4)) text = text // ', rotation'
-        if (len(text) == 0) then
-            text = 'none'
-        else
-            text = text(3:)
-        end if
-    end function held_names
+        if (len(text) == 0) text = 'none'
+    end function mask_names
 
     !> The entries of a held end's `hold`, quoted and separated by commas (for messages).
     pure function hold_list(bc) result(text)

@@ -38,7 +38,7 @@ contains
         character(len=:), allocatable :: units
         integer :: n_free, n_stress, n_pneumatic, n_tendons, nb, p, j, n_elements, n_nodes
         integer :: n_partly_held, n_rotation_held, n_driven, ends(2)
-        character(len=:), allocatable :: held_text
+        character(len=:), allocatable :: held_text, driven_text
 
         text = ''
         ! Built first without condensation, so that a request the rod cannot honour is reported
@@ -76,14 +76,15 @@ contains
                 18 * count(all(rod%held(:, ends), dim=1))
         else
             n_partly_held = 30 * 2 - count(rod%node_dof(:, ends) > 0) - &
-                30 * count(all(rod%held(:, ends), dim=1)) + 12 * n_driven
+                30 * count(all(rod%held(:, ends), dim=1))
         end if
         held_text = ''
         if (n_partly_held > 0) held_text = ', less ' // str(n_partly_held) // ' held at ' // &
             'pinned, sliding or held ends (the held coordinates, their velocities and the ' // &
             'multipliers of a held rotation)'
-        if (n_driven > 0 .and. .not. rod%condensed) held_text = held_text // ' + ' // &
-            str(n_driven) // ' driven node(s) x 12 (v: kinematic rows with the prescribed q)'
+        driven_text = ''
+        if (n_driven > 0) driven_text = '; the state also holds the 12 velocities of each ' // &
+            'driven node'
         n_stress = 6 * p * (1 + nb)
         associate (input => scene%rods(i))
             call add('geometry: ' // geometry_text(scene, i))
@@ -112,7 +113,7 @@ contains
                     ' + ' // &
                     str(n_elements) // &
                     ' elements x ' // str(n_stress) // ' stresses (6 components x ' // str(p) // &
-                    ' coefficients x ' // str(1 + nb) // ' branch(es))')
+                    ' coefficients x ' // str(1 + nb) // ' branch(es))' // driven_text)
             end if
             call add('orthonormality multipliers: 6 per node whose rotation is free (' // &
                 str(6 * (n_nodes - n_rotation_held)) // ')')
@@ -452,8 +453,9 @@ contains
                 case ('driven')
                     t = 'driven (its q prescribed: the reference pose moved by f(t) (' // &
                         vector_text(scene%bcs(k)%displacement) // ') and turned by f(t) (' // &
-                        vector_text(scene%bcs(k)%rotation) // '); no q or multiplier ' // &
-                        'unknowns, its v from the kinematic rows; the drive''s work booked)'
+                        vector_text(scene%bcs(k)%rotation) // '); no unknowns at its node, its ' // &
+                        'velocity the midpoint rule''s 2 dq/h - v_n, kept in the state; the ' // &
+                        'drive''s work booked)'
                     return
                 case ('pinned')
                     t = 'pinned (position held: no phi, v_phi unknowns; directors free with ' // &

@@ -40,9 +40,10 @@
 !> stage rate ((eps_{n+1} - eps_n) / h for the midpoint rule); the drag and angular drag are the
 !> consistent matrix C_e on the stage velocities. D_n >= 0 is booked as dissipated.
 !>
-!> Supports eliminate unknowns: clamped fixes r and psi, pinned fixes r (the heavy top's
-!> spherical joint), driven prescribes r and psi (a clamp moved and turned in time, e.g. the
-!> superimposed rotation of methods §10.3). Loads: dead (spatial) and follower end forces and moments, dead
+!> Supports eliminate unknowns (what each holds: rs_model_support): clamped fixes r and psi,
+!> pinned fixes r (the heavy top's spherical joint), sliding and held the held coordinates of r
+!> (and psi with the rotation), driven prescribes r and psi (a clamp moved and turned in time,
+!> e.g. the superimposed rotation of methods §10.3; rs_formulations_end_drive). Loads: dead (spatial) and follower end forces and moments, dead
 !> distributed forces and moments, gravity.
 module rs_se3_pg
     use rs_core_kinds, only: rk, pi
