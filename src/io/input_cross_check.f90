@@ -1,8 +1,9 @@
 !> Checks across groups of a scene whose groups were resolved on their own (DESIGN.md §6):
 !> unique rod names; &bc, &load and &actuator on rods that exist, an end supported twice
 !> (except by several velocity drives), tables that are not increasing, an initial velocity at
-!> a clamped, pinned, sliding or held end, a held end's entries named once; the joints (existing rods, no end tied to itself, no redundant
-!> joint, ends that coincide, an axis for revolute joints only); the end plates (&plate:
+!> a clamped, pinned, sliding or held end, a held end's entries named once; the joints
+!> (existing rods, no end tied to itself, no redundant joint, ends that coincide, an axis for
+!> revolute joints only); the end plates (&plate:
 !> existing rods, each tied end on one plate only, without &bc or joint, the centre defaulted
 !> to the mean of the tied ends, the time function of a driven plate) and contact (&contact:
 !> every rod's contact_radius, defaulted to a circle or tube section's radius, the margin and

@@ -1415,7 +1415,8 @@ contains
                 if (this%node_unknown(i, k) > 0) this%q_1(i, k) = y(this%node_unknown(i, k))
             end do
             do i = 1, 6
-                if (this%node_unknown(12 + i, k) > 0) this%lambda(i, k) = y(this%node_unknown(12 + i, k))
+                if (this%node_unknown(12 + i, k) > 0) &
+                    this%lambda(i, k) = y(this%node_unknown(12 + i, k))
             end do
             this%v_1(:, k) = 2.0_rk * (this%q_1(:, k) - this%q_n(:, k)) / h - this%v_n(:, k)
         end do

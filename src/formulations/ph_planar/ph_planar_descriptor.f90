@@ -47,7 +47,8 @@ contains
         ! angles. Kelvin-Voigt viscosity and drag (issue 26, docs/theory/ph_planar.md
         ! "Damping") with their dissipation in the exact energy balance of every scheme.
         d%capability = capability_t(formulation=name, available=.true., &
-            end_kinds='clamped|pinned|free|sliding|held', load_places='start|end|distributed|gravity', &
+            end_kinds='clamped|pinned|free|sliding|held', &
+            load_places='start|end|distributed|gravity', &
             load_frames='spatial', constraints='none', quasistatic=.true., &
             viscoelastic=.false., actuation=.false., curved_reference=.false., &
             joints='revolute|rigid', planar=.true., order_4=.true., adaptive=.true., &

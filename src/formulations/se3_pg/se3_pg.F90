@@ -43,8 +43,9 @@
 !> Supports eliminate unknowns (what each holds: rs_model_support): clamped fixes r and psi,
 !> pinned fixes r (the heavy top's spherical joint), sliding and held the held coordinates of r
 !> (and psi with the rotation), driven prescribes r and psi (a clamp moved and turned in time,
-!> e.g. the superimposed rotation of methods §10.3; rs_formulations_end_drive). Loads: dead (spatial) and follower end forces and moments, dead
-!> distributed forces and moments, gravity.
+!> e.g. the superimposed rotation of methods §10.3; rs_formulations_end_drive). Loads: dead
+!> (spatial) and follower end forces and moments, dead distributed forces and moments,
+!> gravity.
 module rs_se3_pg
     use rs_core_kinds, only: rk, pi
     use rs_core_error, only: error_t, set_error
@@ -361,7 +362,8 @@ contains
         do i = 1, size(this%drives)
             k = this%drives(i)%node
             call this%drives(i)%pose(t, this%q_driven(1:3, k), frame)
-            this%q_driven(4:6, k) = nearest_rotation_vector(log_so3(frame), x_n(6 * (k - 1) + 4:6 * k))
+            this%q_driven(4:6, k) = nearest_rotation_vector(log_so3(frame), &
+                x_n(6 * (k - 1) + 4:6 * k))
         end do
     end subroutine set_drives
 
