@@ -1,8 +1,9 @@
 !> Checks across groups of a scene whose groups were resolved on their own (DESIGN.md §6):
 !> unique rod names; &bc, &load and &actuator on rods that exist, an end supported twice
 !> (except by several velocity drives), tables that are not increasing, an initial velocity at
-!> a clamped or pinned end; the joints (existing rods, no end tied to itself, no redundant
-!> joint, ends that coincide, an axis for revolute joints only); the end plates (&plate:
+!> a clamped, pinned, sliding or held end, a held end's entries named once; the joints
+!> (existing rods, no end tied to itself, no redundant joint, ends that coincide, an axis for
+!> revolute joints only); the end plates (&plate:
 !> existing rods, each tied end on one plate only, without &bc or joint, the centre defaulted
 !> to the mean of the tied ends, the time function of a driven plate) and contact (&contact:
 !> every rod's contact_radius, defaulted to a circle or tube section's radius, the margin and
@@ -16,6 +17,7 @@ module rs_io_input_cross_check
     use rs_model_time_function, only: time_function_t, time_function_from_bc, &
         time_function_from_plate, time_function_from_obstacle
     use rs_model_rod_geometry, only: rod_geometry_t, rod_geometry_of, centreline_point
+    use rs_model_support, only: end_hold_t, end_hold
     use rs_model_capabilities, only: capability_t
     use rs_formulations_registry, only: capability_of
     use rs_io_input_check_common, only: at, rod_index, rod_names, see_matrix, leading_count
@@ -63,8 +65,9 @@ contains
     !> up their velocities when the rod's formulation drives ends by velocity, capability_t
     !> drive), a clamped end starting at rest (the rod's initial velocity field vanishes
     !> there only without velocity and angular_velocity,
-    !> since the director rates are angular_velocity x d_i) and a pinned end starting at rest
-    !> (it may turn: a rotation about the pin is allowed).
+    !> since the director rates are angular_velocity x d_i), a pinned end starting at rest
+    !> (it may turn: a rotation about the pin is allowed), sliding and held ends at rest in
+    !> what they hold (rs_model_support) and a held end naming each entry once.
     subroutine check_bcs(scene, geometry_ok, errors)
         type(scene_t), intent(in) :: scene
         logical, intent(in) :: geometry_ok(:)
@@ -95,6 +98,10 @@ contains
                 if (r > 0 .and. trim(bc%kind) == 'pinned') then
                     if (geometry_ok(r)) call check_pinned_at_rest(scene, r, bc%end, bc%input_line, errors)
                 end if
+                if (r > 0 .and. (trim(bc%kind) == 'held' .or. trim(bc%kind) == 'sliding')) then
+                    if (geometry_ok(r)) call check_held_at_rest(scene, r, bc, errors)
+                end if
+                if (trim(bc%kind) == 'held') call check_hold_entries(scene, bc, errors)
                 call check_driven(scene, bc, errors)
                 if (trim(bc%kind) == 'sliding' .and. all(bc%axis /= unset_real)) then
                     if (all(bc%axis == 0.0_rk)) call errors%add(at(scene, bc%input_line) // &
@@ -243,6 +250,56 @@ contains
                 'about the pin (rotation_center = (' // vector_text(p) // '))')
         end associate
     end subroutine check_pinned_at_rest
+
+
+    !> A held or sliding end (rs_model_support) starts at rest in what it holds: the initial
+    !> velocity velocity + angular_velocity x (p - rotation_center) at the end (point p) has no
+    !> component along the held directions, and a held rotation does not turn
+    !> (angular_velocity = 0, since the director rates are angular_velocity x d_i).
+    subroutine check_held_at_rest(scene, r, bc, errors)
+        type(scene_t), intent(in) :: scene
+        integer, intent(in) :: r
+        type(bc_input_t), intent(in) :: bc
+        type(error_list_t), intent(inout) :: errors
+        type(end_hold_t) :: hold
+        real(rk) :: p(3), arm(3), v(3), scale
+        character(len=:), allocatable :: where
+        associate (rod => scene%rods(r))
+            if (all(rod%velocity == 0.0_rk) .and. all(rod%angular_velocity == 0.0_rk)) return
+            hold = end_hold(bc)
+            where = at(scene, rod%input_line) // '&rod ''' // trim(rod%name) // ''' '
+            if (hold%rotation .and. any(rod%angular_velocity /= 0.0_rk)) call errors%add(where // &
+                'angular_velocity: (' // vector_text(rod%angular_velocity) // ') given, but ' // &
+                'the ''' // trim(bc%end) // ''' end''s rotation is held (&bc at line ' // &
+                str(bc%input_line) // ') and starts at rest; allowed: 0, 0, 0')
+            p = end_point(rod, bc%end)
+            arm = p - rod%rotation_center
+            v = matmul(hold%position, rod%velocity + cross3(rod%angular_velocity, arm))
+            scale = norm2(rod%velocity) + norm2(rod%angular_velocity) * norm2(arm)
+            if (norm2(v) <= rest_tolerance * scale) return
+            call errors%add(where // 'velocity: the initial velocity at the ''' // &
+                trim(bc%end) // ''' end has the component (' // vector_text(v) // ') along ' // &
+                'the directions its ' // trim(bc%kind) // ' support holds (&bc at line ' // &
+                str(bc%input_line) // '), which start at rest; allowed: a velocity there ' // &
+                'along the free directions only')
+        end associate
+    end subroutine check_held_at_rest
+
+
+    !> A held end names each of x, y, z, rotation at most once.
+    subroutine check_hold_entries(scene, bc, errors)
+        type(scene_t), intent(in) :: scene
+        type(bc_input_t), intent(in) :: bc
+        type(error_list_t), intent(inout) :: errors
+        integer :: i
+        do i = 2, size(bc%hold)
+            if (len_trim(bc%hold(i)) == 0) cycle
+            if (.not. any(bc%hold(1:i - 1) == bc%hold(i))) cycle
+            call errors%add(at(scene, bc%input_line) // '&bc hold: ''' // trim(bc%hold(i)) // &
+                ''' is named twice; name each of x, y, z, rotation at most once')
+            return
+        end do
+    end subroutine check_hold_entries
 
 
     !> The reference position of end `end_name` ('start' or 'end') of a resolved rod.

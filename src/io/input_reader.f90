@@ -315,6 +315,9 @@ contains
                     return
                 end if
                 value = "'" // text // "'"
+            else if (len_trim(spec%allowed) > 0) then
+                call check_entries(a%value, spec%allowed, value, message)
+                if (len(message) > 0) return
             end if
         case ('logical')
             ! The namelist reader takes any word after a '.' that starts with t or f
@@ -542,6 +545,39 @@ contains
         if (in_token .and. .not. token_quoted) all_quoted = .false.
         if (quote /= ' ') all_quoted = .false.
     end function all_quoted
+
+    !> Each quoted entry of `text` (quoted strings separated by commas, all_quoted) is one of
+    !> the '|'-separated names `allowed`, compared without case; `value` is the entries in the
+    !> spelling of `allowed`, `message` what is wrong with the first entry that is not ('' when
+    !> all are).
+    pure subroutine check_entries(text, allowed, value, message)
+        character(len=*), intent(in) :: text, allowed
+        character(len=:), allocatable, intent(out) :: value, message
+        character(len=32), allocatable :: names(:)
+        character(len=:), allocatable :: entry
+        integer :: i, first, j
+        names = split_list(allowed)
+        value = ''
+        message = ''
+        i = 0
+        do while (i < len_trim(text))
+            i = i + 1
+            if (text(i:i) /= '''' .and. text(i:i) /= '"') cycle
+            first = i + 1
+            i = index(text(first:), text(first - 1:first - 1)) + first - 1
+            if (i < first) i = len_trim(text) + 1
+            entry = text(first:i - 1)
+            j = findloc([(to_lower(trim(names(j))) == to_lower(entry), j = 1, size(names))], &
+                .true., 1)
+            if (j == 0) then
+                message = '"' // entry // '" is not allowed; allowed: ' // allowed_list(allowed) // &
+                    did_you_mean(to_lower(entry), split_list(allowed))
+                return
+            end if
+            if (len(value) > 0) value = value // ', '
+            value = value // "'" // trim(names(j)) // "'"
+        end do
+    end subroutine check_entries
 
     pure function unquote(text) result(out)
         character(len=*), intent(in) :: text

@@ -12,6 +12,7 @@ module rs_io_input_spec
         max_sweep_values, max_sweep_members, max_plate_rods
     use rs_model_units, only: unit_systems
     use rs_model_time_function, only: time_function_names
+    use rs_model_support, only: hold_entry_names
     use rs_formulations_registry, only: available_formulations, default_formulation
     implicit none
     private
@@ -663,14 +664,24 @@ contains
                 example="'start'"), &
             spec_v('kind', 'string', '-', '(required)', &
                 "Kind of support: 'clamped' fixes the end's position and rotation, 'pinned' " // &
-                'its position only (a ground pin: the rod turns freely about it), ''free'' ' // &
-                'neither, ''driven'' is a clamp moved by displacement and rotation (se3_pg) or ' // &
-                'by velocity and angular_velocity (se3_strand; several driven &bc on one end ' // &
-                'add up), ''body'' a free end carrying a rigid body (mass, centre, inertia: a tip ' // &
-                'mass, a payload), ''sliding'' a prismatic support (see axis); which kinds a ' // &
-                'formulation has, at which end, and how it drives an end: ' // &
+                'its position only (a ground pin), ''free'' neither, ''driven'' is a clamp ' // &
+                'moved by displacement and rotation (se3_pg, ph_director) or by velocity and ' // &
+                'angular_velocity (se3_strand; several driven &bc on one end add up), ''body'' ' // &
+                'a free end carrying a rigid body (mass, centre, inertia), ''sliding'' a ' // &
+                'prismatic support (see axis), ''held'' an end held in chosen directions (see ' // &
+                'hold); which kinds a formulation has, at which end, and how it drives an end: ' // &
                 'docs/user/capabilities.md.', &
-                allowed='clamped|pinned|free|driven|body|sliding', required=.true., example="'clamped'"), &
+                allowed='clamped|pinned|free|driven|body|sliding|held', required=.true., &
+                example="'clamped'"), &
+            spec_v('hold', 'string', '-', '(held: required)', 'A held end (kind = ''held''; ' // &
+                'issue 26 item 3): 1 to 4 names of what is held at the end''s reference: the ' // &
+                'inertial coordinates ''x'', ''y'', ''z'' of its position and ''rotation'' its ' // &
+                'whole rotation. ''x'', ''y'', ''z'' is pinned, with ''rotation'' clamped; ' // &
+                '''y'', ''z'', ''rotation'' slides along x; ''z'' is a roller on the plane ' // &
+                'z = z_0. Planar formulations hold the planar coordinates the held directions ' // &
+                'fix (none for the plane''s normal; docs/user/capabilities.md).', count=1, &
+                max_count=4, allowed=hold_entry_names, required_if='kind=held', &
+                only_if='kind=held', example="'z'"), &
             spec_v('axis', 'real', '-', '(sliding: required)', 'A sliding end (kind = ' // &
                 '''sliding'', a prismatic support): the direction, in inertial components, along ' // &
                 'which the end''s position is free; across it the position is held and the ' // &
@@ -687,12 +698,13 @@ contains
                 'release (docs/theory/prestretched_starts.md).', lower=0.0_rk, &
                 example='0.5'), &
             spec_v('displacement', 'real', 'm', '0, 0, 0', 'Driven end of a formulation that ' // &
-                'drives the pose (se3_pg): its displacement at f(t) = 1 (inertial components); ' // &
-                'the end is at its reference position plus f(t) displacement.', count=3, &
+                'drives the pose (se3_pg, ph_director): its displacement at f(t) = 1 ' // &
+                '(inertial components); the end is at its reference position plus f(t) ' // &
+                'displacement.', count=3, &
                 example='0, 0, 0.1'), &
             spec_v('rotation', 'real', 'rad', '0, 0, 0', 'Driven end of a formulation that ' // &
-                'drives the pose (se3_pg): its rotation vector at f(t) = 1 (inertial ' // &
-                'components, about the end''s reference position); the end''s frame is ' // &
+                'drives the pose (se3_pg, ph_director): its rotation vector at f(t) = 1 ' // &
+                '(inertial components, about the end''s reference position); the end''s frame is ' // &
                 'Exp(f(t) rotation) times its reference frame.', count=3, &
                 example='62.8318530718, 0, 0'), &
             spec_v('velocity', 'real', 'm/s', '0, 0, 0', 'Driven end of a formulation that ' // &

@@ -13,7 +13,8 @@ module rs_model_capabilities
     type, public :: capability_t
         character(len=32) :: formulation = ''
         logical :: available = .false.
-        !> Kinds of &bc it can apply at an end ('clamped', 'pinned', 'free', 'driven').
+        !> Kinds of &bc it can apply at an end ('clamped', 'pinned', 'free', 'driven', 'body',
+        !> 'sliding', 'held').
         character(len=64) :: end_kinds = ''
         !> Kinds of &bc it can apply at the end s = L (&bc end = 'end'), where that differs from
         !> the end s = 0; blank = the same as end_kinds.

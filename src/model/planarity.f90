@@ -28,11 +28,12 @@ module rs_model_planarity
     use rs_core_kinds, only: rk
     use rs_core_strings, only: str, vector_text
     use rs_model_scene, only: scene_t, unset_real, coordinate_axis
+    use rs_model_support, only: end_hold_t
     implicit none
     private
 
     public :: plane_of_rods, point_in_plane, vector_in_plane, point_from_plane, vector_from_plane
-    public :: angle_in_plane, plane_text, cross, planar_coordinate_axis
+    public :: angle_in_plane, plane_text, cross, planar_coordinate_axis, planar_held
 
     !> Relative tolerance of every planarity condition (a component along the normal of at most
     !> this times the vector's norm, or the scene's length scale for points, counts as zero).
@@ -160,6 +161,39 @@ contains
         i = coordinate_axis(c)
         if (i == 3) i = 0
     end function planar_coordinate_axis
+
+    !> A support's hold (rs_model_support) as held planar coordinates (x, y, theta): with E =
+    !> [e1 e2], the in-plane motion E u keeps P E u = 0 exactly when Q u = 0, Q = E^T P E
+    !> (P the hold's projector; Q is positive semidefinite). Q = 0: nothing in the plane is
+    !> held (a roller on a plane parallel to the scene's); rank 2: x and y; rank 1: the one
+    !> planar coordinate Q holds, which must be x or y (Q diagonal), else `ok` is false (an
+    !> oblique direction cannot be held by eliminating a coordinate). theta is held with the
+    !> rotation.
+    pure subroutine planar_held(plane, hold, held, ok)
+        type(plane_t), intent(in) :: plane
+        type(end_hold_t), intent(in) :: hold
+        logical, intent(out) :: held(3)
+        logical, intent(out) :: ok
+        real(rk) :: e(3, 2), q(2, 2), trace, determinant
+        e(:, 1) = plane%e1
+        e(:, 2) = plane%e2
+        q = matmul(transpose(e), matmul(hold%position, e))
+        trace = q(1, 1) + q(2, 2)
+        determinant = q(1, 1) * q(2, 2) - q(1, 2) * q(2, 1)
+        ok = .true.
+        held(1:2) = .false.
+        if (trace <= planarity_tolerance) then
+            continue
+        else if (abs(determinant) > planarity_tolerance * trace**2) then
+            held(1:2) = .true.
+        else if (abs(q(1, 2)) <= planarity_tolerance * trace) then
+            held(1) = q(1, 1) > planarity_tolerance * trace
+            held(2) = q(2, 2) > planarity_tolerance * trace
+        else
+            ok = .false.
+        end if
+        held(3) = hold%rotation
+    end subroutine planar_held
 
     !> The point origin + x e1 + y e2 of planar coordinates `xy`.
     pure function point_from_plane(plane, xy) result(p)

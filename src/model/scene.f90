@@ -312,6 +312,10 @@ module rs_model_scene
         !> unset: held throughout): a rope released from a pin (docs/theory/
         !> prestretched_starts.md, "Release").
         real(rk) :: release_time = unset_real
+        !> An end held in chosen directions (kind = 'held'; issue 26 item 3): which of the
+        !> position's inertial coordinates 'x', 'y', 'z' and whether its 'rotation' are held
+        !> (rs_model_support resolves every kind of support to such a hold).
+        character(len=name_len) :: hold(4) = ''
         character(len=name_len) :: time_function = 'constant'
         real(rk) :: t_on = 0.0_rk
         real(rk) :: t_off = unset_real

@@ -5,12 +5,18 @@
 !>
 !> Unknowns of a step (uncondensed, methods §5.6): per free node q = (phi, d1, d2, d3) and
 !> v at t_{n+1} (12 + 12) and the midpoint multipliers lambda (6); per element the stress
-!> coefficients sigma at t_{n+1} (6 p). A clamped node has no unknowns: its q is fixed, v = 0,
-!> and its multipliers are dropped (methods §2.9). A pinned node (issue 26 item 2) holds only
-!> phi: its phi and v_phi are not unknowns (phi fixed, v_phi = 0, the Dirichlet part of methods
-!> §2.9 on phi alone), its directors, their velocities and its multipliers are. The state X has the same layout as the
-!> unknown Y; the lambda slots of X hold the multipliers of the last step's midpoint, which
-!> no residual uses (methods §5.2, last bullet).
+!> coefficients sigma at t_{n+1} (6 p). Supports hold by elimination (the Dirichlet conditions
+!> of methods §2.9, issue 26 items 2 and 3; rs_model_support): a held coordinate of phi and its
+!> velocity are not unknowns (held at the reference, v = 0), a held rotation takes the
+!> directors, their velocities and the node's multipliers out (its constraint rows are void).
+!> A clamped node has no unknowns, a pinned one holds phi, a sliding or held one what it holds.
+!> A driven node (a clamp moved in time, rs_formulations_end_drive) has no unknowns either:
+!> its q is prescribed by the drive, its velocity is the one the midpoint rule implies,
+!> v_{n+1} = 2 (q_{n+1} - q_n)/h - v_n (the kinematic rows R_K with the prescribed q), and the
+!> drive's work is booked from the reaction (accept_step). The state X has the layout of the
+!> uncondensed unknown Y followed by the velocities of the driven nodes (12 each, the only
+!> state that is no unknown); the lambda slots of X hold the multipliers of the last step's
+!> midpoint, which no residual uses (methods §5.2, last bullet).
 !>
 !> Dofs are numbered node by node along the rod with each element's stresses after its
 !> interior nodes, so the Jacobian is banded before any reordering.
@@ -50,6 +56,8 @@ module rs_ph_director
     use rs_ph_director_node_tie, only: ph_director_node_tie
     use rs_ph_director_follower, only: ph_director_follower_vector, ph_director_node_follower, &
         ph_director_element_follower, ph_director_element_follower_work
+    use rs_model_support, only: end_hold, held_coordinates, coordinate_hold_refusal
+    use rs_formulations_end_drive, only: end_drive_t, end_drive_init
     use rs_ph_director_body, only: ph_director_body_t, ph_director_body_init, &
         ph_director_body_kinetic_energy, ph_director_body_momenta, ph_director_body_weight, &
         ph_director_body_centre
@@ -86,7 +94,7 @@ module rs_ph_director
     !> Where the dense Jacobians of a family of blocks (the elements, or the nodes) go in the
     !> CSR values: block b writes entry local(n) of its Jacobian (column-major index) to
     !> values(position(n)), n = first(b) .. first(b + 1) - 1. Only the entries of the block's
-    !> mask between unknowns are listed, so entries outside the pattern and clamped entries
+    !> mask between unknowns are listed, so entries outside the pattern and held entries
     !> cost nothing. The first n_assigned(b) entries of a block are the first contributions to
     !> their positions in assembly order (all elements, then all nodes), and are assigned
     !> rather than added: the values need no zeroing (every position of the pattern comes from
@@ -133,9 +141,14 @@ module rs_ph_director
         logical :: continuing = .false.
         real(rk) :: row_scale = 0.0_rk
         real(rk), allocatable :: anchor(:)
-        logical, allocatable :: clamped(:)
-        !> Pinned nodes (&bc kind = 'pinned'): phi held, directors free (module header).
-        logical, allocatable :: pinned(:)
+        !> held(:, k): what the support of node k holds (rs_model_support held_coordinates:
+        !> phi's x, y, z, then the rotation three times; module header).
+        logical, allocatable :: held(:, :)
+        !> Driven ends (rs_formulations_end_drive; frame: the reference directors), the drive
+        !> of each node (0: none) and where the state holds a driven node's velocities
+        !> (drive_state(k) .. drive_state(k) + 11, after the n_dofs entries of Y; 0: none).
+        type(end_drive_t), allocatable :: drives(:)
+        integer, allocatable :: drive_of(:), drive_state(:)
         !> Rigid bodies on the ends (&bc kind = 'body'; rs_ph_director_body).
         type(ph_director_body_t), allocatable :: bodies(:)
         real(rk), allocatable :: fixed_q(:, :)
@@ -491,33 +504,47 @@ contains
         end function cross
     end subroutine reference_configuration
 
+    !> The supports of the rod's ends: what each holds (rs_model_support; the coordinates of
+    !> phi are inertial, so a slide's axis must be a coordinate axis), the drives of driven
+    !> ends, the bodies on ends and on the tied end of a floating plate.
     subroutine read_supports(this, scene, err)
         type(ph_director_t), intent(inout) :: this
         type(scene_t), intent(in) :: scene
         type(error_t), allocatable, intent(out) :: err
         character(len=:), allocatable :: message
+        type(end_drive_t) :: drive
+        logical :: ok
         integer :: i, node
-        allocate(this%clamped(this%n_nodes), this%pinned(this%n_nodes), source=.false.)
-        allocate(this%bodies(0))
+        allocate(this%held(6, this%n_nodes), source=.false.)
+        allocate(this%drive_of(this%n_nodes), source=0)
+        allocate(this%bodies(0), this%drives(0))
         do i = 1, size(scene%bcs)
             associate (bc => scene%bcs(i))
                 if (trim(bc%rod) /= this%name) cycle
                 node = merge(1, this%n_nodes, trim(bc%end) == 'start')
                 select case (trim(bc%kind))
-                case ('clamped')
-                    this%clamped(node) = .true.
-                case ('pinned')
-                    this%pinned(node) = .true.
+                case ('clamped', 'pinned', 'sliding', 'held', 'free')
+                case ('driven')
+                    call end_drive_init(drive, bc, node, this%fixed_q(1:3, node), &
+                        reshape(this%fixed_q(4:12, node), [3, 3]), err)
+                    RS_RETURN_IF_ERROR(err)
+                    this%drives = [this%drives, drive]
+                    this%drive_of(node) = size(this%drives)
                 case ('body')
                     this%bodies = [this%bodies, ph_director_body_init(node, bc%mass, bc%centre, &
                         body_inertia_tensor(bc), reshape(this%fixed_q(4:12, node), [3, 3]))]
-                case ('free')
                 case default
                     message = 'rod ''' // this%name // ''': a ''' // trim(bc%kind) // &
                         ''' end is not available for ph_director in this version (docs/user/capabilities.md)'
                     RS_SET_ERROR(err, 'read_supports', message)
                     return
                 end select
+                call held_coordinates(end_hold(bc), this%held(:, node), ok)
+                if (.not. ok) then
+                    message = coordinate_hold_refusal(this%name, 'ph_director', 'phi', bc)
+                    RS_SET_ERROR(err, 'read_supports', message)
+                    return
+                end if
             end associate
         end do
         ! A floating plate (&plate mass > 0; issue 24 item 4) is a body on the tied end of its
@@ -602,25 +629,51 @@ contains
         do e = 1, this%n_elements
             this%element_dof(:, e) = element_dofs(this, e)
         end do
+        ! The driven nodes' velocities: state only, after the unknowns.
+        allocate(this%drive_state(this%n_nodes), source=0)
+        do a = 1, size(this%drives)
+            this%drive_state(this%drives(a)%node) = this%n_dofs + 12 * (a - 1) + 1
+        end do
     contains
         subroutine number_node(node)
             integer, intent(in) :: node
             integer :: i
-            if (this%clamped(node)) return
             do i = 1, node_dofs
-                if (this%pinned(node) .and. is_position_dof(i)) cycle
+                if (is_held_dof(this, i, node)) cycle
                 next = next + 1
                 this%node_dof(i, node) = next
             end do
         end subroutine number_node
     end subroutine number_dofs
 
-    !> Whether local dof i of a node (node kernel layout: q 1:12, v 13:24, lambda 25:30) is phi
-    !> or v_phi, the dofs a pinned node holds.
-    pure logical function is_position_dof(i)
-        integer, intent(in) :: i
-        is_position_dof = i <= 3 .or. (i >= 13 .and. i <= 15)
-    end function is_position_dof
+    !> Whether local dof i of node k (node kernel layout: q 1:12, v 13:24, lambda 25:30) is
+    !> held by its support (module header): a held coordinate of phi or the held directors,
+    !> with their velocities, and the multipliers of a held rotation.
+    pure logical function is_held_dof(this, i, k) result(held)
+        type(ph_director_t), intent(in) :: this
+        integer, intent(in) :: i, k
+        if (i <= 12) then
+            held = this%held(min(i, 4), k)
+        else if (i <= 24) then
+            held = this%held(min(i - 12, 4), k)
+        else
+            held = this%held(4, k)
+        end if
+    end function is_held_dof
+
+    !> The held q of node k (its reference, or a driven node's pose at time t; without t the
+    !> reference pose).
+    pure function held_q(this, k, t) result(q)
+        type(ph_director_t), intent(in) :: this
+        integer, intent(in) :: k
+        real(rk), intent(in), optional :: t
+        real(rk) :: q(12)
+        real(rk) :: frame(3, 3)
+        q = this%fixed_q(:, k)
+        if (this%drive_of(k) == 0 .or. .not. present(t)) return
+        call this%drives(this%drive_of(k))%pose(t, q(1:3), frame)
+        q(4:12) = reshape(frame, [9])
+    end function held_q
 
     !> Stress coefficients of an element: 6 p per branch, elastic branch included.
     pure integer function n_stress(this)
@@ -818,9 +871,10 @@ contains
         end do
     end subroutine ph_director_error_entries
 
+    !> The state: the uncondensed unknowns and the driven nodes' velocities (module header).
     pure integer function ph_director_n_dofs(this)
         class(ph_director_t), intent(in) :: this
-        ph_director_n_dofs = this%n_dofs
+        ph_director_n_dofs = this%n_dofs + 12 * size(this%drives)
     end function ph_director_n_dofs
 
     pure integer function ph_director_n_unknown(this)
@@ -840,7 +894,7 @@ contains
 
     !> The reference configuration with its initial velocity and consistent stresses (methods
     !> §5.4): sigma = 0 in a stress-free reference, the projected elastic stresses of a
-    !> prestressed one (Maxwell branches at 0); v the initial rigid motion (0 at clamped nodes,
+    !> prestressed one (Maxwell branches at 0); v the initial rigid motion (0 on held coordinates,
     !> which the input check keeps at rest); lambda = 0.
     subroutine ph_director_initial_state(this, x)
         class(ph_director_t), intent(in) :: this
@@ -852,6 +906,8 @@ contains
                 if (this%node_dof(i, k) > 0) x(this%node_dof(i, k)) = this%fixed_q(i, k)
                 if (this%node_dof(12 + i, k) > 0) x(this%node_dof(12 + i, k)) = this%initial_v(i, k)
             end do
+            if (this%drive_state(k) > 0) x(this%drive_state(k):this%drive_state(k) + 11) = &
+                this%initial_v(:, k)
         end do
         do e = 1, this%n_elements
             x(this%stress_dof(1:6 * this%degree, e)) = reshape(this%initial_s(:, :, e), &
@@ -859,32 +915,30 @@ contains
         end do
     end subroutine ph_director_initial_state
 
-    !> Nodal q, v, lambda and element stresses of a state or unknown vector.
-    subroutine unpack(this, x, q, v, lambda, s)
+    !> Nodal q, v, lambda and element stresses of a state or an uncondensed unknown vector x at
+    !> time t: held coordinates at their held values (held_q; a driven node's pose at t, the
+    !> reference pose without t), held velocities zero, the multipliers of a held rotation zero;
+    !> a driven node's velocities from a state, zero from an unknown vector (driven_velocities
+    !> sets them).
+    subroutine unpack(this, x, q, v, lambda, s, t)
         class(ph_director_t), intent(in) :: this
         real(rk), intent(in) :: x(:)
         real(rk), intent(out) :: q(:, :), v(:, :), lambda(:, :), s(:, :, 0:, :)
+        real(rk), intent(in), optional :: t
         integer :: k, e, i, j, b, br
         do k = 1, this%n_nodes
-            if (this%clamped(k)) then
-                q(:, k) = this%fixed_q(:, k)
-                v(:, k) = 0.0_rk
-                lambda(:, k) = 0.0_rk
-            else
-                ! A pinned node's phi is held at the reference, its v_phi zero.
-                do i = 1, 12
-                    if (this%node_dof(i, k) > 0) then
-                        q(i, k) = x(this%node_dof(i, k))
-                        v(i, k) = x(this%node_dof(12 + i, k))
-                    else
-                        q(i, k) = this%fixed_q(i, k)
-                        v(i, k) = 0.0_rk
-                    end if
-                end do
-                do i = 1, 6
-                    lambda(i, k) = x(this%node_dof(24 + i, k))
-                end do
-            end if
+            q(:, k) = held_q(this, k, t)
+            v(:, k) = 0.0_rk
+            lambda(:, k) = 0.0_rk
+            do i = 1, 12
+                if (this%node_dof(i, k) > 0) q(i, k) = x(this%node_dof(i, k))
+                if (this%node_dof(12 + i, k) > 0) v(i, k) = x(this%node_dof(12 + i, k))
+            end do
+            do i = 1, 6
+                if (this%node_dof(24 + i, k) > 0) lambda(i, k) = x(this%node_dof(24 + i, k))
+            end do
+            if (this%drive_state(k) > 0 .and. size(x) > this%n_dofs) &
+                v(:, k) = x(this%drive_state(k):this%drive_state(k) + 11)
         end do
         do e = 1, this%n_elements
             j = 0
@@ -899,6 +953,23 @@ contains
         end do
     end subroutine unpack
 
+    !> The velocities v_1 of the driven nodes in the workspace, from their prescribed q_n, q_1
+    !> and v_n: the midpoint rule's v_1 = 2 (q_1 - q_n)/h - v_n (R_K = 0, methods §5.5 item 1),
+    !> or v_1 = v_n in the endpoint equilibrium (its kinematic rows keep the velocities).
+    subroutine driven_velocities(this, h)
+        type(ph_director_t), intent(inout) :: this
+        real(rk), intent(in) :: h
+        integer :: i, k
+        do i = 1, size(this%drives)
+            k = this%drives(i)%node
+            if (this%static) then
+                this%v_1(:, k) = this%v_n(:, k)
+            else
+                this%v_1(:, k) = 2.0_rk * (this%q_1(:, k) - this%q_n(:, k)) / h - this%v_n(:, k)
+            end if
+        end do
+    end subroutine driven_velocities
+
     !> First and last node of element e.
     pure function element_nodes(this, e) result(range)
         class(ph_director_t), intent(in) :: this
@@ -906,6 +977,17 @@ contains
         integer :: range(2)
         range = [(e - 1) * this%degree + 1, e * this%degree + 1]
     end function element_nodes
+
+    !> The times of the state x_n and of the unknown Y of a step, at which driven nodes are
+    !> placed: t_n and t_n + h, or both the load time of the endpoint equilibrium (whose steps
+    !> are in a pseudo-time at that load time).
+    pure function state_times(this, t_n, h) result(times)
+        type(ph_director_t), intent(in) :: this
+        real(rk), intent(in) :: t_n, h
+        real(rk) :: times(2)
+        times = [t_n, t_n + h]
+        if (this%static) times = this%t_static
+    end function state_times
 
     !> Time at which a step evaluates its loads and actuators: the mid time (methods §5.1), or
     !> the load time of the endpoint equilibrium.
@@ -1026,7 +1108,8 @@ contains
     end subroutine ph_director_step_jacobian
 
     !> The node kernel (methods §5.2 (K1), (K2), the multiplier and end-load terms, and the
-    !> constraint g(d_{n+1})) of free node k on the workspace fields, loads at t_load.
+    !> constraint g(d_{n+1})) of node k on the workspace fields, loads at t_load; a node whose
+    !> rotation is held has no multipliers (their rows are identity rows, and dropped).
     subroutine node_kernel(this, k, h, t_load, r_k, j_k)
         type(ph_director_t), intent(in) :: this
         integer, intent(in) :: k
@@ -1039,7 +1122,8 @@ contains
         logical :: carries
         call node_loads(this, k, t_load, .false., force, moment)
         call ph_director_node_residual(h, this%static, this%q_n(:, k), this%q_1(:, k), &
-            this%v_n(:, k), this%v_1(:, k), this%lambda(:, k), .true., force, moment, r_k, j_k)
+            this%v_n(:, k), this%v_1(:, k), this%lambda(:, k), .not. this%held(4, k), force, &
+            moment, r_k, j_k)
         ! Follower end loads at the midpoint directors (rs_ph_director_follower).
         call node_loads(this, k, t_load, .true., force, moment)
         if (any(force /= 0.0_rk) .or. any(moment /= 0.0_rk)) then
@@ -1068,18 +1152,22 @@ contains
     end subroutine node_kernel
 
     !> Residual and/or Jacobian of the uncondensed step: element kernels scattered through the
-    !> dof map, node kernels for the kinematic, multiplier and end-load rows.
+    !> dof map, node kernels for the kinematic, multiplier and end-load rows. A driven node has
+    !> no rows: its momentum rows, the reaction of the drive, are no equations (accept_step
+    !> books their work).
     subroutine uncondensed_step(this, t_n, h, x_n, y, f, values)
         type(ph_director_t), intent(inout) :: this
         real(rk), intent(in) :: t_n, h, x_n(:), y(:)
         real(rk), intent(out), optional :: f(:), values(:)
         real(rk) :: r_e(this%n_local), j_e(this%n_local, this%n_local)
         real(rk) :: r_k(node_dofs), j_k(node_dofs, node_dofs)
-        real(rk) :: nbar(3), mbar(3), gravity(3), follower(6), no_gravity(3), t_mid
+        real(rk) :: nbar(3), mbar(3), gravity(3), follower(6), no_gravity(3), t_mid, times(2)
         type(ph_director_actuation_t) :: actuation
         integer :: e, k, i
-        call this%unpack(x_n, this%q_n, this%v_n, this%lambda, this%s_n)
-        call this%unpack(y, this%q_1, this%v_1, this%lambda, this%s_1)
+        times = state_times(this, t_n, h)
+        call this%unpack(x_n, this%q_n, this%v_n, this%lambda, this%s_n, times(1))
+        call this%unpack(y, this%q_1, this%v_1, this%lambda, this%s_1, times(2))
+        call driven_velocities(this, h)
         t_mid = load_time(this, t_n, h)
         call distributed_loads(this, t_mid, .false., nbar, mbar, gravity)
         call distributed_loads(this, t_mid, .true., follower(1:3), follower(4:6), no_gravity)
@@ -1103,7 +1191,7 @@ contains
             end if
         end do
         do k = 1, this%n_nodes
-            if (this%clamped(k)) cycle
+            if (all(this%node_dof(:, k) == 0)) cycle
             if (present(values)) then
                 call node_kernel(this, k, h, t_mid, r_k, j_k)
                 call scatter_block(this%node_scatter, k, size(j_k), j_k, values)
@@ -1134,9 +1222,8 @@ contains
         allocate(this%node_unknown(18, this%n_nodes), source=0)
         next = 0
         do k = 1, this%n_nodes
-            if (this%clamped(k)) cycle
             do i = 1, 18
-                if (this%pinned(k) .and. i <= 3) cycle
+                if (is_held_dof(this, merge(i, 12 + i, i <= 12), k)) cycle
                 next = next + 1
                 this%node_unknown(i, k) = next
             end do
@@ -1190,7 +1277,7 @@ contains
         b = w(:, n + 1:)
     end function inverse
 
-    !> Condensed unknown index of the 12 q of each element node (0 where clamped).
+    !> Condensed unknown index of the 12 q of each element node (0 where held).
     pure function element_q_unknowns(this, e) result(dofs)
         type(ph_director_t), intent(in) :: this
         integer, intent(in) :: e
@@ -1257,7 +1344,7 @@ contains
         real(rk), intent(out) :: y(:)
         integer :: i, k
         if (.not. this%condensed) then
-            y = x_n
+            y = x_n(1:this%n_dofs)
             ! An equilibrium solve starts from the last state itself: its velocities are those
             ! of the load steps, not of the continuation's pseudo-time.
             if (this%static) return
@@ -1270,66 +1357,76 @@ contains
             return
         end if
         do k = 1, this%n_nodes
-            if (this%clamped(k)) cycle
-            do i = 1, 12
-                if (this%node_unknown(i, k) > 0) y(this%node_unknown(i, k)) = x_n(this%node_dof(i, k))
+            do i = 1, 18
+                if (this%node_unknown(i, k) > 0) y(this%node_unknown(i, k)) = &
+                    x_n(this%node_dof(merge(i, 12 + i, i <= 12), k))
             end do
-            y(this%node_unknown(13:18, k)) = x_n(this%node_dof(25:30, k))
         end do
     end subroutine ph_director_predictor
 
-    !> The state at t_{n+1}: the unknowns themselves, or with v and sigma recovered.
+    !> The state at t_{n+1}: the unknowns themselves, or with v and sigma recovered; and the
+    !> driven nodes' velocities (driven_velocities).
     subroutine ph_director_update(this, t_n, h, x_n, y, x_1)
         class(ph_director_t), intent(inout) :: this
         real(rk), intent(in) :: t_n, h, x_n(:), y(:)
         real(rk), intent(out) :: x_1(:)
+        real(rk) :: times(2)
         integer :: k, e, i
         if (.not. this%condensed) then
-            x_1 = y
+            x_1(1:this%n_dofs) = y
+            if (size(this%drives) == 0) return
+            times = state_times(this, t_n, h)
+            call this%unpack(x_n, this%q_n, this%v_n, this%lambda, this%s_n, times(1))
+            call this%unpack(y, this%q_1, this%v_1, this%lambda, this%s_1, times(2))
+            call driven_velocities(this, h)
+            call store_driven_velocities()
             return
         end if
-        call condensed_fields(this, h, x_n, y)
+        call condensed_fields(this, t_n, h, x_n, y)
+        call store_driven_velocities()
         do k = 1, this%n_nodes
-            if (this%clamped(k)) cycle
             do i = 1, 12
-                if (this%node_dof(i, k) == 0) cycle
-                x_1(this%node_dof(i, k)) = this%q_1(i, k)
-                x_1(this%node_dof(12 + i, k)) = this%v_1(i, k)
+                if (this%node_dof(i, k) > 0) x_1(this%node_dof(i, k)) = this%q_1(i, k)
+                if (this%node_dof(12 + i, k) > 0) x_1(this%node_dof(12 + i, k)) = this%v_1(i, k)
             end do
-            x_1(this%node_dof(25:30, k)) = this%lambda(:, k)
+            do i = 1, 6
+                if (this%node_dof(24 + i, k) > 0) x_1(this%node_dof(24 + i, k)) = this%lambda(i, k)
+            end do
         end do
         do e = 1, this%n_elements
             x_1(this%stress_dof(:, e)) = reshape(this%s_1(:, :, :, e), [n_stress(this)])
         end do
+    contains
+        subroutine store_driven_velocities()
+            do k = 1, this%n_nodes
+                if (this%drive_state(k) > 0) &
+                    x_1(this%drive_state(k):this%drive_state(k) + 11) = this%v_1(:, k)
+            end do
+        end subroutine store_driven_velocities
     end subroutine ph_director_update
 
-    !> q, lambda from the condensed unknowns; v_{n+1} from R_K = 0 and sigma_{n+1} from
-    !> R_S = 0 (methods §5.5 items 1-2); the t_n fields from the state.
-    subroutine condensed_fields(this, h, x_n, y)
+    !> q, lambda from the condensed unknowns (held q at t_n + h, held_q); v_{n+1} from R_K = 0
+    !> and sigma_{n+1} from R_S = 0 (methods §5.5 items 1-2); the t_n fields from the state.
+    !> A held coordinate keeps v = 0 (q_1 = q_n, v_n = 0); a driven node's v_{n+1} is the
+    !> velocity the midpoint rule implies for its prescribed q.
+    subroutine condensed_fields(this, t_n, h, x_n, y)
         type(ph_director_t), intent(inout) :: this
-        real(rk), intent(in) :: h, x_n(:), y(:)
-        real(rk) :: r_e(this%n_local), zero(3)
+        real(rk), intent(in) :: t_n, h, x_n(:), y(:)
+        real(rk) :: r_e(this%n_local), zero(3), times(2)
         integer :: k, e, i, nodes(2), m, first
-        call this%unpack(x_n, this%q_n, this%v_n, this%lambda, this%s_n)
+        times = state_times(this, t_n, h)
+        call this%unpack(x_n, this%q_n, this%v_n, this%lambda, this%s_n, times(1))
         do k = 1, this%n_nodes
-            if (this%clamped(k)) then
-                this%q_1(:, k) = this%fixed_q(:, k)
-                this%v_1(:, k) = 0.0_rk
-                this%lambda(:, k) = 0.0_rk
-            else
-                ! A pinned node's phi is held (v_phi = 0 follows from q_1 = q_n, v_n = 0).
-                do i = 1, 12
-                    if (this%node_unknown(i, k) > 0) then
-                        this%q_1(i, k) = y(this%node_unknown(i, k))
-                    else
-                        this%q_1(i, k) = this%fixed_q(i, k)
-                    end if
-                end do
-                do i = 1, 6
+            this%q_1(:, k) = held_q(this, k, times(2))
+            this%lambda(:, k) = 0.0_rk
+            do i = 1, 12
+                if (this%node_unknown(i, k) > 0) this%q_1(i, k) = y(this%node_unknown(i, k))
+            end do
+            do i = 1, 6
+                if (this%node_unknown(12 + i, k) > 0) &
                     this%lambda(i, k) = y(this%node_unknown(12 + i, k))
-                end do
-                this%v_1(:, k) = 2.0_rk * (this%q_1(:, k) - this%q_n(:, k)) / h - this%v_n(:, k)
-            end if
+            end do
+            this%v_1(:, k) = 2.0_rk * (this%q_1(:, k) - this%q_n(:, k)) / h - this%v_n(:, k)
         end do
         m = 6 * this%degree
         first = 24 * (this%degree + 1) + 1
@@ -1396,7 +1493,7 @@ contains
         integer :: rows_m(12 * (this%degree + 1)), cols_q(12 * (this%degree + 1))
         integer :: cols_v(12 * (this%degree + 1))
         integer :: e, k, a, i, j, p, nodes(2), nq, first
-        call condensed_fields(this, h, x_n, y)
+        call condensed_fields(this, t_n, h, x_n, y)
         t_mid = load_time(this, t_n, h)
         call distributed_loads(this, t_mid, .false., nbar, mbar, gravity)
         call distributed_loads(this, t_mid, .true., follower(1:3), follower(4:6), no_gravity)
@@ -1434,7 +1531,6 @@ contains
             if (present(f)) then
                 do a = 1, this%degree + 1
                     k = nodes(1) + a - 1
-                    if (this%clamped(k)) cycle
                     do i = 1, 12
                         if (this%node_unknown(i, k) > 0) f(this%node_unknown(i, k)) = &
                             f(this%node_unknown(i, k)) + r_e(24 * (a - 1) + 12 + i)
@@ -1443,7 +1539,7 @@ contains
             end if
         end do
         do k = 1, this%n_nodes
-            if (this%clamped(k)) cycle
+            if (all(this%node_unknown(:, k) == 0)) cycle
             if (present(values)) then
                 call node_kernel(this, k, h, t_mid, r_k, j_k)
                 ! Condensed row i is node row 12 + i (momentum 13:24, constraint 25:30); column
@@ -1467,11 +1563,10 @@ contains
                 call node_kernel(this, k, h, t_mid, r_k)
             end if
             if (present(f)) then
-                do i = 1, 12
+                do i = 1, 18
                     if (this%node_unknown(i, k) > 0) f(this%node_unknown(i, k)) = &
                         f(this%node_unknown(i, k)) + r_k(12 + i)
                 end do
-                f(this%node_unknown(13:18, k)) = f(this%node_unknown(13:18, k)) + r_k(25:30)
             end if
         end do
     end subroutine condensed_step
@@ -1502,7 +1597,8 @@ contains
     !> The energy terms of the accepted step: H_n and H_{n+1}, the work of the loads and of the
     !> actuators and the dissipation (Maxwell branches, Kelvin-Voigt stress and drags,
     !> docs/theory/ph_director.md "Damping"), whose balance H_{n+1} - H_n - W_n - W_act,n + D_n
-    !> is the scheme's energy error (methods §5.3 item 1, §3.1, §9 item 7). The endpoint
+    !> is the scheme's energy error (methods §5.3 item 1, §3.1, §9 item 7). The work includes
+    !> that of the drives (drive_work), so the balance stays exact with driven ends. The endpoint
     !> equilibrium of a quasistatic run is not a time step: no terms, and its h is not a step of
     !> the grid.
     subroutine ph_director_accept_step(this, t_n, h, x_n, x_1, terms)
@@ -1514,7 +1610,7 @@ contains
         real(rk) :: follower(6), d_mid(9), no_gravity(3)
         real(rk) :: kinetic_n, strain_n, kinetic_1, strain_1, weight(12), viscous, external
         type(ph_director_actuation_t) :: actuation
-        integer :: e, k, nodes(2)
+        integer :: e, k, i, nodes(2)
         logical :: carries, damped
         damped = any(this%material%viscosity > 0.0_rk) .or. this%material%drag > 0.0_rk .or. &
             this%material%angular_drag > 0.0_rk
@@ -1524,8 +1620,8 @@ contains
         end if
         call this%energy(x_n, kinetic_n, strain_n)
         call this%energy(x_1, kinetic_1, strain_1)
-        call this%unpack(x_n, this%q_n, this%v_n, this%lambda, this%s_n)
-        call this%unpack(x_1, this%q_1, this%v_1, this%lambda, this%s_1)
+        call this%unpack(x_n, this%q_n, this%v_n, this%lambda, this%s_n, t_n)
+        call this%unpack(x_1, this%q_1, this%v_1, this%lambda, this%s_1, t_n + h)
         t_mid = t_n + 0.5_rk * h
         call distributed_loads(this, t_mid, .false., nbar, mbar, gravity)
         call distributed_loads(this, t_mid, .true., follower(1:3), follower(4:6), no_gravity)
@@ -1559,7 +1655,6 @@ contains
                 this%element_length(e), h, this%s_n(:, :, :, e), this%s_1(:, :, :, e))
         end do
         do k = 1, this%n_nodes
-            if (this%clamped(k)) cycle
             ! A body's weight: its generalized force on the step of the node's coordinates.
             call body_forces(this, k, t_mid, weight, carries)
             if (carries) work = work + dot_product(weight, this%q_1(:, k) - this%q_n(:, k))
@@ -1575,10 +1670,44 @@ contains
                 this%v_n(:, k), this%v_1(:, k), ph_director_follower_vector(d_mid, force), &
                 ph_director_follower_vector(d_mid, moment))
         end do
+        do i = 1, size(this%drives)
+            work = work + drive_work(this, this%drives(i)%node, h, t_mid, nbar, gravity, mbar, &
+                follower, actuation)
+        end do
         terms(1) = step_energy_t(reported=.true., before=kinetic_n + strain_n, &
             after=kinetic_1 + strain_1, work=work, actuator_work=actuator_work, &
             dissipated=dissipated)
     end subroutine ph_director_accept_step
+
+    !> The work of the drive on driven node k over the accepted step on the workspace fields
+    !> (docs/theory/ph_director.md "Supports and loads"). The node's momentum rows R_M (the
+    !> element rows of its velocities and its node loads, with no multipliers) are no equations
+    !> of the step: their residual is h times the reaction f of the drive, h f = R_M, so the
+    !> drive works W = h f . v_mid = R_M . v_mid. Testing every momentum row with v_mid (the
+    !> energy proof of methods §5.3 item 1, with h v_mid = q_1 - q_n at the driven node too)
+    !> gives H_{n+1} - H_n - W_loads - W_act + D = sum over the nodes of v_mid . R_M, which is
+    !> this W up to the free rows' Newton residual.
+    function drive_work(this, k, h, t_mid, nbar, gravity, mbar, follower, actuation) &
+            result(work)
+        type(ph_director_t), intent(in) :: this
+        integer, intent(in) :: k
+        real(rk), intent(in) :: h, t_mid, nbar(3), gravity(3), mbar(3), follower(6)
+        type(ph_director_actuation_t), intent(in) :: actuation
+        real(rk) :: work
+        real(rk) :: r_e(this%n_local), r_k(node_dofs), reaction(12)
+        integer :: e, a, nodes(2)
+        reaction = 0.0_rk
+        do e = 1, this%n_elements
+            nodes = this%element_nodes(e)
+            if (k < nodes(1) .or. k > nodes(2)) cycle
+            call element_kernel(this, e, h, nbar, gravity, mbar, follower, actuation, r_e)
+            a = k - nodes(1) + 1
+            reaction = reaction + r_e(24 * a - 11:24 * a)
+        end do
+        call node_kernel(this, k, h, t_mid, r_k)
+        reaction = reaction + r_k(13:24)
+        work = dot_product(reaction, 0.5_rk * (this%v_n(:, k) + this%v_1(:, k)))
+    end function drive_work
 
     !> The traits of a ph_director rod (the solver flags keep their defaults: the chain LU
     !> pivots the saddle point of the director constraints, Newton backtracks):
@@ -1634,7 +1763,7 @@ contains
         if (.not. present(from)) return
         angle = 0.0_rk
         do k = 1, this%n_nodes
-            if (this%clamped(k)) cycle
+            if (this%held(4, k)) cycle
             do i = 1, 3
                 chord = norm2(x(this%node_dof(3 * i + 1:3 * i + 3, k)) - &
                     from(this%node_dof(3 * i + 1:3 * i + 3, k)))
@@ -1648,7 +1777,8 @@ contains
     !> node_dof(1:12, k) in X, and in Y at the same place or, condensed, at node_unknown(1:12,
     !> k); its generalized forces enter the momentum rows, the rows of v (node_dof(13:24, k))
     !> or, condensed, those of q (methods §5.5: the condensed rows of q are the momentum
-    !> rows). A clamped node has none: its q is held at the reference.
+    !> rows). A held coordinate has none: its q is held at the reference (a driven node's moves:
+    !> held_moves, and it has no momentum rows).
     function ph_director_nodes(this) result(nodes)
         class(ph_director_t), intent(in) :: this
         type(rod_nodes_t) :: nodes
@@ -1663,15 +1793,15 @@ contains
         allocate(nodes%state(12, this%n_nodes), nodes%unknown(12, this%n_nodes), &
             nodes%momentum(12, this%n_nodes), source=0)
         allocate(nodes%held, source=this%fixed_q)
+        nodes%held_moves = size(this%drives) > 0
         do k = 1, this%n_nodes
-            if (this%clamped(k)) cycle
             nodes%state(:, k) = this%node_dof(1:12, k)
             if (this%condensed) then
                 nodes%unknown(:, k) = this%node_unknown(1:12, k)
                 nodes%momentum(:, k) = this%node_unknown(1:12, k)
             else
                 nodes%unknown(:, k) = this%node_dof(1:12, k)
-                nodes%momentum(:, k) = this%node_dof(13:24, k)
+                nodes%momentum(:, k) = merge(this%node_dof(13:24, k), 0, this%node_dof(1:12, k) > 0)
             end if
         end do
     end function ph_director_nodes
@@ -1719,7 +1849,8 @@ contains
         r = history%next_record()
         if (r == 0) return
         call this%energy(x, kinetic, strain)
-        ! energy() unpacked x into the t_{n+1} workspace.
+        ! The fields of x at t in the t_{n+1} workspace (energy() placed driven nodes nowhere).
+        call this%unpack(x, this%q_1, this%v_1, this%lambda, this%s_1, t)
         linear = 0.0_rk
         angular = 0.0_rk
         position = 0.0_rk

@@ -31,11 +31,14 @@ contains
         ! Supports and loads (issue 26 item 2): pinned ends (phi held, directors free; the
         ! Dirichlet part of methods §2.9 on phi alone); follower end and distributed loads
         ! (rs_ph_director_follower: evaluated at the midpoint directors, their work booked at
-        ! that value, so the balance stays exact).
+        ! that value, so the balance stays exact); driven ends (the pose prescribed, the
+        ! drive's work booked from the reaction, so the balance stays exact), sliding ends and
+        ! ends held in chosen directions (issue 26 item 3; held coordinates eliminated).
         ! Prestrain (issue 26 item 3, docs/theory/prestretched_starts.md): the reference
         ! strains Gamma_0 / (1 + prestrain) with the consistent initial stresses.
         d%capability = capability_t(formulation=d%name, available=.true., &
-            end_kinds='clamped|pinned|free|body', load_places='start|end|distributed|gravity', &
+            end_kinds='clamped|pinned|free|driven|sliding|held|body', &
+            load_places='start|end|distributed|gravity', drive='pose', &
             load_frames='spatial|follower', constraints='none|kirchhoff|inextensible|rigid', quasistatic=.true., &
             viscoelastic=.true., actuation=.true., curved_reference=.true., prestressed=.true., &
             joints='rigid|spherical|revolute', end_plates=.true., floating_plates=.true., &

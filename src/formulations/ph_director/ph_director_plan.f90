@@ -13,6 +13,7 @@ module rs_ph_director_plan
     use rs_model_damping, only: damping_plan_text
     use rs_model_rod_geometry, only: centreline_text
     use rs_model_units, only: unit_in_system
+    use rs_model_support, only: end_hold, held_coordinates, held_names
     use rs_ph_director, only: ph_director_t
     use rs_formulations_rod_sizes, only: rod_sizes_t, rod_sizes_of, single_rod_scene
     implicit none
@@ -36,8 +37,8 @@ contains
         type(rod_sizes_t) :: sizes
         character(len=:), allocatable :: units
         integer :: n_free, n_stress, n_pneumatic, n_tendons, nb, p, j, n_elements, n_nodes
-        integer :: n_pinned
-        character(len=:), allocatable :: pinned_text
+        integer :: n_partly_held, n_rotation_held, n_driven, ends(2)
+        character(len=:), allocatable :: held_text, driven_text
 
         text = ''
         ! Built first without condensation, so that a request the rod cannot honour is reported
@@ -63,11 +64,27 @@ contains
         nb = rod%material%n_branches
         n_elements = int(sizes%n_elements)
         n_nodes = n_elements * p + 1
-        ! Only the end nodes can be clamped (&bc acts at 'start' or 'end').
-        n_free = n_nodes - count(rod%clamped)
-        ! A pinned node holds phi and v_phi (issue 26 item 2): 6 unknowns fewer, 3 condensed.
-        n_pinned = count(rod%pinned)
-        pinned_text = ''
+        ! Only the end nodes are supported (&bc acts at 'start' or 'end'). A clamped or driven
+        ! node holds all of q (not a free node); a pinned, sliding or held one the coordinates
+        ! it holds, with their velocities and, with the rotation, the multipliers.
+        ends = [1, rod%n_nodes]
+        n_free = n_nodes - count(all(rod%held(:, ends), dim=1))
+        n_driven = count(rod%drive_of(ends) > 0)
+        n_rotation_held = count(rod%held(4, ends))
+        if (rod%condensed) then
+            n_partly_held = 18 * 2 - count(rod%node_unknown(:, ends) > 0) - &
+                18 * count(all(rod%held(:, ends), dim=1))
+        else
+            n_partly_held = 30 * 2 - count(rod%node_dof(:, ends) > 0) - &
+                30 * count(all(rod%held(:, ends), dim=1))
+        end if
+        held_text = ''
+        if (n_partly_held > 0) held_text = ', less ' // str(n_partly_held) // ' held at ' // &
+            'pinned, sliding or held ends (the held coordinates, their velocities and the ' // &
+            'multipliers of a held rotation)'
+        driven_text = ''
+        if (n_driven > 0) driven_text = '; the state also holds the 12 velocities of each ' // &
+            'driven node'
         n_stress = 6 * p * (1 + nb)
         associate (input => scene%rods(i))
             call add('geometry: ' // centreline_text(input, trim(scene%run%units)))
@@ -82,26 +99,24 @@ contains
             call add('mesh: ' // str(n_elements) // ' elements of degree ' // str(p) // ', ' // &
                 str(n_nodes) // ' nodes at equal arc length, ' // str(rod%basis%n_gauss) // &
                 ' Gauss points per element')
-            call add('supports: ' // supports_text(scene, i, rod%clamped(1), rod%clamped(rod%n_nodes), &
-                rod%pinned(1), rod%pinned(rod%n_nodes)))
-            if (n_pinned > 0) pinned_text = ', less ' // str(merge(3, 6, rod%condensed)) // &
-                ' per pinned node (phi' // trim(merge('       ', ', v_phi', rod%condensed)) // ' held)'
+            call add('supports: ' // supports_text(scene, i))
             if (rod%condensed) then
                 call add('unknowns: ' // str(int(sizes%n_unknown)) // ' Newton unknowns = ' // &
-                    str(n_free) // ' free nodes x 18 (q 12, multipliers 6)' // pinned_text // &
+                    str(n_free) // ' free nodes x 18 (q 12, multipliers 6)' // held_text // &
                     '; velocities ' // &
                     'and the ' // &
                     str(n_elements) // ' x ' // str(n_stress) // ' element stresses are ' // &
                     'condensed (state: ' // str(int(sizes%n_state)) // ')')
             else
                 call add('unknowns: ' // str(int(sizes%n_unknown)) // ' Newton unknowns = ' // &
-                    str(n_free) // ' free nodes x 30 (q 12, v 12, multipliers 6)' // pinned_text // &
+                    str(n_free) // ' free nodes x 30 (q 12, v 12, multipliers 6)' // held_text // &
                     ' + ' // &
                     str(n_elements) // &
                     ' elements x ' // str(n_stress) // ' stresses (6 components x ' // str(p) // &
-                    ' coefficients x ' // str(1 + nb) // ' branch(es))')
+                    ' coefficients x ' // str(1 + nb) // ' branch(es))' // driven_text)
             end if
-            call add('orthonormality multipliers: 6 per free node (' // str(6 * n_free) // ')')
+            call add('orthonormality multipliers: 6 per node whose rotation is free (' // &
+                str(6 * (n_nodes - n_rotation_held)) // ')')
             call add('constraint multipliers: ' // rigid_text())
             if (nb > 0) then
                 call add('Maxwell internal variables: ' // str(nb) // ' branch(es), ' // &
@@ -387,29 +402,46 @@ contains
 
     !> The supports of rod `i`'s two ends: clamped (from the built rod), else held by a plate or a
     !> joint (multipliers, issue 10), else free.
-    function supports_text(scene, i, start_clamped, end_clamped, start_pinned, end_pinned) &
-            result(text)
+    !> The supports of rod `i`'s two ends: what a &bc holds (rs_model_support), a driven end,
+    !> else a body, or held by a plate or a joint (multipliers, issue 10), else free.
+    function supports_text(scene, i) result(text)
         type(scene_t), intent(in) :: scene
         integer, intent(in) :: i
-        logical, intent(in) :: start_clamped, end_clamped, start_pinned, end_pinned
         character(len=:), allocatable :: text
-        text = 'start ' // end_text('start', start_clamped, start_pinned) // ', end ' // &
-            end_text('end', end_clamped, end_pinned)
+        text = 'start ' // end_text('start') // ', end ' // end_text('end')
     contains
-        function end_text(end_name, clamped, pinned) result(t)
+        function end_text(end_name) result(t)
             character(len=*), intent(in) :: end_name
-            logical, intent(in) :: clamped, pinned
             character(len=:), allocatable :: t
+            logical :: mask(6), ok
             integer :: k
-            if (clamped) then
-                t = 'clamped (no unknowns at its node)'
-                return
-            end if
-            if (pinned) then
-                t = 'pinned (position held: no phi, v_phi unknowns; directors free with ' // &
-                    'their 6 multipliers)'
-                return
-            end if
+            do k = 1, size(scene%bcs)
+                if (scene%bcs(k)%rod /= scene%rods(i)%name .or. &
+                    trim(scene%bcs(k)%end) /= end_name) cycle
+                call held_coordinates(end_hold(scene%bcs(k)), mask, ok)
+                select case (trim(scene%bcs(k)%kind))
+                case ('clamped')
+                    t = 'clamped (no unknowns at its node)'
+                    return
+                case ('driven')
+                    t = 'driven (its q prescribed: the reference pose moved by f(t) (' // &
+                        vector_text(scene%bcs(k)%displacement) // ') and turned by f(t) (' // &
+                        vector_text(scene%bcs(k)%rotation) // '); no unknowns at its node, its ' // &
+                        'velocity the midpoint rule''s 2 dq/h - v_n, kept in the state; the ' // &
+                        'drive''s work booked)'
+                    return
+                case ('pinned')
+                    t = 'pinned (position held: no phi, v_phi unknowns; directors free with ' // &
+                        'their 6 multipliers)'
+                    return
+                case ('sliding', 'held')
+                    t = trim(scene%bcs(k)%kind) // ' (held: ' // held_names(mask) // &
+                        '; those coordinates of q and their velocities are no unknowns'
+                    if (mask(4)) t = t // ', nor the 6 multipliers'
+                    t = t // ')'
+                    return
+                end select
+            end do
             t = 'free'
             associate (name => scene%rods(i)%name)
                 do k = 1, size(scene%bcs)

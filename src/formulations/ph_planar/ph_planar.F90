@@ -36,7 +36,9 @@ module rs_ph_planar
     use rs_model_rod_history, only: rod_history_t
     use rs_model_time_function, only: time_function_t, time_function_from_load
     use rs_model_planarity, only: plane_t, plane_of_rods, point_in_plane, vector_in_plane, &
-        point_from_plane, vector_from_plane, angle_in_plane, cross, planar_coordinate_axis
+        point_from_plane, vector_from_plane, angle_in_plane, cross, planar_coordinate_axis, &
+        planar_held
+    use rs_model_support, only: end_hold, hold_list
     use rs_assembly_csr_pattern, only: csr_builder_t, csr_pattern_t
     use rs_formulations_formulation, only: rod_formulation_t, formulation_traits_t, &
         state_measures_t, state_valid, state_invalid
@@ -491,18 +493,20 @@ contains
         this%theta_shift = 0.0_rk
     end subroutine find_angles
 
-    !> Supports (methods §6.2, §6.3): clamped fixes x, y, theta of the end node, pinned x, y,
-    !> sliding (a prismatic support, issue 26 item 3) theta and the coordinate across its axis.
-    !> The remaining unknowns are numbered in q order.
+    !> Supports (methods §6.2, §6.3) fix the planar coordinates they hold (rs_model_support
+    !> mapped to the plane by planar_held): clamped x, y, theta of the end node, pinned x, y,
+    !> sliding (a prismatic support, issue 26 item 3) theta and the coordinate across its axis,
+    !> held the planar coordinates its held directions fix (and theta with the rotation). The
+    !> remaining unknowns are numbered in q order.
     subroutine fix_supports(this, scene, rods, err)
         type(ph_planar_t), intent(inout) :: this
         type(scene_t), intent(in) :: scene
         integer, intent(in) :: rods(:)
         type(error_t), allocatable, intent(out) :: err
         character(len=:), allocatable :: message
-        logical :: fixed(this%n_q)
+        logical :: fixed(this%n_q), held(3), ok
         real(rk) :: release(this%n_q)
-        integer :: i, r, node, next, slide
+        integer :: i, r, node, next
         fixed = .false.
         release = unset_real
         do i = 1, size(scene%bcs)
@@ -511,28 +515,7 @@ contains
                     if (trim(scene%rods(rods(r))%name) /= trim(bc%rod)) cycle
                     node = merge(1, this%rods(r)%n_elements + 1, trim(bc%end) == 'start')
                     select case (trim(bc%kind))
-                    case ('clamped')
-                        fixed(this%rods(r)%dofs(:, node)) = .true.
-                        release(this%rods(r)%dofs(:, node)) = bc%release_time
-                    case ('pinned')
-                        fixed(this%rods(r)%dofs(1:2, node)) = .true.
-                        release(this%rods(r)%dofs(1:2, node)) = bc%release_time
-                    case ('sliding')
-                        ! A prismatic support: theta and the position across the axis held,
-                        ! by elimination, so the axis must be a planar coordinate axis.
-                        fixed(this%rods(r)%dofs(:, node)) = .true.
-                        slide = planar_coordinate_axis(this%plane, bc%axis)
-                        if (slide == 0) then
-                            message = 'rod ''' // trim(bc%rod) // ''': ' // this%formulation_name // &
-                                ' holds the planar coordinates x, y (along e1 = (' // &
-                                vector_text(this%plane%e1) // '), e2 = (' // &
-                                vector_text(this%plane%e2) // ')), so a sliding end''s axis must ' // &
-                                'be one of them; axis = (' // vector_text(bc%axis) // ')'
-                            RS_SET_ERROR(err, 'ph_planar%init', message)
-                            return
-                        end if
-                        fixed(this%rods(r)%dofs(slide, node)) = .false.
-                    case ('free')
+                    case ('clamped', 'pinned', 'sliding', 'held', 'free')
                     case default
                         message = 'rod ''' // trim(bc%rod) // ''': a ''' // trim(bc%kind) // &
                             ''' end is not available for ' // this%formulation_name // &
@@ -540,6 +523,28 @@ contains
                         RS_SET_ERROR(err, 'ph_planar%init', message)
                         return
                     end select
+                    call planar_held(this%plane, end_hold(bc), held, ok)
+                    ! A slide along the plane normal would hold x and y: refused like an
+                    ! oblique one.
+                    if (trim(bc%kind) == 'sliding') ok = planar_coordinate_axis(this%plane, &
+                        bc%axis) > 0
+                    if (.not. ok) then
+                        message = 'rod ''' // trim(bc%rod) // ''': ' // this%formulation_name // &
+                            ' holds the planar coordinates x, y (along e1 = (' // &
+                            vector_text(this%plane%e1) // '), e2 = (' // &
+                            vector_text(this%plane%e2) // ')), so '
+                        if (trim(bc%kind) == 'sliding') then
+                            message = message // 'a sliding end''s axis must be one of them; ' // &
+                                'axis = (' // vector_text(bc%axis) // ')'
+                        else
+                            message = message // 'the directions a held end holds must lie ' // &
+                                'along one of them or span the plane; hold = ' // hold_list(bc)
+                        end if
+                        RS_SET_ERROR(err, 'ph_planar%init', message)
+                        return
+                    end if
+                    fixed(this%rods(r)%dofs(:, node)) = held
+                    where (held) release(this%rods(r)%dofs(:, node)) = bc%release_time
                 end do
             end associate
         end do

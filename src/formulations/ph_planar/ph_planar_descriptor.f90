@@ -40,7 +40,8 @@ contains
         d%name = name
         ! seed 001 (methods/ph_planar.md §2.5, §5, §6.3): straight planar rods with
         ! clamped, pinned (ground pin: position fixed, angle free), sliding (along a
-        ! planar coordinate axis; issue 26 item 3) and free ends; dead end
+        ! planar coordinate axis; issue 26 item 3), held (the planar coordinates its held
+        ! directions fix) and free ends; dead end
         ! loads, distributed loads and gravity in the plane; quasistatics (§4.7); revolute
         ! joints as shared nodal positions (§6.3) and rigid joints as shared positions and
         ! angles. Kelvin-Voigt viscosity and drag (issue 26, docs/theory/ph_planar.md
@@ -49,7 +50,8 @@ contains
         ! prestrain, the initial equilibrium (the equilibrium rows of quasistatics in a
         ! dynamic run) and supports released at a time (held rows).
         d%capability = capability_t(formulation=name, available=.true., &
-            end_kinds='clamped|pinned|free|sliding', load_places='start|end|distributed|gravity', &
+            end_kinds='clamped|pinned|free|sliding|held', &
+            load_places='start|end|distributed|gravity', &
             load_frames='spatial', constraints='none', quasistatic=.true., &
             viscoelastic=.false., actuation=.false., curved_reference=.false., &
             joints='revolute|rigid', planar=.true., order_4=.true., adaptive=.true., &

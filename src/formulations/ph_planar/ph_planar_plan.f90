@@ -13,7 +13,8 @@ module rs_ph_planar_plan
     use rs_model_units, only: unit_in_system
     use rs_model_coupling, only: coupled_systems
     use rs_model_planarity, only: plane_t, plane_of_rods, plane_text, point_in_plane, &
-        vector_in_plane, angle_in_plane, cross
+        vector_in_plane, angle_in_plane, cross, planar_held
+    use rs_model_support, only: end_hold, mask_names
     implicit none
     private
 
@@ -35,6 +36,7 @@ contains
         character(len=:), allocatable :: units, m, others, formulation
         real(rk) :: t(3), d2(3)
         integer :: n_nodes, n_elements, n_fixed, n_total, k, j, normal_director
+        logical :: held(3), held_ok
 
         text = ''
         units = trim(scene%run%units)
@@ -79,16 +81,13 @@ contains
             n_nodes = n_elements + 1
             call add('mesh: ' // str(n_elements) // ' two-node elements, ' // str(n_nodes) // &
                 ' nodes at equal arc length, ' // str(rod%n_gauss) // ' Gauss point(s) per element')
+            ! The planar coordinates each support holds (rs_model_planarity planar_held).
             n_fixed = 0
             do j = 1, size(scene%bcs)
                 ! A released support's unknowns stay (held by their own rows until then).
                 if (scene%bcs(j)%rod /= rod%name .or. scene%bcs(j)%release_time /= unset_real) cycle
-                select case (trim(scene%bcs(j)%kind))
-                case ('clamped')
-                    n_fixed = n_fixed + 3
-                case ('pinned', 'sliding')
-                    n_fixed = n_fixed + 2
-                end select
+                call planar_held(plane, end_hold(scene%bcs(j)), held, held_ok)
+                n_fixed = n_fixed + count(held)
             end do
             select case (formulation)
             case ('ph_planar')
@@ -168,6 +167,10 @@ contains
                 case ('sliding')
                     t = 'sliding along (' // vector_text(scene%bcs(b)%axis) // ') (theta and ' // &
                         'the other coordinate fixed)'
+                case ('held')
+                    call planar_held(plane, end_hold(scene%bcs(b)), held, held_ok)
+                    t = 'held (fixed of x, y, theta: ' // mask_names(held, [character(len=5) :: &
+                        'x', 'y', 'theta']) // ')'
                 end select
             end do
         end function support_text

@@ -40,25 +40,30 @@
 !> stage rate ((eps_{n+1} - eps_n) / h for the midpoint rule); the drag and angular drag are the
 !> consistent matrix C_e on the stage velocities. D_n >= 0 is booked as dissipated.
 !>
+!> Supports eliminate unknowns (what each holds: rs_model_support): clamped fixes r and psi,
+!> pinned fixes r (the heavy top's spherical joint), sliding and held the held coordinates of r
+!> (and psi with the rotation), driven prescribes r and psi (a clamp moved and turned in time,
+!> e.g. the superimposed rotation of methods §10.3; rs_formulations_end_drive). Loads: dead
+!> (spatial) and follower end forces and moments, dead distributed forces and moments,
+!> gravity.
+!>
 !> The initial equilibrium of a dynamic run (&time initial_equilibrium; issue 26 item 3,
 !> docs/theory/prestretched_starts.md): set_step_problem switches the same state layout to the
 !> statics at the load time t = 0, continued from the initial placement (the Newton homotopy of
 !> DESIGN.md §3, "Quasistatics"); its steps end at rest (u and the generalized-alpha history
-!> zero, their values at a static equilibrium) and book no energy.
-!>
-!> Supports eliminate unknowns: clamped fixes r and psi, pinned fixes r (the heavy top's
-!> spherical joint; a clamp or pin released at a time, &bc release_time, keeps them as unknowns
-!> with held rows until then: rs_formulations_held_rows), driven prescribes r and psi (a clamp
-!> moved and turned in time, e.g. the superimposed rotation of methods §10.3). Loads: dead
-!> (spatial) and follower end forces and moments, dead distributed forces and moments, gravity.
+!> zero, their values at a static equilibrium) and book no energy. A clamp or pin released at a
+!> time (&bc release_time) keeps its coordinates as unknowns with held rows until then
+!> (rs_formulations_held_rows).
 module rs_se3_pg
     use rs_core_kinds, only: rk, pi
     use rs_core_error, only: error_t, set_error
     use rs_core_strings, only: str, vector_text
-    use rs_model_scene, only: scene_t, rod_input_t, bc_input_t, load_applies_to, coordinate_axis, &
-        element_properties, axial_reference, unset_real
+    use rs_model_scene, only: scene_t, rod_input_t, bc_input_t, load_applies_to, element_properties, &
+        axial_reference, unset_real
     use rs_model_rod_history, only: rod_history_t
-    use rs_model_time_function, only: time_function_t, time_function_from_load, time_function_from_bc
+    use rs_model_time_function, only: time_function_t, time_function_from_load
+    use rs_model_support, only: end_hold, held_coordinates, coordinate_hold_refusal
+    use rs_formulations_end_drive, only: end_drive_t, end_drive_init
     use rs_model_rod_geometry, only: rod_geometry_t, rod_geometry_of, centreline_point, &
         centreline_frame
     use rs_math_so3, only: exp_so3, log_so3, hat, tangent_so3, tangent_so3_derivative, &
@@ -92,15 +97,6 @@ module rs_se3_pg
         type(time_function_t) :: factor
     end type se3_load_t
 
-    !> A driven end (&bc kind = 'driven'): the clamp pose (r0 + f(t) displacement,
-    !> Exp(f(t) rotation) A0).
-    type :: se3_drive_t
-        integer :: node = 0
-        real(rk) :: displacement(3) = 0.0_rk, rotation(3) = 0.0_rk
-        real(rk) :: r0(3) = 0.0_rk, a0(3, 3) = 0.0_rk
-        type(time_function_t) :: factor
-    end type se3_drive_t
-
     type, extends(rod_formulation_t), public :: se3_pg_t
         character(len=:), allocatable :: name
         integer :: n_elements = 0, n_nodes = 0
@@ -133,7 +129,8 @@ module rs_se3_pg
         !> Reference arc length of the nodes.
         real(rk), allocatable :: node_s(:)
         type(se3_load_t), allocatable :: loads(:)
-        type(se3_drive_t), allocatable :: drives(:)
+        !> Driven ends (rs_formulations_end_drive; frame: A0 of the K basis).
+        type(end_drive_t), allocatable :: drives(:)
         !> The driven nodes' coordinates at the end of the current step.
         real(rk), allocatable :: q_driven(:, :)
         !> unknown_of(i, k): index of q(i) of node k in Y (0: fixed by a support).
@@ -332,56 +329,53 @@ contains
         end do
     end subroutine reference_configuration
 
-    !> Clamped ends fix r and psi, pinned ends fix r; the rest are the unknowns, node by node.
+    !> Supports fix the coordinates they hold (rs_model_support): clamped and driven ends r and
+    !> psi, pinned ends r, sliding and held ends the held coordinates of r (inertial, methods/
+    !> se3_petrov_galerkin.md §5.1, so a slide's axis must be a coordinate axis) and psi with
+    !> the rotation; the rest are the unknowns, node by node.
     subroutine fix_supports(this, scene, err)
         type(se3_pg_t), intent(inout) :: this
         type(scene_t), intent(in) :: scene
         type(error_t), allocatable, intent(out) :: err
         character(len=:), allocatable :: message
-        logical :: fixed(6, this%n_nodes)
-        integer :: i, k, node, slide
+        logical :: fixed(6, this%n_nodes), held(6), ok
+        integer :: i, k, node
+        type(end_drive_t) :: drive
         fixed = .false.
         allocate(this%release_time(6, this%n_nodes), source=unset_real)
+        allocate(this%drives(0))
         do i = 1, size(scene%bcs)
             associate (bc => scene%bcs(i))
                 if (trim(bc%rod) /= this%name) cycle
                 node = merge(1, this%n_nodes, trim(bc%end) == 'start')
                 select case (trim(bc%kind))
-                case ('clamped')
-                    fixed(:, node) = bc%release_time == unset_real
-                    this%release_time(:, node) = bc%release_time
-                case ('pinned')
-                    fixed(1:3, node) = bc%release_time == unset_real
-                    this%release_time(1:3, node) = bc%release_time
-                case ('sliding')
-                    ! A prismatic support: the rotation and the position across the axis held,
-                    ! by elimination of nodal unknowns (methods/se3_petrov_galerkin.md §5.1: r
-                    ! in inertial coordinates), so the axis must be a coordinate axis of r.
-                    fixed(:, node) = .true.
-                    slide = coordinate_axis(bc%axis)
-                    if (slide == 0) then
-                        message = 'rod ''' // this%name // ''': se3_pg holds the coordinates of ' // &
-                            'r, so a sliding end''s axis must be a coordinate axis (x, y or z); ' // &
-                            'axis = (' // vector_text(bc%axis) // ')'
-                        RS_SET_ERROR(err, 'se3_pg%init', message)
-                        return
-                    end if
-                    fixed(slide, node) = .false.
-                case ('driven')
-                    fixed(:, node) = .true.
-                    call add_drive(this, bc, node, err)
-                    RS_RETURN_IF_ERROR(err)
-                case ('free')
+                case ('clamped', 'pinned', 'sliding', 'held', 'driven', 'free')
                 case default
                     message = 'rod ''' // this%name // ''': a ''' // trim(bc%kind) // &
                         ''' end is not available for se3_pg (docs/user/capabilities.md)'
                     RS_SET_ERROR(err, 'se3_pg%init', message)
                     return
                 end select
+                call held_coordinates(end_hold(bc), held, ok)
+                if (bc%release_time == unset_real) then
+                    fixed(:, node) = fixed(:, node) .or. held
+                else
+                    where (held) this%release_time(:, node) = bc%release_time
+                end if
+                if (.not. ok) then
+                    message = coordinate_hold_refusal(this%name, 'se3_pg', 'r', bc)
+                    RS_SET_ERROR(err, 'se3_pg%init', message)
+                    return
+                end if
+                if (trim(bc%kind) == 'driven') then
+                    call end_drive_init(drive, bc, node, this%initial(6 * (node - 1) + 1:6 * &
+                        (node - 1) + 3), exp_so3(this%initial(6 * (node - 1) + 4:6 * node)), err)
+                    RS_RETURN_IF_ERROR(err)
+                    this%drives = [this%drives, drive]
+                end if
             end associate
         end do
         allocate(this%unknown_of(6, this%n_nodes), source=0)
-        if (.not. allocated(this%drives)) allocate(this%drives(0))
         allocate(this%q_driven(6, this%n_nodes), source=0.0_rk)
         this%n_y = 0
         do k = 1, this%n_nodes
@@ -393,39 +387,18 @@ contains
         end do
     end subroutine fix_supports
 
-    !> A driven end: its reference pose and motion (rs_model_scene bc_input_t).
-    subroutine add_drive(this, bc, node, err)
-        type(se3_pg_t), intent(inout) :: this
-        type(bc_input_t), intent(in) :: bc
-        integer, intent(in) :: node
-        type(error_t), allocatable, intent(out) :: err
-        type(se3_drive_t) :: drive
-        if (.not. allocated(this%drives)) allocate(this%drives(0))
-        call time_function_from_bc(bc, drive%factor, err)
-        RS_RETURN_IF_ERROR(err)
-        drive%node = node
-        drive%displacement = bc%displacement
-        drive%rotation = bc%rotation
-        drive%r0 = this%initial(6 * (node - 1) + 1:6 * (node - 1) + 3)
-        drive%a0 = exp_so3(this%initial(6 * (node - 1) + 4:6 * node))
-        this%drives = [this%drives, drive]
-    end subroutine add_drive
-
     !> The driven nodes' coordinates at time t: position and the rotation vector of
     !> Exp(f rotation) A0 nearest to the node's coordinates in x_n (continuous in time).
     subroutine set_drives(this, t, x_n)
         class(se3_pg_t), intent(inout) :: this
         real(rk), intent(in) :: t, x_n(:)
-        real(rk) :: f
+        real(rk) :: frame(3, 3)
         integer :: i, k
         do i = 1, size(this%drives)
-            associate (drive => this%drives(i))
-                k = drive%node
-                f = drive%factor%value(t)
-                this%q_driven(1:3, k) = drive%r0 + f * drive%displacement
-                this%q_driven(4:6, k) = nearest_rotation_vector(log_so3(matmul(exp_so3(f * &
-                    drive%rotation), drive%a0)), x_n(6 * (k - 1) + 4:6 * k))
-            end associate
+            k = this%drives(i)%node
+            call this%drives(i)%pose(t, this%q_driven(1:3, k), frame)
+            this%q_driven(4:6, k) = nearest_rotation_vector(log_so3(frame), &
+                x_n(6 * (k - 1) + 4:6 * k))
         end do
     end subroutine set_drives
 

@@ -18,8 +18,9 @@ contains
     function se3_pg_descriptor() result(d)
         type(formulation_descriptor_t) :: d
         d%name = 'se3_pg'
-        ! seed 002 (methods/se3_petrov_galerkin.md §3.4, §7, §10): clamped, pinned and
-        ! sliding ends (along a coordinate axis; issue 26 item 3) by elimination, dead and follower end loads, dead distributed loads and gravity,
+        ! seed 002 (methods/se3_petrov_galerkin.md §3.4, §7, §10): clamped, pinned, driven,
+        ! sliding (along a coordinate axis) and held ends (issue 26 item 3) by elimination,
+        ! dead and follower end loads, dead distributed loads and gravity,
         ! statics (&time quasistatic) and dynamics by the midpoint rule or the paper's
         ! generalized-alpha scheme (§7.3); any reference the SE(3) interpolation represents;
         ! Kelvin-Voigt viscosity and drag in both schemes (docs/theory/se3_pg.md, "Damping").
@@ -27,7 +28,7 @@ contains
         ! prestrain, the initial equilibrium (its statics continued in a dynamic run) and
         ! supports released at a time (held rows).
         d%capability = capability_t(formulation=d%name, available=.true., &
-            end_kinds='clamped|pinned|free|driven|sliding', &
+            end_kinds='clamped|pinned|free|driven|sliding|held', &
             load_places='start|end|distributed|gravity', load_frames='spatial|follower', &
             constraints='none', quasistatic=.true., viscoelastic=.false., actuation=.false., &
             curved_reference=.true., joints='rigid|spherical|revolute', end_plates=.true., &

@@ -3,6 +3,7 @@
 module rs_se3_pg_plan
     use rs_core_strings, only: str, vector_text
     use rs_model_scene, only: scene_t, load_applies_to, rod_is_damped, unset_real
+    use rs_model_support, only: end_hold, held_coordinates, held_names
     use rs_model_damping, only: damping_plan_text
     use rs_model_rod_geometry, only: centreline_text
     implicit none
@@ -18,6 +19,7 @@ contains
         integer, intent(in) :: i
         character(len=:), allocatable :: lines
         character(len=:), allocatable :: supports
+        logical :: mask(6), ok
         integer :: j, n_nodes, n_fixed, n_follower, n_dead
         associate (rod => scene%rods(i))
             n_nodes = rod%n_elements + 1
@@ -32,18 +34,15 @@ contains
             supports = ''
             do j = 1, size(scene%bcs)
                 if (trim(scene%bcs(j)%rod) /= trim(rod%name)) cycle
-                select case (trim(scene%bcs(j)%kind))
-                case ('clamped', 'driven')
-                    ! A released support's unknowns stay (held by their own rows until then).
-                    if (scene%bcs(j)%release_time == unset_real) n_fixed = n_fixed + 6
-                case ('pinned')
-                    if (scene%bcs(j)%release_time == unset_real) n_fixed = n_fixed + 3
-                case ('sliding')
-                    n_fixed = n_fixed + 5
-                end select
+                ! What the support holds (rs_model_support): its coordinates are not unknowns;
+                ! a released support's unknowns stay (held by their own rows until then).
+                call held_coordinates(end_hold(scene%bcs(j)), mask, ok)
+                if (scene%bcs(j)%release_time == unset_real) n_fixed = n_fixed + count(mask)
                 supports = supports // ' ' // trim(scene%bcs(j)%end) // ' ' // trim(scene%bcs(j)%kind)
                 if (trim(scene%bcs(j)%kind) == 'sliding') supports = supports // ' along (' // &
                     vector_text(scene%bcs(j)%axis) // ')'
+                if (trim(scene%bcs(j)%kind) == 'held') supports = supports // ' (' // &
+                    held_names(mask) // ')'
             end do
             call add('unknowns: 6 x ' // str(n_nodes) // ' nodes (position, rotation vector) = ' // &
                 str(6 * n_nodes) // ', less ' // str(n_fixed) // ' fixed by supports;' // supports)

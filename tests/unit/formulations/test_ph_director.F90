@@ -35,6 +35,9 @@ module rs_test_ph_director
 
     !> Kelvin-Voigt times of the damped scenes, (EA, GA1, GA2, EI1, EI2, GJ).
     real(rk), parameter :: kv_times(6) = [0.01_rk, 0.02_rk, 0.015_rk, 0.03_rk, 0.025_rk, 0.005_rk]
+    !> The motion of the driven start of driven_scene at f = 1.
+    real(rk), parameter :: drive_displacement(3) = [0.02_rk, -0.03_rk, 0.01_rk]
+    real(rk), parameter :: drive_rotation(3) = [0.4_rk, -0.2_rk, 0.3_rk]
 
 contains
 
@@ -70,6 +73,10 @@ contains
         call run_test('jacobian_matches_differences_follower', test_jacobian_follower)
         call run_test('newton_step_balances_energy_follower', test_newton_step_energy_follower)
         call run_test('rigid_subset', test_rigid_subset)
+        call run_test('jacobian_matches_differences_driven', test_driven_jacobian)
+        call run_test('newton_step_balances_energy_driven', test_driven_newton_step)
+        call run_test('jacobian_matches_differences_held', test_held_jacobian)
+        call run_test('newton_step_balances_energy_held', test_held_newton_step)
     end subroutine run_all_tests
 
     !> A rod along (1, 2, 2)/3 with a clamped start, an end load and gravity.
@@ -866,14 +873,19 @@ contains
 
     !> The condensed rod of `scene` takes the same Newton step (0.5, 0.01) from rest as the
     !> uncondensed one that reached x_1, and its books balance within tol.
-    subroutine check_condensed_step(scene, x_1, tol, terms)
+    subroutine check_condensed_step(scene, x_1, tol, terms, t_n)
         type(scene_t), intent(in) :: scene
         real(rk), intent(in) :: x_1(:), tol
         type(step_energy_t), intent(out) :: terms(1)
+        !> The step's start (default 0.5).
+        real(rk), intent(in), optional :: t_n
         type(ph_director_t) :: condensed
         real(rk), allocatable :: x_n(:), x_c(:)
+        real(rk) :: start
+        start = 0.5_rk
+        if (present(t_n)) start = t_n
         call build_scene(scene, condensed)
-        call newton_solve(condensed, 0.5_rk, 0.01_rk, x_n, x_c, terms)
+        call newton_solve(condensed, start, 0.01_rk, x_n, x_c, terms)
         CHECK_CLOSE(x_c, x_1, 1.0e-10_rk, 0.0_rk, 'condensed: same state at t_{n+1}')
         CHECK_CLOSE(step_balance(terms(1)), 0.0_rk, tol, 0.0_rk, 'condensed: balance')
     end subroutine check_condensed_step
@@ -1009,6 +1021,163 @@ contains
         call newton_solve(dynamic, 0.5_rk, 0.01_rk, x_n, x_1, terms)
         CHECK_CLOSE(step_balance(terms(1)), 0.0_rk, 1.0e-9_rk * terms(1)%after, 0.0_rk, 'H_1 - H_0 - W = 0')
     end subroutine test_rigid_subset
+
+    ! ---- Driven, sliding and held ends (issue 26 items 2 and 3) ---------------------------
+
+    !> The cantilever with its start driven: moved by f(t) (0.02, -0.03, 0.01) and turned by
+    !> f(t) (0.4, -0.2, 0.3), f the ramp t (so q of the driven node is the pose at t).
+    function driven_scene(n_elements, degree, condensed) result(scene)
+        integer, intent(in) :: n_elements, degree
+        logical, intent(in) :: condensed
+        type(scene_t) :: scene
+        scene = cantilever_scene(n_elements, degree, condensed)
+        scene%bcs(1)%kind = 'driven'
+        scene%bcs(1)%displacement = drive_displacement
+        scene%bcs(1)%rotation = drive_rotation
+        scene%bcs(1)%time_function = 'ramp'
+        scene%bcs(1)%t_on = 0.0_rk
+        scene%bcs(1)%t_off = 1.0_rk
+    end function driven_scene
+
+    !> q of the driven start at time t, computed here: the reference moved and turned.
+    function driven_q(rod, t) result(q)
+        type(ph_director_t), intent(in) :: rod
+        real(rk), intent(in) :: t
+        real(rk) :: q(12)
+        real(rk) :: r(3, 3)
+        integer :: i
+        r = exp_so3(t * drive_rotation)
+        q(1:3) = rod%fixed_q(1:3, 1) + t * drive_displacement
+        do i = 1, 3
+            q(3 * i + 1:3 * i + 3) = matmul(r, rod%fixed_q(3 * i + 1:3 * i + 3, 1))
+        end do
+    end function driven_q
+
+    !> A driven node has no unknowns (its q prescribed, its velocities state only, 12 after the
+    !> unknowns). The Jacobian against central differences: p = 2, p = 1, condensed, and in the
+    !> endpoint equilibrium of a quasistatic run.
+    subroutine test_driven_jacobian()
+        type(ph_director_t) :: p2, p1, p2_condensed, p2_endpoint
+        type(scene_t) :: scene
+        call set_random_seed(20261201, 2)
+        call build_scene(driven_scene(4, 2, .false.), p2)
+        CHECK_EQUAL(p2%n_unknown(), 30 * 8 + 12 * 4, 'unknowns with a driven start')
+        CHECK_EQUAL(p2%n_state(), 30 * 8 + 12 * 4 + 12, 'state with a driven start')
+        call check_jacobian_of(p2, 'driven p = 2', .false.)
+        call build_scene(driven_scene(4, 1, .false.), p1)
+        call check_jacobian_of(p1, 'driven p = 1', .false.)
+        call build_scene(driven_scene(3, 2, .true.), p2_condensed)
+        CHECK_EQUAL(p2_condensed%n_unknown(), 18 * 6, 'condensed unknowns with a driven start')
+        call check_jacobian_of(p2_condensed, 'driven p = 2 condensed', .false.)
+        scene = driven_scene(3, 2, .false.)
+        scene%time%quasistatic = .true.
+        call build_scene(scene, p2_endpoint)
+        call check_jacobian_of(p2_endpoint, 'driven p = 2 endpoint', .true.)
+    end subroutine test_driven_jacobian
+
+    !> One Newton step from the reference at t = 0 (where the state is consistent: the drive
+    !> starts at the reference pose) with the driven start: its q is the pose at h computed here, its
+    !> velocity the one the midpoint rule implies (v_1 = 2 (q_1 - q_n)/h - v_n), the drive
+    !> works, and the books balance with the drive's work (H_1 - H_0 - W = 0); the condensed
+    !> rod takes the same step.
+    subroutine test_driven_newton_step()
+        type(ph_director_t) :: rod
+        real(rk), allocatable :: x_n(:), x_1(:), x_dead(:)
+        type(step_energy_t) :: terms(1), terms_c(1), terms_dead(1)
+        type(ph_director_t) :: loads_only
+        type(scene_t) :: scene
+        real(rk) :: tol, q_n(12), q_1(12), v_1(12)
+        call build_scene(driven_scene(3, 2, .false.), rod)
+        call newton_solve(rod, 0.0_rk, 0.01_rk, x_n, x_1, terms)
+        q_n = driven_q(rod, 0.0_rk)
+        q_1 = driven_q(rod, 0.01_rk)
+        CHECK_CLOSE(rod%q_1(:, 1), q_1, 1.0e-15_rk, 0.0_rk, 'driven q = the pose at t_n + h')
+        v_1 = x_1(rod%drive_state(1):rod%drive_state(1) + 11)
+        CHECK_CLOSE(v_1, 2.0_rk * (q_1 - q_n) / 0.01_rk, 1.0e-13_rk, 0.0_rk, 'driven v_1 = 2 dq/h - v_n')
+        tol = 1.0e-9_rk * terms(1)%after
+        write(*, '(a,es10.3,a,es10.3)') '  driven step: |balance| / H_1 ', &
+            abs(step_balance(terms(1))) / terms(1)%after, ', W ', terms(1)%work
+        CHECK_CLOSE(step_balance(terms(1)), 0.0_rk, tol, 0.0_rk, 'H_1 - H_0 - W = 0 with the drive')
+        ! The same step with the start clamped books the loads' work alone: the drive's share
+        ! is what differs, and it is not small.
+        scene = cantilever_scene(3, 2, .false.)
+        call build_scene(scene, loads_only)
+        call newton_solve(loads_only, 0.0_rk, 0.01_rk, x_n, x_dead, terms_dead)
+        CHECK_TRUE(abs(terms(1)%work - terms_dead(1)%work) > 1.0e-3_rk * abs(terms(1)%work), 'the drive works')
+        call check_condensed_step(driven_scene(3, 2, .true.), x_1, tol, terms_c, 0.0_rk)
+        CHECK_CLOSE(terms_c(1)%work, terms(1)%work, 0.0_rk, 1.0e-8_rk, 'condensed: same work')
+    end subroutine test_driven_newton_step
+
+    !> The cantilever whose end is held: hold = 'y', 'rotation' (x and z free), or sliding
+    !> along z (x, y and the rotation held).
+    function held_scene(n_elements, degree, condensed, kind) result(scene)
+        integer, intent(in) :: n_elements, degree
+        logical, intent(in) :: condensed
+        character(len=*), intent(in) :: kind
+        type(scene_t) :: scene
+        scene = cantilever_scene(n_elements, degree, condensed)
+        scene%bcs = [scene%bcs(1), scene%bcs(1)]
+        scene%bcs(2)%end = 'end'
+        scene%bcs(2)%kind = kind
+        if (kind == 'held') then
+            scene%bcs(2)%hold(1:2) = ['y       ', 'rotation']
+        else
+            scene%bcs(2)%axis = [0.0_rk, 0.0_rk, 1.0_rk]
+        end if
+    end function held_scene
+
+    !> A held end keeps the dofs of its free coordinates: hold = 'y', 'rotation' leaves x, z and
+    !> their velocities (4), no directors, no multipliers; sliding along z leaves z (2).
+    !> Jacobians against central differences, uncondensed and condensed; a slide along an
+    !> oblique axis is refused, naming the rod and the axis.
+    subroutine test_held_jacobian()
+        type(ph_director_t) :: held, held_condensed, sliding, oblique
+        type(scene_t) :: scene
+        type(error_t), allocatable :: err
+        character(len=:), allocatable :: message
+        character(len=*), parameter :: expected_refusal = 'rod ''beam'': ph_director holds ' // &
+            'the coordinates of phi, so a sliding end''s axis must be a coordinate axis (x, y ' // &
+            'or z); axis = (1.0, 1.0, 0.0)'
+        call set_random_seed(20261202, 2)
+        call build_scene(held_scene(3, 2, .false., 'held'), held)
+        CHECK_EQUAL(held%n_unknown(), 30 * 5 + 4 + 12 * 3, 'unknowns with an end held in y and rotation')
+        call check_jacobian_of(held, 'held y, rotation, p = 2', .false.)
+        call build_scene(held_scene(3, 2, .true., 'held'), held_condensed)
+        CHECK_EQUAL(held_condensed%n_unknown(), 18 * 5 + 2, 'condensed unknowns, held end')
+        call check_jacobian_of(held_condensed, 'held y, rotation, p = 2 condensed', .false.)
+        call build_scene(held_scene(4, 1, .false., 'sliding'), sliding)
+        CHECK_EQUAL(sliding%n_unknown(), 30 * 3 + 2 + 6 * 4, 'unknowns with an end sliding along z')
+        call check_jacobian_of(sliding, 'sliding along z, p = 1', .false.)
+        scene = held_scene(3, 2, .false., 'sliding')
+        scene%bcs(2)%axis = [1.0_rk, 1.0_rk, 0.0_rk]
+        call oblique%init(scene, [1], err)
+        CHECK_TRUE(allocated(err), 'an oblique slide is refused')
+        if (allocated(err)) then
+            message = err%message
+            CHECK_EQUAL(message, expected_refusal, 'the refusal names the rod and the axis')
+        end if
+    end subroutine test_held_jacobian
+
+    !> One Newton step with the end held in y and rotation: y and the directors stay at the
+    !> reference exactly, x and z move, the books balance (held coordinates do no work), and the
+    !> condensed rod takes the same step.
+    subroutine test_held_newton_step()
+        type(ph_director_t) :: rod
+        real(rk), allocatable :: x_n(:), x_1(:)
+        type(step_energy_t) :: terms(1), terms_c(1)
+        real(rk) :: tol
+        integer :: tip
+        call build_scene(held_scene(3, 2, .false., 'held'), rod)
+        call newton_solve(rod, 0.5_rk, 0.01_rk, x_n, x_1, terms)
+        tip = rod%n_nodes
+        CHECK_CLOSE(rod%q_1(2, tip), rod%fixed_q(2, tip), 0.0_rk, 0.0_rk, 'end y held')
+        CHECK_CLOSE(rod%q_1(4:12, tip), rod%fixed_q(4:12, tip), 0.0_rk, 0.0_rk, 'end directors held')
+        CHECK_TRUE(abs(rod%q_1(1, tip) - rod%fixed_q(1, tip)) > 1.0e-9_rk, 'end x moves')
+        CHECK_TRUE(abs(rod%q_1(3, tip) - rod%fixed_q(3, tip)) > 1.0e-9_rk, 'end z moves')
+        tol = 1.0e-9_rk * terms(1)%after
+        CHECK_CLOSE(step_balance(terms(1)), 0.0_rk, tol, 0.0_rk, 'H_1 - H_0 - W = 0')
+        call check_condensed_step(held_scene(3, 2, .true., 'held'), x_1, tol, terms_c)
+    end subroutine test_held_newton_step
 
 end module rs_test_ph_director
 

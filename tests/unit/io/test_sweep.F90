@@ -455,13 +455,14 @@ contains
         type(scene_t) :: scene
         type(error_list_t) :: errors
         character(len=:), allocatable :: text
-        ! A member error (a driven end, which ph_director lacks: check_capabilities; the base
-        ! is not checked here) on line 9 of the file, the &sweep on lines 1-2.
+        ! A member error (an end driven by its velocity, which ph_director drives by its pose:
+        ! check_capabilities; the base is not checked here) on line 9 of the file, the &sweep on
+        ! lines 1-2.
         text = "&sweep parameter = 'rod(1)%EI2'," // nl // '  values = 1 /' // nl // base // &
-            "&bc rod = 'beam', end = 'end', kind = 'driven', rotation = 1, 0, 0, time_function = 'ramp', t_off = 1 /" // nl
+            "&bc rod = 'beam', end = 'end', kind = 'driven', velocity = 1, 0, 0, time_function = 'ramp', t_off = 1 /" // nl
         call parse(text, scene, errors, 0)
         call check_sweep_members(text, 'sweep.nml', scene, errors)
-        want = 'sweep member 1 (rod(1)%EI2 = 1.0): sweep.nml:9: &bc kind'
+        want = 'sweep member 1 (rod(1)%EI2 = 1.0): sweep.nml:9: &bc velocity'
         CHECK_CONTAINS(errors%joined(), want, 'line of the scene file')
     end subroutine test_line_numbers_kept
 

@@ -51,8 +51,8 @@ contains
     ! (spatial) only; with the extensions of seed 000 §5 (issue 4): the shear-rigid and
     ! inextensible constraints, quasistatics, Maxwell branches and actuators.
     subroutine test_ph_director_row()
-        character(len=12), parameter :: kinds(4) = [character(len=12) :: 'clamped', 'pinned', 'free', &
-            'driven']
+        character(len=12), parameter :: kinds(7) = [character(len=12) :: 'clamped', 'pinned', 'free', &
+            'driven', 'body', 'sliding', 'held']
         character(len=12), parameter :: places(4) = [character(len=12) :: 'start', 'end', &
             'distributed', 'gravity']
         character(len=12), parameter :: frames(2) = [character(len=12) :: 'spatial', 'follower']
@@ -60,16 +60,13 @@ contains
             'inextensible']
         character(len=12), parameter :: joints(3) = [character(len=12) :: 'revolute', 'rigid', &
             'spherical']
-        character(len=12) :: supported_kinds(3), supported_frames(2)
+        character(len=12) :: supported_frames(2)
         type(capability_t) :: row
         row = capability_of('ph_director')
         CHECK_TRUE(row%available, 'ph_director is available')
         CHECK_EQUAL(trim(row%formulation), 'ph_director', 'row names its formulation')
-        supported_kinds(1) = 'clamped'
-        supported_kinds(2) = 'free'
-        ! Issue 26 item 2: pinned ends.
-        supported_kinds(3) = 'pinned'
-        call check_column(row%end_kinds, kinds, supported_kinds, 'end kind')
+        ! Issue 26 items 2, 3: pinned, driven, sliding and held ends; issue 24: bodies.
+        call check_column(row%end_kinds, kinds, kinds, 'end kind')
         call check_column(row%load_places, places, places, 'load place')
         supported_frames(1) = 'spatial'
         ! Issue 26 item 2: follower loads.
@@ -85,7 +82,7 @@ contains
         CHECK_TRUE(row%contact, 'rod-rod and self contact (issue 10)')
         CHECK_TRUE(.not. row%planar, 'ph_director is 3D')
         CHECK_TRUE(.not. row%relaxation, 'statics by quasistatics, not relaxation')
-        CHECK_EQUAL(len_trim(row%drive), 0, 'no driven ends, so no drive')
+        CHECK_EQUAL(trim(row%drive), 'pose', 'driven ends by their pose (issue 26 item 2)')
         CHECK_EQUAL(len_trim(row%end_kinds_at_end), 0, 'same end kinds at both ends')
     end subroutine test_ph_director_row
 
@@ -110,6 +107,8 @@ contains
             CHECK_TRUE(row%available, trim(names(k)) // ' is available')
             CHECK_EQUAL(trim(row%formulation), trim(names(k)), 'row names its formulation')
             call check_column(row%end_kinds, kinds, kinds(1:3), trim(names(k)) // ' end kind')
+            CHECK_TRUE(lists_name(row%end_kinds, 'sliding'), trim(names(k)) // ' sliding ends')
+            CHECK_TRUE(lists_name(row%end_kinds, 'held'), trim(names(k)) // ' held ends')
             call check_column(row%load_places, places, places, trim(names(k)) // ' load place')
             call check_column(row%load_frames, frames, frames(1:1), trim(names(k)) // ' load frame')
             call check_column(row%constraints, constraints, constraints(1:1), trim(names(k)) // &
@@ -201,6 +200,7 @@ contains
         CHECK_TRUE(row%available, 'se3_pg is available')
         CHECK_TRUE(lists_name(row%end_kinds, 'pinned'), 'pinned ends')
         CHECK_TRUE(lists_name(row%end_kinds, 'driven'), 'driven ends (a moved clamp)')
+        CHECK_TRUE(lists_name(row%end_kinds, 'held'), 'held ends (issue 26 item 3)')
         CHECK_TRUE(lists_name(row%load_frames, 'follower'), 'follower loads')
         CHECK_TRUE(lists_name(row%load_places, 'gravity'), 'gravity')
         CHECK_TRUE(row%quasistatic .and. row%curved_reference, 'statics and curved references')

@@ -6,13 +6,15 @@
 !> substring: an out-of-plane force, velocity and gravity, a moment and an angular velocity not
 !> along the normal, two rods in different planes, an oblique d1, a helix. Also the tolerance
 !> (1e-12 relative), the right-handed orthonormal basis, and round trips point_in_plane /
-!> point_from_plane, vector_in_plane / vector_from_plane and angle_in_plane.
+!> point_from_plane, vector_in_plane / vector_from_plane and angle_in_plane; the planar
+!> coordinates a support's hold fixes (planar_held).
 module rs_test_model_planarity
     use rs_core_kinds, only: rk, pi
     use rs_test_assert, only: run_test, assert_true, assert_close, assert_equal, assert_contains
     use rs_model_scene, only: scene_t, rod_input_t, load_input_t
     use rs_model_planarity, only: plane_t, plane_of_rods, point_in_plane, vector_in_plane, &
-        point_from_plane, vector_from_plane, angle_in_plane, planarity_tolerance
+        point_from_plane, vector_from_plane, angle_in_plane, planarity_tolerance, planar_held
+    use rs_model_support, only: end_hold_t
     implicit none
     private
 
@@ -40,6 +42,7 @@ contains
         call run_test('helix', test_helix)
         call run_test('tolerance', test_tolerance)
         call run_test('round_trips', test_round_trips)
+        call run_test('planar_held', test_planar_held)
     end subroutine run_all_tests
 
     !> A straight rod as the resolver leaves it (d1 normal to the unit direction).
@@ -360,6 +363,50 @@ contains
         real(rk) :: c(3)
         c = [a(2) * b(3) - a(3) * b(2), a(3) * b(1) - a(1) * b(3), a(1) * b(2) - a(2) * b(1)]
     end function cross
+
+    !> A hold in planar coordinates (x, y, theta): in the xz-plane (e1 = e_x, e2 = -e_z) z held
+    !> is y held, x held is x, y held (the normal) nothing; a slide along e_x holds y and theta;
+    !> in the plane with normal (1, 1, 1)/sqrt(3) (e1 = (2, -1, -1)/sqrt(6), e2 = (0, 1, -1)
+    !> /sqrt(2)) y alone fixes an oblique planar direction (not ok), x and y fix both.
+    subroutine test_planar_held()
+        type(plane_t) :: plane
+        type(end_hold_t) :: hold
+        logical :: held(3), ok
+        plane%found = .true.
+        plane%e1 = e_x
+        plane%e2 = -e_z
+        plane%normal = e_y
+        hold = hold_of([.false., .false., .true.], .false.)
+        call planar_held(plane, hold, held, ok)
+        CHECK_TRUE(ok .and. all(held .eqv. [.false., .true., .false.]), 'xz-plane: z is y')
+        call planar_held(plane, hold_of([.true., .false., .false.], .false.), held, ok)
+        CHECK_TRUE(ok .and. all(held .eqv. [.true., .false., .false.]), 'xz-plane: x is x')
+        call planar_held(plane, hold_of([.false., .true., .false.], .true.), held, ok)
+        CHECK_TRUE(ok .and. all(held .eqv. [.false., .false., .true.]), 'xz-plane: y (normal) nothing, rotation theta')
+        hold%position = reshape([0.0_rk, 0.0_rk, 0.0_rk, 0.0_rk, 1.0_rk, 0.0_rk, 0.0_rk, 0.0_rk, &
+            1.0_rk], [3, 3])
+        hold%rotation = .true.
+        call planar_held(plane, hold, held, ok)
+        CHECK_TRUE(ok .and. all(held .eqv. [.false., .true., .true.]), 'xz-plane: a slide along x')
+        plane%normal = [1.0_rk, 1.0_rk, 1.0_rk] / sqrt(3.0_rk)
+        plane%e1 = [2.0_rk, -1.0_rk, -1.0_rk] / sqrt(6.0_rk)
+        plane%e2 = [0.0_rk, 1.0_rk, -1.0_rk] / sqrt(2.0_rk)
+        call planar_held(plane, hold_of([.false., .true., .false.], .false.), held, ok)
+        CHECK_TRUE(.not. ok, 'tilted plane: y alone is oblique')
+        call planar_held(plane, hold_of([.true., .true., .false.], .false.), held, ok)
+        CHECK_TRUE(ok .and. all(held .eqv. [.true., .true., .false.]), 'tilted plane: x and y fix both')
+    contains
+        pure function hold_of(axes, rotation) result(h)
+            logical, intent(in) :: axes(3), rotation
+            type(end_hold_t) :: h
+            integer :: i
+            h%position = 0.0_rk
+            do i = 1, 3
+                if (axes(i)) h%position(i, i) = 1.0_rk
+            end do
+            h%rotation = rotation
+        end function hold_of
+    end subroutine test_planar_held
 
 end module rs_test_model_planarity
 
