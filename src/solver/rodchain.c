@@ -27,6 +27,7 @@ typedef struct {
     PetscInt     chain_count, fallback_count;
     PetscInt     since_failure; /* MUMPS factorizations since the chain last failed (0: it works) */
     PetscBool    not_a_chain;   /* the pattern has no chain structure worth the dense panels */
+    PetscBool    no_backward;   /* the reversed pattern is no chain: only `forward` is tried */
     MatFactorInfo info;         /* of the last factorization, for a fallback inside a solve */
 } Mat_RodChain;
 
@@ -210,8 +211,16 @@ static PetscErrorCode BuildBackward(Mat_RodChain *rc, Mat A)
     status = rs_chain_lu_symbolic_permuted((int)n, ia, ja, perm, &rc->backward);
     PetscCall(PetscFree(perm));
     PetscCall(MatRestoreRowIJ(A, 0, PETSC_FALSE, PETSC_FALSE, &n, &ia, &ja, &done));
-    PetscCheck(status == 0, PETSC_COMM_SELF, status == 2 ? PETSC_ERR_MEM : PETSC_ERR_ARG_WRONG,
-               "rodchain: the reversed chain could not be set up (status %d)", status);
+    PetscCheck(status != 2, PETSC_COMM_SELF, PETSC_ERR_MEM, "rodchain: out of memory");
+    /* A pattern that is a chain from its start need not be one from its end (the panels of
+       the reversed order may exceed the limit): then MUMPS factors what the forward chain
+       cannot, never a fatal error. */
+    if (status) {
+        rc->backward    = NULL;
+        rc->no_backward = PETSC_TRUE;
+        PetscCall(PetscInfo(rc->A, "rodchain: the reversed pattern is not a chain (status %d)\n",
+                            status));
+    }
     PetscFunctionReturn(0);
 }
 
@@ -288,10 +297,12 @@ static PetscErrorCode MatLUFactorNumeric_RodChain(Mat F, Mat A, const MatFactorI
             /* From the other end: a quasistatic rod whose first element floats is singular
                from the start of the chain and regular from its clamped end. */
             int other_panel;
-            if (!rc->backward) PetscCall(BuildBackward(rc, A));
-            other = rc->preferred == rc->forward ? rc->backward : rc->forward;
-            PetscCall(FactorChain(rc, other, values, &other_panel));
-            if (!other_panel) rc->active = rc->preferred = other;
+            if (!rc->backward && !rc->no_backward) PetscCall(BuildBackward(rc, A));
+            if (rc->backward) {
+                other = rc->preferred == rc->forward ? rc->backward : rc->forward;
+                PetscCall(FactorChain(rc, other, values, &other_panel));
+                if (!other_panel) rc->active = rc->preferred = other;
+            }
         }
         PetscCall(MatSeqAIJRestoreArrayRead(A, &values));
     }
@@ -303,7 +314,9 @@ static PetscErrorCode MatLUFactorNumeric_RodChain(Mat F, Mat A, const MatFactorI
         if (panel) {
             PetscCall(PetscSNPrintf(why, sizeof(why),
                                     "panel %d of a Jacobian of this rod is singular on its own "
-                                    "from either end of the chain", panel));
+                                    "%s", panel, rc->no_backward ? "from the start of the chain "
+                                    "(its reversed pattern is not a chain)" : "from either end "
+                                    "of the chain"));
         } else if (rc->not_a_chain) {
             PetscCall(PetscSNPrintf(why, sizeof(why),
                                     "the Jacobian is not a chain (its panels would hold more than "
