@@ -34,6 +34,7 @@ module rs_app_run_scene
     use rs_formulations_memory_estimate, only: memory_estimate_t, run_memory_estimate, &
         available_memory_bytes
     use rs_parallel_deal, only: deal_by_cost
+    use rs_app_run_modes, only: run_modes
     implicit none
     private
 
@@ -216,6 +217,11 @@ contains
         output_seconds = output_seconds + (wall_time() - t_flush)
         if (collective_failure(local_err, err, 'the result file could not be completed')) return
         call report_summary(runners, started, output_seconds, min(n, n_steps) - first_step + 1, path)
+        ! Modal analysis (&modes) about the reference state, into the completed file.
+        if (scene%modes%given .and. .not. failed) then
+            call run_modes(scene, path, err)
+            if (allocated(err)) return
+        end if
 
         if (failed) then
             do i = 1, size(runners)

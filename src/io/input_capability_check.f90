@@ -491,6 +491,7 @@ contains
             if (scene%time%adaptive .and. .not. row%adaptive) call errors%add(at(scene, &
                 scene%time%input_line) // '&time adaptive: error-controlled steps are not available for ' // what // &
                 ' (rod ''' // trim(rod%name) // ''')' // see_matrix)
+            if (scene%modes%given) call check_modes(rod, row, what)
             if (trim(scene%time%scheme) == 'generalized_alpha' .and. .not. row%generalized_alpha) &
                 call errors%add(at(scene, scene%time%input_line) // '&time scheme: ' // &
                 '''generalized_alpha'' is not ' // &
@@ -567,6 +568,31 @@ contains
                     'instead' // see_matrix)
             end select
         end subroutine check_drive
+
+        !> &modes: a formulation with modal analysis, the dynamic midpoint step, and for
+        !> se3_pg no damping (its damped quadratic pencil is not solved yet; docs/theory/
+        !> modes.md). The scene-wide conditions are reported with the first rod only.
+        subroutine check_modes(rod, row, what)
+            type(rod_input_t), intent(in) :: rod
+            type(capability_t), intent(in) :: row
+            character(len=*), intent(in) :: what
+            character(len=:), allocatable :: here
+            here = at(scene, scene%modes%input_line) // '&modes: '
+            if (.not. row%modes) then
+                call errors%add(here // 'modal analysis is not available for ' // what // &
+                    ' (rod ''' // trim(rod%name) // ''')' // see_matrix)
+                return
+            end if
+            if (trim(row%formulation) == 'se3_pg' .and. rod_is_damped(rod)) call errors%add( &
+                here // 'modes of a damped se3_pg rod (''' // trim(rod%name) // ''') are not ' // &
+                'available yet; remove kelvin_voigt_time, drag and angular_drag')
+            if (i > 1) return
+            if (scene%time%quasistatic) call errors%add(here // 'modal analysis needs the ' // &
+                'equations of motion, not a quasistatic run (&time quasistatic = .false.)')
+            if (trim(scene%time%scheme) == 'generalized_alpha') call errors%add(here // &
+                'modal analysis reads the linearized equations from the midpoint step: ' // &
+                'use &time scheme = ''midpoint''')
+        end subroutine check_modes
     end subroutine check_rod_capabilities
 
 end module rs_io_input_capability_check

@@ -65,6 +65,9 @@ module rs_model_capabilities
         !> rotation), 'velocity' (velocity and angular_velocity; several &bc on one end add
         !> up), or blank when it has no driven ends.
         character(len=16) :: drive = ''
+        !> Modal analysis (&modes; docs/theory/modes.md): its dynamic step's Jacobian at rest
+        !> is the linearized equations of motion (formulation_traits_t%modal_form).
+        logical :: modes = .false.
     end type capability_t
 
 contains

@@ -25,7 +25,7 @@ contains
             'distributed loads, gravity | curved reference | prestressed | constraints | ' // &
             'viscoelasticity | damping | varying along the rod | actuation | joints | end plates | ' // &
             'contact | quasistatics | relaxation | order 4 in time | adaptive steps | ' // &
-            'generalized-α | planar |' // nl // '|' // repeat('---|', 22)
+            'generalized-α | planar | modes |' // nl // '|' // repeat('---|', 23)
         do i = 1, size(rows)
             if (rows(i)%available) text = text // nl // row_markdown(rows(i))
         end do
@@ -58,7 +58,8 @@ contains
             ' | ' // yes_no(row%order_4, 'yes (`&time order = 4`)') // &
             ' | ' // yes_no(row%adaptive, 'yes (`&time adaptive`)') // &
             ' | ' // yes_no(row%generalized_alpha, 'yes (`&time scheme`, `rho_inf`)') // &
-            ' | ' // yes_no(row%planar, 'yes: rods and loads in one plane') // ' |'
+            ' | ' // yes_no(row%planar, 'yes: rods and loads in one plane') // &
+            ' | ' // yes_no(row%modes, 'yes (`&modes`)') // ' |'
     end function row_markdown
 
     !> A '|'-separated list as 'a, b, c' ('-' when empty).

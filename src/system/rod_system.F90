@@ -1074,7 +1074,8 @@ contains
         if (this%direct) return
         traits = formulation_traits_t(full_newton=.not. (traits%wants_endpoint_solve .and. &
             this%refuses_iterates() .and. .not. this%tied), &
-            wants_endpoint_solve=traits%wants_endpoint_solve, energy_scheme=traits%energy_scheme)
+            wants_endpoint_solve=traits%wants_endpoint_solve, energy_scheme=traits%energy_scheme, &
+            modal_form=traits%modal_form)
     end function system_traits
 
     subroutine system_set_step_problem(this, endpoint, t_load, continue_from)

@@ -35,7 +35,7 @@ module rs_ph_director
     use rs_model_rod_history, only: rod_history_t
     use rs_assembly_csr_pattern, only: csr_builder_t, csr_pattern_t
     use rs_formulations_formulation, only: rod_formulation_t, formulation_traits_t, state_valid, &
-        state_invalid, state_measures_t, rod_nodes_t, node_tie_t
+        state_invalid, state_measures_t, rod_nodes_t, node_tie_t, modal_first_order
     use rs_formulations_energy_sentinel, only: step_energy_t, energy_consistent, energy_unchecked
     use rs_ph_director_element, only: ph_director_basis_t, ph_director_material_t, &
         ph_director_actuation_t, ph_director_max_branches, ph_director_max_tendons, &
@@ -1587,6 +1587,8 @@ contains
         traits%energy_scheme = merge(energy_unchecked, energy_consistent, this%quasistatic)
         traits%wants_endpoint_solve = this%quasistatic
         traits%continues_equilibrium = this%quasistatic .and. .not. this%condensed
+        ! The implicit midpoint rule on (q, v, lambda, sigma) (methods §5.1-5.2).
+        if (.not. this%quasistatic) traits%modal_form = modal_first_order
     end function ph_director_traits
 
     !> Make the next steps the endpoint equilibrium at load time t_load (`endpoint`), or time

@@ -1,0 +1,238 @@
+#include "rs_macros.h"
+!> Modal analysis of a scene (&modes; issue 27 item 1, docs/theory/modes.md), after its run:
+!> for every system (one rod, or the rods that joints, plates or contact couple), the
+!> equations of motion linearized about the reference state (rs_system_linearization, from
+!> the system's own step Jacobians: couplings and constraints included), their lowest modes
+!> (rs_solver_modal_solver, SLEPc on all ranks together), and on rank 0 the frequencies and
+!> the mode shapes in /modes of the result file (docs/user/output.md) and the modes sidecar
+!> FILE.modes.xdmf (docs/user/postprocessing.md).
+module rs_app_run_modes
+    use rs_core_kinds, only: rk, pi
+    use rs_core_error, only: error_t, set_error
+    use rs_core_logger, only: log_info, log_warning
+    use rs_core_strings, only: str, str_significant
+    use rs_core_timer, only: wall_time
+    use rs_model_scene, only: scene_t
+    use rs_model_units, only: unit_in_system
+    use rs_model_coupling, only: coupled_systems
+    use rs_parallel_mpi_env, only: world_rank, world_size, any_rank_true, broadcast_text
+    use rs_formulations_formulation, only: rod_nodes_t, modal_first_order
+    use rs_system_rod_system, only: rod_system_t
+    use rs_system_linearization, only: pencil_t, linearize_system
+    use rs_solver_modal_solver, only: modes_t, solve_modes
+    use rs_io_hdf5_file, only: hdf5_file_t
+    use rs_io_xdmf_writer, only: xdmf_mode_rod_t, write_xdmf_modes_sidecar
+    implicit none
+    private
+
+    public :: run_modes
+
+    !> A mode whose frequency is below this share of the system's largest one found is
+    !> reported as a rigid-body mode in the log (the output keeps every value).
+    real(rk), parameter :: rigid_share = 1.0e-6_rk
+
+contains
+
+    !> The modes of every system of `scene` into the result file at `path` (which the run has
+    !> completed). Collective on all ranks; `err` is set on every rank.
+    subroutine run_modes(scene, path, err)
+        type(scene_t), intent(in) :: scene
+        character(len=*), intent(in) :: path
+        type(error_t), allocatable, intent(out) :: err
+        integer, allocatable :: system_of(:), first(:), members(:)
+        type(rod_system_t), allocatable :: system
+        type(pencil_t) :: pencil
+        type(modes_t) :: modes
+        type(xdmf_mode_rod_t), allocatable :: sidecar(:), rods(:)
+        real(rk), allocatable :: x(:), frequencies(:)
+        real(rk) :: started
+        integer :: k
+        character(len=:), allocatable :: name, message
+        call coupled_systems(scene, system_of, first, members)
+        allocate(sidecar(0))
+        do k = 1, size(first) - 1
+            started = wall_time()
+            ! Every rank builds the whole system (a modal analysis is one linearization and
+            ! one eigen solve: the assembly is cheap next to the solve, which is distributed).
+            allocate(system)
+            call system%init(scene, members(first(k):first(k + 1) - 1), err)
+            if (.not. allocated(err)) then
+                allocate(x(system%n_state()))
+                call system%initial_state(x)
+                call linearize_system(system, 0.0_rk, x, scene%time%dt, pencil, err)
+            end if
+            if (.not. allocated(err)) call solve_modes(pencil, scene%modes%n_modes, modes, err)
+            name = system_name(scene, members(first(k):first(k + 1) - 1))
+            if (allocated(err)) then
+                err%message = 'modes of ' // name // ': ' // err%message
+                return
+            end if
+            call log_modes(name, pencil, modes, wall_time() - started)
+            if (world_rank() == 0) then
+                call write_modes(scene, path, name, system, x, pencil, modes, rods, err)
+                if (.not. allocated(err)) sidecar = [sidecar, rods]
+                if (.not. allocated(err) .and. k == 1) frequencies = modes%omega(1:modes%n) / &
+                    (2.0_rk * pi)
+            end if
+            deallocate(system, x)
+            if (any_rank_true(allocated(err))) exit
+        end do
+        message = ''
+        if (world_rank() == 0 .and. .not. allocated(err) .and. scene%output%xdmf) then
+            call write_xdmf_modes_sidecar(path, sidecar, frequencies, err)
+        end if
+        if (world_rank() == 0 .and. allocated(err)) message = err%describe()
+        if (.not. any_rank_true(len(message) > 0)) return
+        call broadcast_text(message, 0)
+        if (.not. allocated(err)) then
+            RS_SET_ERROR(err, 'run_modes', message)
+        end if
+    end subroutine run_modes
+
+    !> The system's name: its rods' names joined by '+'.
+    function system_name(scene, rods) result(name)
+        type(scene_t), intent(in) :: scene
+        integer, intent(in) :: rods(:)
+        character(len=:), allocatable :: name
+        integer :: i
+        name = trim(scene%rods(rods(1))%name)
+        do i = 2, size(rods)
+            name = name // '+' // trim(scene%rods(rods(i))%name)
+        end do
+    end function system_name
+
+    subroutine log_modes(name, pencil, modes, seconds)
+        character(len=*), intent(in) :: name
+        type(pencil_t), intent(in) :: pencil
+        type(modes_t), intent(in) :: modes
+        real(rk), intent(in) :: seconds
+        character(len=:), allocatable :: line
+        real(rk) :: largest
+        integer :: k, rigid
+        largest = maxval(abs(modes%omega(1:modes%n)))
+        rigid = count(abs(modes%omega(1:modes%n)) < rigid_share * largest)
+        call log_info('rodsolve: modes of ' // name // ': ' // str(modes%n) // ' modes (' // &
+            str(rigid) // ' rigid-body), ' // trim(merge('first ', 'second', pencil%form == &
+            modal_first_order)) // '-order pencil of ' // str(pencil%n) // ' unknowns (' // &
+            str(pencil%n_algebraic) // ' algebraic rows), ' // modes%solver // ', ' // &
+            str_significant(seconds, 3) // ' s')
+        if (pencil%unbalance > 1.0e-8_rk) call log_warning('rodsolve: modes of ' // name // &
+            ': the reference state is not in equilibrium (relative unbalance ' // &
+            str_significant(pencil%unbalance, 3) // '): the modes are those of its tangent ' // &
+            'stiffness, without the loads'' prestress')
+        line = ''
+        do k = 1, modes%n
+            line = line // ' ' // str_significant(modes%omega(k) / (2.0_rk * pi), 8)
+        end do
+        call log_info('rodsolve: modes of ' // name // ': frequencies (Hz):' // line)
+    end subroutine log_modes
+
+    !> /modes/<system>/: frequencies and, per rod, the reference positions of its nodes and
+    !> the mode shapes as nodal displacements, each mode scaled to a largest nodal
+    !> displacement of 1 over the system (rank 0).
+    subroutine write_modes(scene, path, name, system, x, pencil, modes, rods, err)
+        type(scene_t), intent(in) :: scene
+        character(len=*), intent(in) :: path, name
+        type(rod_system_t), intent(in) :: system
+        real(rk), intent(in) :: x(:)
+        type(pencil_t), intent(in) :: pencil
+        type(modes_t), intent(in) :: modes
+        type(xdmf_mode_rod_t), allocatable, intent(out) :: rods(:)
+        type(error_t), allocatable, intent(out) :: err
+        type(hdf5_file_t) :: file
+        type(error_t), allocatable :: close_err
+        real(rk), allocatable :: position(:, :), displacement(:, :, :), scale(:)
+        character(len=:), allocatable :: group, units, hz
+        integer :: m, n
+        units = trim(scene%run%units)
+        hz = merge('Hz ', '1/s', units == 'si')
+        if (units /= 'si') hz = unit_in_system('1/s', units)
+        group = '/modes/' // name
+        allocate(rods(size(system%members)))
+        call file%open(path, err)
+        if (allocated(err)) return
+        body: block
+            call file%create_group(group, err)
+            if (allocated(err)) exit body
+            n = modes%n
+            call file%write_dataset(group // '/frequency', modes%omega(1:n) / (2.0_rk * pi), &
+                trim(hz), 'frequency f = omega / (2 pi) of each mode, lowest first (negative: ' // &
+                'omega^2 < 0, an unstable state), [mode]', err)
+            if (allocated(err)) exit body
+            call file%write_dataset(group // '/angular_frequency', modes%omega(1:n), &
+                unit_in_system('rad/s', units), 'angular frequency omega of each mode, ' // &
+                '[mode]', err)
+            if (allocated(err)) exit body
+            call file%write_dataset(group // '/decay_rate', modes%decay(1:n), &
+                unit_in_system('1/s', units), 'decay rate delta of each mode, s = -delta +- ' // &
+                'i omega (zero without damping), [mode]', err)
+            if (allocated(err)) exit body
+            call file%write_dataset(group // '/residual', modes%residual(1:n), '-', &
+                'relative residual of each eigenpair (SLEPc), [mode]', err)
+            if (allocated(err)) exit body
+            call file%write_attribute(group, 'about', trim(scene%modes%about), err)
+            if (.not. allocated(err)) call file%write_attribute(group, 'solver', modes%solver, err)
+            if (.not. allocated(err)) call file%write_attribute(group, 'pencil', &
+                trim(merge('first ', 'second', pencil%form == modal_first_order)) // '-order', err)
+            if (.not. allocated(err)) call file%write_attribute(group, 'unbalance', &
+                pencil%unbalance, err)
+            if (allocated(err)) exit body
+            ! Each mode scaled to a largest nodal displacement of 1 over the system's rods.
+            allocate(scale(n), source=0.0_rk)
+            do m = 1, size(system%members)
+                call nodal_shapes(system, m, x, modes, position, displacement)
+                scale = max(scale, maxval(norm2(displacement, dim=1), dim=1))
+            end do
+            where (scale <= 0.0_rk) scale = 1.0_rk
+            do m = 1, size(system%members)
+                call nodal_shapes(system, m, x, modes, position, displacement)
+                displacement = displacement / spread(spread(scale, 1, size(displacement, 2)), 1, 3)
+                rods(m)%name = system%members(m)%name
+                rods(m)%group = group // '/' // rods(m)%name
+                rods(m)%n_nodes = size(position, 2)
+                call file%create_group(rods(m)%group, err)
+                if (allocated(err)) exit body
+                call file%write_dataset(rods(m)%group // '/position', position, &
+                    unit_in_system('m', units), 'reference position of each node, the state ' // &
+                    'the modes are about, [node, xyz]', err)
+                if (allocated(err)) exit body
+                call file%write_dataset(rods(m)%group // '/displacement', displacement, &
+                    unit_in_system('m', units), 'mode shape: the nodal displacement of each ' // &
+                    'mode, scaled to a largest nodal displacement of 1 over the system, ' // &
+                    '[mode, node, xyz]', err)
+                if (allocated(err)) exit body
+            end do
+        end block body
+        call file%close(close_err)
+        if (.not. allocated(err) .and. allocated(close_err)) call move_alloc(close_err, err)
+    end subroutine write_modes
+
+    !> Member m's node positions in x (3, nodes) and the centreline part of every mode's
+    !> eigenvector (3, nodes, modes); a held coordinate does not move.
+    subroutine nodal_shapes(system, m, x, modes, position, displacement)
+        type(rod_system_t), intent(in) :: system
+        integer, intent(in) :: m
+        real(rk), intent(in) :: x(:)
+        type(modes_t), intent(in) :: modes
+        real(rk), allocatable, intent(out) :: position(:, :), displacement(:, :, :)
+        integer :: k, i, so, uo
+        associate (place => system%layout%members(m), nodes => system%layout%members(m)%nodes)
+            so = place%state_offset
+            uo = place%unknown_offset
+            allocate(position(3, nodes%n_nodes), displacement(3, nodes%n_nodes, modes%n), &
+                source=0.0_rk)
+            do k = 1, nodes%n_nodes
+                do i = 1, 3
+                    if (nodes%state(i, k) > 0) then
+                        position(i, k) = x(so + nodes%state(i, k))
+                    else
+                        position(i, k) = nodes%held(i, k)
+                    end if
+                    if (nodes%unknown(i, k) > 0) displacement(i, k, :) = &
+                        modes%shape(uo + nodes%unknown(i, k), 1:modes%n)
+                end do
+            end do
+        end associate
+    end subroutine nodal_shapes
+
+end module rs_app_run_modes

@@ -1,0 +1,177 @@
+#include "rs_macros.h"
+!> The modes of a system's linear pencil (rs_system_linearization) from SLEPc: the `bind(C)`
+!> interface to src/solver/modal_solver.c, the one door to SLEPc (DESIGN.md §2), and the
+!> eigenvalues turned into frequencies (docs/theory/modes.md).
+!>
+!> With P(s) = a0 + s a1 + s^2 a2, a mode is an eigenvalue s = -delta +- i omega: omega the
+!> angular frequency (rad/s), delta the decay rate (1/s, zero without damping). A first-order
+!> pencil gives every mode as two eigenvalues: an oscillating one as a conjugate pair (counted
+!> once, omega = |Im mu|), a rigid-body mode as a double zero (a Jordan block of the first-
+!> order form) that round-off splits into +-i epsilon (a pair, as before) or +-epsilon (two
+!> real eigenvalues, paired: omega^2 = mu_1 mu_2); a second-order undamped pencil gives
+!> omega^2 directly. A negative omega^2 (an unstable state, or a rigid-body zero split to
+!> -epsilon^2) is reported as a negative frequency.
+module rs_solver_modal_solver
+    use, intrinsic :: iso_c_binding, only: c_int, c_double, c_char
+    use rs_core_kinds, only: rk
+    use rs_core_error, only: error_t, set_error
+    use rs_core_strings, only: str, from_c_string
+    use rs_formulations_formulation, only: modal_first_order, modal_second_order
+    use rs_system_linearization, only: pencil_t
+    implicit none
+    private
+
+    public :: solve_modes, slepc_version
+
+    !> The modes found, lowest first.
+    type, public :: modes_t
+        integer :: n = 0
+        !> Angular frequency omega (rad/s; negative: omega^2 < 0, an unstable mode) and decay
+        !> rate delta (1/s) of each mode.
+        real(rk), allocatable :: omega(:), decay(:)
+        !> SLEPc's relative residual of each eigenpair.
+        real(rk), allocatable :: residual(:)
+        !> The eigenvectors in the step unknowns (n_unknown x n): the real part after the
+        !> phase that makes the largest entry real (modes_t%shape).
+        real(rk), allocatable :: shape(:, :)
+        !> The solver as configured (after -modes_ options).
+        character(len=:), allocatable :: solver
+    end type modes_t
+
+    interface
+        integer(c_int) function rs_modes_solve(n, row_ptr, cols, a0, a1, a2, degree, n_wanted, &
+                shift, n_found, mu_re, mu_im, vec_re, vec_im, errors, solver_text, text_len, &
+                errmsg, errlen) bind(C)
+            import :: c_int, c_double, c_char
+            integer(c_int), value :: n, degree, n_wanted, text_len, errlen
+            integer(c_int), intent(in) :: row_ptr(*), cols(*)
+            real(c_double), intent(in) :: a0(*), a1(*), a2(*)
+            real(c_double), value :: shift
+            integer(c_int), intent(out) :: n_found
+            real(c_double), intent(out) :: mu_re(*), mu_im(*), vec_re(*), vec_im(*), errors(*)
+            character(kind=c_char), intent(out) :: solver_text(*), errmsg(*)
+        end function rs_modes_solve
+        subroutine rs_slepc_version(buffer, length) bind(C)
+            import :: c_char, c_int
+            character(kind=c_char), intent(out) :: buffer(*)
+            integer(c_int), value :: length
+        end subroutine rs_slepc_version
+    end interface
+
+    !> The shift of shift-and-invert, as a share of the pencil's balanced frequency scale
+    !> (rs_system_linearization's z0, the largest stiffness over the largest mass): any
+    !> negative real shift returns the lowest modes in order (modal_solver.c), and one this far
+    !> below them keeps a0 - sigma a1 well conditioned for a free rod (a0 singular).
+    real(rk), parameter :: shift_share = 1.0e-3_rk
+
+contains
+
+    !> The n_modes lowest modes of `pencil`. Collective on all ranks (the solve is distributed).
+    subroutine solve_modes(pencil, n_modes, modes, err)
+        type(pencil_t), intent(in) :: pencil
+        integer, intent(in) :: n_modes
+        type(modes_t), intent(out) :: modes
+        type(error_t), allocatable, intent(out) :: err
+        real(rk), allocatable :: mu_re(:), mu_im(:), vec_re(:, :), vec_im(:, :), errors(:)
+        real(rk) :: shift, sigma
+        character(kind=c_char) :: text(256), message(1024)
+        integer(c_int) :: ierr, found
+        integer :: n_wanted, degree, i, pending
+        character(len=:), allocatable :: why
+        if (pencil%form == modal_second_order .and. any(pencil%a1 /= 0.0_rk)) then
+            why = 'modes of a damped second-order system (se3_pg with drag or Kelvin-Voigt ' // &
+                'damping) are not available yet: remove the damping for the modal analysis'
+            RS_SET_ERROR(err, 'solve_modes', why)
+            return
+        end if
+        degree = merge(1, 2, pencil%form == modal_first_order)
+        ! A first-order pencil gives every mode twice (a conjugate pair, or a rigid double zero).
+        n_wanted = min(merge(2 * n_modes + 2, n_modes, degree == 1), pencil%n)
+        sigma = shift_share * pencil%z0
+        shift = merge(-sigma, -sigma**2, degree == 1)
+        allocate(mu_re(n_wanted), mu_im(n_wanted), errors(n_wanted), &
+            vec_re(pencil%n, n_wanted), vec_im(pencil%n, n_wanted))
+        ierr = rs_modes_solve(int(pencil%n, c_int), pencil%row_ptr, pencil%cols, pencil%a0, &
+            pencil%a1, pencil%a2, int(degree, c_int), int(n_wanted, c_int), shift, found, mu_re, &
+            mu_im, vec_re, vec_im, errors, text, int(size(text), c_int), message, &
+            int(size(message), c_int))
+        if (ierr /= 0) then
+            RS_SET_ERROR(err, 'solve_modes', from_c_string(message))
+            return
+        end if
+        modes%solver = from_c_string(text)
+        allocate(modes%omega(n_modes), modes%decay(n_modes), modes%residual(n_modes), &
+            modes%shape(pencil%n, n_modes))
+        modes%n = 0
+        pending = 0
+        i = 1
+        do while (i <= found .and. modes%n < n_modes)
+            if (degree == 2) then
+                call add_mode(sign(sqrt(abs(mu_re(i))), mu_re(i)), 0.0_rk, errors(i), &
+                    vec_re(:, i), 0.0_rk * vec_re(:, i))
+                i = i + 1
+            else if (mu_im(i) /= 0.0_rk) then
+                ! mu = -s = delta -+ i omega; its conjugate follows it (real SLEPc).
+                call add_mode(abs(mu_im(i)), mu_re(i), errors(i), vec_re(:, i), vec_im(:, i))
+                i = i + 2
+            else if (pending == 0) then
+                pending = i
+                i = i + 1
+            else
+                ! Two real eigenvalues are one mode, s^2 + 2 delta s + omega^2 = 0: omega^2 =
+                ! mu_1 mu_2 (a rigid-body double zero split by round-off into +-epsilon gives
+                ! omega^2 = -epsilon^2), delta = (mu_1 + mu_2) / 2.
+                call add_mode(sign(sqrt(abs(mu_re(i) * mu_re(pending))), mu_re(i) * &
+                    mu_re(pending)), 0.5_rk * (mu_re(i) + mu_re(pending)), &
+                    max(errors(i), errors(pending)), vec_re(:, pending), 0.0_rk * vec_re(:, i))
+                pending = 0
+                i = i + 1
+            end if
+        end do
+        if (modes%n < n_modes) then
+            why = 'SLEPc found ' // str(modes%n) // ' of the ' // str(n_modes) // ' modes asked ' // &
+                'for (raise -modes_eps_max_it, or ask for fewer modes)'
+            RS_SET_ERROR(err, 'solve_modes', why)
+        end if
+    contains
+
+        subroutine add_mode(omega, decay, residual, re, im)
+            real(rk), intent(in) :: omega, decay, residual, re(:), im(:)
+            modes%n = modes%n + 1
+            modes%omega(modes%n) = omega
+            modes%decay(modes%n) = decay
+            modes%residual(modes%n) = residual
+            modes%shape(:, modes%n) = real_phase(re, im)
+        end subroutine add_mode
+    end subroutine solve_modes
+
+    !> The real vector of a complex eigenvector x = re + i im turned by the phase that makes
+    !> its largest entry real and positive.
+    pure function real_phase(re, im) result(v)
+        real(rk), intent(in) :: re(:), im(:)
+        real(rk) :: v(size(re))
+        real(rk) :: modulus(size(re)), c, s, r
+        integer :: j
+        modulus = re**2 + im**2
+        j = maxloc(modulus, dim=1)
+        r = sqrt(modulus(j))
+        if (r == 0.0_rk) then
+            v = re
+            return
+        end if
+        c = re(j) / r
+        s = im(j) / r
+        ! (re + i im) (c - i s): its real part.
+        v = re * c + im * s
+        v = v / r
+    end function real_phase
+
+    !> SLEPc's version ("3.18.2").
+    function slepc_version() result(text)
+        character(len=:), allocatable :: text
+        character(kind=c_char) :: buffer(32)
+        call rs_slepc_version(buffer, int(size(buffer), c_int))
+        text = from_c_string(buffer)
+    end function slepc_version
+
+end module rs_solver_modal_solver
