@@ -81,6 +81,26 @@ static PetscErrorCode gather_whole(Vec v, double *out)
     PetscFunctionReturn(0);
 }
 
+/* MUMPS's settings for the shift-and-invert factorization, below any -modes_st_mat_mumps_*
+   option given: AMD ordering and a 400% work-space margin, as rod_stepper.c gives a distributed
+   matrix (MUMPS does not permute large entries onto the diagonal of distributed input, and
+   the zero diagonal of the multiplier rows delays pivots: a 50% margin failed with INFOG(1) =
+   -9 on the ph_director cantilever on 2 ranks), the relative pivot threshold 0.01 on any
+   number of ranks, so that 1 and 2 ranks factor alike. */
+static PetscErrorCode mumps_defaults(void)
+{
+    const char *names[] = {"-modes_st_mat_mumps_icntl_14", "-modes_st_mat_mumps_icntl_7",
+                           "-modes_st_mat_mumps_cntl_1"};
+    const char *values[] = {"400", "0", "0.01"};
+    PetscBool given;
+    PetscFunctionBeginUser;
+    for (int i = 0; i < 3; i++) {
+        PetscCall(PetscOptionsHasName(NULL, NULL, names[i], &given));
+        if (!given) PetscCall(PetscOptionsSetValue(NULL, names[i], values[i]));
+    }
+    PetscFunctionReturn(0);
+}
+
 static PetscErrorCode solve(int n, const int *row_ptr, const int *cols, const double *a0,
                             const double *a1, const double *a2, int degree, int n_wanted,
                             double shift, int *n_found, double *mu_re, double *mu_im,
@@ -114,7 +134,7 @@ static PetscErrorCode solve(int n, const int *row_ptr, const int *cols, const do
     PetscCall(EPSSetWhichEigenpairs(eps, EPS_TARGET_MAGNITUDE));
     PetscCall(EPSSetTarget(eps, shift));
     PetscCall(EPSSetDimensions(eps, n_wanted, PETSC_DEFAULT, PETSC_DEFAULT));
-    PetscCall(EPSSetTolerances(eps, 1.0e-12, 200));
+    PetscCall(EPSSetTolerances(eps, 1.0e-14, 500));
     PetscCall(EPSGetST(eps, &st));
     PetscCall(STSetType(st, STSINVERT));
     PetscCall(STGetKSP(st, &ksp));
@@ -123,6 +143,7 @@ static PetscErrorCode solve(int n, const int *row_ptr, const int *cols, const do
     PetscCall(PCSetType(pc, PCLU));
     PetscCall(PCFactorSetMatSolverType(pc, MATSOLVERMUMPS));
     PetscCall(EPSSetOptionsPrefix(eps, "modes_"));
+    PetscCall(mumps_defaults());
     PetscCall(EPSSetFromOptions(eps));
     PetscCall(EPSSolve(eps));
     PetscCall(EPSGetConverged(eps, &nconv));
