@@ -21,7 +21,8 @@ module rs_app_run_modes
     use rs_system_linearization, only: pencil_t, linearize_system
     use rs_solver_modal_solver, only: modes_t, solve_modes
     use rs_io_hdf5_file, only: hdf5_file_t
-    use rs_io_xdmf_writer, only: xdmf_mode_rod_t, write_xdmf_modes_sidecar
+    use rs_io_xdmf_writer, only: xdmf_mode_rod_t, write_xdmf_modes_sidecar, &
+        xdmf_modes_sidecar_path
     implicit none
     private
 
@@ -79,7 +80,13 @@ contains
         end do
         message = ''
         if (world_rank() == 0 .and. .not. allocated(err) .and. scene%output%xdmf) then
-            call write_xdmf_modes_sidecar(path, sidecar, frequencies, err)
+            ! Without node access (ph_planar) there is nothing to show: no sidecar, and none
+            ! left over from an earlier run of the scene.
+            if (size(sidecar) > 0) then
+                call write_xdmf_modes_sidecar(path, sidecar, frequencies, err)
+            else
+                call remove_file(xdmf_modes_sidecar_path(path))
+            end if
         end if
         if (world_rank() == 0 .and. allocated(err)) message = err%describe()
         if (.not. any_rank_true(len(message) > 0)) return
@@ -88,6 +95,14 @@ contains
             RS_SET_ERROR(err, 'run_modes', message)
         end if
     end subroutine run_modes
+
+    !> Delete the file `path` if it exists.
+    subroutine remove_file(path)
+        character(len=*), intent(in) :: path
+        integer :: unit, status
+        open(newunit=unit, file=path, status='old', iostat=status)
+        if (status == 0) close(unit, status='delete')
+    end subroutine remove_file
 
     !> The system's name: its rods' names joined by '+'.
     function system_name(scene, rods) result(name)
@@ -143,7 +158,8 @@ contains
         type(error_t), allocatable :: close_err
         real(rk), allocatable :: position(:, :), displacement(:, :, :), scale(:)
         character(len=:), allocatable :: group, units, hz
-        integer :: m, n
+        integer :: m, n, n_shown
+        n_shown = 0
         units = trim(scene%run%units)
         hz = merge('Hz ', '1/s', units == 'si')
         if (units /= 'si') hz = unit_in_system('1/s', units)
@@ -184,25 +200,32 @@ contains
                 scale = max(scale, maxval(norm2(displacement, dim=1), dim=1))
             end do
             where (scale <= 0.0_rk) scale = 1.0_rk
+            n_shown = 0
             do m = 1, size(system%members)
                 call nodal_shapes(system, m, x, modes, position, displacement)
+                ! A formulation without node access (ph_planar) gives frequencies only.
+                if (size(position, 2) == 0) cycle
+                n_shown = n_shown + 1
                 displacement = displacement / spread(spread(scale, 1, size(displacement, 2)), 1, 3)
-                rods(m)%name = system%members(m)%name
-                rods(m)%group = group // '/' // rods(m)%name
-                rods(m)%n_nodes = size(position, 2)
-                call file%create_group(rods(m)%group, err)
+                associate (shown => rods(n_shown))
+                    shown%name = system%members(m)%name
+                    shown%group = group // '/' // shown%name
+                    shown%n_nodes = size(position, 2)
+                end associate
+                call file%create_group(rods(n_shown)%group, err)
                 if (allocated(err)) exit body
-                call file%write_dataset(rods(m)%group // '/position', position, &
+                call file%write_dataset(rods(n_shown)%group // '/position', position, &
                     unit_in_system('m', units), 'reference position of each node, the state ' // &
                     'the modes are about, [node, xyz]', err)
                 if (allocated(err)) exit body
-                call file%write_dataset(rods(m)%group // '/displacement', displacement, &
+                call file%write_dataset(rods(n_shown)%group // '/displacement', displacement, &
                     unit_in_system('m', units), 'mode shape: the nodal displacement of each ' // &
                     'mode, scaled to a largest nodal displacement of 1 over the system, ' // &
                     '[mode, node, xyz]', err)
                 if (allocated(err)) exit body
             end do
         end block body
+        rods = rods(1:n_shown)
         call file%close(close_err)
         if (.not. allocated(err) .and. allocated(close_err)) call move_alloc(close_err, err)
     end subroutine write_modes

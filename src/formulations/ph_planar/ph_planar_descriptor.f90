@@ -45,12 +45,14 @@ contains
         ! joints as shared nodal positions (§6.3) and rigid joints as shared positions and
         ! angles. Kelvin-Voigt viscosity and drag (issue 26, docs/theory/ph_planar.md
         ! "Damping") with their dissipation in the exact energy balance of every scheme.
+        ! Modes (&modes, docs/theory/modes.md) for ph_planar: cl_em_planar's Stander-Stein
+        ! step cannot start from rest (its correction factors are 0/0 there).
         d%capability = capability_t(formulation=name, available=.true., &
             end_kinds='clamped|pinned|free|sliding', load_places='start|end|distributed|gravity', &
             load_frames='spatial', constraints='none', quasistatic=.true., &
             viscoelastic=.false., actuation=.false., curved_reference=.false., &
             joints='revolute|rigid', planar=.true., order_4=.true., adaptive=.true., &
-            damping=.true., segments=.true.)
+            damping=.true., segments=.true., modes=name == 'ph_planar')
         d%create => create
         d%plan_lines => plan_lines
         d%check_rod => check_planar_rod
