@@ -14,12 +14,17 @@ Cases:
       frequencies are below 1e-8 of the first elastic one (the second-order pencils of se3_pg
       and ph_planar: their squares, see docs/theory/modes.md), then the first free-free
       Timoshenko frequency.
+  output
+      what a modal run writes: units of /modes, shapes scaled to a largest displacement of 1,
+      the modes sidecar (FILE.modes.xdmf) against the file's datasets, `rodplot.py modes`.
   ranks
       the ph_director cantilever's modes on 2 ranks (a distributed eigen solve) equal those on 1.
 """
 import math
 import os
+import subprocess
 import sys
+import xml.etree.ElementTree as ElementTree
 
 import h5py
 import numpy as np
@@ -186,6 +191,53 @@ def ranks(args, checks):
                  1e-9)
 
 
+def output(args, checks):
+    text = set_variable(read_example(args.source, "modes_cantilever.nml"), "rod", "n_elements",
+                        "20")
+    path = run(args, text, "output")
+    with h5py.File(path, "r") as f:
+        group = f["modes"]["beam"]
+        units = {name: group[name].attrs["unit"] for name in
+                 ("frequency", "angular_frequency", "decay_rate", "beam/displacement")}
+        units = {k: v.decode() if isinstance(v, bytes) else v for k, v in units.items()}
+        print("units:", units)
+        checks.check("units of frequency, angular_frequency, decay_rate, displacement (wrong "
+                     "ones)", float(units != {"frequency": "Hz", "angular_frequency": "rad/s",
+                                               "decay_rate": "1/s", "beam/displacement": "m"}),
+                     0.0)
+        omega, frequency = group["angular_frequency"][()], group["frequency"][()]
+        checks.check("frequency = omega / (2 pi): largest relative difference",
+                     float(np.max(np.abs(frequency * 2 * math.pi / omega - 1))), 1e-15)
+        displacement = group["beam"]["displacement"][()]
+        largest = np.linalg.norm(displacement, axis=2).max(axis=1)
+        checks.check("every shape scaled to a largest nodal displacement of 1: |max - 1|",
+                     float(np.max(np.abs(largest - 1))), 1e-12)
+        sidecar = os.path.splitext(path)[0] + ".modes.xdmf"
+        root = ElementTree.parse(sidecar).getroot()
+        grids = root.findall("./Domain/Grid/Grid")
+        checks.check("sidecar: one grid per mode (difference)", abs(len(grids) -
+                                                                      frequency.size), 0)
+        missing = 0
+        for item in root.iter("DataItem"):
+            if item.get("Format") != "HDF":
+                continue
+            name, dataset = item.text.strip().split(":")
+            dims = tuple(int(d) for d in item.get("Dimensions").split())
+            missing += int(name != os.path.basename(path) or f[dataset].shape != dims)
+        checks.check("sidecar: references to datasets that are not in the file as declared",
+                     missing, 0)
+    plot = subprocess.run([sys.executable, os.path.join(args.source, "scripts", "rodplot.py"),
+                           "modes", path, "-o", os.path.join(args.workdir, "modes.png")],
+                          capture_output=True, text=True)
+    print(plot.stdout + plot.stderr)
+    checks.check("rodplot.py modes: exit status", plot.returncode, 0)
+    printed = [float(line.split()[1]) for line in plot.stdout.splitlines()
+               if line.strip() and line.split()[0].isdigit()]
+    checks.check("rodplot.py modes prints the file's frequencies: largest difference",
+                 float(np.max(np.abs(np.array(printed) - frequency))) if len(printed) ==
+                 frequency.size else math.inf, 1e-7 * frequency.max())
+
+
 if __name__ == "__main__":
     run_cases(__doc__, {
         "se3_pg_cantilever": cantilever("se3_pg", [150, 300, 600]),
@@ -195,4 +247,5 @@ if __name__ == "__main__":
         "ph_planar_cantilever": cantilever("ph_planar", [150, 300, 600]),
         "ph_planar_free": free("ph_planar", 100),
         "ranks": ranks,
+        "output": output,
     })
