@@ -14,6 +14,8 @@ Cases:
       frequencies are below 1e-8 of the first elastic one (the second-order pencils of se3_pg
       and ph_planar: their squares, see docs/theory/modes.md), then the first free-free
       Timoshenko frequency.
+  seed004_table2
+      seed 004's Table 2 (the tube cantilever at five lengths) from the eigenproblem.
   output
       what a modal run writes: units of /modes, shapes scaled to a largest displacement of 1,
       the modes sidecar (FILE.modes.xdmf) against the file's datasets, `rodplot.py modes`.
@@ -22,6 +24,7 @@ Cases:
 """
 import math
 import os
+import re
 import subprocess
 import sys
 import xml.etree.ElementTree as ElementTree
@@ -36,16 +39,24 @@ from run_scene import Checks, read_example, run, run_cases, set_variable  # noqa
 LENGTH, RADIUS, E, G, RHO = 1.0, 0.01, 2e11, 8e10, 7800.0
 AREA = math.pi * RADIUS**2
 INERTIA = math.pi * RADIUS**4 / 4
+CANTILEVER = {"length": LENGTH, "area": AREA, "inertia": INERTIA, "E": E, "G": G, "rho": RHO}
+
+# The tube of seed 004 (methods/se3_strands.md §4.1, Table 1; input/strand_vibration.nml).
+TUBE_OUTER, TUBE_INNER = 0.06985, 0.05775
+TUBE = {"area": math.pi * (TUBE_OUTER**2 - TUBE_INNER**2),
+        "inertia": math.pi * (TUBE_OUTER**4 - TUBE_INNER**4) / 4,
+        "E": 200e9, "G": 100e9, "rho": 7056.539865885737}
 
 
-def timoshenko_determinant(omega, clamped):
+def timoshenko_determinant(omega, clamped, rod=CANTILEVER):
     """The 4 x 4 determinant of the Timoshenko beam's boundary conditions at angular frequency
     omega: w = C1 cosh(a x) + C2 sinh(a x) + C3 cos(b x) + C4 sin(b x), where a^2 and -b^2 are
     the roots mu of kGA EI mu^2 + omega^2 (kGA rho I + rho A EI) mu + rho A omega^2 (rho I
     omega^2 - kGA) = 0 (one positive, one negative below the shear cut-off), and the rotation
     psi from kGA (w'' - psi') + rho A omega^2 w = 0. Clamped-free: w = psi = 0 at x = 0; free:
     the moment EI psi' and the shear kGA (w' - psi) vanish."""
-    kga, ei, rho_a, rho_i = G * AREA, E * INERTIA, RHO * AREA, RHO * INERTIA
+    kga, ei = rod["G"] * rod["area"], rod["E"] * rod["inertia"]
+    rho_a, rho_i = rod["rho"] * rod["area"], rod["rho"] * rod["inertia"]
     qa, qb, qc = kga * ei, omega**2 * (kga * rho_i + rho_a * ei), rho_a * omega**2 * (
         rho_i * omega**2 - kga)
     root = math.sqrt(qb * qb - 4 * qa * qc)
@@ -63,24 +74,24 @@ def timoshenko_determinant(omega, clamped):
         return w, psi, moment, shear
 
     w0, psi0, m0, v0 = rows(0.0)
-    _, _, m1, v1 = rows(LENGTH)
+    _, _, m1, v1 = rows(rod["length"])
     first = [w0, psi0] if clamped else [m0, v0]
     return np.linalg.det(np.array(first + [m1, v1]))
 
 
-def timoshenko_frequencies(count, clamped):
+def timoshenko_frequencies(count, clamped, rod=CANTILEVER):
     """The lowest `count` bending frequencies (Hz) by a scan for sign changes and bisection."""
     found = []
-    scale = math.sqrt(E * INERTIA / (RHO * AREA)) / LENGTH**2
+    scale = math.sqrt(rod["E"] * rod["inertia"] / (rod["rho"] * rod["area"])) / rod["length"]**2
     omega, step = 0.5 * scale, 0.05 * scale
-    previous = timoshenko_determinant(omega, clamped)
+    previous = timoshenko_determinant(omega, clamped, rod)
     while len(found) < count:
-        current = timoshenko_determinant(omega + step, clamped)
+        current = timoshenko_determinant(omega + step, clamped, rod)
         if np.sign(current) != np.sign(previous):
             lo, hi = omega, omega + step
             for _ in range(200):
                 mid = 0.5 * (lo + hi)
-                if np.sign(timoshenko_determinant(mid, clamped)) == np.sign(previous):
+                if np.sign(timoshenko_determinant(mid, clamped, rod)) == np.sign(previous):
                     lo = mid
                 else:
                     hi = mid
@@ -181,14 +192,45 @@ def ranks(args, checks):
     two, _ = modes(args, "ph_director", 20, "ranks_2", ranks=2, n_modes=11)
     print("1 rank:", one, "\n2 ranks:", two)
     # A degenerate pair of the circular section is split by round-off (by up to 1.3e-9 on one
-    # rank: the first-order pencil is not symmetric), differently on 2 ranks; its mean is not.
+    # rank: the first-order pencil is not symmetric), differently on 2 ranks; its mean less so.
+    # What remains (measured up to 6e-10) is the eigenvalues' sensitivity to the factorization:
+    # MUMPS pivots otherwise on 2 ranks (each rank count is deterministic).
     checks.check("2 ranks against 1: largest relative difference of a frequency",
                  float(np.max(np.abs(two / one - 1))), 1e-8)
     pairs_one, pairs_two = bending_pairs(one, 5), bending_pairs(two, 5)
     checks.check("2 ranks against 1: largest relative difference of a bending pair's mean "
                  "frequency and of the torsion mode's",
                  float(max(np.max(np.abs(pairs_two / pairs_one - 1)), abs(two[10] / one[10] - 1))),
-                 1e-9)
+                 2e-9)
+
+
+#: Seed 004's Table 2 (methods/se3_strands.md §4.2): the tube's first frequency (Hz) from the
+#: FFT of its free vibration, 16 segments, at each length (m).
+TABLE_2 = {1.0: 133.1, 2.0: 33.6, 4.0: 8.43, 8.0: 2.11, 16.0: 0.528}
+
+
+def seed004_table2(args, checks):
+    """Seed 004's Table 2 from the eigenproblem: the tube cantilever of 16 elements (ph_director,
+    p = 2) at the five lengths, against the paper's FFT frequencies (a centre with the 0.5 % band
+    of tests/regression/se3_strand/vibration.py: the paper gives three digits) and the Timoshenko
+    tube (shear coefficient 1, as the paper's GA) to 1e-4."""
+    base = read_example(args.source, "strand_vibration.nml")
+    for length, paper in TABLE_2.items():
+        text = base
+        for variable, value in (("formulation", "'ph_director'"), ("geometry", "'straight'"),
+                                ("length", repr(length)), ("prestressed", ".false.")):
+            text = set_variable(text, "rod", variable, value)
+        text = re.sub(r"^\s*helix_(radius|pitch|turns)\s*=.*\n", "", text, flags=re.M)
+        text = set_variable(text, "time", "t_end", "1e-6")
+        text = set_variable(text, "time", "dt", "1e-6")
+        text += "\n&modes\n    n_modes = 2\n/\n"
+        path = run(args, text, f"table2_{length:g}")
+        with h5py.File(path, "r") as f:
+            first = f["modes"]["tube"]["frequency"][0]
+        reference = timoshenko_frequencies(1, True, dict(TUBE, length=length))[0]
+        print(f"L = {length:g} m: {first:.6g} Hz (paper {paper}, Timoshenko {reference:.6g})")
+        checks.check(f"L = {length:g} m: |f / paper's - 1|", abs(first / paper - 1), 5e-3)
+        checks.check(f"L = {length:g} m: |f / Timoshenko - 1|", abs(first / reference - 1), 1e-4)
 
 
 def output(args, checks):
@@ -248,4 +290,5 @@ if __name__ == "__main__":
         "ph_planar_free": free("ph_planar", 100),
         "ranks": ranks,
         "output": output,
+        "seed004_table2": seed004_table2,
     })
