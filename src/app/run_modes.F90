@@ -1,8 +1,10 @@
 #include "rs_macros.h"
 !> Modal analysis of a scene (&modes; issue 27 item 1, docs/theory/modes.md), after its run:
 !> for every system (one rod, or the rods that joints, plates or contact couple), the
-!> equations of motion linearized about the reference state (rs_system_linearization, from
-!> the system's own step Jacobians: couplings and constraints included), their lowest modes
+!> equations of motion linearized about the reference state or the endpoint equilibrium of a
+!> quasistatic run (rs_system_linearization, from the step Jacobians of the system built for
+!> dynamics with the midpoint rule, whatever the run's scheme: couplings and constraints
+!> included), their lowest modes
 !> (rs_solver_modal_solver, SLEPc on all ranks together), and on rank 0 the frequencies and
 !> the mode shapes in /modes of the result file (docs/user/output.md) and the modes sidecar
 !> FILE.modes.xdmf (docs/user/postprocessing.md).
@@ -28,6 +30,12 @@ module rs_app_run_modes
 
     public :: run_modes
 
+    !> The state of one system (in coupled_systems' order) at the end of the run, whole on
+    !> every rank: what about = 'equilibrium' linearizes about.
+    type, public :: system_state_t
+        real(rk), allocatable :: x(:)
+    end type system_state_t
+
     !> A mode whose frequency is below this share of the system's largest one found is
     !> reported as a rigid-body mode in the log (the output keeps every value).
     real(rk), parameter :: rigid_share = 1.0e-6_rk
@@ -35,20 +43,32 @@ module rs_app_run_modes
 contains
 
     !> The modes of every system of `scene` into the result file at `path` (which the run has
-    !> completed). Collective on all ranks; `err` is set on every rank.
-    subroutine run_modes(scene, path, err)
+    !> completed); `states` are the systems' end states (about = 'equilibrium'). Collective on
+    !> all ranks; `err` is set on every rank.
+    subroutine run_modes(scene, path, states, err)
         type(scene_t), intent(in) :: scene
         character(len=*), intent(in) :: path
+        type(system_state_t), intent(in) :: states(:)
         type(error_t), allocatable, intent(out) :: err
+        type(scene_t) :: dynamic
         integer, allocatable :: system_of(:), first(:), members(:)
         type(rod_system_t), allocatable :: system
         type(pencil_t) :: pencil
         type(modes_t) :: modes
         type(xdmf_mode_rod_t), allocatable :: sidecar(:), rods(:)
         real(rk), allocatable :: x(:), frequencies(:)
-        real(rk) :: started
+        real(rk) :: started, t
         integer :: k
         character(len=:), allocatable :: name, message
+        logical :: equilibrium
+        ! The modes are the dynamic midpoint step's, whatever the run solved (statics,
+        ! generalized-alpha): its objects carry the mass terms and the midpoint form.
+        dynamic = scene
+        dynamic%time%quasistatic = .false.
+        dynamic%time%scheme = 'midpoint'
+        equilibrium = trim(scene%modes%about) == 'equilibrium'
+        ! The loads of the state: those of t = 0, or of t_end at the endpoint equilibrium.
+        t = merge(scene%time%t_end, 0.0_rk, equilibrium)
         call coupled_systems(scene, system_of, first, members)
         allocate(sidecar(0))
         do k = 1, size(first) - 1
@@ -56,12 +76,14 @@ contains
             ! Every rank builds the whole system (a modal analysis is one linearization and
             ! one eigen solve: the assembly is cheap next to the solve, which is distributed).
             allocate(system)
-            call system%init(scene, members(first(k):first(k + 1) - 1), err)
+            call system%init(dynamic, members(first(k):first(k + 1) - 1), err)
             if (.not. allocated(err)) then
                 allocate(x(system%n_state()))
                 call system%initial_state(x)
-                call linearize_system(system, 0.0_rk, x, scene%time%dt, pencil, err)
+                if (equilibrium) call equilibrium_state(system, states(k)%x, x, err)
             end if
+            if (.not. allocated(err)) call linearize_system(system, t, x, scene%time%dt, &
+                pencil, err)
             if (.not. allocated(err)) call solve_modes(pencil, scene%modes%n_modes, modes, err)
             name = system_name(scene, members(first(k):first(k + 1) - 1))
             if (allocated(err)) then
@@ -95,6 +117,30 @@ contains
             RS_SET_ERROR(err, 'run_modes', message)
         end if
     end subroutine run_modes
+
+    !> The run's end state `from` as the dynamic system's state x, at rest: the same layout (a
+    !> static object's state has the dynamic one's), checked by its length, with the load
+    !> path's rates removed (rod_system_t%rest_state).
+    subroutine equilibrium_state(system, from, x, err)
+        type(rod_system_t), intent(in) :: system
+        real(rk), allocatable, intent(in) :: from(:)
+        real(rk), intent(inout) :: x(:)
+        type(error_t), allocatable, intent(out) :: err
+        character(len=:), allocatable :: message
+        if (.not. allocated(from)) then
+            RS_SET_ERROR(err, 'run_modes', 'no end state of the run to linearize about')
+            return
+        end if
+        if (size(from) /= size(x)) then
+            message = 'the quasistatic run''s state of ' // system%formulation // ' has ' // &
+                str(size(from)) // ' entries, its dynamic step ' // str(size(x)) // &
+                ': about = ''equilibrium'' is not available for it yet'
+            RS_SET_ERROR(err, 'run_modes', message)
+            return
+        end if
+        x = from
+        call system%rest_state(x)
+    end subroutine equilibrium_state
 
     !> Delete the file `path` if it exists.
     subroutine remove_file(path)
@@ -132,7 +178,7 @@ contains
             str(pencil%n_algebraic) // ' algebraic rows), ' // modes%solver // ', ' // &
             str_significant(seconds, 3) // ' s')
         if (pencil%unbalance > 1.0e-8_rk) call log_warning('rodsolve: modes of ' // name // &
-            ': the reference state is not in equilibrium (relative unbalance ' // &
+            ': the state is not in equilibrium (relative unbalance ' // &
             str_significant(pencil%unbalance, 3) // '): the modes are those of its tangent ' // &
             'stiffness, without the loads'' prestress')
         line = ''

@@ -217,6 +217,10 @@ module rs_formulations_formulation
         !> estimate when the step changes), nor coordinates that jump (se3_pg's complemented
         !> rotation vectors). Default: every entry.
         procedure :: error_entries => default_error_entries
+        !> The state x brought to rest (its velocities zero, the rest kept): what modal analysis
+        !> linearizes about after a quasistatic run, whose states carry the load path's rates
+        !> (docs/theory/modes.md); default: x unchanged.
+        procedure :: rest_state => default_rest_state
         !> Where the coordinates of the nodes are (rod_nodes_t), for couplings; default: no
         !> node access.
         procedure :: nodes => default_nodes
@@ -359,6 +363,11 @@ contains
         logical, intent(out) :: weigh(:)
         weigh = .true.
     end subroutine default_error_entries
+
+    subroutine default_rest_state(this, x)
+        class(rod_formulation_t), intent(in) :: this
+        real(rk), intent(inout) :: x(:)
+    end subroutine default_rest_state
 
     function default_nodes(this) result(nodes)
         class(rod_formulation_t), intent(in) :: this

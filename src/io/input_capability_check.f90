@@ -569,9 +569,11 @@ contains
             end select
         end subroutine check_drive
 
-        !> &modes: a formulation with modal analysis, the dynamic midpoint step, and for
-        !> se3_pg no damping (its damped quadratic pencil is not solved yet; docs/theory/
-        !> modes.md). The scene-wide conditions are reported with the first rod only.
+        !> &modes: a formulation with modal analysis, of damped rods where it solves them
+        !> (capability_t%damped_modes; docs/theory/modes.md), and about = 'equilibrium'
+        !> only after a quasistatic run. The modes are those of the dynamic midpoint step
+        !> whatever the run's scheme (rs_app_run_modes builds it). The scene-wide condition
+        !> is reported with the first rod only.
         subroutine check_modes(rod, row, what)
             type(rod_input_t), intent(in) :: rod
             type(capability_t), intent(in) :: row
@@ -583,15 +585,13 @@ contains
                     ' (rod ''' // trim(rod%name) // ''')' // see_matrix)
                 return
             end if
-            if (trim(row%formulation) == 'se3_pg' .and. rod_is_damped(rod)) call errors%add( &
-                here // 'modes of a damped se3_pg rod (''' // trim(rod%name) // ''') are not ' // &
-                'available yet; remove kelvin_voigt_time, drag and angular_drag')
+            if (.not. row%damped_modes .and. rod_is_damped(rod)) call errors%add(here // &
+                'modes of a damped rod (''' // trim(rod%name) // ''') are not available for ' // &
+                what // ' yet; remove kelvin_voigt_time, drag and angular_drag' // see_matrix)
             if (i > 1) return
-            if (scene%time%quasistatic) call errors%add(here // 'modal analysis needs the ' // &
-                'equations of motion, not a quasistatic run (&time quasistatic = .false.)')
-            if (trim(scene%time%scheme) == 'generalized_alpha') call errors%add(here // &
-                'modal analysis reads the linearized equations from the midpoint step: ' // &
-                'use &time scheme = ''midpoint''')
+            if (trim(scene%modes%about) == 'equilibrium' .and. .not. scene%time%quasistatic) &
+                call errors%add(here // 'about = ''equilibrium'' is the endpoint of a ' // &
+                'quasistatic run (&time quasistatic = .true.); a dynamic run ends in motion')
         end subroutine check_modes
     end subroutine check_rod_capabilities
 

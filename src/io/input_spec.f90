@@ -877,19 +877,21 @@ contains
         type(group_spec_t) :: g
         g%name = 'modes'
         g%description = 'Modal analysis (docs/theory/modes.md): the lowest modes of the ' // &
-            'equations of motion linearized about the reference state, constraints and ' // &
-            'couplings kept, computed after the run with SLEPc (shift-and-invert). ' // &
+            'equations of motion linearized about the reference state or a static ' // &
+            'equilibrium, constraints and couplings kept, computed after the run with SLEPc ' // &
+            '(shift-and-invert) from the dynamic midpoint step of the rods'' formulations. ' // &
             'Frequencies and mode shapes go to /modes of the result file and to the XDMF ' // &
-            'sidecar; rodplot.py modes plots them. Needs the dynamic midpoint step ' // &
-            '(se3_pg, ph_director; not quasistatic, not generalized-alpha) and a state at rest.'
+            'sidecar; rodplot.py modes plots them.'
         g%variables = [ &
             spec_v('n_modes', 'integer', '-', '10', &
                 'Number of modes, lowest first, rigid-body modes (zero frequency) included.', &
                 lower=1.0_rk, upper=500.0_rk, example='6'), &
             spec_v('about', 'string', '-', "'reference'", &
                 'The state the equations of motion are linearized about: ''reference'', the ' // &
-                'initial state of the scene at t = 0 (with the loads of t = 0).', &
-                allowed='reference', example="'reference'")]
+                'initial state of the scene (with the loads of t = 0); ''equilibrium'', the ' // &
+                'endpoint equilibrium of a quasistatic run (with the loads of t_end: ' // &
+                'prestress and load stiffness included).', &
+                allowed='reference|equilibrium', example="'equilibrium'")]
     end function modes_group
 
     function obstacle_group() result(g)

@@ -68,6 +68,9 @@ module rs_model_capabilities
         !> Modal analysis (&modes; docs/theory/modes.md): its dynamic step's Jacobian at rest
         !> is the linearized equations of motion (formulation_traits_t%modal_form).
         logical :: modes = .false.
+        !> Modes of damped rods too (a pencil that solves them: the first-order form's damping
+        !> is in A; se3_pg's damped quadratic pencil is not solved yet).
+        logical :: damped_modes = .false.
     end type capability_t
 
 contains

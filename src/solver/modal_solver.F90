@@ -82,8 +82,8 @@ contains
         integer :: n_wanted, degree, i, pending
         character(len=:), allocatable :: why
         if (pencil%form == modal_second_order .and. any(pencil%a1 /= 0.0_rk)) then
-            why = 'modes of a damped second-order system (se3_pg with drag or Kelvin-Voigt ' // &
-                'damping) are not available yet: remove the damping for the modal analysis'
+            why = 'modes of a damped second-order system are not available yet (its quadratic ' // &
+                'pencil): remove the damping for the modal analysis'
             RS_SET_ERROR(err, 'solve_modes', why)
             return
         end if

@@ -188,6 +188,7 @@ module rs_ph_director
         procedure :: set_step_problem => ph_director_set_step_problem
         procedure :: state_measures => ph_director_state_measures
         procedure :: nodes => ph_director_nodes
+        procedure :: rest_state => ph_director_rest_state
         procedure :: error_entries => ph_director_error_entries
         procedure :: new_tie => ph_director_new_tie
         procedure :: unpack
@@ -1240,6 +1241,18 @@ contains
             end do
         end do
     end subroutine build_condensed_pattern
+
+    !> The velocities v of every node zero (a quasistatic state holds the load steps' rates).
+    subroutine ph_director_rest_state(this, x)
+        class(ph_director_t), intent(in) :: this
+        real(rk), intent(inout) :: x(:)
+        integer :: i, k
+        do k = 1, this%n_nodes
+            do i = 13, 24
+                if (this%node_dof(i, k) > 0) x(this%node_dof(i, k)) = 0.0_rk
+            end do
+        end do
+    end subroutine ph_director_rest_state
 
     !> Newton starts from the last state with the positions and directors moved on by h v_n
     !> (q_{n+1} = q_n + h v_n, v_{n+1} = v_n: first order in h, where x_{n+1} = x_n is zeroth).

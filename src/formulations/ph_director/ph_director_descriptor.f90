@@ -38,7 +38,7 @@ contains
             viscoelastic=.true., actuation=.true., curved_reference=.true., prestressed=.true., &
             joints='rigid|spherical|revolute', end_plates=.true., floating_plates=.true., &
             contact=.true., order_4=.true., adaptive=.true., damping=.true., &
-            segments=.true., modes=.true.)
+            segments=.true., modes=.true., damped_modes=.true.)
         d%default_choice = .true.
         d%system_couplings = .true.
         d%create => create

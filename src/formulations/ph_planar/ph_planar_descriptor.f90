@@ -52,7 +52,8 @@ contains
             load_frames='spatial', constraints='none', quasistatic=.true., &
             viscoelastic=.false., actuation=.false., curved_reference=.false., &
             joints='revolute|rigid', planar=.true., order_4=.true., adaptive=.true., &
-            damping=.true., segments=.true., modes=name == 'ph_planar')
+            damping=.true., segments=.true., modes=name == 'ph_planar', &
+            damped_modes=.false.)
         d%create => create
         d%plan_lines => plan_lines
         d%check_rod => check_planar_rod

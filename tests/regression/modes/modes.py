@@ -14,6 +14,11 @@ Cases:
       frequencies are below 1e-8 of the first elastic one (the second-order pencils of se3_pg
       and ph_planar: their squares, see docs/theory/modes.md), then the first free-free
       Timoshenko frequency.
+  equilibrium
+      about = 'equilibrium': an axially loaded rod (tension, and compression at half the
+      buckling load) after a quasistatic run, against the loaded beam's frequency equation.
+  damped
+      a ph_director rod with Kelvin-Voigt damping: each mode's damping ratio tau omega_n / 2.
   seed004_table2
       seed 004's Table 2 (the tube cantilever at five lengths) from the eigenproblem.
   output
@@ -79,25 +84,31 @@ def timoshenko_determinant(omega, clamped, rod=CANTILEVER):
     return np.linalg.det(np.array(first + [m1, v1]))
 
 
-def timoshenko_frequencies(count, clamped, rod=CANTILEVER):
-    """The lowest `count` bending frequencies (Hz) by a scan for sign changes and bisection."""
-    found = []
-    scale = math.sqrt(rod["E"] * rod["inertia"] / (rod["rho"] * rod["area"])) / rod["length"]**2
-    omega, step = 0.5 * scale, 0.05 * scale
-    previous = timoshenko_determinant(omega, clamped, rod)
+def lowest_roots(determinant, count, start, step):
+    """The lowest `count` roots of determinant(omega) above `start` as frequencies (Hz): a scan
+    for sign changes in steps of `step`, then bisection to round-off."""
+    found, omega = [], start
+    previous = determinant(omega)
     while len(found) < count:
-        current = timoshenko_determinant(omega + step, clamped, rod)
+        current = determinant(omega + step)
         if np.sign(current) != np.sign(previous):
             lo, hi = omega, omega + step
             for _ in range(200):
                 mid = 0.5 * (lo + hi)
-                if np.sign(timoshenko_determinant(mid, clamped, rod)) == np.sign(previous):
+                if np.sign(determinant(mid)) == np.sign(previous):
                     lo = mid
                 else:
                     hi = mid
             found.append(0.5 * (lo + hi) / (2 * math.pi))
         omega, previous = omega + step, current
     return np.array(found)
+
+
+def timoshenko_frequencies(count, clamped, rod=CANTILEVER):
+    """The lowest `count` bending frequencies (Hz) of the Timoshenko beam."""
+    scale = math.sqrt(rod["E"] * rod["inertia"] / (rod["rho"] * rod["area"])) / rod["length"]**2
+    return lowest_roots(lambda omega: timoshenko_determinant(omega, clamped, rod), count,
+                        0.5 * scale, 0.05 * scale)
 
 
 def modes(args, formulation, n_elements, name, ranks=1, free=False, n_modes=12):
@@ -233,6 +244,102 @@ def seed004_table2(args, checks):
         checks.check(f"L = {length:g} m: |f / Timoshenko - 1|", abs(first / reference - 1), 1e-4)
 
 
+def axially_loaded(tension, count):
+    """The lowest `count` bending frequencies (Hz) of an Euler-Bernoulli beam under the axial
+    force `tension` (negative: compression), pinned at x = 0 (w = w'' = 0) and held by a slider
+    at x = L (w = w' = 0, free along the axis): w = C2 sinh(a x) + C4 sin(b x) with a^2 and -b^2
+    the roots of EI l^4 - T l^2 - rho A omega^2 = 0, so b sinh(aL) cos(bL) - a cosh(aL)
+    sin(bL) = 0."""
+    ei, rho_a, length = E * SLENDER_INERTIA, RHO * SLENDER_AREA, 1.0
+
+    def determinant(omega):
+        root = math.sqrt(tension**2 + 4 * ei * rho_a * omega**2)
+        a = math.sqrt((tension + root) / (2 * ei))
+        b = math.sqrt((root - tension) / (2 * ei))
+        return b * math.sinh(a * length) * math.cos(b * length) - a * math.cosh(
+            a * length) * math.sin(b * length)
+
+    return lowest_roots(determinant, count, 1e-3, 0.2)
+
+
+#: The slender rod of the equilibrium case: L / r = 1000, so that Euler-Bernoulli holds to 1e-5.
+SLENDER_RADIUS = 0.001
+SLENDER_AREA = math.pi * SLENDER_RADIUS**2
+SLENDER_INERTIA = math.pi * SLENDER_RADIUS**4 / 4
+
+
+def equilibrium(args, checks):
+    """about = 'equilibrium': a se3_pg rod pinned at one end and on a slider at the other,
+    loaded along its axis in a quasistatic run, its modes about the loaded state against the
+    axially loaded beam's frequency equation: in tension (T = 100 N, a string more than a beam)
+    and in compression at half the buckling load (the lowest frequency falls by sqrt(1/2) of
+    ... its own closed form)."""
+    critical = 20.1907 * E * SLENDER_INERTIA   # pinned-clamped Euler load, (4.4934 / L)^2 EI
+    for label, tension in (("tension", 100.0), ("compression", -0.5 * critical)):
+        text = f"""&time
+    t_end = 1.0
+    dt = 0.25
+    quasistatic = .true.
+/
+&solver
+    newton_atol = 1e-8
+/
+&rod
+    name = 'beam', formulation = 'se3_pg', n_elements = 200, length = 1.0
+    start = 0.0, 0.0, 0.0, direction = 1.0, 0.0, 0.0
+    section = 'circle', radius = {SLENDER_RADIUS}, E = {E}, G = {G}, density = {RHO}
+/
+&bc
+    rod = 'beam', end = 'start', kind = 'pinned'
+/
+&bc
+    rod = 'beam', end = 'end', kind = 'sliding', axis = 1.0, 0.0, 0.0
+/
+&load
+    rod = 'beam', where = 'end', force = {tension!r}, 0.0, 0.0
+    time_function = 'ramp', t_off = 1.0
+/
+&output
+    path = 'x.h5'
+/
+&modes
+    n_modes = 6, about = 'equilibrium'
+/
+"""
+        path = run(args, text, label)
+        with h5py.File(path, "r") as f:
+            computed = bending_pairs(f["modes"]["beam"]["frequency"][()], 3)
+        reference = axially_loaded(tension, 3)
+        unloaded = axially_loaded(0.0, 1)[0]
+        print(f"{label}: {computed} Hz, closed form {reference} (unloaded {unloaded:.6g})")
+        checks.check(f"{label}: largest relative error of the first three bending "
+                     "frequencies", float(np.max(np.abs(computed / reference - 1))), 5e-4)
+        checks.check(f"{label}: the load moved the first frequency (relative change, "
+                     "inverted)", 1 / abs(computed[0] / unloaded - 1), 10.0)
+
+
+def damped(args, checks):
+    """A damped rod (ph_director, Kelvin-Voigt time tau): stiffness-proportional damping keeps
+    the undamped modes and gives each the damping ratio zeta = tau omega_n / 2
+    (docs/theory/damping.md), omega_n^2 = omega^2 + delta^2 from the eigenvalue -delta +- i omega
+    (decay_rate, angular_frequency)."""
+    tau = 1e-4
+    text = read_example(args.source, "modes_cantilever.nml")
+    text = set_variable(text, "rod", "formulation", "'ph_director'")
+    text = set_variable(text, "rod", "n_elements", "20")
+    text = set_variable(text, "rod", "kelvin_voigt_time", repr(tau))
+    text = set_variable(text, "modes", "n_modes", "8")
+    path = run(args, text, "damped")
+    with h5py.File(path, "r") as f:
+        omega = f["modes"]["beam"]["angular_frequency"][()]
+        decay = f["modes"]["beam"]["decay_rate"][()]
+    natural = np.sqrt(omega**2 + decay**2)
+    ratio = decay / natural
+    print("damping ratios:", ratio, "\ntau omega_n / 2:", tau * natural / 2)
+    checks.check("largest relative difference of zeta from tau omega_n / 2 (first 8 modes)",
+                 float(np.max(np.abs(ratio / (tau * natural / 2) - 1))), 1e-4)
+
+
 def output(args, checks):
     text = set_variable(read_example(args.source, "modes_cantilever.nml"), "rod", "n_elements",
                         "20")
@@ -291,4 +398,6 @@ if __name__ == "__main__":
         "ranks": ranks,
         "output": output,
         "seed004_table2": seed004_table2,
+        "equilibrium": equilibrium,
+        "damped": damped,
     })
