@@ -18,8 +18,9 @@ module rs_app_run_modes
     use rs_model_units, only: unit_in_system
     use rs_model_coupling, only: coupled_systems
     use rs_parallel_mpi_env, only: world_rank, world_size, any_rank_true, broadcast_text
-    use rs_formulations_formulation, only: rod_nodes_t, modal_first_order
+    use rs_formulations_formulation, only: modal_first_order, max_node_coordinates
     use rs_system_rod_system, only: rod_system_t
+    use rs_math_so3, only: exp_so3, tangent_so3, hat
     use rs_system_linearization, only: pencil_t, linearize_system
     use rs_solver_modal_solver, only: modes_t, solve_modes
     use rs_io_hdf5_file, only: hdf5_file_t
@@ -202,7 +203,9 @@ contains
         type(error_t), allocatable, intent(out) :: err
         type(hdf5_file_t) :: file
         type(error_t), allocatable :: close_err
-        real(rk), allocatable :: position(:, :), displacement(:, :, :), scale(:)
+        real(rk), allocatable :: position(:, :), displacement(:, :, :), rotation(:, :, :), &
+            scale(:), shapes(:, :)
+        real(rk) :: extent
         character(len=:), allocatable :: group, units, hz
         integer :: m, n, n_shown
         n_shown = 0
@@ -239,20 +242,32 @@ contains
             if (.not. allocated(err)) call file%write_attribute(group, 'unbalance', &
                 pencil%unbalance, err)
             if (allocated(err)) exit body
-            ! Each mode scaled to a largest nodal displacement of 1 over the system's rods.
+            shapes = node_phase(system, modes)
+            ! Each mode scaled so that the largest of its nodal displacements |u| and of L
+            ! |theta| (L the system's extent) is 1 over the system's rods: a torsion mode,
+            ! whose centreline does not move, has rotations of at most 1 / L.
             allocate(scale(n), source=0.0_rk)
+            extent = 0.0_rk
             do m = 1, size(system%members)
-                call nodal_shapes(system, m, x, modes, position, displacement)
-                scale = max(scale, maxval(norm2(displacement, dim=1), dim=1))
+                call nodal_shapes(system, m, x, shapes, position, displacement, rotation)
+                if (size(position, 2) > 0) extent = max(extent, maxval(maxval(position, dim=2) - &
+                    minval(position, dim=2)))
+            end do
+            do m = 1, size(system%members)
+                call nodal_shapes(system, m, x, shapes, position, displacement, rotation)
+                if (size(position, 2) == 0) cycle
+                scale = max(scale, maxval(norm2(displacement, dim=1), dim=1), &
+                    extent * maxval(norm2(rotation, dim=1), dim=1))
             end do
             where (scale <= 0.0_rk) scale = 1.0_rk
             n_shown = 0
             do m = 1, size(system%members)
-                call nodal_shapes(system, m, x, modes, position, displacement)
+                call nodal_shapes(system, m, x, shapes, position, displacement, rotation)
                 ! A formulation without node access (ph_planar) gives frequencies only.
                 if (size(position, 2) == 0) cycle
                 n_shown = n_shown + 1
                 displacement = displacement / spread(spread(scale, 1, size(displacement, 2)), 1, 3)
+                rotation = rotation / spread(spread(scale, 1, size(rotation, 2)), 1, 3)
                 associate (shown => rods(n_shown))
                     shown%name = system%members(m)%name
                     shown%group = group // '/' // shown%name
@@ -266,8 +281,12 @@ contains
                 if (allocated(err)) exit body
                 call file%write_dataset(rods(n_shown)%group // '/displacement', displacement, &
                     unit_in_system('m', units), 'mode shape: the nodal displacement of each ' // &
-                    'mode, scaled to a largest nodal displacement of 1 over the system, ' // &
-                    '[mode, node, xyz]', err)
+                    'mode, scaled so that the largest of |displacement| and L |rotation| over ' // &
+                    'the system is 1 (L its extent), [mode, node, xyz]', err)
+                if (allocated(err)) exit body
+                call file%write_dataset(rods(n_shown)%group // '/rotation', rotation, 'rad', &
+                    'mode shape: the infinitesimal rotation of each node''s cross-section, ' // &
+                    'spatial components, scaled as displacement, [mode, node, xyz]', err)
                 if (allocated(err)) exit body
             end do
         end block body
@@ -276,32 +295,95 @@ contains
         if (.not. allocated(err) .and. allocated(close_err)) call move_alloc(close_err, err)
     end subroutine write_modes
 
-    !> Member m's node positions in x (3, nodes) and the centreline part of every mode's
-    !> eigenvector (3, nodes, modes); a held coordinate does not move.
-    subroutine nodal_shapes(system, m, x, modes, position, displacement)
+    !> Member m's node positions in x (3, nodes) and every mode's nodal displacement and
+    !> rotation (3, nodes, modes), spatial components: the centreline part of the eigenvector,
+    !> and its rotation part as the formulation's coordinates give it (rod_nodes_t): a rotation
+    !> vector psi turns by A(psi) T(psi) dpsi (se3_pg: T(psi) psi' is the body angular
+    !> velocity, methods/se3_petrov_galerkin.md eq. 39), directors by 1/2 sum_i d_i x dd_i
+    !> (the infinitesimal rotation that moves orthonormal directors by dd_i = theta x d_i). A
+    !> held coordinate does not move.
+    subroutine nodal_shapes(system, m, x, shapes, position, displacement, rotation)
         type(rod_system_t), intent(in) :: system
         integer, intent(in) :: m
-        real(rk), intent(in) :: x(:)
-        type(modes_t), intent(in) :: modes
-        real(rk), allocatable, intent(out) :: position(:, :), displacement(:, :, :)
-        integer :: k, i, so, uo
+        !> The modes' eigenvectors, real (node_phase).
+        real(rk), intent(in) :: x(:), shapes(:, :)
+        real(rk), allocatable, intent(out) :: position(:, :), displacement(:, :, :), &
+            rotation(:, :, :)
+        real(rk) :: q(max_node_coordinates), dq(max_node_coordinates, size(shapes, 2))
+        real(rk) :: turn(3, 3)
+        integer :: k, i, j, so, uo, n_coordinates, at, n_modes
         associate (place => system%layout%members(m), nodes => system%layout%members(m)%nodes)
             so = place%state_offset
             uo = place%unknown_offset
-            allocate(position(3, nodes%n_nodes), displacement(3, nodes%n_nodes, modes%n), &
-                source=0.0_rk)
+            n_coordinates = nodes%n_coordinates
+            n_modes = size(shapes, 2)
+            allocate(position(3, nodes%n_nodes), displacement(3, nodes%n_nodes, n_modes), &
+                rotation(3, nodes%n_nodes, n_modes), source=0.0_rk)
             do k = 1, nodes%n_nodes
-                do i = 1, 3
+                q = 0.0_rk
+                dq = 0.0_rk
+                do i = 1, n_coordinates
                     if (nodes%state(i, k) > 0) then
-                        position(i, k) = x(so + nodes%state(i, k))
+                        q(i) = x(so + nodes%state(i, k))
                     else
-                        position(i, k) = nodes%held(i, k)
+                        q(i) = nodes%held(i, k)
                     end if
-                    if (nodes%unknown(i, k) > 0) displacement(i, k, :) = &
-                        modes%shape(uo + nodes%unknown(i, k), 1:modes%n)
+                    if (nodes%unknown(i, k) > 0) dq(i, :) = shapes(uo + nodes%unknown(i, k), :)
                 end do
+                position(:, k) = q(1:3)
+                displacement(:, k, :) = dq(1:3, :)
+                if (nodes%rotation_vector_at > 0) then
+                    at = nodes%rotation_vector_at
+                    turn = matmul(exp_so3(q(at:at + 2)), tangent_so3(q(at:at + 2)))
+                    rotation(:, k, :) = matmul(turn, dq(at:at + 2, :))
+                else if (nodes%directors_at > 0) then
+                    at = nodes%directors_at
+                    do j = 0, 2
+                        do i = 1, n_modes
+                            rotation(:, k, i) = rotation(:, k, i) + 0.5_rk * &
+                                matmul(hat(q(at + 3 * j:at + 3 * j + 2)), &
+                                dq(at + 3 * j:at + 3 * j + 2, i))
+                        end do
+                    end do
+                end if
             end do
         end associate
     end subroutine nodal_shapes
+
+    !> The modes' eigenvectors made real on the node coordinates: x = re + i im turned by the
+    !> phase theta that makes the nodes' part of Re(exp(-i theta) x) largest, theta = 1/2
+    !> atan2(2 re.im, |re|^2 - |im|^2) over the node coordinates. A first-order mode's
+    !> velocities are a quarter period from its positions, so the vector's largest entry
+    !> (a velocity, for a fast mode) gives the wrong phase: ph_director's torsion mode came
+    !> out as noise. A second-order mode's vector is real already.
+    function node_phase(system, modes) result(shapes)
+        type(rod_system_t), intent(in) :: system
+        type(modes_t), intent(in) :: modes
+        real(rk), allocatable :: shapes(:, :)
+        logical, allocatable :: shown(:)
+        real(rk) :: a, b, c, theta
+        integer :: m, k, i, j
+        allocate(shown(size(modes%shape, 1)), source=.false.)
+        do m = 1, size(system%members)
+            associate (place => system%layout%members(m), nodes => system%layout%members(m)%nodes)
+                do k = 1, nodes%n_nodes
+                    do i = 1, nodes%n_coordinates
+                        if (nodes%unknown(i, k) > 0) shown(place%unknown_offset + &
+                            nodes%unknown(i, k)) = .true.
+                    end do
+                end do
+            end associate
+        end do
+        allocate(shapes(size(modes%shape, 1), modes%n))
+        do j = 1, modes%n
+            associate (re => modes%shape(:, j), im => modes%shape_im(:, j))
+                a = sum(re**2, mask=shown)
+                b = sum(im**2, mask=shown)
+                c = sum(re * im, mask=shown)
+                theta = 0.5_rk * atan2(2.0_rk * c, a - b)
+                shapes(:, j) = re * cos(theta) + im * sin(theta)
+            end associate
+        end do
+    end function node_phase
 
 end module rs_app_run_modes

@@ -592,6 +592,10 @@ contains
             if (trim(scene%modes%about) == 'equilibrium' .and. .not. scene%time%quasistatic) &
                 call errors%add(here // 'about = ''equilibrium'' is the endpoint of a ' // &
                 'quasistatic run (&time quasistatic = .true.); a dynamic run ends in motion')
+            if (allocated(scene%sweeps)) then
+                if (size(scene%sweeps) > 0) call errors%add(here // 'not available with ' // &
+                    '&sweep yet: a sweep''s members are written without their modes')
+            end if
         end subroutine check_modes
     end subroutine check_rod_capabilities
 

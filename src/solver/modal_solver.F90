@@ -31,9 +31,11 @@ module rs_solver_modal_solver
         real(rk), allocatable :: omega(:), decay(:)
         !> SLEPc's relative residual of each eigenpair.
         real(rk), allocatable :: residual(:)
-        !> The eigenvectors in the step unknowns (n_unknown x n): the real part after the
-        !> phase that makes the largest entry real (modes_t%shape).
-        real(rk), allocatable :: shape(:, :)
+        !> The eigenvectors in the step unknowns (n_unknown x n), real and imaginary parts,
+        !> scaled to a largest modulus of 1. Their phase is free: the caller chooses it on the
+        !> entries it shows (a first-order mode's velocities are a quarter period from its
+        !> positions, so no single phase makes the whole vector real).
+        real(rk), allocatable :: shape(:, :), shape_im(:, :)
         !> The solver as configured (after -modes_ options).
         character(len=:), allocatable :: solver
     end type modes_t
@@ -104,7 +106,7 @@ contains
         end if
         modes%solver = from_c_string(text)
         allocate(modes%omega(n_modes), modes%decay(n_modes), modes%residual(n_modes), &
-            modes%shape(pencil%n, n_modes))
+            modes%shape(pencil%n, n_modes), modes%shape_im(pencil%n, n_modes))
         modes%n = 0
         pending = 0
         i = 1
@@ -140,34 +142,17 @@ contains
 
         subroutine add_mode(omega, decay, residual, re, im)
             real(rk), intent(in) :: omega, decay, residual, re(:), im(:)
+            real(rk) :: scale
             modes%n = modes%n + 1
             modes%omega(modes%n) = omega
             modes%decay(modes%n) = decay
             modes%residual(modes%n) = residual
-            modes%shape(:, modes%n) = real_phase(re, im)
+            scale = sqrt(maxval(re**2 + im**2))
+            if (scale <= 0.0_rk) scale = 1.0_rk
+            modes%shape(:, modes%n) = re / scale
+            modes%shape_im(:, modes%n) = im / scale
         end subroutine add_mode
     end subroutine solve_modes
-
-    !> The real vector of a complex eigenvector x = re + i im turned by the phase that makes
-    !> its largest entry real and positive.
-    pure function real_phase(re, im) result(v)
-        real(rk), intent(in) :: re(:), im(:)
-        real(rk) :: v(size(re))
-        real(rk) :: modulus(size(re)), c, s, r
-        integer :: j
-        modulus = re**2 + im**2
-        j = maxloc(modulus, dim=1)
-        r = sqrt(modulus(j))
-        if (r == 0.0_rk) then
-            v = re
-            return
-        end if
-        c = re(j) / r
-        s = im(j) / r
-        ! (re + i im) (c - i s): its real part.
-        v = re * c + im * s
-        v = v / r
-    end function real_phase
 
     !> SLEPc's version ("3.18.2").
     function slepc_version() result(text)

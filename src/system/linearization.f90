@@ -22,8 +22,9 @@
 !> entry by entry for the powers h^1 .. h^-2; a fifth Jacobian at z = 3 z0 must agree with
 !> them to round-off, else the formulation's step is not of this form there (a scheme other
 !> than the midpoint rule, loads or drives that move with t, a state not at rest) and the
-!> linearization is refused. z0 is chosen so that the powers weigh alike (the inverse of the
-!> pencil's time scale), after a first pass at z0 = 1 / dt.
+!> linearization is refused. z0 is chosen so that the powers weigh alike (balanced_z0, from
+!> z0 = 1 / dt until it settles), and the rows with two powers are read once more at steps
+!> where each term dominates (refine).
 !>
 !> Pure Fortran on the system layer (rs_system_rod_system): no PETSc; the eigen solve is
 !> src/solver/modal_solver.F90's.
@@ -47,8 +48,6 @@ module rs_system_linearization
         integer :: n = 0
         integer, allocatable :: row_ptr(:), cols(:)
         real(rk), allocatable :: a0(:), a1(:), a2(:)
-        !> The step unknowns Y of the state (the point of the linearization).
-        real(rk), allocatable :: y(:)
         !> The largest relative disagreement of the fifth Jacobian with the fit.
         real(rk) :: fit_error = 0.0_rk
         !> |F(Y; X)|_inf / (|J|_max |Y|_inf) at z0: zero at an equilibrium.
@@ -87,9 +86,9 @@ contains
         integer, parameter :: max_passes = 6
         traits = system%traits()
         if (traits%modal_form == modal_none) then
-            message = 'modal analysis needs the dynamic midpoint step of ' // system%formulation // &
-                ' (not statics, not generalized-alpha): its step Jacobian at rest is then the ' // &
-                'linearized equations of motion (docs/theory/modes.md)'
+            message = 'modal analysis is not available for ' // system%formulation // &
+                ': its step Jacobian at rest is not the linearized equations of motion ' // &
+                '(docs/theory/modes.md)'
             RS_SET_ERROR(err, 'linearize_system', message)
             return
         end if
@@ -187,7 +186,6 @@ contains
                     maxval(abs(values(:, 1))) * max(maxval(abs(y)), tiny(1.0_rk)))
             end if
         end do
-        pencil%y = y_first
         do k = 1, 4
             do j = 1, 4
                 vandermonde(k, j) = (z0 * samples(k))**(-powers(j))
