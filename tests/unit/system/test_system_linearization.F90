@@ -10,6 +10,7 @@
 module rs_test_system_linearization
     use rs_core_kinds, only: rk
     use rs_core_error, only: error_t, error_list_t
+    use rs_core_strings, only: str, str_significant
     use rs_test_assert, only: run_test, assert_true, assert_equal, assert_contains
     use rs_model_scene, only: scene_t
     use rs_io_input_file, only: parse_scene
@@ -40,11 +41,9 @@ contains
         integer, intent(in) :: n
         logical, intent(in) :: free
         character(len=:), allocatable :: text
-        character(len=8) :: count
-        write(count, '(i0)') n
         text = '&time t_end = 1e-4, dt = 1e-4 /' // nl // &
             "&rod name = 'beam', formulation = '" // formulation // "', n_elements = " // &
-            trim(count) // ', length = 1,' // nl // &
+            str(n) // ', length = 1,' // nl // &
             '     start = 0, 0, 0, direction = 1, 0, 0,' // nl // &
             "     section = 'circle', radius = 0.01, E = 2e11, G = 8e10, density = 7800" // &
             extra // ' /' // nl
@@ -96,7 +95,7 @@ contains
             worst = max(worst, maxval(abs(rebuilt(lo:hi) - values(lo:hi))) / scale)
         end do
         ! Measured 4.4e-16 (round-off of the refined coefficients).
-        message = 'the pencil gives back J(h) row by row (relative error ' // real_text(worst) // ')'
+        message = 'the pencil gives back J(h) row by row (relative error ' // str_significant(worst, 3) // ')'
         CHECK_TRUE(worst < 1.0e-12_rk, message)
     end subroutine test_se3_pg_reconstructs_jacobian
 
@@ -141,7 +140,7 @@ contains
         ! Measured |a0 t| = 1.9e-16 (ph_director) and 6e-8 (se3_pg, whose a0 reaches 1e10).
         bound = 1.0e-12_rk * maxval(abs(pencil%a0)) * maxval(abs(t))
         message = formulation // ': a rigid translation is in the null space of a0 (|a0 t| = ' // &
-            real_text(maxval(abs(a0t))) // ')'
+            str_significant(maxval(abs(a0t)), 3) // ')'
         CHECK_TRUE(maxval(abs(a0t)) <= bound, message)
         message = formulation // ': a rigid translation has inertia'
         CHECK_TRUE(maxval(abs(inertia)) > 1.0e-6_rk * maxval(abs(t)), message)
@@ -174,14 +173,6 @@ contains
             end do
         end do
     end function csr_times
-
-    function real_text(value) result(text)
-        real(rk), intent(in) :: value
-        character(len=:), allocatable :: text
-        character(len=16) :: buffer
-        write(buffer, '(es10.3)') value
-        text = trim(adjustl(buffer))
-    end function real_text
 
 end module rs_test_system_linearization
 
