@@ -22,7 +22,7 @@ module rs_app_run_modes
     use rs_system_rod_system, only: rod_system_t
     use rs_math_so3, only: exp_so3, tangent_so3, hat
     use rs_system_linearization, only: pencil_t, linearize_system
-    use rs_solver_modal_solver, only: modes_t, solve_modes
+    use rs_solver_modal_solver, only: modes_t, solve_modes, lowest_elastic
     use rs_io_hdf5_file, only: hdf5_file_t
     use rs_io_xdmf_writer, only: xdmf_mode_rod_t, write_xdmf_modes_sidecar, &
         xdmf_modes_sidecar_path
@@ -37,9 +37,6 @@ module rs_app_run_modes
         real(rk), allocatable :: x(:)
     end type system_state_t
 
-    !> A mode whose frequency is below this share of the system's largest one found is
-    !> reported as a rigid-body mode in the log (the output keeps every value).
-    real(rk), parameter :: rigid_share = 1.0e-6_rk
 
 contains
 
@@ -57,7 +54,7 @@ contains
         type(pencil_t) :: pencil
         type(modes_t) :: modes
         type(xdmf_mode_rod_t), allocatable :: sidecar(:), rods(:)
-        real(rk), allocatable :: x(:), frequencies(:)
+        real(rk), allocatable :: x(:)
         real(rk) :: started, t
         integer :: k
         character(len=:), allocatable :: name, message
@@ -95,8 +92,6 @@ contains
             if (world_rank() == 0) then
                 call write_modes(scene, path, name, system, x, pencil, modes, rods, err)
                 if (.not. allocated(err)) sidecar = [sidecar, rods]
-                if (.not. allocated(err) .and. k == 1) frequencies = modes%omega(1:modes%n) / &
-                    (2.0_rk * pi)
             end if
             deallocate(system, x)
             if (any_rank_true(allocated(err))) exit
@@ -106,7 +101,7 @@ contains
             ! Without node access (ph_planar) there is nothing to show: no sidecar, and none
             ! left over from an earlier run of the scene.
             if (size(sidecar) > 0) then
-                call write_xdmf_modes_sidecar(path, sidecar, frequencies, err)
+                call write_xdmf_modes_sidecar(path, sidecar, err)
             else
                 call remove_file(xdmf_modes_sidecar_path(path))
             end if
@@ -169,10 +164,10 @@ contains
         type(modes_t), intent(in) :: modes
         real(rk), intent(in) :: seconds
         character(len=:), allocatable :: line
-        real(rk) :: largest
+        real(rk) :: lowest
         integer :: k, rigid
-        largest = maxval(abs(modes%omega(1:modes%n)))
-        rigid = count(abs(modes%omega(1:modes%n)) < rigid_share * largest)
+        lowest = lowest_elastic(modes%omega(1:modes%n))
+        rigid = count(abs(modes%omega(1:modes%n)) < 1.0e-3_rk * lowest)
         call log_info('rodsolve: modes of ' // name // ': ' // str(modes%n) // ' modes (' // &
             str(rigid) // ' rigid-body), ' // trim(merge('first ', 'second', pencil%form == &
             modal_first_order)) // '-order pencil of ' // str(pencil%n) // ' unknowns (' // &
@@ -272,6 +267,7 @@ contains
                     shown%name = system%members(m)%name
                     shown%group = group // '/' // shown%name
                     shown%n_nodes = size(position, 2)
+                    shown%frequency = modes%omega(1:n) / (2.0_rk * pi)
                 end associate
                 call file%create_group(rods(n_shown)%group, err)
                 if (allocated(err)) exit body

@@ -72,12 +72,13 @@ module rs_io_xdmf_writer
     end type xdmf_rod_t
 
     !> One rod's mode shapes in the result file, for the modes sidecar (docs/user/output.md,
-    !> /modes): the group holding its reference `position` [nodes, 3] and `displacement`
-    !> [modes, nodes, 3].
+    !> /modes): the group holding its `position` [nodes, 3] and `displacement` [modes, nodes,
+    !> 3], and the frequencies (Hz) of its system's modes.
     type :: xdmf_mode_rod_t
         character(len=:), allocatable :: name
         character(len=:), allocatable :: group
         integer :: n_nodes = 0
+        real(rk), allocatable :: frequency(:)
     end type xdmf_mode_rod_t
 
     !> Growing text: `chars(1:length)` is the text so far; the capacity doubles as needed so
@@ -160,32 +161,35 @@ contains
     end function xdmf_text
 
     !> The XDMF text of the modes sidecar (FILE.modes.xdmf, docs/user/postprocessing.md): a
-    !> temporal collection whose "time" is the mode number 1 .. size(frequencies), each a
-    !> spatial collection of the rods at their reference positions with the attribute
-    !> "displacement" (the mode shape, a hyperslab of /modes/<system>/<rod>/displacement) and
-    !> the frequency (Hz) as Information. ParaView animates a mode with Warp By Vector on
-    !> "displacement" and a scale factor that oscillates in time.
-    pure function xdmf_modes_text(h5_name, rods, frequencies) result(text)
+    !> temporal collection whose "time" is the mode number 1 .. n (the fewest modes of the
+    !> rods' systems), each a spatial collection of the rods in the state the modes are about,
+    !> with the attribute "displacement" (the mode shape, a hyperslab of
+    !> /modes/<system>/<rod>/displacement) and the mode's frequency (Hz) as Information of
+    !> each rod's grid. ParaView animates a mode with Warp By Vector on "displacement" and a
+    !> scale factor that oscillates in time.
+    pure function xdmf_modes_text(h5_name, rods) result(text)
         character(len=*), intent(in) :: h5_name
         type(xdmf_mode_rod_t), intent(in) :: rods(:)
-        real(rk), intent(in) :: frequencies(:)
         character(len=:), allocatable :: text, group, n
         type(text_buffer_t) :: buffer
         integer :: k, r, n_modes
-        n_modes = size(frequencies)
+        n_modes = huge(1)
+        do r = 1, size(rods)
+            n_modes = min(n_modes, size(rods(r)%frequency))
+        end do
         call put_opening(buffer, 'modes')
         do k = 0, n_modes - 1
             call put(buffer, 3, '<Grid Name="mode ' // str(k + 1) // '" GridType="Collection" ' // &
                 'CollectionType="Spatial">')
             call put(buffer, 4, '<Time Value="' // str(k + 1) // '"/>')
-            call put(buffer, 4, '<Information Name="frequency_Hz" Value="' // &
-                str(frequencies(k + 1)) // '"/>')
             do r = 1, size(rods)
                 group = xml_escape(h5_name, .false.) // ':' // xml_escape(rods(r)%group, .false.) &
                     // '/'
                 n = str(rods(r)%n_nodes)
                 call put(buffer, 4, '<Grid Name="' // xml_escape(rods(r)%name, .true.) // &
                     '" GridType="Uniform">')
+                call put(buffer, 5, '<Information Name="frequency_Hz" Value="' // &
+                    str(rods(r)%frequency(k + 1)) // '"/>')
                 call put_polyline(buffer, 5, rods(r)%n_nodes)
                 call put(buffer, 5, '<Geometry GeometryType="XYZ">')
                 call put(buffer, 6, '<DataItem Format="HDF" DataType="Float" Precision="8" ' // &
@@ -196,7 +200,7 @@ contains
                 call put(buffer, 5, '<Attribute Name="displacement" AttributeType="Vector" ' // &
                     'Center="Node">')
                 call put_hyperslab(buffer, 6, group // 'displacement', [k, 0, 0], &
-                    [1, rods(r)%n_nodes, 3], [n_modes, rods(r)%n_nodes, 3])
+                    [1, rods(r)%n_nodes, 3], [size(rods(r)%frequency), rods(r)%n_nodes, 3])
                 call put(buffer, 5, '</Attribute>')
                 call put(buffer, 4, '</Grid>')
             end do
@@ -429,10 +433,9 @@ contains
 
     !> Write the modes sidecar (xdmf_modes_text) next to the result file `h5_path`, replacing
     !> it atomically as write_xdmf_sidecar does.
-    subroutine write_xdmf_modes_sidecar(h5_path, rods, frequencies, err)
+    subroutine write_xdmf_modes_sidecar(h5_path, rods, err)
         character(len=*), intent(in) :: h5_path
         type(xdmf_mode_rod_t), intent(in) :: rods(:)
-        real(rk), intent(in) :: frequencies(:)
         type(error_t), allocatable, intent(out) :: err
         character(len=:), allocatable :: path, temporary
         character(len=256) :: message
@@ -442,8 +445,7 @@ contains
         open(newunit=unit, file=temporary, status='replace', action='write', access='stream', &
             form='unformatted', iostat=status, iomsg=message)
         if (status == 0) then
-            write(unit, iostat=status, iomsg=message) xdmf_modes_text(base_name(h5_path), rods, &
-                frequencies)
+            write(unit, iostat=status, iomsg=message) xdmf_modes_text(base_name(h5_path), rods)
             if (status == 0) then
                 close(unit)
             else

@@ -21,7 +21,7 @@ module rs_solver_modal_solver
     implicit none
     private
 
-    public :: solve_modes, slepc_version
+    public :: solve_modes, slepc_version, lowest_elastic
 
     !> The modes found, lowest first.
     type, public :: modes_t
@@ -72,16 +72,22 @@ module rs_solver_modal_solver
 contains
 
     !> The n_modes lowest modes of `pencil`. Collective on all ranks (the solve is distributed).
+    !>
+    !> One solve, with the shift shift_share z0 far below the modes. A second solve with the
+    !> shift at half the lowest elastic frequency was tried and dropped: it joined the split
+    !> bending pair of ph_director's free rod (1.4e-6 apart with this shift, whose a0 - sigma
+    !> a1 is nearly singular on the rigid-body Jordan blocks), but on the clamped tube of seed
+    !> 004 the first frequency's error against Timoshenko's rose from 5e-7 to 9.5e-6 (the
+    !> first-order pencil's eigenvalues are sensitive, condition about 1e5, and the Ritz
+    !> residual grew from round-off to 2e-10 with the shift), and the rigid-body zeros rose from
+    !> 1e-12 to 1e-8 of the first elastic frequency.
     subroutine solve_modes(pencil, n_modes, modes, err)
         type(pencil_t), intent(in) :: pencil
         integer, intent(in) :: n_modes
         type(modes_t), intent(out) :: modes
         type(error_t), allocatable, intent(out) :: err
-        real(rk), allocatable :: mu_re(:), mu_im(:), vec_re(:, :), vec_im(:, :), errors(:)
-        real(rk) :: shift, sigma
-        character(kind=c_char) :: text(256), message(1024)
-        integer(c_int) :: ierr, found
-        integer :: n_wanted, degree, i, pending
+        real(rk) :: sigma
+        integer :: degree
         character(len=:), allocatable :: why
         if (pencil%form == modal_second_order .and. any(pencil%a1 /= 0.0_rk)) then
             why = 'modes of a damped second-order system are not available yet (its quadratic ' // &
@@ -90,10 +96,51 @@ contains
             return
         end if
         degree = merge(1, 2, pencil%form == modal_first_order)
+        sigma = shift_share * pencil%z0
+        call eigen_solve(pencil, n_modes, merge(-sigma, -sigma**2, degree == 1), modes, err)
+    end subroutine solve_modes
+
+    !> The lowest frequency |omega| above the rigid-body zeros: the first after a jump of a
+    !> factor 1e3 between neighbours sorted by |omega| (the zeros are round-off: at most 2.4e-5
+    !> of the first elastic frequency, se3_pg's free rod; neighbouring elastic modes are within
+    !> a factor 10), or the lowest of all without such a jump; 0 when all are zero.
+    pure real(rk) function lowest_elastic(omega) result(lowest)
+        real(rk), intent(in) :: omega(:)
+        real(rk) :: w(size(omega)), swap
+        integer :: i, j
+        w = abs(omega)
+        do i = 2, size(w)
+            do j = i, 2, -1
+                if (w(j) >= w(j - 1)) exit
+                swap = w(j)
+                w(j) = w(j - 1)
+                w(j - 1) = swap
+            end do
+        end do
+        lowest = w(1)
+        do i = 2, size(w)
+            if (w(i) > 1.0e3_rk * w(i - 1)) then
+                lowest = w(i)
+                exit
+            end if
+        end do
+    end function lowest_elastic
+
+    !> The n_modes modes nearest the real shift `shift` (module header).
+    subroutine eigen_solve(pencil, n_modes, shift, modes, err)
+        type(pencil_t), intent(in) :: pencil
+        integer, intent(in) :: n_modes
+        real(rk), intent(in) :: shift
+        type(modes_t), intent(out) :: modes
+        type(error_t), allocatable, intent(out) :: err
+        real(rk), allocatable :: mu_re(:), mu_im(:), vec_re(:, :), vec_im(:, :), errors(:)
+        character(kind=c_char) :: text(256), message(1024)
+        integer(c_int) :: ierr, found
+        integer :: n_wanted, degree, i, pending
+        character(len=:), allocatable :: why
+        degree = merge(1, 2, pencil%form == modal_first_order)
         ! A first-order pencil gives every mode twice (a conjugate pair, or a rigid double zero).
         n_wanted = min(merge(2 * n_modes + 2, n_modes, degree == 1), pencil%n)
-        sigma = shift_share * pencil%z0
-        shift = merge(-sigma, -sigma**2, degree == 1)
         allocate(mu_re(n_wanted), mu_im(n_wanted), errors(n_wanted), &
             vec_re(pencil%n, n_wanted), vec_im(pencil%n, n_wanted))
         ierr = rs_modes_solve(int(pencil%n, c_int), pencil%row_ptr, pencil%cols, pencil%a0, &
@@ -101,7 +148,7 @@ contains
             mu_im, vec_re, vec_im, errors, text, int(size(text), c_int), message, &
             int(size(message), c_int))
         if (ierr /= 0) then
-            RS_SET_ERROR(err, 'solve_modes', from_c_string(message))
+            RS_SET_ERROR(err, 'eigen_solve', from_c_string(message))
             return
         end if
         modes%solver = from_c_string(text)
@@ -136,7 +183,7 @@ contains
         if (modes%n < n_modes) then
             why = 'SLEPc found ' // str(modes%n) // ' of the ' // str(n_modes) // ' modes asked ' // &
                 'for (raise -modes_eps_max_it, or ask for fewer modes)'
-            RS_SET_ERROR(err, 'solve_modes', why)
+            RS_SET_ERROR(err, 'eigen_solve', why)
         end if
     contains
 
@@ -152,7 +199,7 @@ contains
             modes%shape(:, modes%n) = re / scale
             modes%shape_im(:, modes%n) = im / scale
         end subroutine add_mode
-    end subroutine solve_modes
+    end subroutine eigen_solve
 
     !> SLEPc's version ("3.18.2").
     function slepc_version() result(text)
