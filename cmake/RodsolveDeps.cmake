@@ -4,7 +4,7 @@
 include(CheckCSourceCompiles)
 find_package(PkgConfig REQUIRED)
 
-set(_rs_install_hint "Run scripts/setup.sh, or: apt-get install petsc-dev libmumps-dev libmetis-dev libhdf5-openmpi-dev openmpi-bin libopenmpi-dev")
+set(_rs_install_hint "Run scripts/setup.sh, or: apt-get install petsc-dev slepc-dev libslepc-real3.18-dev libmumps-dev libmetis-dev libhdf5-openmpi-dev openmpi-bin libopenmpi-dev")
 
 # --- MPI --------------------------------------------------------------------------------------
 find_package(MPI REQUIRED COMPONENTS C Fortran)
@@ -75,6 +75,21 @@ add_library(rodsolve::petsc INTERFACE IMPORTED)
 target_link_libraries(rodsolve::petsc INTERFACE PkgConfig::PETSC MPI::MPI_C MPI::MPI_Fortran)
 target_include_directories(rodsolve::petsc INTERFACE ${PETSC_INCLUDE_DIR})
 
+# --- SLEPc ------------------------------------------------------------------------------------
+# Modal analysis (docs/theory/modes.md) solves its eigenproblems with SLEPc, which must be the
+# release of the PETSc it runs on (3.18.x, real): Debian's slepc-dev installs SLEPc.pc next to
+# PETSc.pc. Only src/solver/ links it (one door per library, DESIGN.md §2).
+pkg_check_modules(SLEPC IMPORTED_TARGET SLEPc)
+if(NOT SLEPC_FOUND)
+    message(FATAL_ERROR "rodsolve: SLEPc was not found by pkg-config (SLEPc.pc). ${_rs_install_hint}")
+endif()
+if(SLEPC_VERSION VERSION_LESS 3.18 OR NOT SLEPC_VERSION VERSION_LESS 3.19)
+    message(FATAL_ERROR "rodsolve: SLEPc ${SLEPC_VERSION} found; rodsolve needs the SLEPc of its "
+                        "PETSc, 3.18.x (apt-get install slepc-dev libslepc-real3.18-dev).")
+endif()
+add_library(rodsolve::slepc INTERFACE IMPORTED)
+target_link_libraries(rodsolve::slepc INTERFACE PkgConfig::SLEPC rodsolve::petsc)
+
 # MUMPS: its C header gives the version check of `rodsolve --version` a prototype.
 find_path(MUMPS_INCLUDE_DIR dmumps_c.h PATH_SUFFIXES mumps)
 find_library(MUMPS_LIBRARY NAMES dmumps dmumps-5.5)
@@ -116,5 +131,5 @@ add_library(rodsolve::metis INTERFACE IMPORTED)
 target_include_directories(rodsolve::metis INTERFACE ${METIS_INCLUDE_DIR})
 target_link_libraries(rodsolve::metis INTERFACE ${METIS_LIBRARY})
 
-message(STATUS "rodsolve: PETSc ${PETSC_VERSION} (${PETSC_PREFIX}), MPI ${MPI_C_VERSION}, "
+message(STATUS "rodsolve: PETSc ${PETSC_VERSION} (${PETSC_PREFIX}), SLEPc ${SLEPC_VERSION}, MPI ${MPI_C_VERSION}, "
                "HDF5 ${HDF5_C_LIBRARY}, METIS ${METIS_LIBRARY}, MUMPS ${MUMPS_LIBRARY}")

@@ -9,6 +9,7 @@ docs/user/postprocessing.md).
     python3 scripts/rodplot.py animate out/flying_spaghetti.h5 -o spaghetti.gif
     python3 scripts/rodplot.py summary out/flying_spaghetti.h5
     python3 scripts/rodplot.py contact out/pressed_rods.h5
+    python3 scripts/rodplot.py modes out/modes_cantilever.h5
     python3 scripts/rodplot.py sweep out/sweep_cantilever.h5 --x 'rod(1)%EI1' --y tip_z
     python3 scripts/rodplot.py summary out/sweep_cantilever.h5
 
@@ -165,6 +166,65 @@ def snapshots_plot(res, rod_name, out, dpi):
     if len(rods) > 1:
         ax.legend(loc="upper left", title="rod")
     fig.savefig(out, dpi=dpi, bbox_inches="tight")
+    plt.close(fig)
+
+
+#: Mode shapes drawn by `modes` (the lowest ones).
+N_MODE_SHAPES = 6
+
+
+def modes_plot(res, rod_name, out, dpi):
+    """The modes of /modes (docs/user/output.md): per system the frequencies against the mode
+    number, and the shapes of the lowest N_MODE_SHAPES modes, each drawn on the reference
+    centreline with its displacement scaled to a tenth of the system's extent. The table of
+    frequencies is also printed."""
+    if "modes" not in res.file:
+        raise MissingData("%s has no /modes: the scene had no &modes group" % res.path)
+    systems = [name for name in res.file["modes"]
+               if rod_name is None or rod_name == name or rod_name in res.file["modes"][name]]
+    if not systems:
+        raise MissingData("%s: no modes of rod '%s'; systems with modes: %s" % (
+            res.path, rod_name, ", ".join(res.file["modes"])))
+    groups = [res.file["modes"][name] for name in systems]
+    shapes = max(min(N_MODE_SHAPES, g["frequency"].shape[0]) for g in groups)
+    fig = plt.figure(figsize=(4.5 * (1 + min(shapes, 3)), 4.0 * len(groups) * (
+        1 + (shapes > 3))))
+    rows = len(groups) * (1 + (shapes > 3))
+    columns = 1 + min(shapes, 3)
+    for number, (name, group) in enumerate(zip(systems, groups)):
+        frequency = group["frequency"][()]
+        unit = _attr_text(group["frequency"], "unit")
+        print("modes of %s (%s):" % (name, unit))
+        for k, f in enumerate(frequency):
+            print("  %3d  %.8g" % (k + 1, f))
+        row = number * (1 + (shapes > 3))
+        ax = fig.add_subplot(rows, columns, row * columns + 1)
+        ax.plot(np.arange(1, frequency.size + 1), np.abs(frequency), "o-", color="tab:blue")
+        ax.set_xlabel("mode")
+        ax.set_ylabel(axis_label("|frequency|", unit))
+        if np.all(np.abs(frequency) > 0) and np.ptp(np.log10(np.abs(frequency))) > 2:
+            ax.set_yscale("log")
+        ax.set_title("%s: %d modes" % (name, frequency.size))
+        rods = [key for key in group if isinstance(group[key], h5py.Group)]
+        if not rods:
+            continue
+        position = np.concatenate([group[r]["position"][()] for r in rods])
+        extent = max(np.ptp(position, axis=0).max(), 1e-300)
+        for k in range(min(shapes, frequency.size)):
+            slot = row * columns + 2 + k + (k >= 3)
+            ax = fig.add_subplot(rows, columns, slot, projection="3d")
+            points = []
+            for r in rods:
+                x = group[r]["position"][()]
+                u = group[r]["displacement"][k]
+                ax.plot(x[:, 0], x[:, 1], x[:, 2], "--", color="0.6", lw=1.0)
+                y = x + 0.1 * extent * u
+                ax.plot(y[:, 0], y[:, 1], y[:, 2], "-", color="tab:red", lw=1.5)
+                points += [x, y]
+            equal_3d_axes(ax, np.concatenate(points))
+            ax.set_title("mode %d: %.5g %s" % (k + 1, frequency[k], unit), fontsize=9)
+    fig.tight_layout()
+    fig.savefig(out, dpi=dpi)
     plt.close(fig)
 
 
@@ -939,7 +999,7 @@ def member_rows(table):
 
 COMMANDS = {"energy": energy_plot, "momentum": momentum_plot, "snapshots": snapshots_plot,
             "tip": tip_plot, "animate": animate_plot, "summary": summary_command,
-            "sweep": sweep_plot, "contact": contact_plot}
+            "sweep": sweep_plot, "contact": contact_plot, "modes": modes_plot}
 #: What each command writes by default, next to FILE (None: standard output only).
 DEFAULT_SUFFIX = {"animate": ".gif", "summary": None}
 
@@ -969,6 +1029,11 @@ def parser():
                "             speed (with friction), and |tie force| on each\n"
                "             rod's start (solid) and end (dashed) when the file has\n"
                "             series/ties/force. Without --rod: every rod that has them.\n"
+               "  modes      the modes of a scene with &modes (/modes): per system the\n"
+               "             frequencies against the mode number and the shapes of the six\n"
+               "             lowest modes on the reference centreline (displacement scaled\n"
+               "             to a tenth of the system's extent); the frequencies are also\n"
+               "             printed. --rod: the system of that rod.\n"
                "  animate    3D centrelines over time as a GIF (needs Pillow): one frame per\n"
                "             record, at most --frames evenly spaced, --fps frames a second,\n"
                "             fixed equal axes. Without --rod: every rod.\n"

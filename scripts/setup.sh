@@ -9,7 +9,7 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 
 packages=(gfortran gcc make cmake pkg-config
-          petsc-dev libmumps-dev libmetis-dev libhdf5-openmpi-dev openmpi-bin libopenmpi-dev
+          petsc-dev slepc-dev libslepc-real3.18-dev libmumps-dev libmetis-dev libhdf5-openmpi-dev openmpi-bin libopenmpi-dev
           libopenblas0-serial liblapack-dev python3 python3-h5py python3-numpy python3-matplotlib
           python3-meshio)
 

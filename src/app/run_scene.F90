@@ -34,6 +34,7 @@ module rs_app_run_scene
     use rs_formulations_memory_estimate, only: memory_estimate_t, run_memory_estimate, &
         available_memory_bytes
     use rs_parallel_deal, only: deal_by_cost
+    use rs_app_run_modes, only: run_modes, system_state_t
     implicit none
     private
 
@@ -58,6 +59,7 @@ contains
         type(error_t), allocatable, intent(out) :: err
         type(rod_runner_t), allocatable :: runners(:)
         type(rod_layout_t), allocatable :: layouts(:)
+        type(system_state_t), allocatable :: states(:)
         type(result_writer_t) :: writer
         type(error_t), allocatable :: local_err
         character(len=:), allocatable :: path, message
@@ -216,6 +218,19 @@ contains
         output_seconds = output_seconds + (wall_time() - t_flush)
         if (collective_failure(local_err, err, 'the result file could not be completed')) return
         call report_summary(runners, started, output_seconds, min(n, n_steps) - first_step + 1, path)
+        ! Modal analysis (&modes) about the reference state or the run's end state (every
+        ! rank gets each system's from its owner), into the completed file.
+        if (scene%modes%given .and. .not. failed) then
+            allocate(states(size(runners)))
+            if (trim(scene%modes%about) == 'equilibrium') then
+                do i = 1, size(runners)
+                    if (system_owner(i) == world_rank()) states(i)%x = runners(i)%x
+                    call broadcast_array(states(i)%x, system_owner(i))
+                end do
+            end if
+            call run_modes(scene, path, states, err)
+            if (allocated(err)) return
+        end if
 
         if (failed) then
             do i = 1, size(runners)

@@ -29,6 +29,17 @@ module rs_formulations_formulation
     !> Largest number of coordinates of a node (ph_director: position and three directors).
     integer, parameter, public :: max_node_coordinates = 12
 
+    !> How the step Jacobian at a state at rest depends on the step h, which is where modal
+    !> analysis reads the linearized equations of motion (formulation_traits_t%modal_form,
+    !> docs/theory/modes.md): not at all (statics, a scheme other than the midpoint rule) ...
+    integer, parameter, public :: modal_none = 0
+    !> ... a first-order system B x' + A x = 0 in the step's unknowns, J(h) = B/h + A/2 (each
+    !> row may carry a factor h^p, e.g. ph_director's momentum rows, methods §5.2) ...
+    integer, parameter, public :: modal_first_order = 1
+    !> ... or a second-order one M q'' + C q' + K q = 0 in positions alone (the velocities
+    !> eliminated by the midpoint rule), J(h) = 2 M/h^2 + C/h + K/2.
+    integer, parameter, public :: modal_second_order = 2
+
     !> What a formulation is, as the run and the solver need to know it: constants of the
     !> object once init has run (they follow from the scene: quasistatic or not, condensed
     !> stresses, the scheme), given by one procedure, rod_formulation_t%traits. rod_run hands
@@ -67,6 +78,10 @@ module rs_formulations_formulation
         !> the work between them is not separable: the record ledger books their summed energy
         !> balance on the first rod and zero on the others (docs/developer/architecture.md).
         logical :: shared_balance = .false.
+        !> The form of the step Jacobian at rest (modal_none, modal_first_order,
+        !> modal_second_order): which linear pencil modal analysis reads from it
+        !> (rs_system_linearization), checked there against Jacobians at several h.
+        integer :: modal_form = modal_none
     end type formulation_traits_t
 
     !> Two measures of a state that the run's control uses (state_measures).
@@ -202,6 +217,10 @@ module rs_formulations_formulation
         !> estimate when the step changes), nor coordinates that jump (se3_pg's complemented
         !> rotation vectors). Default: every entry.
         procedure :: error_entries => default_error_entries
+        !> The state x brought to rest (its velocities zero, the rest kept): what modal analysis
+        !> linearizes about after a quasistatic run, whose states carry the load path's rates
+        !> (docs/theory/modes.md); default: x unchanged.
+        procedure :: rest_state => default_rest_state
         !> Where the coordinates of the nodes are (rod_nodes_t), for couplings; default: no
         !> node access.
         procedure :: nodes => default_nodes
@@ -344,6 +363,11 @@ contains
         logical, intent(out) :: weigh(:)
         weigh = .true.
     end subroutine default_error_entries
+
+    subroutine default_rest_state(this, x)
+        class(rod_formulation_t), intent(in) :: this
+        real(rk), intent(inout) :: x(:)
+    end subroutine default_rest_state
 
     function default_nodes(this) result(nodes)
         class(rod_formulation_t), intent(in) :: this

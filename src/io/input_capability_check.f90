@@ -581,6 +581,7 @@ contains
             if (scene%time%adaptive .and. .not. row%adaptive) call errors%add(at(scene, &
                 scene%time%input_line) // '&time adaptive: error-controlled steps are not available for ' // what // &
                 ' (rod ''' // trim(rod%name) // ''')' // see_matrix)
+            if (scene%modes%given) call check_modes(rod, row, what)
             if (trim(scene%time%scheme) == 'generalized_alpha' .and. .not. row%generalized_alpha) &
                 call errors%add(at(scene, scene%time%input_line) // '&time scheme: ' // &
                 '''generalized_alpha'' is not ' // &
@@ -661,6 +662,35 @@ contains
                     'instead' // see_matrix)
             end select
         end subroutine check_drive
+
+        !> &modes: a formulation with modal analysis, of damped rods where it solves them
+        !> (capability_t%damped_modes; docs/theory/modes.md), and about = 'equilibrium'
+        !> only after a quasistatic run. The modes are those of the dynamic midpoint step
+        !> whatever the run's scheme (rs_app_run_modes builds it). The scene-wide condition
+        !> is reported with the first rod only.
+        subroutine check_modes(rod, row, what)
+            type(rod_input_t), intent(in) :: rod
+            type(capability_t), intent(in) :: row
+            character(len=*), intent(in) :: what
+            character(len=:), allocatable :: here
+            here = at(scene, scene%modes%input_line) // '&modes: '
+            if (.not. row%modes) then
+                call errors%add(here // 'modal analysis is not available for ' // what // &
+                    ' (rod ''' // trim(rod%name) // ''')' // see_matrix)
+                return
+            end if
+            if (.not. row%damped_modes .and. rod_is_damped(rod)) call errors%add(here // &
+                'modes of a damped rod (''' // trim(rod%name) // ''') are not available for ' // &
+                what // ' yet; remove kelvin_voigt_time, drag and angular_drag' // see_matrix)
+            if (i > 1) return
+            if (trim(scene%modes%about) == 'equilibrium' .and. .not. scene%time%quasistatic) &
+                call errors%add(here // 'about = ''equilibrium'' is the endpoint of a ' // &
+                'quasistatic run (&time quasistatic = .true.); a dynamic run ends in motion')
+            if (allocated(scene%sweeps)) then
+                if (size(scene%sweeps) > 0) call errors%add(here // 'not available with ' // &
+                    '&sweep yet: a sweep''s members are written without their modes')
+            end if
+        end subroutine check_modes
     end subroutine check_rod_capabilities
 
 end module rs_io_input_capability_check

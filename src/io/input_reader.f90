@@ -9,7 +9,8 @@ module rs_io_input_reader
     use rs_core_strings, only: to_lower, str, closest_name, did_you_mean, split_list
     use rs_model_scene, only: scene_t, run_input_t, time_input_t, solver_input_t, output_input_t, &
         rod_input_t, bc_input_t, load_input_t, actuator_input_t, joint_input_t, plate_input_t, &
-        contact_input_t, sweep_input_t, obstacle_input_t, segment_input_t
+        contact_input_t, sweep_input_t, obstacle_input_t, segment_input_t, &
+        modes_input_t
     use rs_io_namelist_lexer, only: assignment_t, group_chunk_t, split_namelist
     use rs_io_input_spec, only: group_spec_t, variable_spec_t, input_groups, find_group, find_variable, &
         range_description, in_range, split_condition, group_names, variable_names
@@ -143,6 +144,11 @@ contains
         segment%input_line = chunk%line
         ! The single &time lives in `scene`: its line places the messages about its scheme.
         if (group%name == 'time') scene%time%input_line = chunk%line
+        if (group%name == 'modes') then
+            ! The single &modes lives in `scene`; its presence asks for the modes.
+            scene%modes%given = .true.
+            scene%modes%input_line = chunk%line
+        end if
         if (group%name == 'contact') then
             ! The single &contact lives in `scene`; its presence turns contact on.
             scene%contact%given = .true.
@@ -403,6 +409,7 @@ contains
         type(sweep_input_t) :: sweep_copy
         type(obstacle_input_t) :: obstacle_copy
         type(segment_input_t) :: segment_copy
+        type(modes_input_t) :: modes_copy
         namelist /run_nml/ run_copy
         namelist /time_nml/ time_copy
         namelist /solver_nml/ solver_copy
@@ -417,6 +424,7 @@ contains
         namelist /sweep_nml/ sweep_copy
         namelist /obstacle_nml/ obstacle_copy
         namelist /segment_nml/ segment_copy
+        namelist /modes_nml/ modes_copy
         character(len=256) :: msg
         character(len=:), allocatable :: buffer
 
@@ -481,6 +489,10 @@ contains
             segment_copy = segment
             read(buffer, nml=segment_nml, iostat=ios, iomsg=msg)
             if (ios == 0) segment = segment_copy
+        case ('modes')
+            modes_copy = scene%modes
+            read(buffer, nml=modes_nml, iostat=ios, iomsg=msg)
+            if (ios == 0) scene%modes = modes_copy
         case default
             ios = -1
             msg = 'no reader for group &' // group

@@ -93,7 +93,7 @@ contains
     !> All groups of the input language, in the order the reference documents them.
     function input_groups() result(groups)
         type(group_spec_t), allocatable :: groups(:)
-        allocate(groups(14))
+        allocate(groups(15))
         groups(1) = run_group()
         groups(2) = time_group()
         groups(3) = solver_group()
@@ -108,6 +108,7 @@ contains
         groups(12) = sweep_group()
         groups(13) = obstacle_group()
         groups(14) = segment_group()
+        groups(15) = modes_group()
     end function input_groups
 
     !> Index of group `name` in `groups`, 0 if unknown.
@@ -931,6 +932,27 @@ contains
                 'smooth stick branch: rods that should stick creep at a fraction of it).', &
                 lower=0.0_rk, lower_inclusive=.false., example='1e-5')]
     end function contact_group
+
+    function modes_group() result(g)
+        type(group_spec_t) :: g
+        g%name = 'modes'
+        g%description = 'Modal analysis (docs/theory/modes.md): the lowest modes of the ' // &
+            'equations of motion linearized about the reference state or a static ' // &
+            'equilibrium, constraints and couplings kept, computed after the run with SLEPc ' // &
+            '(shift-and-invert) from the dynamic midpoint step of the rods'' formulations. ' // &
+            'Frequencies and mode shapes go to /modes of the result file and to the XDMF ' // &
+            'sidecar; rodplot.py modes plots them.'
+        g%variables = [ &
+            spec_v('n_modes', 'integer', '-', '10', &
+                'Number of modes, lowest first, rigid-body modes (zero frequency) included.', &
+                lower=1.0_rk, upper=500.0_rk, example='6'), &
+            spec_v('about', 'string', '-', "'reference'", &
+                'The state the equations of motion are linearized about: ''reference'', the ' // &
+                'initial state of the scene (with the loads of t = 0); ''equilibrium'', the ' // &
+                'endpoint equilibrium of a quasistatic run (with the loads of t_end: ' // &
+                'prestress and load stiffness included).', &
+                allowed='reference|equilibrium', example="'equilibrium'")]
+    end function modes_group
 
     function obstacle_group() result(g)
         type(group_spec_t) :: g

@@ -13,7 +13,8 @@ module rs_io_scene_writer
     use rs_io_input_spec, only: group_spec_t, input_groups, find_group, find_variable, split_condition
     use rs_model_scene, only: section_derived_names, scene_t, run_input_t, time_input_t, solver_input_t, output_input_t, &
         rod_input_t, bc_input_t, load_input_t, actuator_input_t, joint_input_t, plate_input_t, &
-        contact_input_t, sweep_input_t, sweep_values, obstacle_input_t, segment_input_t
+        contact_input_t, sweep_input_t, sweep_values, obstacle_input_t, segment_input_t, &
+        modes_input_t
     implicit none
     private
 
@@ -48,6 +49,7 @@ contains
         type(contact_input_t) :: contact
         type(obstacle_input_t) :: obstacle
         type(segment_input_t) :: segment
+        type(modes_input_t) :: modes
         namelist /run_nml/ run
         namelist /time_nml/ time
         namelist /solver_nml/ solver
@@ -61,6 +63,7 @@ contains
         namelist /contact_nml/ contact
         namelist /obstacle_nml/ obstacle
         namelist /segment_nml/ segment
+        namelist /modes_nml/ modes
         integer :: i
 
         ! Each group's text ends at its '/' line (tidy_group reads no further), so the lines
@@ -122,6 +125,11 @@ contains
             contact = scene%contact
             write(lines, nml=contact_nml, delim='apostrophe')
             text = text // tidy_group('contact', lines)
+        end if
+        if (scene%modes%given) then
+            modes = scene%modes
+            write(lines, nml=modes_nml, delim='apostrophe')
+            text = text // tidy_group('modes', lines)
         end if
         if (allocated(scene%obstacles)) then
             do i = 1, size(scene%obstacles)

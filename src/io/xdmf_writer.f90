@@ -55,6 +55,7 @@ module rs_io_xdmf_writer
     public :: xdmf_rod_t, xdmf_rod_from_history, xdmf_rod_from_fields, xdmf_text
     public :: write_xdmf_sidecar
     public :: xdmf_sidecar_path, base_name, xml_escape
+    public :: xdmf_mode_rod_t, xdmf_modes_text, write_xdmf_modes_sidecar, xdmf_modes_sidecar_path
 
     !> What the sidecar needs to know of one rod of the result file.
     type :: xdmf_rod_t
@@ -69,6 +70,16 @@ module rs_io_xdmf_writer
         !> Whether the file holds /rods/<name>/directors.
         logical :: has_directors = .false.
     end type xdmf_rod_t
+
+    !> One rod's mode shapes in the result file, for the modes sidecar (docs/user/output.md,
+    !> /modes): the group holding its `position` [nodes, 3] and `displacement` [modes, nodes,
+    !> 3], and the frequencies (Hz) of its system's modes.
+    type :: xdmf_mode_rod_t
+        character(len=:), allocatable :: name
+        character(len=:), allocatable :: group
+        integer :: n_nodes = 0
+        real(rk), allocatable :: frequency(:)
+    end type xdmf_mode_rod_t
 
     !> Growing text: `chars(1:length)` is the text so far; the capacity doubles as needed so
     !> that building a long file costs linear time.
@@ -135,11 +146,7 @@ contains
         type(text_buffer_t) :: buffer
         integer :: k, r
 
-        call put(buffer, 0, '<?xml version="1.0" encoding="utf-8"?>')
-        call put(buffer, 0, '<Xdmf Version="3.0">')
-        call put(buffer, 1, '<Domain>')
-        call put(buffer, 2, '<Grid Name="rodsolve" GridType="Collection" ' // &
-            'CollectionType="Temporal">')
+        call put_opening(buffer, 'rodsolve')
         do k = 0, size(times) - 1
             call put(buffer, 3, '<Grid Name="record ' // str(k) // '" GridType="Collection" ' // &
                 'CollectionType="Spatial">')
@@ -150,11 +157,57 @@ contains
             end do
             call put(buffer, 3, '</Grid>')
         end do
-        call put(buffer, 2, '</Grid>')
-        call put(buffer, 1, '</Domain>')
-        call put(buffer, 0, '</Xdmf>')
-        text = buffer%chars(1:buffer%length)
+        call put_closing(buffer, text)
     end function xdmf_text
+
+    !> The XDMF text of the modes sidecar (FILE.modes.xdmf, docs/user/postprocessing.md): a
+    !> temporal collection whose "time" is the mode number 1 .. n (the fewest modes of the
+    !> rods' systems), each a spatial collection of the rods in the state the modes are about,
+    !> with the attribute "displacement" (the mode shape, a hyperslab of
+    !> /modes/<system>/<rod>/displacement) and the mode's frequency (Hz) as Information of
+    !> each rod's grid. ParaView animates a mode with Warp By Vector on "displacement" and a
+    !> scale factor that oscillates in time.
+    pure function xdmf_modes_text(h5_name, rods) result(text)
+        character(len=*), intent(in) :: h5_name
+        type(xdmf_mode_rod_t), intent(in) :: rods(:)
+        character(len=:), allocatable :: text, group, n
+        type(text_buffer_t) :: buffer
+        integer :: k, r, n_modes
+        n_modes = huge(1)
+        do r = 1, size(rods)
+            n_modes = min(n_modes, size(rods(r)%frequency))
+        end do
+        call put_opening(buffer, 'modes')
+        do k = 0, n_modes - 1
+            call put(buffer, 3, '<Grid Name="mode ' // str(k + 1) // '" GridType="Collection" ' // &
+                'CollectionType="Spatial">')
+            call put(buffer, 4, '<Time Value="' // str(k + 1) // '"/>')
+            do r = 1, size(rods)
+                group = xml_escape(h5_name, .false.) // ':' // xml_escape(rods(r)%group, .false.) &
+                    // '/'
+                n = str(rods(r)%n_nodes)
+                call put(buffer, 4, '<Grid Name="' // xml_escape(rods(r)%name, .true.) // &
+                    '" GridType="Uniform">')
+                call put(buffer, 5, '<Information Name="frequency_Hz" Value="' // &
+                    str(rods(r)%frequency(k + 1)) // '"/>')
+                call put_polyline(buffer, 5, rods(r)%n_nodes)
+                call put(buffer, 5, '<Geometry GeometryType="XYZ">')
+                call put(buffer, 6, '<DataItem Format="HDF" DataType="Float" Precision="8" ' // &
+                    'Dimensions="' // n // ' 3">')
+                call put(buffer, 7, group // 'position')
+                call put(buffer, 6, '</DataItem>')
+                call put(buffer, 5, '</Geometry>')
+                call put(buffer, 5, '<Attribute Name="displacement" AttributeType="Vector" ' // &
+                    'Center="Node">')
+                call put_hyperslab(buffer, 6, group // 'displacement', [k, 0, 0], &
+                    [1, rods(r)%n_nodes, 3], [size(rods(r)%frequency), rods(r)%n_nodes, 3])
+                call put(buffer, 5, '</Attribute>')
+                call put(buffer, 4, '</Grid>')
+            end do
+            call put(buffer, 3, '</Grid>')
+        end do
+        call put_closing(buffer, text)
+    end function xdmf_modes_text
 
     !> The uniform grid of one rod at record `k` (0-based) of `n_records`.
     pure subroutine put_rod(buffer, depth, h5_name, rod, k, n_records)
@@ -169,13 +222,7 @@ contains
         n = str(rod%n_nodes)
         call put(buffer, depth, '<Grid Name="' // xml_escape(rod%name, .true.) // &
             '" GridType="Uniform">')
-        call put(buffer, depth + 1, '<Topology TopologyType="Polyline" NumberOfElements="1" ' // &
-            'NodesPerElement="' // n // '">')
-        call put(buffer, depth + 2, '<DataItem Format="XML" DataType="Int" Precision="4" ' // &
-            'Dimensions="1 ' // n // '">')
-        call put_connectivity(buffer, depth + 3, rod%n_nodes)
-        call put(buffer, depth + 2, '</DataItem>')
-        call put(buffer, depth + 1, '</Topology>')
+        call put_polyline(buffer, depth + 1, rod%n_nodes)
         call put(buffer, depth + 1, '<Geometry GeometryType="XYZ">')
         call put_hyperslab(buffer, depth + 2, group // 'position', [k, 0, 0], &
             [1, rod%n_nodes, 3], [n_records, rod%n_nodes, 3], 'record ' // str(k))
@@ -227,6 +274,40 @@ contains
         call put(buffer, depth + 1, '</DataItem>')
         call put(buffer, depth, '</DataItem>')
     end subroutine put_hyperslab
+
+    !> The document's start, down to the temporal collection `name`.
+    pure subroutine put_opening(buffer, name)
+        type(text_buffer_t), intent(inout) :: buffer
+        character(len=*), intent(in) :: name
+        call put(buffer, 0, '<?xml version="1.0" encoding="utf-8"?>')
+        call put(buffer, 0, '<Xdmf Version="3.0">')
+        call put(buffer, 1, '<Domain>')
+        call put(buffer, 2, '<Grid Name="' // name // '" GridType="Collection" ' // &
+            'CollectionType="Temporal">')
+    end subroutine put_opening
+
+    !> The document's end after the temporal collection, and the whole text.
+    pure subroutine put_closing(buffer, text)
+        type(text_buffer_t), intent(inout) :: buffer
+        character(len=:), allocatable, intent(out) :: text
+        call put(buffer, 2, '</Grid>')
+        call put(buffer, 1, '</Domain>')
+        call put(buffer, 0, '</Xdmf>')
+        text = buffer%chars(1:buffer%length)
+    end subroutine put_closing
+
+    !> One polyline through n_nodes nodes in order (explicit connectivity, inline).
+    pure subroutine put_polyline(buffer, depth, n_nodes)
+        type(text_buffer_t), intent(inout) :: buffer
+        integer, intent(in) :: depth, n_nodes
+        call put(buffer, depth, '<Topology TopologyType="Polyline" NumberOfElements="1" ' // &
+            'NodesPerElement="' // str(n_nodes) // '">')
+        call put(buffer, depth + 1, '<DataItem Format="XML" DataType="Int" Precision="4" ' // &
+            'Dimensions="1 ' // str(n_nodes) // '">')
+        call put_connectivity(buffer, depth + 2, n_nodes)
+        call put(buffer, depth + 1, '</DataItem>')
+        call put(buffer, depth, '</Topology>')
+    end subroutine put_polyline
 
     !> 0 1 ... n-1, `numbers_per_line` to a line.
     pure subroutine put_connectivity(buffer, depth, n_nodes)
@@ -342,6 +423,46 @@ contains
     end function ends_with
 
     !> Write the sidecar of the result file `h5_path` (see `xdmf_sidecar_path`) describing
+    !> The modes sidecar of a result file: FILE.modes.xdmf next to FILE.h5.
+    pure function xdmf_modes_sidecar_path(h5_path) result(path)
+        character(len=*), intent(in) :: h5_path
+        character(len=:), allocatable :: path
+        path = xdmf_sidecar_path(h5_path)
+        path = path(1:len(path) - 5) // '.modes.xdmf'
+    end function xdmf_modes_sidecar_path
+
+    !> Write the modes sidecar (xdmf_modes_text) next to the result file `h5_path`, replacing
+    !> it atomically as write_xdmf_sidecar does.
+    subroutine write_xdmf_modes_sidecar(h5_path, rods, err)
+        character(len=*), intent(in) :: h5_path
+        type(xdmf_mode_rod_t), intent(in) :: rods(:)
+        type(error_t), allocatable, intent(out) :: err
+        character(len=:), allocatable :: path, temporary
+        character(len=256) :: message
+        integer :: unit, status
+        path = xdmf_modes_sidecar_path(h5_path)
+        temporary = path // '.tmp'
+        open(newunit=unit, file=temporary, status='replace', action='write', access='stream', &
+            form='unformatted', iostat=status, iomsg=message)
+        if (status == 0) then
+            write(unit, iostat=status, iomsg=message) xdmf_modes_text(base_name(h5_path), rods)
+            if (status == 0) then
+                close(unit)
+            else
+                close(unit, status='delete')
+            end if
+        end if
+        if (status /= 0) then
+            call set_error(err, 'cannot write the XDMF modes sidecar "' // temporary // '": ' // &
+                trim(message), 'write_xdmf_modes_sidecar', __FILE__, __LINE__)
+            return
+        end if
+        if (c_rename(temporary // c_null_char, path // c_null_char) /= 0) then
+            call set_error(err, 'cannot rename "' // temporary // '" to "' // path // '"', &
+                'write_xdmf_modes_sidecar', __FILE__, __LINE__)
+        end if
+    end subroutine write_xdmf_modes_sidecar
+
     !> `rods` at the records `times`: xdmf_text(base_name(h5_path), rods, times), written to a
     !> temporary file in the same directory and renamed over the sidecar. The result file
     !> itself is not read; its directory must exist. Fails, writing nothing, for no rods, an

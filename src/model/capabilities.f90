@@ -74,6 +74,12 @@ module rs_model_capabilities
         !> rotation), 'velocity' (velocity and angular_velocity; several &bc on one end add
         !> up), or blank when it has no driven ends.
         character(len=16) :: drive = ''
+        !> Modal analysis (&modes; docs/theory/modes.md): its dynamic step's Jacobian at rest
+        !> is the linearized equations of motion (formulation_traits_t%modal_form).
+        logical :: modes = .false.
+        !> Modes of damped rods too (a pencil that solves them: the first-order form's damping
+        !> is in A; se3_pg's damped quadratic pencil is not solved yet).
+        logical :: damped_modes = .false.
     end type capability_t
 
 contains

@@ -26,7 +26,7 @@ contains
             'prestretched starts | constraints | ' // &
             'viscoelasticity | damping | varying along the rod | actuation | joints | end plates | ' // &
             'contact | quasistatics | relaxation | order 4 in time | adaptive steps | ' // &
-            'generalized-α | planar |' // nl // '|' // repeat('---|', 23)
+            'generalized-α | planar | modes |' // nl // '|' // repeat('---|', 24)
         do i = 1, size(rows)
             if (rows(i)%available) text = text // nl // row_markdown(rows(i))
         end do
@@ -61,7 +61,9 @@ contains
             ' | ' // yes_no(row%order_4, 'yes (`&time order = 4`)') // &
             ' | ' // yes_no(row%adaptive, 'yes (`&time adaptive`)') // &
             ' | ' // yes_no(row%generalized_alpha, 'yes (`&time scheme`, `rho_inf`)') // &
-            ' | ' // yes_no(row%planar, 'yes: rods and loads in one plane') // ' |'
+            ' | ' // yes_no(row%planar, 'yes: rods and loads in one plane') // &
+            ' | ' // yes_no(row%modes, trim(merge('yes (`&modes`)     ', &
+            'undamped (`&modes`)', row%damped_modes))) // ' |'
     end function row_markdown
 
     !> A '|'-separated list as 'a, b, c' ('-' when empty).

@@ -494,6 +494,19 @@ module rs_model_scene
     end type sweep_input_t
 
     !> A whole scene: the single groups and the repeatable ones in file order.
+    !> &modes: modal analysis (issue 27 item 1, docs/theory/modes.md): the lowest modes of
+    !> the linearized equations of motion about a state at rest, after the run.
+    type, public :: modes_input_t
+        !> The group was given (set by the reader; not an input variable): modes are computed.
+        logical :: given = .false.
+        integer :: input_line = 0
+        !> Number of modes (rigid-body modes included), lowest first.
+        integer :: n_modes = 10
+        !> The state the equations are linearized about: 'reference' (the initial state, loads
+        !> of t = 0) or 'equilibrium' (the endpoint of a quasistatic run, loads of t_end).
+        character(len=16) :: about = 'reference'
+    end type modes_input_t
+
     type, public :: scene_t
         character(len=:), allocatable :: source_file
         character(len=:), allocatable :: source_text
@@ -511,6 +524,7 @@ module rs_model_scene
         type(obstacle_input_t), allocatable :: obstacles(:)
         type(sweep_input_t), allocatable :: sweeps(:)
         type(segment_input_t), allocatable :: segments(:)
+        type(modes_input_t) :: modes
     end type scene_t
 
 contains

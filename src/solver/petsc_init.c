@@ -196,8 +196,12 @@ int rs_petsc_initialize(int count, const char *args, int total_length)
     return (int)ierr;
 }
 
+/* src/solver/modal_solver.c: SLEPc, when a modal analysis started it, ends before PETSc. */
+int rs_slepc_finalize(void);
+
 int rs_petsc_finalize(void)
 {
+    rs_slepc_finalize();
     layer_free(&rs_command_line_layer);
     layer_free(&rs_user_layer);
     rs_command_line_known = 0;

@@ -100,6 +100,8 @@ module rs_system_rod_system
         procedure :: traits => system_traits
         procedure :: set_step_problem => system_set_step_problem
         procedure :: state_measures => system_state_measures
+        !> Each member's state brought to rest (rod_formulation_t%rest_state).
+        procedure :: rest_state => system_rest_state
         !> The members' error entries (rs_formulations_formulation); coupling unknowns are not.
         procedure :: error_entries => system_error_entries
         !> Before each step from X_n: the couplings refresh what the step needs (contact
@@ -1074,7 +1076,8 @@ contains
         if (this%direct) return
         traits = formulation_traits_t(full_newton=.not. (traits%wants_endpoint_solve .and. &
             this%refuses_iterates() .and. .not. this%tied), &
-            wants_endpoint_solve=traits%wants_endpoint_solve, energy_scheme=traits%energy_scheme)
+            wants_endpoint_solve=traits%wants_endpoint_solve, energy_scheme=traits%energy_scheme, &
+            modal_form=traits%modal_form)
     end function system_traits
 
     subroutine system_set_step_problem(this, endpoint, t_load, continue_from)
@@ -1095,6 +1098,18 @@ contains
             call this%couplings(c)%coupling%set_endpoint(endpoint, t_load)
         end do
     end subroutine system_set_step_problem
+
+    subroutine system_rest_state(this, x)
+        class(rod_system_t), intent(in) :: this
+        real(rk), intent(inout) :: x(:)
+        integer :: m
+        do m = 1, size(this%members)
+            associate (place => this%layout%members(m))
+                call this%members(m)%rod%rest_state(x(place%state_offset + 1: &
+                    place%state_offset + place%n_state))
+            end associate
+        end do
+    end subroutine system_rest_state
 
     !> The kinetic energy summed over the members (-1 if one does not report it) and the
     !> largest rotation of any member.

@@ -41,7 +41,7 @@ module rs_ph_director
     use rs_model_rod_history, only: rod_history_t
     use rs_assembly_csr_pattern, only: csr_builder_t, csr_pattern_t
     use rs_formulations_formulation, only: rod_formulation_t, formulation_traits_t, state_valid, &
-        state_invalid, state_measures_t, rod_nodes_t, node_tie_t
+        state_invalid, state_measures_t, rod_nodes_t, node_tie_t, modal_first_order
     use rs_formulations_energy_sentinel, only: step_energy_t, energy_consistent, energy_unchecked
     use rs_ph_director_element, only: ph_director_basis_t, ph_director_material_t, &
         ph_director_actuation_t, ph_director_max_branches, ph_director_max_tendons, &
@@ -201,6 +201,7 @@ module rs_ph_director
         procedure :: set_step_problem => ph_director_set_step_problem
         procedure :: state_measures => ph_director_state_measures
         procedure :: nodes => ph_director_nodes
+        procedure :: rest_state => ph_director_rest_state
         procedure :: error_entries => ph_director_error_entries
         procedure :: new_tie => ph_director_new_tie
         procedure :: unpack
@@ -1336,6 +1337,18 @@ contains
         end do
     end subroutine build_condensed_pattern
 
+    !> The velocities v of every node zero (a quasistatic state holds the load steps' rates).
+    subroutine ph_director_rest_state(this, x)
+        class(ph_director_t), intent(in) :: this
+        real(rk), intent(inout) :: x(:)
+        integer :: i, k
+        do k = 1, this%n_nodes
+            do i = 13, 24
+                if (this%node_dof(i, k) > 0) x(this%node_dof(i, k)) = 0.0_rk
+            end do
+        end do
+    end subroutine ph_director_rest_state
+
     !> Newton starts from the last state with the positions and directors moved on by h v_n
     !> (q_{n+1} = q_n + h v_n, v_{n+1} = v_n: first order in h, where x_{n+1} = x_n is zeroth).
     subroutine ph_director_predictor(this, t_n, h, x_n, y)
@@ -1724,6 +1737,8 @@ contains
         traits%energy_scheme = merge(energy_unchecked, energy_consistent, this%quasistatic)
         traits%wants_endpoint_solve = this%quasistatic
         traits%continues_equilibrium = this%quasistatic .and. .not. this%condensed
+        ! The implicit midpoint rule on (q, v, lambda, sigma) (methods §5.1-5.2).
+        if (.not. this%quasistatic) traits%modal_form = modal_first_order
     end function ph_director_traits
 
     !> Make the next steps the endpoint equilibrium at load time t_load (`endpoint`), or time

@@ -43,7 +43,8 @@ contains
             viscoelastic=.true., actuation=.true., curved_reference=.true., prestressed=.true., &
             joints='rigid|spherical|revolute', end_plates=.true., floating_plates=.true., &
             contact=.true., order_4=.true., adaptive=.true., damping=.true., &
-            segments=.true., prestrain=.true., initial_equilibrium=.true.)
+            segments=.true., prestrain=.true., initial_equilibrium=.true., modes=.true., &
+            damped_modes=.true.)
         d%default_choice = .true.
         d%system_couplings = .true.
         d%create => create

@@ -41,7 +41,7 @@ module rs_ph_planar
     use rs_model_support, only: end_hold, hold_list
     use rs_assembly_csr_pattern, only: csr_builder_t, csr_pattern_t
     use rs_formulations_formulation, only: rod_formulation_t, formulation_traits_t, &
-        state_measures_t, state_valid, state_invalid
+        state_measures_t, state_valid, state_invalid, modal_second_order
     use rs_formulations_energy_sentinel, only: step_energy_t, energy_consistent, energy_unchecked
     use rs_formulations_held_rows, only: held_rows_t
     use rs_ph_planar_element, only: ph_em_residual, ph_em_jacobian, ph_em_condensed, &
@@ -1359,6 +1359,10 @@ contains
         traits%native_lu = .not. this%quasistatic .or. this%condensed .or. &
             this%scheme /= scheme_ph_em
         traits%full_newton = .true.
+        ! Y = q_{n+1} (v eliminated, methods §4.3) and, uncondensed, the element strains, whose
+        ! rows are algebraic at rest (docs/theory/modes.md).
+        if (.not. this%quasistatic .and. this%scheme /= scheme_stander_stein) &
+            traits%modal_form = modal_second_order
     end function planar_traits
 
     !> The next steps solve the equilibrium at load time t_load (`endpoint`; static_rows), or

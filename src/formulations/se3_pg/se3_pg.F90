@@ -72,7 +72,7 @@ module rs_se3_pg
     use rs_assembly_csr_pattern, only: csr_builder_t, csr_pattern_t
     use rs_formulations_formulation, only: rod_formulation_t, formulation_traits_t, state_valid, &
         state_invalid, rod_nodes_t, node_tie_t, state_measures_t, &
-        step_energy_t
+        step_energy_t, modal_second_order
     use rs_se3_pg_tie, only: se3_pg_node_tie_t, se3_pg_node_tie
     use rs_se3_pg_element, only: se3_strains, se3_internal_force, se3_internal_tangent, &
         se3_element_mass, se3_gyroscopic, follower_force, dead_moment, se3_strain_energy, &
@@ -1199,6 +1199,10 @@ contains
         traits%full_newton = .true.
         traits%equilibrium_steps = this%quasistatic
         if (this%scheme%history) traits%energy_scheme = energy_dissipative
+        ! The midpoint rule in q alone: u_mid = T(psi_mid) dpsi / h, M (u_{n+1} - u_n) / h = 2 M
+        ! (u_mid - u_n) / h and the forces at q_mid (docs/theory/modes.md).
+        if (.not. this%statics .and. .not. this%scheme%history) &
+            traits%modal_form = modal_second_order
     end function se3_traits
 
     !> The initial equilibrium of a dynamic run (`endpoint` with continue_from; rod_run): the

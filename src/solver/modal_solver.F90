@@ -1,0 +1,212 @@
+#include "rs_macros.h"
+!> The modes of a system's linear pencil (rs_system_linearization) from SLEPc: the `bind(C)`
+!> interface to src/solver/modal_solver.c, the one door to SLEPc (DESIGN.md §2), and the
+!> eigenvalues turned into frequencies (docs/theory/modes.md).
+!>
+!> With P(s) = a0 + s a1 + s^2 a2, a mode is an eigenvalue s = -delta +- i omega: omega the
+!> angular frequency (rad/s), delta the decay rate (1/s, zero without damping). A first-order
+!> pencil gives every mode as two eigenvalues: an oscillating one as a conjugate pair (counted
+!> once, omega = |Im mu|), a rigid-body mode as a double zero (a Jordan block of the first-
+!> order form) that round-off splits into +-i epsilon (a pair, as before) or +-epsilon (two
+!> real eigenvalues, paired: omega^2 = mu_1 mu_2); a second-order undamped pencil gives
+!> omega^2 directly. A negative omega^2 (an unstable state, or a rigid-body zero split to
+!> -epsilon^2) is reported as a negative frequency.
+module rs_solver_modal_solver
+    use, intrinsic :: iso_c_binding, only: c_int, c_double, c_char
+    use rs_core_kinds, only: rk
+    use rs_core_error, only: error_t, set_error
+    use rs_core_strings, only: str, from_c_string
+    use rs_formulations_formulation, only: modal_first_order, modal_second_order
+    use rs_system_linearization, only: pencil_t
+    implicit none
+    private
+
+    public :: solve_modes, slepc_version, lowest_elastic
+
+    !> The modes found, lowest first.
+    type, public :: modes_t
+        integer :: n = 0
+        !> Angular frequency omega (rad/s; negative: omega^2 < 0, an unstable mode) and decay
+        !> rate delta (1/s) of each mode.
+        real(rk), allocatable :: omega(:), decay(:)
+        !> SLEPc's relative residual of each eigenpair.
+        real(rk), allocatable :: residual(:)
+        !> The eigenvectors in the step unknowns (n_unknown x n), real and imaginary parts,
+        !> scaled to a largest modulus of 1. Their phase is free: the caller chooses it on the
+        !> entries it shows (a first-order mode's velocities are a quarter period from its
+        !> positions, so no single phase makes the whole vector real).
+        real(rk), allocatable :: shape(:, :), shape_im(:, :)
+        !> The solver as configured (after -modes_ options).
+        character(len=:), allocatable :: solver
+    end type modes_t
+
+    interface
+        integer(c_int) function rs_modes_solve(n, row_ptr, cols, a0, a1, a2, degree, n_wanted, &
+                shift, n_found, mu_re, mu_im, vec_re, vec_im, errors, solver_text, text_len, &
+                errmsg, errlen) bind(C)
+            import :: c_int, c_double, c_char
+            integer(c_int), value :: n, degree, n_wanted, text_len, errlen
+            integer(c_int), intent(in) :: row_ptr(*), cols(*)
+            real(c_double), intent(in) :: a0(*), a1(*), a2(*)
+            real(c_double), value :: shift
+            integer(c_int), intent(out) :: n_found
+            real(c_double), intent(out) :: mu_re(*), mu_im(*), vec_re(*), vec_im(*), errors(*)
+            character(kind=c_char), intent(out) :: solver_text(*), errmsg(*)
+        end function rs_modes_solve
+        subroutine rs_slepc_version(buffer, length) bind(C)
+            import :: c_char, c_int
+            character(kind=c_char), intent(out) :: buffer(*)
+            integer(c_int), value :: length
+        end subroutine rs_slepc_version
+    end interface
+
+    !> The shift of shift-and-invert, as a share of the pencil's frequency scale z0
+    !> (rs_system_linearization: the elements' highest frequency where M and K share entries,
+    !> else 1/dt). Any negative real shift returns the lowest modes in order (modal_solver.c),
+    !> and a0 - sigma a1 is regular for a free rod (a0 singular); but a shift far above the
+    !> wanted frequencies clusters their shifted-inverted eigenvalues 1/(mu - sigma) near
+    !> 1/sigma, and Krylov-Schur stalls: with 1e-3 / dt, seed 004's 16 m tube (0.528 Hz, dt =
+    !> 1e-6) found no mode in 500 restarts. A shift below them separates them as 1/omega.
+    real(rk), parameter :: shift_share = 1.0e-6_rk
+
+contains
+
+    !> The n_modes lowest modes of `pencil`. Collective on all ranks (the solve is distributed).
+    !>
+    !> One solve, with the shift shift_share z0 far below the modes. A second solve with the
+    !> shift at half the lowest elastic frequency was tried and dropped: it joined the split
+    !> bending pair of ph_director's free rod (1.4e-6 apart with this shift, whose a0 - sigma
+    !> a1 is nearly singular on the rigid-body Jordan blocks), but on the clamped tube of seed
+    !> 004 the first frequency's error against Timoshenko's rose from 5e-7 to 9.5e-6 (the
+    !> first-order pencil's eigenvalues are sensitive, condition about 1e5, and the Ritz
+    !> residual grew from round-off to 2e-10 with the shift), and the rigid-body zeros rose from
+    !> 1e-12 to 1e-8 of the first elastic frequency.
+    subroutine solve_modes(pencil, n_modes, modes, err)
+        type(pencil_t), intent(in) :: pencil
+        integer, intent(in) :: n_modes
+        type(modes_t), intent(out) :: modes
+        type(error_t), allocatable, intent(out) :: err
+        real(rk) :: sigma
+        integer :: degree
+        character(len=:), allocatable :: why
+        if (pencil%form == modal_second_order .and. any(pencil%a1 /= 0.0_rk)) then
+            why = 'modes of a damped second-order system are not available yet (its quadratic ' // &
+                'pencil): remove the damping for the modal analysis'
+            RS_SET_ERROR(err, 'solve_modes', why)
+            return
+        end if
+        degree = merge(1, 2, pencil%form == modal_first_order)
+        sigma = shift_share * pencil%z0
+        call eigen_solve(pencil, n_modes, merge(-sigma, -sigma**2, degree == 1), modes, err)
+    end subroutine solve_modes
+
+    !> The lowest frequency |omega| above the rigid-body zeros: the first after a jump of a
+    !> factor 1e3 between neighbours sorted by |omega| (the zeros are round-off: at most 2.4e-5
+    !> of the first elastic frequency, se3_pg's free rod; neighbouring elastic modes are within
+    !> a factor 10), or the lowest of all without such a jump; 0 when all are zero.
+    pure real(rk) function lowest_elastic(omega) result(lowest)
+        real(rk), intent(in) :: omega(:)
+        real(rk) :: w(size(omega)), swap
+        integer :: i, j
+        w = abs(omega)
+        do i = 2, size(w)
+            do j = i, 2, -1
+                if (w(j) >= w(j - 1)) exit
+                swap = w(j)
+                w(j) = w(j - 1)
+                w(j - 1) = swap
+            end do
+        end do
+        lowest = w(1)
+        do i = 2, size(w)
+            if (w(i) > 1.0e3_rk * w(i - 1)) then
+                lowest = w(i)
+                exit
+            end if
+        end do
+    end function lowest_elastic
+
+    !> The n_modes modes nearest the real shift `shift` (module header).
+    subroutine eigen_solve(pencil, n_modes, shift, modes, err)
+        type(pencil_t), intent(in) :: pencil
+        integer, intent(in) :: n_modes
+        real(rk), intent(in) :: shift
+        type(modes_t), intent(out) :: modes
+        type(error_t), allocatable, intent(out) :: err
+        real(rk), allocatable :: mu_re(:), mu_im(:), vec_re(:, :), vec_im(:, :), errors(:)
+        character(kind=c_char) :: text(256), message(1024)
+        integer(c_int) :: ierr, found
+        integer :: n_wanted, degree, i, pending
+        character(len=:), allocatable :: why
+        degree = merge(1, 2, pencil%form == modal_first_order)
+        ! A first-order pencil gives every mode twice (a conjugate pair, or a rigid double zero).
+        n_wanted = min(merge(2 * n_modes + 2, n_modes, degree == 1), pencil%n)
+        allocate(mu_re(n_wanted), mu_im(n_wanted), errors(n_wanted), &
+            vec_re(pencil%n, n_wanted), vec_im(pencil%n, n_wanted))
+        ierr = rs_modes_solve(int(pencil%n, c_int), pencil%row_ptr, pencil%cols, pencil%a0, &
+            pencil%a1, pencil%a2, int(degree, c_int), int(n_wanted, c_int), shift, found, mu_re, &
+            mu_im, vec_re, vec_im, errors, text, int(size(text), c_int), message, &
+            int(size(message), c_int))
+        if (ierr /= 0) then
+            RS_SET_ERROR(err, 'eigen_solve', from_c_string(message))
+            return
+        end if
+        modes%solver = from_c_string(text)
+        allocate(modes%omega(n_modes), modes%decay(n_modes), modes%residual(n_modes), &
+            modes%shape(pencil%n, n_modes), modes%shape_im(pencil%n, n_modes))
+        modes%n = 0
+        pending = 0
+        i = 1
+        do while (i <= found .and. modes%n < n_modes)
+            if (degree == 2) then
+                call add_mode(sign(sqrt(abs(mu_re(i))), mu_re(i)), 0.0_rk, errors(i), &
+                    vec_re(:, i), 0.0_rk * vec_re(:, i))
+                i = i + 1
+            else if (mu_im(i) /= 0.0_rk) then
+                ! mu = -s = delta -+ i omega; its conjugate follows it (real SLEPc).
+                call add_mode(abs(mu_im(i)), mu_re(i), errors(i), vec_re(:, i), vec_im(:, i))
+                i = i + 2
+            else if (pending == 0) then
+                pending = i
+                i = i + 1
+            else
+                ! Two real eigenvalues are one mode, s^2 + 2 delta s + omega^2 = 0: omega^2 =
+                ! mu_1 mu_2 (a rigid-body double zero split by round-off into +-epsilon gives
+                ! omega^2 = -epsilon^2), delta = (mu_1 + mu_2) / 2.
+                call add_mode(sign(sqrt(abs(mu_re(i) * mu_re(pending))), mu_re(i) * &
+                    mu_re(pending)), 0.5_rk * (mu_re(i) + mu_re(pending)), &
+                    max(errors(i), errors(pending)), vec_re(:, pending), 0.0_rk * vec_re(:, i))
+                pending = 0
+                i = i + 1
+            end if
+        end do
+        if (modes%n < n_modes) then
+            why = 'SLEPc found ' // str(modes%n) // ' of the ' // str(n_modes) // ' modes asked ' // &
+                'for (raise -modes_eps_max_it, or ask for fewer modes)'
+            RS_SET_ERROR(err, 'eigen_solve', why)
+        end if
+    contains
+
+        subroutine add_mode(omega, decay, residual, re, im)
+            real(rk), intent(in) :: omega, decay, residual, re(:), im(:)
+            real(rk) :: scale
+            modes%n = modes%n + 1
+            modes%omega(modes%n) = omega
+            modes%decay(modes%n) = decay
+            modes%residual(modes%n) = residual
+            scale = sqrt(maxval(re**2 + im**2))
+            if (scale <= 0.0_rk) scale = 1.0_rk
+            modes%shape(:, modes%n) = re / scale
+            modes%shape_im(:, modes%n) = im / scale
+        end subroutine add_mode
+    end subroutine eigen_solve
+
+    !> SLEPc's version ("3.18.2").
+    function slepc_version() result(text)
+        character(len=:), allocatable :: text
+        character(kind=c_char) :: buffer(32)
+        call rs_slepc_version(buffer, int(size(buffer), c_int))
+        text = from_c_string(buffer)
+    end function slepc_version
+
+end module rs_solver_modal_solver

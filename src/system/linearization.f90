@@ -1,0 +1,367 @@
+#include "rs_macros.h"
+!> The linearized equations of motion of a system about a state at rest, read from its step
+!> Jacobians (issue 27 item 1; docs/theory/modes.md): for every formulation, couplings and
+!> joints included, without a second implementation of any force.
+!>
+!> At a state X at rest, the step unknowns Y of that state (the predictor's) and the forces of
+!> the midpoint t = t_n + h/2, the Jacobian J(h) = dF/dY of a midpoint step is a Laurent
+!> polynomial in h whose coefficients are the matrices of the continuous linear system:
+!> - first order (formulation_traits_t%modal_form = modal_first_order; ph_director), B x' +
+!>   A x = 0 in the unknowns: row i of J is h^p_i (B_i / h + A_i / 2) (rates are differences
+!>   over h, every force and constraint is taken at the midpoint; the factor h^p_i of rows
+!>   scaled by h, ph_director's momentum rows, only scales the row);
+!> - second order (modal_second_order; se3_pg), M q'' + C q' + K q = 0 in positions alone:
+!>   J(h) = 2 M / h^2 + C / h + K / 2 (u_{n+1} = 2 dq / h - u_n).
+!> Both are the pencil P(s) = a0 + s a1 + s^2 a2 (first order: a0 = A, a1 = B, a2 = 0; second
+!> order, rows doubled: a0 = 4 C_0 = K, a1 = 2 C_1 = C, a2 = C_2 = M, with C_k the coefficient
+!> of h^-k), whose eigenvalues s = +-i omega are the modes. Constraint rows (tie rows, rigid
+!> strain components) have one power of h only: they are algebraic rows of a0, whatever their
+!> factor (a scaled row or column leaves the eigenvalues as they are).
+!>
+!> The coefficients come from Jacobians at four steps h = 1/z, z = z0 (1, -1, 2, -2), solved
+!> entry by entry for the powers h^1 .. h^-2; a fifth Jacobian at z = 3 z0 must agree with
+!> them to round-off, else the formulation's step is not of this form there (a scheme other
+!> than the midpoint rule, loads or drives that move with t, a state not at rest) and the
+!> linearization is refused. z0 is chosen so that the powers weigh alike (balanced_z0, from
+!> z0 = 1 / dt until it settles), and the rows with two powers are read once more at steps
+!> where each term dominates (refine).
+!>
+!> Pure Fortran on the system layer (rs_system_rod_system): no PETSc; the eigen solve is
+!> src/solver/modal_solver.F90's.
+module rs_system_linearization
+    use rs_core_kinds, only: rk
+    use rs_core_error, only: error_t, set_error
+    use rs_core_strings, only: str, str_significant
+    use rs_formulations_formulation, only: formulation_traits_t, state_valid, modal_none, &
+        modal_first_order, modal_second_order
+    use rs_system_rod_system, only: rod_system_t
+    implicit none
+    private
+
+    public :: linearize_system
+
+    !> The linear pencil P(s) = a0 + s a1 + s^2 a2 of a system about a state at rest, on the
+    !> system's Jacobian pattern (0-based CSR over its step unknowns).
+    type, public :: pencil_t
+        !> modal_first_order (a2 = 0) or modal_second_order.
+        integer :: form = modal_none
+        integer :: n = 0
+        integer, allocatable :: row_ptr(:), cols(:)
+        real(rk), allocatable :: a0(:), a1(:), a2(:)
+        !> The largest relative disagreement of the fifth Jacobian with the fit.
+        real(rk) :: fit_error = 0.0_rk
+        !> |F(Y; X)|_inf / (|J|_max |Y|_inf) at z0: zero at an equilibrium.
+        real(rk) :: unbalance = 0.0_rk
+        !> Rows that are algebraic (one power of h: constraints).
+        integer :: n_algebraic = 0
+        !> The balanced z0 (1/s).
+        real(rk) :: z0 = 0.0_rk
+    end type pencil_t
+
+    !> Powers of h of the fit, and the sample points z / z0 (the last one checks).
+    integer, parameter :: powers(4) = [1, 0, -1, -2]
+    real(rk), parameter :: samples(5) = [1.0_rk, -1.0_rk, 2.0_rk, -2.0_rk, 3.0_rk]
+    !> A power is present in a row when its terms reach this share of the row's largest
+    !> sample entry (the fit's round-off is ~1e-14 of it).
+    real(rk), parameter :: presence_tol = 1.0e-10_rk
+    !> The smallest share of an entry's largest term that balanced_z0 takes into account.
+    real(rk), parameter :: balance_tol = 1.0e-14_rk
+    !> The largest relative disagreement of the check Jacobian that is round-off.
+    real(rk), parameter :: fit_tol = 1.0e-8_rk
+
+contains
+
+    !> The pencil of `system` about the state x (at rest) with the loads of time t; `dt` is the
+    !> scene's step, the first guess of the time scale.
+    subroutine linearize_system(system, t, x, dt, pencil, err)
+        type(rod_system_t), intent(inout) :: system
+        real(rk), intent(in) :: t, x(:), dt
+        type(pencil_t), intent(out) :: pencil
+        type(error_t), allocatable, intent(out) :: err
+        type(formulation_traits_t) :: traits
+        real(rk), allocatable :: coefficients(:, :), row_scale(:)
+        real(rk) :: z0, z_new
+        character(len=:), allocatable :: message
+        integer :: pass
+        integer, parameter :: max_passes = 6
+        traits = system%traits()
+        if (traits%modal_form == modal_none) then
+            message = 'modal analysis is not available for ' // system%formulation // &
+                ': its step Jacobian at rest is not the linearized equations of motion ' // &
+                '(docs/theory/modes.md)'
+            RS_SET_ERROR(err, 'linearize_system', message)
+            return
+        end if
+        pencil%form = traits%modal_form
+        pencil%n = system%n_unknown()
+        call system%jacobian_pattern(pencil%row_ptr, pencil%cols)
+        ! Rebalance z0 from the coefficients of the pass before until it settles (a stiff rod
+        ! whose 1/dt is far below its elements' frequencies: se3_pg with 200 elements and dt =
+        ! 0.25 starts with the mass terms at 1e-11 of the stiffness's).
+        z0 = 1.0_rk / dt
+        do pass = 1, max_passes
+            call fit(system, t, x, z0, pencil, coefficients, row_scale, err)
+            RS_RETURN_IF_ERROR(err)
+            if (pass == max_passes) exit
+            z_new = balanced_z0(coefficients, z0)
+            if (abs(z_new / z0 - 1.0_rk) < 0.1_rk) exit
+            z0 = z_new
+        end do
+        pencil%z0 = z0
+        call refine(system, t, x, z0, pencil, coefficients, row_scale, err)
+        RS_RETURN_IF_ERROR(err)
+        call classify(pencil, coefficients, row_scale, z0, err)
+        RS_RETURN_IF_ERROR(err)
+        if (all(pencil%a1 == 0.0_rk) .and. all(pencil%a2 == 0.0_rk)) then
+            message = 'the equations of motion have no inertia: give the rods a density ' // &
+                '(or rhoA, rhoI1, rhoI2)'
+            RS_SET_ERROR(err, 'linearize_system', message)
+        end if
+    end subroutine linearize_system
+
+    !> The z0 at which the terms of neighbouring powers of h weigh alike: the geometric mean
+    !> over the entries with two powers or more of the crossover (|C_hi| / |C_lo|)^(1 / (p_hi
+    !> - p_lo)) of their highest and lowest power (for an entry of M and K, about the highest
+    !> frequency of the elements). The fit's round-off in an entry is that of its largest term
+    !> at z0, so the minor term of an entry keeps most digits when z0 is near its crossover;
+    !> an entry with one power is exact at any z0 (the kinematic identities). A term counts
+    !> from 1e-14 of its entry's largest (it is then known to a few digits, enough for its
+    !> crossover). z0 unchanged when no entry has two powers.
+    pure real(rk) function balanced_z0(coefficients, z0) result(z)
+        real(rk), intent(in) :: coefficients(:, :), z0
+        real(rk) :: weight(4), largest, sum_log
+        integer :: j, hi, lo, n
+        sum_log = 0.0_rk
+        n = 0
+        do j = 1, size(coefficients, 1)
+            weight = abs(coefficients(j, :)) * z0**(-powers)
+            largest = maxval(weight)
+            if (largest <= 0.0_rk) cycle
+            if (count(weight > balance_tol * largest) < 2) cycle
+            hi = findloc(weight > balance_tol * largest, .true., dim=1)
+            lo = findloc(weight > balance_tol * largest, .true., dim=1, back=.true.)
+            sum_log = sum_log + log(abs(coefficients(j, hi)) / abs(coefficients(j, lo))) / &
+                real(powers(hi) - powers(lo), rk)
+            n = n + 1
+        end do
+        z = z0
+        if (n > 0) z = exp(sum_log / real(n, rk))
+    end function balanced_z0
+
+    !> Jacobians at z0 * samples, the coefficients of h^powers entry by entry (nnz x 4), each
+    !> row's largest sample entry, the check against the fifth sample and the unbalance.
+    subroutine fit(system, t, x, z0, pencil, coefficients, row_scale, err)
+        type(rod_system_t), intent(inout) :: system
+        real(rk), intent(in) :: t, x(:), z0
+        type(pencil_t), intent(inout) :: pencil
+        real(rk), allocatable, intent(out) :: coefficients(:, :), row_scale(:)
+        type(error_t), allocatable, intent(out) :: err
+        real(rk) :: vandermonde(4, 4), inverse(4, 4), z, h, worst, scale
+        real(rk), allocatable :: values(:, :), y(:), y_first(:), f(:)
+        character(len=:), allocatable :: message
+        integer :: k, j, status, nnz, i
+        nnz = size(pencil%cols)
+        allocate(values(nnz, 5), y(pencil%n), f(pencil%n))
+        do k = 1, 5
+            z = z0 * samples(k)
+            h = 1.0_rk / z
+            ! The forces of the midpoint step act at t_n + h/2 = t.
+            call system%predictor(t - 0.5_rk * h, h, x, y)
+            if (k == 1) then
+                y_first = y
+            else if (any(abs(y - y_first) > 1.0e-12_rk * max(1.0_rk, maxval(abs(y_first))))) then
+                message = 'the state is not at rest (the step''s first iterate depends on ' // &
+                    'the step): modes are computed about a state at rest'
+                RS_SET_ERROR(err, 'linearize_system', message)
+                return
+            end if
+            call system%step_jacobian(t - 0.5_rk * h, h, x, y, values(:, k), status)
+            if (status /= state_valid) then
+                RS_SET_ERROR(err, 'linearize_system', 'the state is invalid (NaN, an inverted element)')
+                return
+            end if
+            if (k == 1) then
+                call system%step_residual(t - 0.5_rk * h, h, x, y, f, status)
+                pencil%unbalance = maxval(abs(f)) / max(tiny(1.0_rk), &
+                    maxval(abs(values(:, 1))) * max(maxval(abs(y)), tiny(1.0_rk)))
+            end if
+        end do
+        do k = 1, 4
+            do j = 1, 4
+                vandermonde(k, j) = (z0 * samples(k))**(-powers(j))
+            end do
+        end do
+        call invert4(vandermonde, inverse)
+        coefficients = matmul(values(:, 1:4), transpose(inverse))
+        allocate(row_scale(pencil%n), source=0.0_rk)
+        worst = 0.0_rk
+        do i = 1, pencil%n
+            j = pencil%row_ptr(i) + 1
+            k = pencil%row_ptr(i + 1)
+            if (k < j) cycle
+            row_scale(i) = maxval(abs(values(j:k, 1:5)))
+            scale = max(row_scale(i), tiny(1.0_rk))
+            worst = max(worst, maxval(abs(values(j:k, 5) - matmul(coefficients(j:k, :), &
+                (z0 * samples(5))**(-powers)))) / scale)
+        end do
+        pencil%fit_error = worst
+        if (worst > fit_tol) then
+            message = 'the step Jacobian of ' // system%formulation // ' at this state is not ' // &
+                'of the midpoint form in h (a Jacobian at a fifth step differs from the fit by ' // &
+                str_significant(worst, 3) // ' of its entries): loads or drives that change ' // &
+                'with time, or a state not at rest (docs/theory/modes.md)'
+            RS_SET_ERROR(err, 'linearize_system', message)
+        end if
+    end subroutine fit
+
+    !> The pencil's a0, a1, a2 from the powers present in each row (module header).
+    subroutine classify(pencil, coefficients, row_scale, z0, err)
+        type(pencil_t), intent(inout) :: pencil
+        real(rk), intent(in) :: coefficients(:, :), row_scale(:), z0
+        type(error_t), allocatable, intent(out) :: err
+        logical :: present(4)
+        character(len=:), allocatable :: message
+        integer :: i, k, lo, hi
+        allocate(pencil%a0(size(pencil%cols)), pencil%a1(size(pencil%cols)), &
+            pencil%a2(size(pencil%cols)), source=0.0_rk)
+        pencil%n_algebraic = 0
+        do i = 1, pencil%n
+            lo = pencil%row_ptr(i) + 1
+            hi = pencil%row_ptr(i + 1)
+            if (hi < lo) cycle
+            present = row_powers(coefficients(lo:hi, :), row_scale(i), z0)
+            if (count(present) == 1) then
+                ! One power: an algebraic row (a constraint), whatever its factor.
+                k = findloc(present, .true., dim=1)
+                pencil%a0(lo:hi) = coefficients(lo:hi, k)
+                pencil%n_algebraic = pencil%n_algebraic + 1
+                cycle
+            end if
+            if (pencil%form == modal_first_order) then
+                ! h^p (B / h + A / 2): two neighbouring powers p (A / 2) and p - 1 (B).
+                do k = 1, 3
+                    if (present(k) .and. present(k + 1) .and. count(present) == 2) then
+                        pencil%a0(lo:hi) = 2.0_rk * coefficients(lo:hi, k)
+                        pencil%a1(lo:hi) = coefficients(lo:hi, k + 1)
+                        exit
+                    end if
+                end do
+                if (k <= 3) cycle
+            else if (.not. present(1)) then
+                ! 2 M / h^2 + C / h + K / 2, doubled; an absent power is round-off, dropped.
+                if (present(2)) pencil%a0(lo:hi) = 4.0_rk * coefficients(lo:hi, 2)
+                if (present(3)) pencil%a1(lo:hi) = 2.0_rk * coefficients(lo:hi, 3)
+                if (present(4)) pencil%a2(lo:hi) = coefficients(lo:hi, 4)
+                cycle
+            end if
+            message = 'row ' // str(i) // ' of the step Jacobian has the powers of h ' // &
+                powers_text(present) // ', which a ' // trim(merge('first ', 'second', &
+                pencil%form == modal_first_order)) // '-order midpoint step does not have ' // &
+                '(docs/theory/modes.md)'
+            RS_SET_ERROR(err, 'linearize_system', message)
+            return
+        end do
+    end subroutine classify
+
+    !> The powers of h present in a row (its entries' coefficients), by their terms at z0
+    !> against the row's largest sample entry.
+    pure function row_powers(coefficients, row_scale, z0) result(present)
+        real(rk), intent(in) :: coefficients(:, :), row_scale, z0
+        logical :: present(4)
+        integer :: k
+        do k = 1, 4
+            present(k) = maxval(abs(coefficients(:, k))) * z0**(-powers(k)) > &
+                presence_tol * row_scale
+        end do
+    end function row_powers
+
+    !> The coefficients of the rows with two powers again, from Jacobians at z0 / spread and
+    !> z0 spread, where each power's term dominates: the four-point fit leaves in both the
+    !> round-off of the larger term at z0 (for M and K sharing entries, eps |K| in each entry,
+    !> uncorrelated between entries), while J(z0 / spread) is the formulation's own tangent K/2
+    !> plus a vanishing 2 M (z0 / spread)^2, with the round-off of an assembled K. Measured on
+    !> se3_pg's cantilever with 600 elements: the first frequency's error against Timoshenko's
+    !> 2.2e-7 after the fit alone (the h^2 trend says 3.4e-7: round-off of 1.2e-7 that moved
+    !> with z0), 3.39e-7 after refine. (The rigid-body zeros of a free rod stay where they were:
+    !> their floor is the tangent's own round-off, docs/theory/modes.md.)
+    subroutine refine(system, t, x, z0, pencil, coefficients, row_scale, err)
+        type(rod_system_t), intent(inout) :: system
+        real(rk), intent(in) :: t, x(:), z0
+        type(pencil_t), intent(in) :: pencil
+        real(rk), intent(inout) :: coefficients(:, :)
+        real(rk), intent(in) :: row_scale(:)
+        type(error_t), allocatable, intent(out) :: err
+        real(rk), parameter :: spread = 1.0e4_rk
+        real(rk) :: z(2), values(size(coefficients, 1), 2), a(2, 2), det, h
+        real(rk), allocatable :: y(:)
+        logical :: present(4)
+        integer :: i, j, k, lo, hi, first, second, status
+        type(formulation_traits_t) :: traits
+        traits = system%traits()
+        z = [z0 / spread, z0 * spread]
+        allocate(y(pencil%n))
+        do k = 1, 2
+            h = 1.0_rk / z(k)
+            call system%predictor(t - 0.5_rk * h, h, x, y)
+            call system%step_jacobian(t - 0.5_rk * h, h, x, y, values(:, k), status)
+            if (status /= state_valid) then
+                RS_SET_ERROR(err, 'linearize_system', 'the state is invalid (NaN, an inverted element)')
+                return
+            end if
+        end do
+        do i = 1, pencil%n
+            lo = pencil%row_ptr(i) + 1
+            hi = pencil%row_ptr(i + 1)
+            if (hi < lo) cycle
+            present = row_powers(coefficients(lo:hi, :), row_scale(i), z0)
+            if (count(present) /= 2) cycle
+            first = findloc(present, .true., dim=1)
+            second = findloc(present, .true., dim=1, back=.true.)
+            a(:, 1) = z**(-powers(first))
+            a(:, 2) = z**(-powers(second))
+            det = a(1, 1) * a(2, 2) - a(1, 2) * a(2, 1)
+            do j = lo, hi
+                coefficients(j, :) = 0.0_rk
+                coefficients(j, first) = (a(2, 2) * values(j, 1) - a(1, 2) * values(j, 2)) / det
+                coefficients(j, second) = (a(1, 1) * values(j, 2) - a(2, 1) * values(j, 1)) / det
+            end do
+        end do
+    end subroutine refine
+
+    function powers_text(present) result(text)
+        logical, intent(in) :: present(4)
+        character(len=:), allocatable :: text
+        integer :: k
+        text = ''
+        do k = 1, 4
+            if (.not. present(k)) cycle
+            if (len(text) > 0) text = text // ', '
+            text = text // str(powers(k))
+        end do
+    end function powers_text
+
+    !> The inverse of a 4 x 4 matrix by Gauss-Jordan elimination with partial pivoting (the
+    !> Vandermonde matrix of the samples, well conditioned).
+    pure subroutine invert4(a, inverse)
+        real(rk), intent(in) :: a(4, 4)
+        real(rk), intent(out) :: inverse(4, 4)
+        real(rk) :: work(4, 8), row(8)
+        integer :: i, p, k
+        work = 0.0_rk
+        work(:, 1:4) = a
+        do i = 1, 4
+            work(i, 4 + i) = 1.0_rk
+        end do
+        do i = 1, 4
+            p = i - 1 + maxloc(abs(work(i:4, i)), dim=1)
+            row = work(p, :)
+            work(p, :) = work(i, :)
+            work(i, :) = row / row(i)
+            do k = 1, 4
+                if (k /= i) work(k, :) = work(k, :) - work(k, i) * work(i, :)
+            end do
+        end do
+        inverse = work(:, 5:8)
+    end subroutine invert4
+
+end module rs_system_linearization

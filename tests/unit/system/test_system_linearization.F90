@@ -1,0 +1,185 @@
+#include "rs_assert.h"
+!> The linearized equations of motion read from the step Jacobians (rs_system_linearization,
+!> docs/theory/modes.md), on parsed scenes, without PETSc:
+!>   (a) se3_pg (second order): the pencil gives back the system's step Jacobian at a sixth
+!>       step, J(h) = (2 a2 / h^2 + a1 / h + a0 / 2) / 2 (rows doubled), row by row;
+!>   (b) ph_director (first order) and se3_pg on a free rod: a0 applied to a rigid translation
+!>       of the nodes (the state's layout: positions moved, everything else still) vanishes,
+!>       and a1 (B) or a2 (M) applied to it does not (a translation has inertia);
+!>   (c) the refusals: a formulation without a modal form (se3_strand), a state in motion.
+module rs_test_system_linearization
+    use rs_core_kinds, only: rk
+    use rs_core_error, only: error_t, error_list_t
+    use rs_core_strings, only: str, str_significant
+    use rs_test_assert, only: run_test, assert_true, assert_equal, assert_contains
+    use rs_model_scene, only: scene_t
+    use rs_io_input_file, only: parse_scene
+    use rs_formulations_formulation, only: state_valid, modal_first_order, modal_second_order
+    use rs_system_rod_system, only: rod_system_t
+    use rs_system_linearization, only: pencil_t, linearize_system
+    implicit none
+    private
+
+    public :: run_all_tests
+
+    character(len=*), parameter :: nl = new_line('a')
+    !> The step of the scenes; the pencil is read about t = 0.
+    real(rk), parameter :: dt = 1.0e-4_rk
+
+contains
+
+    subroutine run_all_tests()
+        call run_test('se3_pg_reconstructs_jacobian', test_se3_pg_reconstructs_jacobian)
+        call run_test('ph_director_translation', test_ph_director_translation)
+        call run_test('se3_pg_translation', test_se3_pg_translation)
+        call run_test('refusals', test_refusals)
+    end subroutine run_all_tests
+
+    !> A steel rod of `n` elements along x, clamped at its start unless `free`.
+    function scene_text(formulation, n, free, extra) result(text)
+        character(len=*), intent(in) :: formulation, extra
+        integer, intent(in) :: n
+        logical, intent(in) :: free
+        character(len=:), allocatable :: text
+        text = '&time t_end = 1e-4, dt = 1e-4 /' // nl // &
+            "&rod name = 'beam', formulation = '" // formulation // "', n_elements = " // &
+            str(n) // ', length = 1,' // nl // &
+            '     start = 0, 0, 0, direction = 1, 0, 0,' // nl // &
+            "     section = 'circle', radius = 0.01, E = 2e11, G = 8e10, density = 7800" // &
+            extra // ' /' // nl
+        if (.not. free) text = text // "&bc rod = 'beam', end = 'start', kind = 'clamped' /" // nl
+    end function scene_text
+
+    subroutine build(text, system, x)
+        character(len=*), intent(in) :: text
+        type(rod_system_t), intent(out) :: system
+        real(rk), allocatable, intent(out) :: x(:)
+        type(scene_t) :: scene
+        type(error_list_t) :: errors
+        type(error_t), allocatable :: err
+        call parse_scene(text, 'linearization.nml', scene, errors)
+        CHECK_EQUAL(errors%count, 0, 'the scene parses: ' // errors%joined())
+        call system%init(scene, [1], err)
+        CHECK_TRUE(.not. allocated(err), 'the system builds')
+        allocate(x(system%n_state()))
+        call system%initial_state(x)
+    end subroutine build
+
+    subroutine test_se3_pg_reconstructs_jacobian()
+        type(rod_system_t) :: system
+        type(pencil_t) :: pencil
+        type(error_t), allocatable :: err
+        real(rk), allocatable :: x(:), y(:), values(:), rebuilt(:)
+        real(rk) :: h, worst, scale
+        character(len=:), allocatable :: message
+        integer :: status, i, lo, hi
+        call build(scene_text('se3_pg', 12, .false., ''), system, x)
+        call linearize_system(system, 0.0_rk, x, dt, pencil, err)
+        CHECK_TRUE(.not. allocated(err), 'se3_pg linearizes')
+        if (allocated(err)) return
+        CHECK_EQUAL(pencil%form, modal_second_order, 'se3_pg: second order')
+        CHECK_EQUAL(pencil%n_algebraic, 0, 'se3_pg cantilever: no algebraic rows')
+        CHECK_TRUE(all(pencil%a1 == 0.0_rk), 'se3_pg undamped: a1 = 0 exactly')
+        ! A step unlike the fit's, with the forces at t = 0.
+        h = 0.37_rk * dt
+        allocate(y(pencil%n), values(size(pencil%cols)))
+        call system%predictor(-0.5_rk * h, h, x, y)
+        call system%step_jacobian(-0.5_rk * h, h, x, y, values, status)
+        CHECK_EQUAL(status, state_valid, 'the Jacobian at the sixth step')
+        rebuilt = 0.5_rk * (2.0_rk * pencil%a2 / h**2 + pencil%a1 / h + 0.5_rk * pencil%a0)
+        worst = 0.0_rk
+        do i = 1, pencil%n
+            lo = pencil%row_ptr(i) + 1
+            hi = pencil%row_ptr(i + 1)
+            scale = maxval(abs(values(lo:hi)))
+            worst = max(worst, maxval(abs(rebuilt(lo:hi) - values(lo:hi))) / scale)
+        end do
+        ! Measured 4.4e-16 (round-off of the refined coefficients).
+        message = 'the pencil gives back J(h) row by row (relative error ' // str_significant(worst, 3) // ')'
+        CHECK_TRUE(worst < 1.0e-12_rk, message)
+    end subroutine test_se3_pg_reconstructs_jacobian
+
+    subroutine test_ph_director_translation()
+        call check_translation('ph_director', modal_first_order)
+    end subroutine test_ph_director_translation
+
+    subroutine test_se3_pg_translation()
+        call check_translation('se3_pg', modal_second_order)
+    end subroutine test_se3_pg_translation
+
+    !> On a free rod, a rigid translation t of the nodes (in the step unknowns' layout) is in
+    !> the null space of a0 to round-off, and has inertia (a1 t, or a2 t, not zero).
+    subroutine check_translation(formulation, form)
+        character(len=*), intent(in) :: formulation
+        integer, intent(in) :: form
+        type(rod_system_t) :: system
+        type(pencil_t) :: pencil
+        type(error_t), allocatable :: err
+        real(rk), allocatable :: x(:), t(:), a0t(:), inertia(:)
+        real(rk) :: bound
+        character(len=:), allocatable :: message
+        integer :: k, m, i
+        call build(scene_text(formulation, 6, .true., ''), system, x)
+        call linearize_system(system, 0.0_rk, x, dt, pencil, err)
+        CHECK_TRUE(.not. allocated(err), formulation // ' linearizes')
+        if (allocated(err)) return
+        CHECK_EQUAL(pencil%form, form, formulation // ': the declared form')
+        allocate(t(pencil%n), source=0.0_rk)
+        m = 1
+        associate (nodes => system%layout%members(m)%nodes, &
+                uo => system%layout%members(m)%unknown_offset)
+            do k = 1, nodes%n_nodes
+                do i = 1, 3
+                    if (nodes%unknown(i, k) > 0) t(uo + nodes%unknown(i, k)) = &
+                        real(i, rk) / 3.0_rk
+                end do
+            end do
+        end associate
+        a0t = csr_times(pencil, pencil%a0, t)
+        inertia = csr_times(pencil, merge(pencil%a1, pencil%a2, form == modal_first_order), t)
+        ! Measured |a0 t| = 1.9e-16 (ph_director) and 6e-8 (se3_pg, whose a0 reaches 1e10).
+        bound = 1.0e-12_rk * maxval(abs(pencil%a0)) * maxval(abs(t))
+        message = formulation // ': a rigid translation is in the null space of a0 (|a0 t| = ' // &
+            str_significant(maxval(abs(a0t)), 3) // ')'
+        CHECK_TRUE(maxval(abs(a0t)) <= bound, message)
+        message = formulation // ': a rigid translation has inertia'
+        CHECK_TRUE(maxval(abs(inertia)) > 1.0e-6_rk * maxval(abs(t)), message)
+    end subroutine check_translation
+
+    subroutine test_refusals()
+        type(rod_system_t) :: system
+        type(pencil_t) :: pencil
+        type(error_t), allocatable :: err
+        real(rk), allocatable :: x(:)
+        call build(scene_text('se3_strand', 6, .false., ''), system, x)
+        call linearize_system(system, 0.0_rk, x, dt, pencil, err)
+        CHECK_TRUE(allocated(err), 'se3_strand is refused')
+        if (allocated(err)) CHECK_CONTAINS(err%message, 'not available for se3_strand', 'named')
+        call build(scene_text('se3_pg', 6, .true., ', velocity = 0, 1, 0'), system, x)
+        call linearize_system(system, 0.0_rk, x, dt, pencil, err)
+        CHECK_TRUE(allocated(err), 'a state in motion is refused')
+        if (allocated(err)) CHECK_CONTAINS(err%message, 'not at rest', 'the refusal says why')
+    end subroutine test_refusals
+
+    function csr_times(pencil, values, v) result(w)
+        type(pencil_t), intent(in) :: pencil
+        real(rk), intent(in) :: values(:), v(:)
+        real(rk) :: w(pencil%n)
+        integer :: i, p
+        w = 0.0_rk
+        do i = 1, pencil%n
+            do p = pencil%row_ptr(i) + 1, pencil%row_ptr(i + 1)
+                w(i) = w(i) + values(p) * v(pencil%cols(p) + 1)
+            end do
+        end do
+    end function csr_times
+
+end module rs_test_system_linearization
+
+program test_system_linearization
+    use rs_test_system_linearization, only: run_all_tests
+    use rs_test_assert, only: finish_tests
+    implicit none
+    call run_all_tests()
+    call finish_tests()
+end program test_system_linearization
