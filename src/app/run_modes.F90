@@ -21,8 +21,8 @@ module rs_app_run_modes
     use rs_formulations_formulation, only: modal_first_order, max_node_coordinates
     use rs_system_rod_system, only: rod_system_t
     use rs_math_so3, only: exp_so3, tangent_so3, hat
-    use rs_system_linearization, only: pencil_t, linearize_system
-    use rs_solver_modal_solver, only: modes_t, solve_modes, lowest_elastic
+    use rs_system_linearization, only: pencil_t, linearize_system, static_stiffness
+    use rs_solver_modal_solver, only: modes_t, solve_modes, solve_buckling, lowest_elastic
     use rs_io_hdf5_file, only: hdf5_file_t
     use rs_io_xdmf_writer, only: xdmf_mode_rod_t, write_xdmf_modes_sidecar, &
         xdmf_modes_sidecar_path
@@ -51,20 +51,21 @@ contains
         type(scene_t) :: dynamic
         integer, allocatable :: system_of(:), first(:), members(:)
         type(rod_system_t), allocatable :: system
-        type(pencil_t) :: pencil
+        type(pencil_t) :: pencil, reference
         type(modes_t) :: modes
         type(xdmf_mode_rod_t), allocatable :: sidecar(:), rods(:)
-        real(rk), allocatable :: x(:)
+        real(rk), allocatable :: x(:), x0(:)
         real(rk) :: started, t
         integer :: k
         character(len=:), allocatable :: name, message
-        logical :: equilibrium
+        logical :: equilibrium, buckling
         ! The modes are the dynamic midpoint step's, whatever the run solved (statics,
         ! generalized-alpha): its objects carry the mass terms and the midpoint form.
         dynamic = scene
         dynamic%time%quasistatic = .false.
         dynamic%time%scheme = 'midpoint'
         equilibrium = trim(scene%modes%about) == 'equilibrium'
+        buckling = trim(scene%modes%kind) == 'buckling'
         ! The loads of the state: those of t = 0, or of t_end at the endpoint equilibrium.
         t = merge(scene%time%t_end, 0.0_rk, equilibrium)
         call coupled_systems(scene, system_of, first, members)
@@ -82,7 +83,22 @@ contains
             end if
             if (.not. allocated(err)) call linearize_system(system, t, x, scene%time%dt, &
                 pencil, err)
-            if (.not. allocated(err)) call solve_modes(pencil, scene%modes%n_modes, modes, err)
+            if (buckling) then
+                ! The unloaded reference: the initial state with the loads of t = 0.
+                if (.not. allocated(err)) then
+                    allocate(x0(size(x)))
+                    call system%initial_state(x0)
+                    call linearize_system(system, 0.0_rk, x0, scene%time%dt, reference, err)
+                    if (.not. allocated(err)) call static_stiffness(system, 0.0_rk, x0, &
+                        reference, err)
+                    deallocate(x0)
+                end if
+                if (.not. allocated(err)) call static_stiffness(system, t, x, pencil, err)
+                if (.not. allocated(err)) call solve_buckling(reference, pencil, &
+                    scene%modes%n_modes, modes, err)
+            else
+                if (.not. allocated(err)) call solve_modes(pencil, scene%modes%n_modes, modes, err)
+            end if
             name = system_name(scene, members(first(k):first(k + 1) - 1))
             if (allocated(err)) then
                 err%message = 'modes of ' // name // ': ' // err%message
@@ -166,6 +182,16 @@ contains
         character(len=:), allocatable :: line
         real(rk) :: lowest
         integer :: k, rigid
+        if (allocated(modes%load_factor)) then
+            line = ''
+            do k = 1, modes%n
+                line = line // ' ' // str_significant(modes%load_factor(k), 10)
+            end do
+            call log_info('rodsolve: buckling of ' // name // ': ' // str(modes%n) // &
+                ' load factors of the run''s loads (' // str(pencil%n) // ' unknowns), ' // &
+                modes%solver // ', ' // str_significant(seconds, 3) // ' s:' // line)
+            return
+        end if
         lowest = lowest_elastic(modes%omega(1:modes%n))
         rigid = count(abs(modes%omega(1:modes%n)) < 1.0e-3_rk * lowest)
         call log_info('rodsolve: modes of ' // name // ': ' // str(modes%n) // ' modes (' // &
@@ -208,6 +234,7 @@ contains
         hz = merge('Hz ', '1/s', units == 'si')
         if (units /= 'si') hz = unit_in_system('1/s', units)
         group = '/modes/' // name
+        if (allocated(modes%load_factor)) group = '/buckling/' // name
         allocate(rods(size(system%members)))
         call file%open(path, err)
         if (allocated(err)) return
@@ -215,28 +242,44 @@ contains
             call file%create_group(group, err)
             if (allocated(err)) exit body
             n = modes%n
-            call file%write_dataset(group // '/frequency', modes%omega(1:n) / (2.0_rk * pi), &
-                trim(hz), 'frequency f = omega / (2 pi) of each mode, lowest first (negative: ' // &
-                'omega^2 < 0, an unstable state), [mode]', err)
-            if (allocated(err)) exit body
-            call file%write_dataset(group // '/angular_frequency', modes%omega(1:n), &
-                unit_in_system('rad/s', units), 'angular frequency omega of each mode, ' // &
-                '[mode]', err)
-            if (allocated(err)) exit body
-            call file%write_dataset(group // '/decay_rate', modes%decay(1:n), &
-                unit_in_system('1/s', units), 'decay rate delta of each mode, s = -delta +- ' // &
-                'i omega (zero without damping), [mode]', err)
-            if (allocated(err)) exit body
-            call file%write_dataset(group // '/residual', modes%residual(1:n), '-', &
-                'relative residual of each eigenpair (SLEPc), [mode]', err)
-            if (allocated(err)) exit body
-            call file%write_attribute(group, 'about', trim(scene%modes%about), err)
-            if (.not. allocated(err)) call file%write_attribute(group, 'solver', modes%solver, err)
-            if (.not. allocated(err)) call file%write_attribute(group, 'pencil', &
-                trim(merge('first ', 'second', pencil%form == modal_first_order)) // '-order', err)
-            if (.not. allocated(err)) call file%write_attribute(group, 'unbalance', &
-                pencil%unbalance, err)
-            if (allocated(err)) exit body
+            if (allocated(modes%load_factor)) then
+                ! Linearized buckling: load factors, no frequencies.
+                call file%write_dataset(group // '/load_factor', modes%load_factor(1:n), '-', &
+                    'critical load factor lambda of each buckling mode relative to the run''s ' // &
+                    'loads (those of t_end), smallest |lambda| first (negative: the reversed ' // &
+                    'loads), [mode]', err)
+                if (.not. allocated(err)) call file%write_dataset(group // '/residual', &
+                    modes%residual(1:n), '-', 'relative residual of each eigenpair (SLEPc), ' // &
+                    '[mode]', err)
+                if (.not. allocated(err)) call file%write_attribute(group, 'solver', &
+                    modes%solver, err)
+                if (.not. allocated(err)) call file%write_attribute(group, 'unbalance', &
+                    pencil%unbalance, err)
+                if (allocated(err)) exit body
+            else
+                call file%write_dataset(group // '/frequency', modes%omega(1:n) / (2.0_rk * pi), &
+                    trim(hz), 'frequency f = omega / (2 pi) of each mode, lowest first (negative: ' // &
+                    'omega^2 < 0, an unstable state), [mode]', err)
+                if (allocated(err)) exit body
+                call file%write_dataset(group // '/angular_frequency', modes%omega(1:n), &
+                    unit_in_system('rad/s', units), 'angular frequency omega of each mode, ' // &
+                    '[mode]', err)
+                if (allocated(err)) exit body
+                call file%write_dataset(group // '/decay_rate', modes%decay(1:n), &
+                    unit_in_system('1/s', units), 'decay rate delta of each mode, s = -delta +- ' // &
+                    'i omega (zero without damping), [mode]', err)
+                if (allocated(err)) exit body
+                call file%write_dataset(group // '/residual', modes%residual(1:n), '-', &
+                    'relative residual of each eigenpair (SLEPc), [mode]', err)
+                if (allocated(err)) exit body
+                call file%write_attribute(group, 'about', trim(scene%modes%about), err)
+                if (.not. allocated(err)) call file%write_attribute(group, 'solver', modes%solver, err)
+                if (.not. allocated(err)) call file%write_attribute(group, 'pencil', &
+                    trim(merge('first ', 'second', pencil%form == modal_first_order)) // '-order', err)
+                if (.not. allocated(err)) call file%write_attribute(group, 'unbalance', &
+                    pencil%unbalance, err)
+                if (allocated(err)) exit body
+            end if
             shapes = node_phase(system, modes)
             ! Each mode scaled so that the largest of its nodal displacements |u| and of L
             ! |theta| (L the system's extent) is 1 over the system's rods: a torsion mode,
@@ -267,7 +310,11 @@ contains
                     shown%name = system%members(m)%name
                     shown%group = group // '/' // shown%name
                     shown%n_nodes = size(position, 2)
-                    shown%frequency = modes%omega(1:n) / (2.0_rk * pi)
+                    if (allocated(modes%load_factor)) then
+                        shown%frequency = modes%load_factor(1:n)
+                    else
+                        shown%frequency = modes%omega(1:n) / (2.0_rk * pi)
+                    end if
                 end associate
                 call file%create_group(rods(n_shown)%group, err)
                 if (allocated(err)) exit body

@@ -686,6 +686,10 @@ contains
             if (trim(scene%modes%about) == 'equilibrium' .and. .not. scene%time%quasistatic) &
                 call errors%add(here // 'about = ''equilibrium'' is the endpoint of a ' // &
                 'quasistatic run (&time quasistatic = .true.); a dynamic run ends in motion')
+            if (trim(scene%modes%kind) == 'buckling' .and. trim(scene%modes%about) /= &
+                'equilibrium') call errors%add(here // 'kind = ''buckling'' compares the ' // &
+                'equilibrium under the loads with the reference state: give about = ' // &
+                '''equilibrium'' (docs/theory/modes.md)')
             if (allocated(scene%sweeps)) then
                 if (size(scene%sweeps) > 0) call errors%add(here // 'not available with ' // &
                     '&sweep yet: a sweep''s members are written without their modes')

@@ -951,7 +951,14 @@ contains
                 'initial state of the scene (with the loads of t = 0); ''equilibrium'', the ' // &
                 'endpoint equilibrium of a quasistatic run (with the loads of t_end: ' // &
                 'prestress and load stiffness included).', &
-                allowed='reference|equilibrium', example="'equilibrium'")]
+                allowed='reference|equilibrium', example="'equilibrium'"), &
+            spec_v('kind', 'string', '-', "'modes'", &
+                '''modes'': frequencies and mode shapes; ''buckling'': linearized buckling, ' // &
+                'the critical load factors lambda of the run''s loads (those of t_end) and ' // &
+                'the buckling modes, from K_T(u_0) phi = -lambda (K_T(u_1) - K_T(u_0)) phi ' // &
+                'with u_0 the reference state (loads of t = 0, give a ramp) and u_1 the ' // &
+                'equilibrium (needs about = ''equilibrium''; /buckling of the result file).', &
+                allowed='modes|buckling', example="'buckling'")]
     end function modes_group
 
     function obstacle_group() result(g)

@@ -505,6 +505,9 @@ module rs_model_scene
         !> The state the equations are linearized about: 'reference' (the initial state, loads
         !> of t = 0) or 'equilibrium' (the endpoint of a quasistatic run, loads of t_end).
         character(len=16) :: about = 'reference'
+        !> What is computed: 'modes' (frequencies) or 'buckling' (the critical load factors of
+        !> the run's loads about the reference state, issue 27 item 2).
+        character(len=16) :: kind = 'modes'
     end type modes_input_t
 
     type, public :: scene_t

@@ -21,7 +21,7 @@ module rs_solver_modal_solver
     implicit none
     private
 
-    public :: solve_modes, slepc_version, lowest_elastic
+    public :: solve_modes, solve_buckling, slepc_version, lowest_elastic
 
     !> The modes found, lowest first.
     type, public :: modes_t
@@ -29,6 +29,9 @@ module rs_solver_modal_solver
         !> Angular frequency omega (rad/s; negative: omega^2 < 0, an unstable mode) and decay
         !> rate delta (1/s) of each mode.
         real(rk), allocatable :: omega(:), decay(:)
+        !> Buckling (solve_buckling): the load factor lambda of each mode, smallest |lambda|
+        !> first (omega and decay zero).
+        real(rk), allocatable :: load_factor(:)
         !> SLEPc's relative residual of each eigenpair.
         real(rk), allocatable :: residual(:)
         !> The eigenvectors in the step unknowns (n_unknown x n), real and imaginary parts,
@@ -99,6 +102,94 @@ contains
         sigma = shift_share * pencil%z0
         call eigen_solve(pencil, n_modes, merge(-sigma, -sigma**2, degree == 1), modes, err)
     end subroutine solve_modes
+
+    !> The n_modes load factors lambda nearest zero of linearized buckling (issue 27 item 2,
+    !> docs/theory/modes.md): K_0 phi = -lambda (K_1 - K_0) phi, K_0 the stiffness of the
+    !> reference state (pencil `reference`, unloaded) and K_1 that of the equilibrium under the
+    !> loads (`loaded`), both the a0 of second-order pencils on the same pattern. Solved as the
+    !> generalized problem Op0 = K_0, Op1 = K_0 - K_1 with shift-and-invert at 0 (K_0 is
+    !> factorized: a system with rigid-body motions has none, and is refused by MUMPS). The
+    !> geometric stiffness is singular (axial and torsional rows barely change), its infinite
+    !> eigenvalues lie far from the target. Complex pairs (a non-conservative load) are
+    !> skipped. Collective on all ranks.
+    subroutine solve_buckling(reference, loaded, n_modes, modes, err)
+        type(pencil_t), intent(in) :: reference, loaded
+        integer, intent(in) :: n_modes
+        type(modes_t), intent(out) :: modes
+        type(error_t), allocatable, intent(out) :: err
+        type(pencil_t) :: pencil
+        type(modes_t) :: found
+        character(len=:), allocatable :: why
+        integer :: i
+        if (reference%form /= modal_second_order .or. loaded%form /= modal_second_order) then
+            why = 'linearized buckling needs the stiffness of a second-order pencil (se3_pg, ' // &
+                'ph_planar); not available for first-order formulations yet'
+            RS_SET_ERROR(err, 'solve_buckling', why)
+            return
+        end if
+        if (reference%n /= loaded%n .or. size(reference%cols) /= size(loaded%cols)) then
+            RS_SET_ERROR(err, 'solve_buckling', 'the loaded and unloaded pencils differ in pattern')
+            return
+        end if
+        if (any(reference%cols /= loaded%cols)) then
+            RS_SET_ERROR(err, 'solve_buckling', 'the loaded and unloaded pencils differ in pattern')
+            return
+        end if
+        pencil = reference
+        pencil%form = modal_first_order
+        pencil%a1 = reference%a0 - loaded%a0
+        pencil%a2 = 0.0_rk * reference%a0
+        call eigen_solve_real(pencil, n_modes, found, err)
+        if (allocated(err)) return
+        modes = found
+    contains
+
+        !> Op0 x = mu Op1 x, the n_modes real eigenvalues nearest 0.
+        subroutine eigen_solve_real(pencil, n_modes, modes, err)
+            type(pencil_t), intent(in) :: pencil
+            integer, intent(in) :: n_modes
+            type(modes_t), intent(out) :: modes
+            type(error_t), allocatable, intent(out) :: err
+            real(rk), allocatable :: mu_re(:), mu_im(:), vec_re(:, :), vec_im(:, :), errors(:)
+            character(kind=c_char) :: text(256), message(1024)
+            integer(c_int) :: ierr, n_found
+            integer :: n_wanted
+            real(rk) :: scale
+            n_wanted = min(n_modes + 2, pencil%n)
+            allocate(mu_re(n_wanted), mu_im(n_wanted), errors(n_wanted), &
+                vec_re(pencil%n, n_wanted), vec_im(pencil%n, n_wanted))
+            ierr = rs_modes_solve(int(pencil%n, c_int), pencil%row_ptr, pencil%cols, pencil%a0, &
+                pencil%a1, pencil%a2, 1_c_int, int(n_wanted, c_int), 0.0_c_double, n_found, &
+                mu_re, mu_im, vec_re, vec_im, errors, text, int(size(text), c_int), message, &
+                int(size(message), c_int))
+            if (ierr /= 0) then
+                why = from_c_string(message) // ' (linearized buckling factorizes the ' // &
+                    'unloaded stiffness: the system must be supported against rigid motion)'
+                RS_SET_ERROR(err, 'solve_buckling', why)
+                return
+            end if
+            modes%solver = from_c_string(text)
+            allocate(modes%omega(n_modes), modes%decay(n_modes), modes%residual(n_modes), &
+                modes%load_factor(n_modes), modes%shape(pencil%n, n_modes), &
+                modes%shape_im(pencil%n, n_modes), source=0.0_rk)
+            modes%n = 0
+            do i = 1, n_found
+                if (modes%n == n_modes) exit
+                if (abs(mu_im(i)) > 1.0e-8_rk * abs(mu_re(i))) cycle
+                modes%n = modes%n + 1
+                modes%load_factor(modes%n) = mu_re(i)
+                modes%residual(modes%n) = errors(i)
+                scale = maxval(abs(vec_re(:, i)))
+                if (scale <= 0.0_rk) scale = 1.0_rk
+                modes%shape(:, modes%n) = vec_re(:, i) / scale
+            end do
+            if (modes%n < n_modes) then
+                why = 'SLEPc found ' // str(modes%n) // ' real buckling load factors of the ' // &
+                    str(n_modes) // ' asked for (ask for fewer modes)'
+                RS_SET_ERROR(err, 'solve_buckling', why)
+            end if
+        end subroutine eigen_solve_real
+    end subroutine solve_buckling
 
     !> The lowest frequency |omega| above the rigid-body zeros: the first after a jump of a
     !> factor 1e3 between neighbours sorted by |omega| (the zeros are round-off: at most 2.4e-5
