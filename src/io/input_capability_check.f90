@@ -682,6 +682,9 @@ contains
             if (.not. row%damped_modes .and. rod_is_damped(rod)) call errors%add(here // &
                 'modes of a damped rod (''' // trim(rod%name) // ''') are not available for ' // &
                 what // ' yet; remove kelvin_voigt_time, drag and angular_drag' // see_matrix)
+            if (trim(scene%modes%kind) == 'buckling' .and. .not. row%buckling) &
+                call errors%add(here // 'linearized buckling (kind = ''buckling'') is not ' // &
+                'available for ' // what // ' (rod ''' // trim(rod%name) // ''')' // see_matrix)
             if (i > 1) return
             if (trim(scene%modes%about) == 'equilibrium' .and. .not. scene%time%quasistatic) &
                 call errors%add(here // 'about = ''equilibrium'' is the endpoint of a ' // &

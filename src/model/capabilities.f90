@@ -80,6 +80,9 @@ module rs_model_capabilities
         !> Modes of damped rods too (a pencil that solves them: the first-order form's damping
         !> is in A; se3_pg's damped quadratic pencil is not solved yet).
         logical :: damped_modes = .false.
+        !> Linearized buckling (&modes kind = 'buckling'): a second-order pencil, whose
+        !> stiffness one long step reads (rs_system_linearization's static_stiffness).
+        logical :: buckling = .false.
     end type capability_t
 
 contains

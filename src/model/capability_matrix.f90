@@ -63,7 +63,8 @@ contains
             ' | ' // yes_no(row%generalized_alpha, 'yes (`&time scheme`, `rho_inf`)') // &
             ' | ' // yes_no(row%planar, 'yes: rods and loads in one plane') // &
             ' | ' // yes_no(row%modes, trim(merge('yes (`&modes`)     ', &
-            'undamped (`&modes`)', row%damped_modes))) // ' |'
+            'undamped (`&modes`)', row%damped_modes)) // trim(merge(', buckling', &
+            '          ', row%buckling))) // ' |'
     end function row_markdown
 
     !> A '|'-separated list as 'a, b, c' ('-' when empty).

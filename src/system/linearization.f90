@@ -38,7 +38,7 @@ module rs_system_linearization
     implicit none
     private
 
-    public :: linearize_system, static_stiffness
+    public :: linearize_system, static_stiffness, mass_rows
 
     !> The linear pencil P(s) = a0 + s a1 + s^2 a2 of a system about a state at rest, on the
     !> system's Jacobian pattern (0-based CSR over its step unknowns).
@@ -123,14 +123,17 @@ contains
     !> with the loads of t) read again from one Jacobian at a step so long that the mass
     !> terms are below round-off: J(h) = 2 M / h^2 + K / 2 at rest, so at z = 1/h = 1e-8 z0
     !> the mass terms are 1e-16 of the stiffness's (z0 about the elements' highest frequency)
-    !> and a0 = 4 J exactly where the pencil has mass (a2 /= 0 in the row); algebraic rows
-    !> keep the fit's a0. Linearized buckling (docs/theory/modes.md) subtracts the stiffness
+    !> and a0 = 4 J exactly in `rows` (those with mass); the others, algebraic, keep the fit's
+    !> a0. Linearized buckling (docs/theory/modes.md) subtracts the stiffness
     !> of two states, which the fit's a0 carries to 1e-5 of the buckling load only: with the
     !> fit, the critical load of a cantilever of 400 - 800 se3_pg elements moved by up to
     !> 3.5e-5 with the run's dt (z0 starts at 1/dt), with one long step by ...
-    subroutine static_stiffness(system, t, x, pencil, err)
+    subroutine static_stiffness(system, t, x, rows, pencil, err)
         type(rod_system_t), intent(inout) :: system
         real(rk), intent(in) :: t, x(:)
+        !> The rows to read again (mass_rows: of every pencil compared, so that a row is read
+        !> alike in each; ph_planar's strain rows have mass in one state and not in another).
+        logical, intent(in) :: rows(:)
         type(pencil_t), intent(inout) :: pencil
         type(error_t), allocatable, intent(out) :: err
         real(rk), allocatable :: y(:), values(:)
@@ -152,10 +155,20 @@ contains
             lo = pencil%row_ptr(i) + 1
             hi = pencil%row_ptr(i + 1)
             if (hi < lo) cycle
-            if (all(pencil%a2(lo:hi) == 0.0_rk)) cycle
+            if (.not. rows(i)) cycle
             pencil%a0(lo:hi) = 4.0_rk * values(lo:hi)
         end do
     end subroutine static_stiffness
+
+    !> The rows of `pencil` with mass (a2 /= 0 in the row).
+    pure function mass_rows(pencil) result(rows)
+        type(pencil_t), intent(in) :: pencil
+        logical :: rows(pencil%n)
+        integer :: i
+        do i = 1, pencil%n
+            rows(i) = any(pencil%a2(pencil%row_ptr(i) + 1:pencil%row_ptr(i + 1)) /= 0.0_rk)
+        end do
+    end function mass_rows
 
     !> The z0 at which the terms of neighbouring powers of h weigh alike: the geometric mean
     !> over the entries with two powers or more of the crossover (|C_hi| / |C_lo|)^(1 / (p_hi

@@ -58,7 +58,8 @@ contains
             viscoelastic=.false., actuation=.false., curved_reference=.false., &
             joints='revolute|rigid', planar=.true., order_4=.true., adaptive=.true., &
             damping=.true., segments=.true., prestrain=.true., initial_equilibrium=.true., &
-            release=.true., modes=name == 'ph_planar', damped_modes=.false.)
+            release=.true., modes=name == 'ph_planar', damped_modes=.false., &
+            buckling=name == 'ph_planar')
         d%create => create
         d%plan_lines => plan_lines
         d%check_rod => check_planar_rod
