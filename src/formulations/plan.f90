@@ -90,12 +90,21 @@ contains
             ''', ' // str(n_records) // ' record(s) (t = 0, every ' // str(scene%output%stride) // &
             ' step(s) and the last), flushed every ' // str(scene%output%flush_every) // &
             ' step(s), XDMF sidecar ' // trim(merge('yes', 'no ', scene%output%xdmf)))
-        if (scene%modes%given) call add('modes: after the run, the lowest ' // &
-            str(scene%modes%n_modes) // ' modes of every system about its ' // &
-            trim(scene%modes%about) // ' state (the linearized equations of motion read from ' // &
-            'the step Jacobians at five steps, docs/theory/modes.md), by SLEPc ' // &
-            'shift-and-invert with MUMPS on all ranks; frequencies and mode shapes into ' // &
-            '/modes of the result file and its .modes.xdmf sidecar')
+        if (scene%modes%given .and. trim(scene%modes%kind) == 'buckling') then
+            call add('buckling: after the run, the ' // str(scene%modes%n_modes) // &
+                ' load factors nearest 0 of the run''s loads (those of t_end) and their ' // &
+                'buckling modes, K_T(u_0) phi = -lambda (K_T(u_1) - K_T(u_0)) phi with u_0 ' // &
+                'the reference and u_1 the end equilibrium (docs/theory/modes.md), by SLEPc ' // &
+                'shift-and-invert at 0 with MUMPS; load factors (unit 1) and modes into ' // &
+                '/buckling of the result file and its .modes.xdmf sidecar')
+        else if (scene%modes%given) then
+            call add('modes: after the run, the lowest ' // &
+                str(scene%modes%n_modes) // ' modes of every system about its ' // &
+                trim(scene%modes%about) // ' state (the linearized equations of motion read from ' // &
+                'the step Jacobians at five steps, docs/theory/modes.md), by SLEPc ' // &
+                'shift-and-invert with MUMPS on all ranks; frequencies and mode shapes into ' // &
+                '/modes of the result file and its .modes.xdmf sidecar')
+        end if
         call add('units: ''' // units // ''' (length ' // unit_in_system('m', units) // ', mass ' // &
             unit_in_system('kg', units) // ', time ' // unit_in_system('s', units) // ', force ' // &
             unit_in_system('N', units) // ', stress ' // unit_in_system('Pa', units) // '); the ' // &

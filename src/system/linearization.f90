@@ -121,13 +121,15 @@ contains
 
     !> The stiffness rows of a second-order `pencil` (linearize_system's, of `system` about x
     !> with the loads of t) read again from one Jacobian at a step so long that the mass
-    !> terms are below round-off: J(h) = 2 M / h^2 + K / 2 at rest, so at z = 1/h = 1e-8 z0
-    !> the mass terms are 1e-16 of the stiffness's (z0 about the elements' highest frequency)
-    !> and a0 = 4 J exactly in `rows` (those with mass); the others, algebraic, keep the fit's
-    !> a0. Linearized buckling (docs/theory/modes.md) subtracts the stiffness
-    !> of two states, which the fit's a0 carries to 1e-5 of the buckling load only: with the
-    !> fit, the critical load of a cantilever of 400 - 800 se3_pg elements moved by up to
-    !> 3.5e-5 with the run's dt (z0 starts at 1/dt), with one long step by ...
+    !> terms are below round-off:
+    !> J(h) = K / 2 + 2 M / h^2 at rest, so at z = 1/h = 1e-20 z0 the mass terms are far below
+    !> round-off, and a0 = 4 J exactly in `rows` (those with mass); the others, algebraic, keep
+    !> the fit's a0. Linearized buckling (docs/theory/modes.md) needs the stiffness of the
+    !> slowest mode, where the fit's a0 is not good enough: with it, the Euler load of a se3_pg
+    !> cantilever (L / r = 1000) of 400 - 800 elements moved by up to 3.5e-5 with the run's dt
+    !> (z0 starts at 1/dt); with z = 1e-8 z0 the mass left, 2 M z^2, raised it by (z / omega_1)^2
+    !> (z0 grows with the mesh: 1e-5 at 800 elements); with 1e-20 z0 it is independent of dt
+    !> and of the load to 3e-7 and converges at order 2 (tests/regression/modes/buckling.py).
     subroutine static_stiffness(system, t, x, rows, pencil, err)
         type(rod_system_t), intent(inout) :: system
         real(rk), intent(in) :: t, x(:)
