@@ -19,6 +19,8 @@ Cases:
       4.0125993...). EI_strong / EI_weak = EI_strong / GJ = 1e4, so that the prebuckling
       deflection, which Prandtl neglects, moves P_cr by about 1e-4; the load is 1e-3 P_cr.
       Observed order 2, the finest mesh within 1e-3 (measured 7.3e-5 at 200 elements).
+  ranks
+      the se3_pg column's load factors on 2 ranks (a distributed eigen solve) equal those on 1.
 """
 import math
 import os
@@ -72,8 +74,9 @@ def column(formulation, n_elements, share, section=CIRCLE, force=None, atol=1e-8
 """
 
 
-def buckle(args, formulation, n_elements, share):
-    path = run(args, column(formulation, n_elements, share), f"{formulation}_{n_elements}_{share}")
+def buckle(args, formulation, n_elements, share, ranks=1):
+    path = run(args, column(formulation, n_elements, share),
+               f"{formulation}_{n_elements}_{share}_{ranks}", ranks=ranks)
     with h5py.File(path, "r") as f:
         group = f["buckling"]["column"]
         unit = group["load_factor"].attrs["unit"]
@@ -171,9 +174,18 @@ def prandtl(args, checks):
     checks.check(f"prandtl, {meshes[-1]} elements: |P / P_cr - 1|", abs(errors[-1]), 1e-3)
 
 
+def ranks(args, checks):
+    one, _ = buckle(args, "se3_pg", 200, 0.5)
+    two, _ = buckle(args, "se3_pg", 200, 0.5, ranks=2)
+    print("1 rank:", one, "2 ranks:", two)
+    checks.check("load factors on 2 ranks against 1 (largest relative difference)",
+                 float(np.max(np.abs(two / one - 1))), 1e-8)
+
+
 if __name__ == "__main__":
     run_cases(__doc__, {
         "euler_se3_pg": euler("se3_pg", [50, 100, 200, 400]),
         "euler_ph_planar": euler("ph_planar", [50, 100, 200, 400]),
         "prandtl_se3_pg": prandtl,
+        "ranks": ranks,
     })
