@@ -112,7 +112,8 @@ contains
             end if
             name = system_name(scene, members(first(k):first(k + 1) - 1))
             if (allocated(err)) then
-                err%message = 'modes of ' // name // ': ' // err%message
+                err%message = trim(merge('buckling of', 'modes of   ', buckling)) // ' ' // &
+                    name // ': ' // err%message
                 return
             end if
             call log_modes(name, pencil, modes, wall_time() - started)

@@ -185,7 +185,10 @@ contains
             end do
             if (modes%n < n_modes) then
                 why = 'SLEPc found ' // str(modes%n) // ' real buckling load factors of the ' // &
-                    str(n_modes) // ' asked for (ask for fewer modes)'
+                    str(n_modes) // ' asked for, and ' // str(count(abs(mu_im(1:n_found)) > &
+                    1.0e-8_rk * abs(mu_re(1:n_found)))) // ' complex ones (a non-conservative ' // &
+                    'load pattern, such as a dead end moment on an end free to turn, has no ' // &
+                    'divergence there); ask for fewer modes'
                 RS_SET_ERROR(err, 'solve_buckling', why)
             end if
         end subroutine eigen_solve_real
