@@ -366,9 +366,8 @@ contains
             rotation(:, :, :)
         real(rk) :: q(max_node_coordinates), dq(max_node_coordinates, size(shapes, 2))
         real(rk) :: turn(3, 3)
-        integer :: k, i, j, so, uo, n_coordinates, at, n_modes
+        integer :: k, i, j, uo, n_coordinates, at, n_modes
         associate (place => system%layout%members(m), nodes => system%layout%members(m)%nodes)
-            so = place%state_offset
             uo = place%unknown_offset
             n_coordinates = nodes%n_coordinates
             n_modes = size(shapes, 2)
@@ -376,13 +375,9 @@ contains
                 rotation(3, nodes%n_nodes, n_modes), source=0.0_rk)
             do k = 1, nodes%n_nodes
                 q = 0.0_rk
+                q(1:n_coordinates) = system%layout%node_state(m, k, x, n_coordinates)
                 dq = 0.0_rk
                 do i = 1, n_coordinates
-                    if (nodes%state(i, k) > 0) then
-                        q(i) = x(so + nodes%state(i, k))
-                    else
-                        q(i) = nodes%held(i, k)
-                    end if
                     if (nodes%unknown(i, k) > 0) dq(i, :) = shapes(uo + nodes%unknown(i, k), :)
                 end do
                 position(:, k) = q(1:3)

@@ -4,6 +4,9 @@
 !> (inertial components, active rotations as rs_math_so3), f the &bc time function with
 !> f(0) = 0 (the input check), so the end starts at its reference pose. Both formulations
 !> build their drives from this one type and read the prescribed pose from it.
+!> The prescribed pose is a Dirichlet condition on the end node's unknowns (methods/
+!> ph_director_3d.md §2.9; methods/se3_petrov_galerkin.md §5.1), the superimposed rotation of
+!> methods/se3_petrov_galerkin.md §10.3 its objectivity test.
 #include "rs_macros.h"
 module rs_formulations_end_drive
     use rs_core_kinds, only: rk

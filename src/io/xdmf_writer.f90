@@ -422,7 +422,6 @@ contains
         if (len(text) >= len(suffix)) ends_with = text(len(text) - len(suffix) + 1:) == suffix
     end function ends_with
 
-    !> Write the sidecar of the result file `h5_path` (see `xdmf_sidecar_path`) describing
     !> The modes sidecar of a result file: FILE.modes.xdmf next to FILE.h5.
     pure function xdmf_modes_sidecar_path(h5_path) result(path)
         character(len=*), intent(in) :: h5_path
@@ -437,30 +436,8 @@ contains
         character(len=*), intent(in) :: h5_path
         type(xdmf_mode_rod_t), intent(in) :: rods(:)
         type(error_t), allocatable, intent(out) :: err
-        character(len=:), allocatable :: path, temporary
-        character(len=256) :: message
-        integer :: unit, status
-        path = xdmf_modes_sidecar_path(h5_path)
-        temporary = path // '.tmp'
-        open(newunit=unit, file=temporary, status='replace', action='write', access='stream', &
-            form='unformatted', iostat=status, iomsg=message)
-        if (status == 0) then
-            write(unit, iostat=status, iomsg=message) xdmf_modes_text(base_name(h5_path), rods)
-            if (status == 0) then
-                close(unit)
-            else
-                close(unit, status='delete')
-            end if
-        end if
-        if (status /= 0) then
-            call set_error(err, 'cannot write the XDMF modes sidecar "' // temporary // '": ' // &
-                trim(message), 'write_xdmf_modes_sidecar', __FILE__, __LINE__)
-            return
-        end if
-        if (c_rename(temporary // c_null_char, path // c_null_char) /= 0) then
-            call set_error(err, 'cannot rename "' // temporary // '" to "' // path // '"', &
-                'write_xdmf_modes_sidecar', __FILE__, __LINE__)
-        end if
+        call replace_file(xdmf_modes_sidecar_path(h5_path), xdmf_modes_text(base_name(h5_path), &
+            rods), 'XDMF modes sidecar', 'write_xdmf_modes_sidecar', err)
     end subroutine write_xdmf_modes_sidecar
 
     !> `rods` at the records `times`: xdmf_text(base_name(h5_path), rods, times), written to a
@@ -475,9 +452,8 @@ contains
         real(rk), intent(in) :: times(:)
         type(error_t), allocatable, intent(out) :: err
         character(len=*), parameter :: routine = 'write_xdmf_sidecar'
-        character(len=:), allocatable :: path, temporary, problem
-        character(len=256) :: message
-        integer :: unit, status, r, j
+        character(len=:), allocatable :: path, problem
+        integer :: r, j
 
         path = xdmf_sidecar_path(h5_path)
         problem = ''
@@ -514,11 +490,23 @@ contains
         end if
         if (.not. any(rods%has_position)) return
 
+        call replace_file(path, xdmf_text(base_name(h5_path), rods, times), 'XDMF sidecar', &
+            routine, err)
+    end subroutine write_xdmf_sidecar
+
+    !> Write `text` to a temporary file next to `path` and rename it over `path`, so a reader
+    !> never sees half a file; `what` names the file in the error.
+    subroutine replace_file(path, text, what, routine, err)
+        character(len=*), intent(in) :: path, text, what, routine
+        type(error_t), allocatable, intent(out) :: err
+        character(len=:), allocatable :: temporary
+        character(len=256) :: message
+        integer :: unit, status
         temporary = path // '.tmp'
         open(newunit=unit, file=temporary, status='replace', action='write', access='stream', &
             form='unformatted', iostat=status, iomsg=message)
         if (status == 0) then
-            write(unit, iostat=status, iomsg=message) xdmf_text(base_name(h5_path), rods, times)
+            write(unit, iostat=status, iomsg=message) text
             if (status == 0) then
                 close(unit)
             else
@@ -526,7 +514,7 @@ contains
             end if
         end if
         if (status /= 0) then
-            call set_error(err, 'cannot write the XDMF sidecar "' // temporary // '": ' // &
+            call set_error(err, 'cannot write the ' // what // ' "' // temporary // '": ' // &
                 trim(message), routine, __FILE__, __LINE__)
             return
         end if
@@ -534,6 +522,6 @@ contains
             call set_error(err, 'cannot rename "' // temporary // '" to "' // path // '"', &
                 routine, __FILE__, __LINE__)
         end if
-    end subroutine write_xdmf_sidecar
+    end subroutine replace_file
 
 end module rs_io_xdmf_writer

@@ -1,6 +1,8 @@
 !> What the support of a rod end holds (issue 26 items 2 and 3), resolved once from its &bc for
 !> every formulation: the directions of the end's position that are held and whether its
-!> rotation is. Every kind that holds something is one such hold:
+!> rotation is (the Dirichlet conditions of methods/ph_director_3d.md §2.9 on a subset of the
+!> end node's coordinates; se3_pg's r in inertial coordinates, methods/se3_petrov_galerkin.md
+!> §5.1). Every kind that holds something is one such hold:
 !> - 'clamped' and 'driven': the whole position and the rotation (a driven end's held values
 !>   move in time; the formulation moves them);
 !> - 'pinned': the whole position;

@@ -21,23 +21,8 @@
 #include <stdarg.h>
 #include <stdio.h>
 #include <string.h>
+#include "rs_petsc_error_capture.h"
 
-typedef struct {
-    char text[768];
-    int  have;
-} RsModesError;
-
-static PetscErrorCode capture_error(MPI_Comm comm, int line, const char *fun, const char *file,
-                                    PetscErrorCode n, PetscErrorType p, const char *mess, void *ctx)
-{
-    RsModesError *capture = (RsModesError *)ctx;
-    if (p == PETSC_ERROR_INITIAL && !capture->have) {
-        snprintf(capture->text, sizeof(capture->text), "%s (PETSc error %d in %s)",
-                 mess ? mess : "", (int)n, fun ? fun : "?");
-        capture->have = 1;
-    }
-    return PetscTraceBackErrorHandler(comm, line, fun, file, n, p, mess, NULL);
-}
 
 /* A matrix on PETSC_COMM_WORLD from the rows [lo, hi) of the whole CSR pattern. */
 static PetscErrorCode pencil_matrix(PetscInt n, PetscInt lo, PetscInt hi, const int *row_ptr,
@@ -183,13 +168,13 @@ int rs_modes_solve(int n, const int *row_ptr, const int *cols, const double *a0,
                    int *n_found, double *mu_re, double *mu_im, double *vec_re, double *vec_im,
                    double *errors, char *solver_text, int text_len, char *errmsg, int errlen)
 {
-    RsModesError capture = {{0}, 0};
+    RsErrorCapture capture = {{0}, 0};
     fenv_t caller_env;
     PetscErrorCode ierr;
     *n_found = 0;
     if (errmsg && errlen > 0) errmsg[0] = '\0';
     feholdexcept(&caller_env);
-    PetscPushErrorHandler(capture_error, &capture);
+    PetscPushErrorHandler(rs_capture_petsc_error, &capture);
     ierr = solve(n, row_ptr, cols, a0, a1, a2, degree, n_wanted, shift, n_found, mu_re, mu_im,
                  vec_re, vec_im, errors, solver_text, text_len);
     PetscPopErrorHandler();

@@ -21,6 +21,7 @@
 #include "rs_rodmid.h"
 #include "rs_rod_stepper.h"
 #include "rs_rodchain.h"
+#include "rs_petsc_error_capture.h"
 
 typedef struct {
     TS             ts;
@@ -96,24 +97,6 @@ static void leave_user(const fenv_t *petsc_env)
     fesetenv(petsc_env);
 }
 
-/* The first message of a PETSc error, caught while a facade function runs. */
-typedef struct {
-    char text[768];
-    int  have;
-} RsErrorCapture;
-
-static PetscErrorCode capture_error(MPI_Comm comm, int line, const char *fun, const char *file,
-                                    PetscErrorCode n, PetscErrorType p, const char *mess, void *ctx)
-{
-    RsErrorCapture *capture = (RsErrorCapture *)ctx;
-    if (p == PETSC_ERROR_INITIAL && !capture->have) {
-        snprintf(capture->text, sizeof(capture->text), "%s (PETSc error %d in %s)",
-                 mess ? mess : "", (int)n, fun ? fun : "?");
-        capture->have = 1;
-    }
-    /* PETSc still prints its trace, as everywhere else in rodsolve (src/core/error.f90). */
-    return PetscTraceBackErrorHandler(comm, line, fun, file, n, p, mess, NULL);
-}
 
 static void set_message(char *errmsg, int errlen, const char *format, ...)
 {
@@ -822,7 +805,7 @@ int rs_stepper_create(void **handle, int n_state, int n_unknown, const int *row_
     }
 
     enter_petsc(s);
-    PetscPushErrorHandler(capture_error, &capture);
+    PetscPushErrorHandler(rs_capture_petsc_error, &capture);
     ierr = stepper_setup(s, row_ptr, cols, traits, block_lengths ? n_blocks : 0, block_lengths);
     PetscPopErrorHandler();
     leave_petsc(s);
@@ -887,7 +870,7 @@ int rs_stepper_set_needed(void *handle, int n_state, const int *state_entries, i
         }
     if (!s->distributed) return 0;
     enter_petsc(s);
-    PetscPushErrorHandler(capture_error, &capture);
+    PetscPushErrorHandler(rs_capture_petsc_error, &capture);
     ierr = stepper_set_needed(s, n_state, state_entries, n_unknown, unknown_entries);
     PetscPopErrorHandler();
     leave_petsc(s);
@@ -1236,7 +1219,7 @@ int rs_stepper_advance(void *handle, double t_n, double dt, double *x, int *subs
         return RS_STEPPER_BAD_ARGUMENT;
     }
     enter_petsc(s);
-    PetscPushErrorHandler(capture_error, &capture);
+    PetscPushErrorHandler(rs_capture_petsc_error, &capture);
     ierr = stepper_advance(s, t_n, dt, x, &r);
     PetscPopErrorHandler();
     leave_petsc(s);
@@ -1322,7 +1305,7 @@ int rs_stepper_solver_settings(void *handle, double *atol, double *rtol, double 
 
     if (!handle) return RS_STEPPER_BAD_ARGUMENT;
     enter_petsc((RsStepper *)handle);
-    PetscPushErrorHandler(capture_error, &capture);
+    PetscPushErrorHandler(rs_capture_petsc_error, &capture);
     ierr = stepper_settings((RsStepper *)handle, atol, rtol, stol, max_it, max_funcs, max_cutbacks,
                             types, length);
     PetscPopErrorHandler();
@@ -1339,7 +1322,7 @@ int rs_stepper_run_stats(void *handle, int *jacobians, int *floor_steps)
 
     if (!s || !jacobians || !floor_steps) return RS_STEPPER_BAD_ARGUMENT;
     enter_petsc(s);
-    PetscPushErrorHandler(capture_error, &capture);
+    PetscPushErrorHandler(rs_capture_petsc_error, &capture);
     ierr = TSRodmidGetRunStats(s->ts, &count[0], &count[1]);
     PetscPopErrorHandler();
     leave_petsc(s);
@@ -1370,7 +1353,7 @@ int rs_stepper_view(void *handle, const char *path)
 
     if (!handle) return RS_STEPPER_BAD_ARGUMENT;
     enter_petsc((RsStepper *)handle);
-    PetscPushErrorHandler(capture_error, &capture);
+    PetscPushErrorHandler(rs_capture_petsc_error, &capture);
     ierr = stepper_view((RsStepper *)handle, path);
     PetscPopErrorHandler();
     leave_petsc((RsStepper *)handle);
