@@ -162,6 +162,18 @@ int rs_stepper_adaptive_stats(void *handle, int *rejected, double *h_smallest, d
    standard output). */
 int rs_stepper_view(void *handle, const char *path);
 
+/* Bordered solves of a Newton method the caller runs itself (arc-length continuation,
+   src/solver/arc_length.f90): the Jacobian `values` (in the order of the pattern) factored by
+   the stepper's own linear solver (the chain LU for one rod, or what the options chose; the
+   symbolic phase is shared with the steps), then solved for any number of right-hand sides of
+   n_unknown values each. *singular: the factorization met a zero pivot; *failed: the linear
+   solve did not converge. Not for a system shared by the ranks (RS_STEPPER_BAD_ARGUMENT).
+   Return 0, or non-zero with the message in errmsg. */
+int rs_stepper_factor(void *handle, const double *values, int *singular, char *errmsg,
+                      int errlen);
+int rs_stepper_solve(void *handle, const double *rhs, double *sol, int *failed, char *errmsg,
+                     int errlen);
+
 /* Free the stepper and set *handle to NULL; a NULL handle is fine. */
 int rs_stepper_destroy(void **handle);
 

@@ -16,7 +16,7 @@ module rs_app_run_scene
         level_warning
     use rs_core_strings, only: str, str_significant
     use rs_core_timer, only: wall_time
-    use rs_model_scene, only: scene_t
+    use rs_model_scene, only: scene_t, record_time
     use rs_parallel_mpi_env, only: world_rank, world_size, any_rank_true, mpi_library_version, &
         broadcast_array, max_each_over_ranks, sum_over_ranks, max_over_ranks, barrier, &
         broadcast_text, broadcast_flag
@@ -163,7 +163,7 @@ contains
             last = n == n_steps .or. flags(1) == 0 .or. stop_signal /= 0
             if (mod(n, scene%output%stride) == 0 .or. last) then
                 n_times = n_times + 1
-                record_times(n_times) = min(real(n, rk) * scene%time%dt, scene%time%t_end)
+                record_times(n_times) = record_time(scene, n)
             end if
             if (mod(n, scene%output%flush_every) == 0 .or. last) then
                 t_flush = wall_time()

@@ -221,6 +221,12 @@ module rs_formulations_formulation
         !> linearizes about after a quasistatic run, whose states carry the load path's rates
         !> (docs/theory/modes.md); default: x unchanged.
         procedure :: rest_state => default_rest_state
+        !> The weights w of the step unknowns Y in the length of a continuation path (arc-length
+        !> continuation, docs/theory/continuation.md): sum_i w_i dY_i^2 is the mean over the
+        !> rod's nodes of |dr|^2 / L^2 + |dtheta|^2 for a change dr of the centreline and a
+        !> small turn dtheta of the section (L the rod's length), zero on stresses and
+        !> multipliers; default: every unknown alike, w = 1 / n_unknown.
+        procedure :: path_weights => default_path_weights
         !> Where the coordinates of the nodes are (rod_nodes_t), for couplings; default: no
         !> node access.
         procedure :: nodes => default_nodes
@@ -363,6 +369,12 @@ contains
         logical, intent(out) :: weigh(:)
         weigh = .true.
     end subroutine default_error_entries
+
+    subroutine default_path_weights(this, w)
+        class(rod_formulation_t), intent(in) :: this
+        real(rk), intent(out) :: w(:)
+        w = 1.0_rk / real(max(1, size(w)), rk)
+    end subroutine default_path_weights
 
     subroutine default_rest_state(this, x)
         class(rod_formulation_t), intent(in) :: this

@@ -572,6 +572,10 @@ contains
             if (scene%time%quasistatic .and. .not. row%quasistatic) call errors%add(at(scene, 0) // &
                 '&time quasistatic: not available for ' // what // ' (rod ''' // trim(rod%name) // &
                 ''')' // see_matrix)
+            if (trim(scene%time%continuation) == 'arc_length' .and. .not. row%continuation) &
+                call errors%add(at(scene, scene%time%input_line) // '&time continuation: ' // &
+                'arc-length continuation is not available for ' // what // ' (rod ''' // &
+                trim(rod%name) // '''); use load steps (continuation = ''none'')' // see_matrix)
             if (scene%time%relaxation .and. .not. row%relaxation) call errors%add(at(scene, 0) // &
                 '&time relaxation: statics by damped dynamics is not available for ' // what // &
                 ' (rod ''' // trim(rod%name) // ''')' // see_matrix)

@@ -301,6 +301,26 @@ contains
                 '&plate, &contact, &obstacle or joints between separate members; formulations: ' // &
                 'docs/user/capabilities.md (docs/theory/prestretched_starts.md).', &
                 example='.true.'), &
+            spec_v('continuation', 'string', '-', "'none'", &
+                'Quasistatic runs: ''arc_length'' traces the equilibrium path with the load ' // &
+                'time as an unknown (Riks''s arc-length method), through limit points where ' // &
+                'load steps stop (snap-through, post-buckling); the path ends when the load ' // &
+                'time passes t_end or after path_steps steps, and records the load time of ' // &
+                'each point (/rods/NAME/load_time). dt is not used. Formulations: ' // &
+                'docs/user/capabilities.md (docs/theory/continuation.md).', &
+                allowed='none|arc_length', &
+                example="'arc_length'"), &
+            spec_v('arc_length', 'real', '-', '0.05', 'First step of the continuation in its ' // &
+                'scaled path length: ds^2 = mean over the nodes of |dr|^2 / L^2 + |dtheta|^2, ' // &
+                'plus (d load time / t_end)^2; halved when Newton fails, then adapted to ' // &
+                'about 4 Newton iterations per step.', lower=0.0_rk, lower_inclusive=.false., &
+                only_if='continuation=arc_length', example='0.02'), &
+            spec_v('arc_length_max', 'real', '-', '0.2', 'Longest step of the continuation ' // &
+                '(scaled as arc_length).', lower=0.0_rk, lower_inclusive=.false., &
+                only_if='continuation=arc_length', example='0.05'), &
+            spec_v('path_steps', 'integer', '-', '200', 'Most steps of the continuation; ' // &
+                'the records are its steps (/time holds the step number).', lower=1.0_rk, &
+                only_if='continuation=arc_length', example='500'), &
             spec_v('relaxation', 'logical', '-', '.false.', &
                 'Statics by damped dynamics (seed 004, methods/se3_strands.md §3.7): the ' // &
                 'dynamics run with the rods'' damping, and the run stops as soon as the kinetic ' // &

@@ -68,10 +68,30 @@ contains
         if (.not. scene%time%quasistatic .and. .not. scene%time%equilibrium_solves) &
             call errors%add(at(scene, 0) // '&time equilibrium_solves: .false. given, but ' // &
             'a dynamic run solves no equilibrium; it is only used with quasistatic = .true.')
+        call check_continuation(scene, errors)
         call check_order(scene, errors)
         call check_adaptive(scene, errors)
         call check_scheme(scene, errors)
     end subroutine check_relaxation
+
+    !> &time continuation = 'arc_length' (docs/theory/continuation.md): a path of the statics,
+    !> so only in quasistatic runs; its step bounds in order; no restart (the path's tangent
+    !> and step length are not in the checkpoint).
+    subroutine check_continuation(scene, errors)
+        type(scene_t), intent(in) :: scene
+        type(error_list_t), intent(inout) :: errors
+        character(len=:), allocatable :: here
+        if (trim(scene%time%continuation) /= 'arc_length') return
+        here = at(scene, scene%time%input_line) // '&time continuation: '
+        if (.not. scene%time%quasistatic) call errors%add(here // '''arc_length'' traces ' // &
+            'an equilibrium path, which needs quasistatic = .true.')
+        if (scene%time%arc_length_max < scene%time%arc_length) call errors%add(here // &
+            'arc_length_max = ' // str(scene%time%arc_length_max) // ' is shorter than ' // &
+            'arc_length = ' // str(scene%time%arc_length))
+        if (len_trim(scene%run%restart_from) > 0) call errors%add(here // 'a continuation ' // &
+            'cannot be restarted (its path''s tangent and step are not checkpointed); ' // &
+            'remove &run restart_from')
+    end subroutine check_continuation
 
     !> &time adaptive (issue 25 item 2): its tolerances and step bounds, the scenes it cannot
     !> step (a load path, relaxation, contact: contact's pairs and motion limit are set per

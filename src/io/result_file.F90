@@ -237,6 +237,7 @@ contains
         end if
         if (has_1(h%newton_residual)) call note('series/newton/residual')
         if (has_1(h%dt)) call note('series/dt')
+        if (has_1(h%load_time)) call note('series/load_time')
         if (has_1(h%contact_energy)) call note('series/contact/energy')
         if (has_2(h%contact_force)) call note('series/contact/force')
         if (has_1(h%penetration)) call note('series/contact/penetration')
@@ -397,6 +398,9 @@ contains
             'scaling of the formulation''s method document (DESIGN.md §3), [step]')
         call add('series/dt', [integer ::], 's', 'time step that ended at this record ' // &
             '(after cut-backs, the smallest substep), [step]')
+        call add('series/load_time', [integer ::], 's', 'arc-length continuation (&time ' // &
+            'continuation): the load time of the path''s point at this record (the loads'' ' // &
+            'time functions at it; /time holds the step number), [step]')
         if (field_selected(selection, 'contact')) then
             call add('series/contact/energy', [integer ::], 'J', 'the rod''s share of the ' // &
                 'contact energy at the record: half the energy of each of its contact pairs ' // &
@@ -479,6 +483,8 @@ contains
             values = h%newton_residual(first:last)
         case ('series/dt')
             values = h%dt(first:last)
+        case ('series/load_time')
+            values = h%load_time(first:last)
         case ('series/contact/energy')
             values = h%contact_energy(first:last)
         case ('series/contact/force')
@@ -1184,6 +1190,7 @@ contains
             if (too_short_1(h%constraint_residual, h%n_stored)) what = 'constraint_residual'
             if (too_short_1(h%newton_residual, h%n_stored)) what = 'newton_residual'
             if (too_short_1(h%dt, h%n_stored)) what = 'dt'
+            if (too_short_1(h%load_time, h%n_stored)) what = 'load_time'
             if (too_short_1(h%contact_energy, h%n_stored)) what = 'contact_energy'
             if (too_short_2(h%contact_force, h%n_stored)) what = 'contact_force'
             if (too_short_1(h%penetration, h%n_stored)) what = 'penetration'

@@ -83,6 +83,10 @@ module rs_model_capabilities
         !> Linearized buckling (&modes kind = 'buckling'): a second-order pencil, whose
         !> stiffness one long step reads (rs_system_linearization's static_stiffness).
         logical :: buckling = .false.
+        !> Arc-length continuation of its statics (&time continuation = 'arc_length';
+        !> docs/theory/continuation.md): a static problem at any load time
+        !> (rod_system_t%set_load_problem) with path weights.
+        logical :: continuation = .false.
     end type capability_t
 
 contains

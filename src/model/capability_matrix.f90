@@ -56,7 +56,9 @@ contains
             ' | ' // yes_no(row%end_plates, plates_text(row%floating_plates)) // &
             ' | ' // yes_no(row%contact, 'yes: rod-rod and self (`&contact`), rigid ' // &
             'obstacles (`&obstacle`), with friction') // &
-            ' | ' // yes_no(row%quasistatic, 'yes (`&time quasistatic`)') // &
+            ' | ' // yes_no(row%quasistatic, 'yes (`&time quasistatic`)' // trim(merge( &
+                ', arc-length continuation (`&time continuation`)', '                ' // &
+                '                                ', row%continuation))) // &
             ' | ' // yes_no(row%relaxation, 'yes (`&time relaxation`)') // &
             ' | ' // yes_no(row%order_4, 'yes (`&time order = 4`)') // &
             ' | ' // yes_no(row%adaptive, 'yes (`&time adaptive`)') // &

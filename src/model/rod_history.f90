@@ -64,6 +64,9 @@ module rs_model_rod_history
         real(rk), allocatable :: newton_residual(:)
         !> Time step that ended at this record (after any cut-backs, the smallest substep).
         real(rk), allocatable :: dt(:)
+        !> Load time of each record of an arc-length continuation (&time continuation), whose
+        !> records are the path's steps; allocated only there (init_load_time).
+        real(rk), allocatable :: load_time(:)
         !> Rods of a bundle (issue 10; allocated by init_coupling): the rod's share of the
         !> contact energy (half of each of its pairs), the total contact force on it, its
         !> deepest contact penetration r_c - d (0 without contact), and the forces of joints and
@@ -77,6 +80,8 @@ module rs_model_rod_history
     contains
         !> The bundle series, with room for as many records as the other arrays.
         procedure :: init_coupling => rod_history_init_coupling
+        !> The load-time series of a continuation, with room for as many records as the rest.
+        procedure :: init_load_time => rod_history_init_load_time
         procedure :: init => rod_history_init
         procedure :: free => rod_history_free
         procedure :: next_record => rod_history_next_record
@@ -151,6 +156,7 @@ contains
         if (allocated(this%constraint_residual)) deallocate(this%constraint_residual)
         if (allocated(this%newton_residual)) deallocate(this%newton_residual)
         if (allocated(this%dt)) deallocate(this%dt)
+        if (allocated(this%load_time)) deallocate(this%load_time)
         if (allocated(this%newton_iterations)) deallocate(this%newton_iterations)
         if (allocated(this%position)) deallocate(this%position)
         if (allocated(this%velocity)) deallocate(this%velocity)
@@ -184,6 +190,11 @@ contains
             source=0.0_rk)
     end subroutine rod_history_init_coupling
 
+    subroutine rod_history_init_load_time(this)
+        class(rod_history_t), intent(inout) :: this
+        allocate(this%load_time(size(this%time)), source=0.0_rk)
+    end subroutine rod_history_init_load_time
+
     !> Index of the next record (the arrays grown if they are full), or 0 when the capacity
     !> is used up.
     function rod_history_next_record(this) result(record)
@@ -215,6 +226,7 @@ contains
         call grow_1(this%constraint_residual)
         call grow_1(this%newton_residual)
         call grow_1(this%dt)
+        call grow_1(this%load_time)
         call grow_1(this%contact_energy)
         call grow_1(this%penetration)
         call grow_integer(this%newton_iterations)

@@ -13,7 +13,7 @@ module rs_model_scene
     private
 
     public :: load_applies_to, sweep_value_count, sweep_values, sweep_member_count, &
-        sweep_member_indices, step_count, body_inertia_tensor, inertia_tensor, rod_is_damped, &
+        sweep_member_indices, step_count, record_time, body_inertia_tensor, inertia_tensor, rod_is_damped, &
         coordinate_axis, element_properties, rod_segment_count, axial_reference, &
         end_is_held
 
@@ -96,6 +96,14 @@ module rs_model_scene
         !> (DESIGN.md §3, "Quasistatics"), then the dynamics from that state at rest
         !> (docs/theory/prestretched_starts.md).
         logical :: initial_equilibrium = .false.
+        !> Quasistatics along the equilibrium path by arc-length continuation (issue 27 item 3,
+        !> docs/theory/continuation.md): 'arc_length', the load time an unknown of at most
+        !> path_steps steps of first length arc_length (at most arc_length_max) that end when
+        !> it passes t_end; 'none', load steps of dt.
+        character(len=name_len) :: continuation = 'none'
+        real(rk) :: arc_length = 0.05_rk
+        real(rk) :: arc_length_max = 0.2_rk
+        integer :: path_steps = 200
         !> Line of the &time group (set by the reader; not an input variable).
         integer :: input_line = 0
     end type time_input_t
@@ -688,9 +696,25 @@ contains
     pure integer function step_count(scene)
         type(scene_t), intent(in) :: scene
         real(rk) :: steps
+        if (trim(scene%time%continuation) == 'arc_length') then
+            step_count = scene%time%path_steps
+            return
+        end if
         steps = scene%time%t_end / scene%time%dt - 1.0e-9_rk
         step_count = max(1, ceiling(min(steps, real(huge(1), rk) - 1.0_rk)))
     end function step_count
+
+    !> The time of the record after step n: n dt (t_end for the last step), or the step number
+    !> of an arc-length continuation, whose load time is a series of its own.
+    pure real(rk) function record_time(scene, n)
+        type(scene_t), intent(in) :: scene
+        integer, intent(in) :: n
+        if (trim(scene%time%continuation) == 'arc_length') then
+            record_time = real(n, rk)
+        else
+            record_time = min(real(n, rk) * scene%time%dt, scene%time%t_end)
+        end if
+    end function record_time
 
     !> True if `load` acts on the rod named `rod_name`: it names that rod, or it is gravity
     !> without a rod (gravity on every rod).

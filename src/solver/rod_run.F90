@@ -14,12 +14,13 @@ module rs_solver_rod_run
     use rs_core_logger, only: log_info
     use rs_core_strings, only: str, str_significant
     use rs_core_timer, only: wall_time
-    use rs_model_scene, only: scene_t, step_count
+    use rs_model_scene, only: scene_t, step_count, record_time
     use rs_model_rod_history, only: rod_history_t
     use rs_formulations_formulation, only: formulation_traits_t, state_measures_t, state_valid
     use rs_formulations_energy_sentinel, only: energy_sentinel_t
     use rs_system_rod_system, only: rod_system_t
     use rs_solver_rod_stepper, only: rod_stepper_t, stepper_traits_t
+    use rs_solver_arc_length, only: arc_length_path_t, arc_length_settings_t
     use rs_model_scene, only: solver_input_t, time_input_t, unset_real
     use rs_model_time_function, only: scene_time_kinks
     use rs_parallel_mpi_env, only: world_rank, world_size
@@ -87,8 +88,13 @@ module rs_solver_rod_run
         !> The system stopped: its solver failed (`err` says where and why).
         logical :: failed = .false.
         !> The system stopped because its kinetic energy fell below &time kinetic_energy_tol
-        !> (&time relaxation: statics by damped dynamics).
+        !> (&time relaxation: statics by damped dynamics), or because its continuation's path
+        !> passed the load time t_end (&time continuation).
         logical :: relaxed = .false.
+        !> An arc-length continuation (&time continuation = 'arc_length'): its path, whose
+        !> steps replace the load steps (rs_solver_arc_length).
+        logical :: continuation = .false.
+        type(arc_length_path_t) :: path
         type(error_t), allocatable :: err
         !> Last step done (the time grid's index) and the time of the last record.
         integer :: step = 0
@@ -183,9 +189,77 @@ contains
             call continue_equilibrium(this, 0.0_rk, 'initial equilibrium at t = 0')
             if (allocated(this%err)) this%failed = .true.
         end if
+        if (trim(scene%time%continuation) == 'arc_length') call start_path(this, scene)
         if (.not. restarting) call this%system%record(this%histories, 0.0_rk, this%x)
+        if (this%continuation .and. .not. restarting) call note_load_time(this)
         call this%note_record()
     end subroutine runner_start
+
+    !> The arc-length continuation of a quasistatic run (&time continuation): its path starts
+    !> at the initial state, in equilibrium at the load time 0.
+    subroutine start_path(this, scene)
+        type(rod_runner_t), intent(inout) :: this
+        type(scene_t), intent(in) :: scene
+        type(arc_length_settings_t) :: settings
+        integer :: i
+        this%continuation = .true.
+        settings = arc_length_settings_t(arc_length=scene%time%arc_length, &
+            arc_length_max=max(scene%time%arc_length, scene%time%arc_length_max), &
+            load_scale=scene%time%t_end, newton_atol=scene%solver%newton_atol, &
+            max_newton=scene%solver%max_newton)
+        settings%arc_length_min = settings%arc_length * 0.5_rk**(2 * scene%solver%max_cutbacks)
+        call this%path%init(this%system, settings, this%context%n_values, 0.0_rk)
+        do i = 1, size(this%histories)
+            call this%histories(i)%init_load_time()
+        end do
+    end subroutine start_path
+
+    !> Step n of an arc-length continuation: one step along the path; the path ends (the
+    !> system counts as done, `relaxed`) once its load time passes t_end.
+    subroutine advance_path(this, scene, n)
+        type(rod_runner_t), intent(inout) :: this
+        type(scene_t), intent(in) :: scene
+        integer, intent(in) :: n
+        real(rk) :: started, load_before
+        started = wall_time()
+        load_before = this%path%load
+        call this%path%advance(this%system, this%stepper, this%x, this%err)
+        call this%system%set_step_problem(.false., this%path%load)
+        this%solve_seconds = this%solve_seconds + (wall_time() - started)
+        this%total_iterations = this%total_iterations + this%path%iterations
+        this%total_cutbacks = this%total_cutbacks + this%path%cutbacks
+        if (allocated(this%err)) then
+            this%err%message = 'arc-length continuation, step ' // str(n) // ': ' // &
+                this%err%message
+            this%failed = .true.
+            return
+        end if
+        this%step = n
+        this%steps_done = this%steps_done + 1
+        this%context%t_reached = real(n, rk)
+        if (this%path%load > scene%time%t_end .and. load_before <= scene%time%t_end) &
+            this%relaxed = .true.
+        if (mod(n, scene%output%stride) == 0 .or. n == step_count(scene) .or. this%relaxed) then
+            this%t_recorded = record_time(scene, n)
+            call this%system%record(this%histories, this%t_recorded, this%x)
+            call note_load_time(this)
+            call this%note_record()
+        end if
+        if (this%relaxed) call log_info('  ' // this%name() // ': the path passed t_end = ' // &
+            str(scene%time%t_end) // ' after ' // str(this%steps_done) // ' steps (load time ' // &
+            str_significant(this%path%load, 8) // ')')
+    end subroutine advance_path
+
+    !> The path's load time with the newest record of every rod.
+    subroutine note_load_time(this)
+        type(rod_runner_t), intent(inout) :: this
+        integer :: i
+        do i = 1, size(this%histories)
+            associate (h => this%histories(i))
+                if (h%n_stored > 0) h%load_time(h%n_stored) = this%path%load
+            end associate
+        end do
+    end subroutine note_load_time
 
     !> The equilibrium at load time t_load of a quasistatic run (DESIGN.md §3, "Quasistatics"),
     !> continued from the current state x: the formulation solves R(Y; t_load) = (1 - tau)
@@ -469,6 +543,10 @@ contains
         fnorm = 0.0_rk
 
         if (this%failed .or. this%relaxed) return
+        if (this%continuation) then
+            call advance_path(this, scene, n)
+            return
+        end if
         n_steps = step_count(scene)
         t_n = real(n - 1, rk) * scene%time%dt
         h = min(scene%time%dt, scene%time%t_end - t_n)

@@ -71,6 +71,9 @@ typedef struct {
     Vec            x_all, x2_all, y_all;   /* sequential, whole length */
     PetscScalar   *f_all, *values_all, *out_all;
     PetscInt      *row_ptr_all, *cols_all; /* the whole CSR pattern (0-based) */
+    /* Bordered solves (rs_stepper_factor, rs_stepper_solve): right-hand side and solution. */
+    Vec            rhs, sol;
+    PetscInt       nnz; /* entries of the pattern (one rank) */
 } RsStepper;
 
 /* Enter PETSc from the caller: remember its environment, switch traps off. */
@@ -639,6 +642,7 @@ static PetscErrorCode stepper_setup(RsStepper *s, const int *row_ptr, const int 
         PetscCall(MatSetType(s->J, MATSEQAIJ));
         PetscCall(MatSeqAIJSetPreallocationCSR(s->J, (const PetscInt *)row_ptr,
                                                (const PetscInt *)cols, NULL));
+        s->nnz = row_ptr[s->n_unknown];
         if (s->n_unknown != s->n_state)
             PetscCall(VecCreateSeq(PETSC_COMM_SELF, s->n_unknown, &Y_template));
     }
@@ -754,6 +758,8 @@ static void stepper_free(RsStepper *s)
     PetscFree(s->out_all);
     PetscFree(s->row_ptr_all);
     PetscFree(s->cols_all);
+    VecDestroy(&s->rhs);
+    VecDestroy(&s->sol);
     leave_petsc(s);
     free(s);
 }
@@ -1358,6 +1364,117 @@ int rs_stepper_view(void *handle, const char *path)
     PetscPopErrorHandler();
     leave_petsc((RsStepper *)handle);
     return (int)ierr;
+}
+
+/* ---- Bordered solves ----------------------------------------------------------------------- */
+
+/* The Jacobian values into J (the CSR order of the pattern, as step_jacobian writes them) and
+   its factorization by the stepper's own KSP and PC: the chain LU for one rod, PETSc's LU or
+   MUMPS as the stepper chose them, and the same options. The symbolic phase is the stepper's,
+   done once per pattern; each call redoes the numeric one. */
+static PetscErrorCode stepper_factor(RsStepper *s, const double *values, int *failed)
+{
+    SNES               snes;
+    KSP                ksp;
+    PC                 pc;
+    PetscScalar       *a;
+    PCFailedReason     reason;
+
+    PetscFunctionBegin;
+    PetscCall(MatSeqAIJGetArray(s->J, &a));
+    PetscCall(PetscArraycpy(a, values, s->nnz));
+    PetscCall(MatSeqAIJRestoreArray(s->J, &a));
+    PetscCall(MatAssemblyBegin(s->J, MAT_FINAL_ASSEMBLY));
+    PetscCall(MatAssemblyEnd(s->J, MAT_FINAL_ASSEMBLY));
+    PetscCall(TSGetSNES(s->ts, &snes));
+    PetscCall(SNESGetKSP(snes, &ksp));
+    PetscCall(KSPSetOperators(ksp, s->J, s->J));
+    PetscCall(KSPSetUp(ksp));
+    PetscCall(KSPGetPC(ksp, &pc));
+    PetscCall(PCGetFailedReason(pc, &reason));
+    *failed = reason != PC_NOERROR;
+    if (!s->rhs) {
+        PetscCall(VecCreateSeq(PETSC_COMM_SELF, s->n_unknown, &s->rhs));
+        PetscCall(VecDuplicate(s->rhs, &s->sol));
+    }
+    PetscFunctionReturn(0);
+}
+
+int rs_stepper_factor(void *handle, const double *values, int *singular, char *errmsg,
+                      int errlen)
+{
+    RsStepper     *s       = (RsStepper *)handle;
+    RsErrorCapture capture = {"", 0};
+    PetscErrorCode ierr;
+
+    if (errmsg && errlen > 0) errmsg[0] = '\0';
+    if (!s || !singular) {
+        set_message(errmsg, errlen, "rod stepper: factor without a stepper");
+        return RS_STEPPER_BAD_ARGUMENT;
+    }
+    if (s->distributed) {
+        set_message(errmsg, errlen, "rod stepper: bordered solves (arc-length continuation) "
+                                    "on a system shared by the ranks are not implemented; "
+                                    "run the scene on one rank");
+        return RS_STEPPER_BAD_ARGUMENT;
+    }
+    enter_petsc(s);
+    PetscPushErrorHandler(rs_capture_petsc_error, &capture);
+    ierr = stepper_factor(s, values, singular);
+    PetscPopErrorHandler();
+    leave_petsc(s);
+    if (ierr) {
+        set_petsc_message(errmsg, errlen, "rod stepper: factorization failed", ierr, &capture);
+        return (int)ierr;
+    }
+    return 0;
+}
+
+static PetscErrorCode stepper_solve(RsStepper *s, const double *rhs, double *sol, int *failed)
+{
+    SNES               snes;
+    KSP                ksp;
+    KSPConvergedReason reason;
+    PetscScalar       *a;
+    const PetscScalar *b;
+
+    PetscFunctionBegin;
+    PetscCall(TSGetSNES(s->ts, &snes));
+    PetscCall(SNESGetKSP(snes, &ksp));
+    PetscCall(VecGetArray(s->rhs, &a));
+    PetscCall(PetscArraycpy(a, rhs, s->n_unknown));
+    PetscCall(VecRestoreArray(s->rhs, &a));
+    PetscCall(KSPSolve(ksp, s->rhs, s->sol));
+    PetscCall(KSPGetConvergedReason(ksp, &reason));
+    *failed = reason < 0;
+    PetscCall(VecGetArrayRead(s->sol, &b));
+    PetscCall(PetscArraycpy(sol, b, s->n_unknown));
+    PetscCall(VecRestoreArrayRead(s->sol, &b));
+    PetscFunctionReturn(0);
+}
+
+int rs_stepper_solve(void *handle, const double *rhs, double *sol, int *failed, char *errmsg,
+                     int errlen)
+{
+    RsStepper     *s       = (RsStepper *)handle;
+    RsErrorCapture capture = {"", 0};
+    PetscErrorCode ierr;
+
+    if (errmsg && errlen > 0) errmsg[0] = '\0';
+    if (!s || !s->rhs || !failed) {
+        set_message(errmsg, errlen, "rod stepper: solve before a factorization");
+        return RS_STEPPER_BAD_ARGUMENT;
+    }
+    enter_petsc(s);
+    PetscPushErrorHandler(rs_capture_petsc_error, &capture);
+    ierr = stepper_solve(s, rhs, sol, failed);
+    PetscPopErrorHandler();
+    leave_petsc(s);
+    if (ierr) {
+        set_petsc_message(errmsg, errlen, "rod stepper: linear solve failed", ierr, &capture);
+        return (int)ierr;
+    }
+    return 0;
 }
 
 int rs_stepper_destroy(void **handle)

@@ -86,6 +86,11 @@ module rs_solver_rod_stepper
         procedure :: advance => rod_stepper_advance
         !> The solver actually configured after all options.
         procedure :: solver_settings => rod_stepper_solver_settings
+        !> Bordered solves of a Newton method run by the caller (arc-length continuation): the
+        !> Jacobian values factored by the stepper's own linear solver, then solved for any
+        !> number of right-hand sides (include/rs_rod_stepper.h).
+        procedure :: factor => rod_stepper_factor
+        procedure :: solve => rod_stepper_solve
         !> TSView (with SNES, KSP, PC) into a file, or standard output for an empty path.
         procedure :: view => rod_stepper_view
         !> Since create: Jacobians computed (each one a numeric factorization), and steps
@@ -189,6 +194,25 @@ module rs_solver_rod_stepper
             character(kind=c_char), intent(out) :: errmsg(*)
             integer(c_int), value :: errlen
         end function rs_stepper_advance
+        integer(c_int) function rs_stepper_factor(handle, values, singular, errmsg, errlen) &
+                bind(C)
+            import :: c_int, c_double, c_char, c_ptr
+            type(c_ptr), value :: handle
+            real(c_double), intent(in) :: values(*)
+            integer(c_int), intent(out) :: singular
+            character(kind=c_char), intent(out) :: errmsg(*)
+            integer(c_int), value :: errlen
+        end function rs_stepper_factor
+        integer(c_int) function rs_stepper_solve(handle, rhs, sol, failed, errmsg, errlen) &
+                bind(C)
+            import :: c_int, c_double, c_char, c_ptr
+            type(c_ptr), value :: handle
+            real(c_double), intent(in) :: rhs(*)
+            real(c_double), intent(out) :: sol(*)
+            integer(c_int), intent(out) :: failed
+            character(kind=c_char), intent(out) :: errmsg(*)
+            integer(c_int), value :: errlen
+        end function rs_stepper_solve
         integer(c_int) function rs_stepper_solver_settings(handle, atol, rtol, stol, max_it, &
                 max_funcs, max_cutbacks, types, length) bind(C)
             import :: c_int, c_double, c_char, c_ptr
@@ -405,6 +429,46 @@ contains
             RS_SET_ERROR(err, 'rod_stepper_advance', from_c_string(message))
         end if
     end subroutine rod_stepper_advance
+
+    !> Factor the Jacobian `values` (in the order of the stepper's pattern); `singular`: a zero
+    !> pivot was met (a limit or bifurcation point exactly, or an unsupported rod).
+    subroutine rod_stepper_factor(this, values, singular, err)
+        class(rod_stepper_t), intent(inout) :: this
+        real(rk), intent(in) :: values(:)
+        logical, intent(out) :: singular
+        type(error_t), allocatable, intent(out) :: err
+        character(kind=c_char) :: message(message_length)
+        integer(c_int) :: ierr, singular_c
+        singular = .false.
+        message = c_null_char
+        ierr = rs_stepper_factor(this%handle, values, singular_c, message, &
+            int(message_length, c_int))
+        if (ierr /= 0) then
+            RS_SET_ERROR(err, 'rod_stepper_factor', from_c_string(message))
+            return
+        end if
+        singular = singular_c /= 0
+    end subroutine rod_stepper_factor
+
+    !> sol = J^{-1} rhs with the last factorization; `failed`: the linear solve diverged.
+    subroutine rod_stepper_solve(this, rhs, sol, failed, err)
+        class(rod_stepper_t), intent(inout) :: this
+        real(rk), intent(in) :: rhs(:)
+        real(rk), intent(out) :: sol(:)
+        logical, intent(out) :: failed
+        type(error_t), allocatable, intent(out) :: err
+        character(kind=c_char) :: message(message_length)
+        integer(c_int) :: ierr, failed_c
+        failed = .false.
+        message = c_null_char
+        ierr = rs_stepper_solve(this%handle, rhs, sol, failed_c, message, &
+            int(message_length, c_int))
+        if (ierr /= 0) then
+            RS_SET_ERROR(err, 'rod_stepper_solve', from_c_string(message))
+            return
+        end if
+        failed = failed_c /= 0
+    end subroutine rod_stepper_solve
 
     !> SNES tolerances and limits, the maximum cut-backs and the solver chain ("snes newtonls
     !> linesearch bt ksp preonly pc lu solver mumps") after all options were applied.

@@ -99,6 +99,15 @@ module rs_system_rod_system
         procedure :: describe => system_describe
         procedure :: traits => system_traits
         procedure :: set_step_problem => system_set_step_problem
+        !> The statics at load time t_load as the step problem (arc-length continuation,
+        !> docs/theory/continuation.md); the first call gives `base`, the state the path goes
+        !> on from. Then step_residual(t_n, h, base, y) with (t_n, h) = load_step(t_load) is
+        !> the equilibrium residual R(Y; t_load), its rows scaled as a step of unit length.
+        procedure :: set_load_problem => system_set_load_problem
+        procedure :: load_step => system_load_step
+        !> The members' path weights (rod_formulation_t%path_weights) over the system's
+        !> unknowns, each member's share over the number of members.
+        procedure :: path_weights => system_path_weights
         procedure :: state_measures => system_state_measures
         !> Each member's state brought to rest (rod_formulation_t%rest_state).
         procedure :: rest_state => system_rest_state
@@ -1098,6 +1107,56 @@ contains
             call this%couplings(c)%coupling%set_endpoint(endpoint, t_load)
         end do
     end subroutine system_set_step_problem
+
+    subroutine system_set_load_problem(this, t_load, base)
+        class(rod_system_t), intent(inout) :: this
+        real(rk), intent(in) :: t_load
+        real(rk), intent(in), optional :: base(:)
+        integer :: m, c
+        this%static = .true.
+        do m = 1, size(this%members)
+            associate (place => this%layout%members(m))
+                if (present(base)) then
+                    call this%members(m)%rod%set_step_problem(.true., t_load, &
+                        continue_from=base(place%state_offset + 1:place%state_offset + &
+                        place%n_state))
+                else
+                    call this%members(m)%rod%set_step_problem(.true., t_load)
+                end if
+            end associate
+        end do
+        do c = 1, size(this%couplings)
+            call this%couplings(c)%coupling%set_endpoint(.true., t_load)
+        end do
+    end subroutine system_set_load_problem
+
+    !> The step (t_n, h) whose problem is the statics at load time t_load: a formulation whose
+    !> every step is an equilibrium at t_n + h (equilibrium_steps, se3_pg) takes t_n = t_load -
+    !> 1, h = 1; the endpoint problem of the others (set_load_problem) is the pseudo-time step
+    !> of the continuation from 0 to 1, where the anchor's weight 1 - t_n - h vanishes.
+    subroutine system_load_step(this, t_load, t_n, h)
+        class(rod_system_t), intent(in) :: this
+        real(rk), intent(in) :: t_load
+        real(rk), intent(out) :: t_n, h
+        type(formulation_traits_t) :: traits
+        traits = this%members(1)%rod%traits()
+        h = 1.0_rk
+        t_n = merge(t_load - 1.0_rk, 0.0_rk, traits%equilibrium_steps)
+    end subroutine system_load_step
+
+    subroutine system_path_weights(this, w)
+        class(rod_system_t), intent(in) :: this
+        real(rk), intent(out) :: w(:)
+        integer :: m
+        w = 0.0_rk
+        do m = 1, size(this%members)
+            associate (place => this%layout%members(m))
+                call this%members(m)%rod%path_weights(w(place%unknown_offset + 1: &
+                    place%unknown_offset + place%n_unknown))
+            end associate
+        end do
+        w = w / size(this%members)
+    end subroutine system_path_weights
 
     subroutine system_rest_state(this, x)
         class(rod_system_t), intent(in) :: this

@@ -202,6 +202,7 @@ module rs_ph_director
         procedure :: state_measures => ph_director_state_measures
         procedure :: nodes => ph_director_nodes
         procedure :: rest_state => ph_director_rest_state
+        procedure :: path_weights => ph_director_path_weights
         procedure :: error_entries => ph_director_error_entries
         procedure :: new_tie => ph_director_new_tie
         procedure :: unpack
@@ -1787,6 +1788,23 @@ contains
         end do
         measures%largest_rotation = angle
     end function ph_director_state_measures
+
+    !> The continuation's path weights (rod_formulation_t%path_weights): positions by 1 / L^2,
+    !> directors by 1/2 (a small turn dtheta moves the three unit directors by |dd_1|^2 +
+    !> |dd_2|^2 + |dd_3|^2 = 2 dtheta^2), each over the number of nodes; stresses, velocities
+    !> and multipliers 0.
+    subroutine ph_director_path_weights(this, w)
+        class(ph_director_t), intent(in) :: this
+        real(rk), intent(out) :: w(:)
+        integer :: k
+        w = 0.0_rk
+        do k = 1, this%n_nodes
+            where (this%node_dof(1:3, k) > 0) w(max(1, this%node_dof(1:3, k))) = &
+                1.0_rk / (this%length**2 * this%n_nodes)
+            where (this%node_dof(4:12, k) > 0) w(max(1, this%node_dof(4:12, k))) = &
+                0.5_rk / this%n_nodes
+        end do
+    end subroutine ph_director_path_weights
 
     !> The node table of the rod (rod_nodes_t): q = (phi, d1, d2, d3) of node k is at
     !> node_dof(1:12, k) in X, and in Y at the same place or, condensed, at node_unknown(1:12,

@@ -45,6 +45,8 @@ contains
             contact=.true., order_4=.true., adaptive=.true., damping=.true., &
             segments=.true., prestrain=.true., initial_equilibrium=.true., modes=.true., &
             damped_modes=.true.)
+        ! Arc-length continuation of its endpoint statics (docs/theory/continuation.md).
+        d%capability%continuation = .true.
         d%default_choice = .true.
         d%system_couplings = .true.
         d%create => create

@@ -175,6 +175,7 @@ module rs_ph_planar
         procedure :: traits => planar_traits
         procedure :: set_step_problem => planar_set_step_problem
         procedure :: state_measures => planar_state_measures
+        procedure :: path_weights => planar_path_weights
         !> Kinetic and strain energy of one rod in state x.
         procedure :: rod_energy
         !> The energy one rod's damping dissipated over a step.
@@ -1390,6 +1391,26 @@ contains
         call static_rows(this, 1.0_rk, this%row_scale, continue_from, y, this%n_y, f=this%anchor)
         this%continuing = .true.
     end subroutine planar_set_step_problem
+
+    !> The continuation's path weights (rod_formulation_t%path_weights): the free nodal x, y
+    !> by 1 / L^2 (L the longest rod's length) and angles theta by 1, each over the number of
+    !> nodal angles of the system; the strain unknowns 0.
+    subroutine planar_path_weights(this, w)
+        class(ph_planar_t), intent(in) :: this
+        real(rk), intent(out) :: w(:)
+        real(rk) :: nodes, length
+        integer :: i
+        w = 0.0_rk
+        nodes = real(max(1, size(this%theta_dofs)), rk)
+        length = maxval(this%rods(:)%length)
+        do i = 1, this%n_q
+            if (this%unknown_of(i) > 0) w(this%unknown_of(i)) = 1.0_rk / (length**2 * nodes)
+        end do
+        do i = 1, size(this%theta_dofs)
+            if (this%unknown_of(this%theta_dofs(i)) > 0) &
+                w(this%unknown_of(this%theta_dofs(i))) = 1.0_rk / nodes
+        end do
+    end subroutine planar_path_weights
 
     !> No kinetic energy is reported (no &time relaxation for the planar schemes); with
     !> `from`, the largest change of a nodal angle theta from `from` to x.

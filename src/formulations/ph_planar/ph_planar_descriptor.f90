@@ -60,6 +60,8 @@ contains
             damping=.true., segments=.true., prestrain=.true., initial_equilibrium=.true., &
             release=.true., modes=name == 'ph_planar', damped_modes=.false., &
             buckling=name == 'ph_planar')
+        ! Arc-length continuation (docs/theory/continuation.md) on the static rows.
+        d%capability%continuation = name == 'ph_planar'
         d%create => create
         d%plan_lines => plan_lines
         d%check_rod => check_planar_rod

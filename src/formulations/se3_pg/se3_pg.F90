@@ -166,6 +166,7 @@ module rs_se3_pg
         procedure :: new_tie => se3_new_tie
         procedure :: set_step_problem => se3_set_step_problem
         procedure :: state_measures => se3_state_measures
+        procedure :: path_weights => se3_path_weights
         procedure, private :: full_q, nodal_loads, energies, stage_velocity, set_drives, &
             rate_of, stage_q, initial_rates, stage_strain_rate, strain_rate_at, drag_matrix
     end type se3_pg_t
@@ -1246,6 +1247,23 @@ contains
                 exp_so3(x(at + 4:at + 6)), transpose(exp_so3(from(at + 4:at + 6)))))))
         end do
     end function se3_state_measures
+
+    !> The continuation's path weights (rod_formulation_t%path_weights): the free positions by
+    !> 1 / L^2 and rotation vectors by 1 (a small turn changes psi by dtheta to first order),
+    !> each over the number of nodes.
+    subroutine se3_path_weights(this, w)
+        class(se3_pg_t), intent(in) :: this
+        real(rk), intent(out) :: w(:)
+        integer :: i, k
+        w = 0.0_rk
+        do k = 1, this%n_nodes
+            do i = 1, 6
+                if (this%unknown_of(i, k) == 0) cycle
+                w(this%unknown_of(i, k)) = merge(1.0_rk / this%length**2, 1.0_rk, i <= 3) / &
+                    this%n_nodes
+            end do
+        end do
+    end subroutine se3_path_weights
 
     !> The node table for couplings (rs_formulations_formulation): coordinates q = (r, psi),
     !> rows the virtual-displacement rows (I dr, K dphi) of the free ones, which carry forces

@@ -36,6 +36,8 @@ contains
             adaptive=.true., generalized_alpha=.true., damping=.true., &
             segments=.true., prestrain=.true., initial_equilibrium=.true., release=.true., &
             modes=.true., damped_modes=.false., buckling=.true.)
+        ! Arc-length continuation of its statics (docs/theory/continuation.md).
+        d%capability%continuation = .true.
         ! Joints, end plates and rod-rod contact through the system layer (src/system/) on
         ! se3_pg's node access (se3_pg%nodes, its tie rows in rs_se3_pg_tie): issue 22 item 5.
         d%system_couplings = .true.
