@@ -20,7 +20,9 @@
 !> R_mu = dR/dmu is the central difference of R in the load time (exact to round-off for loads
 !> linear in their time functions: the residual is then affine in the loads).
 !>
-!> A step whose Newton fails, or that turns a section by more than max_rotation, is halved;
+!> A step whose Newton fails, whose corrector ends farther from its predictor than the step's
+!> length (it jumped to another part of the path), or that turns a section by more than
+!> max_rotation, is halved;
 !> the next step's length follows the iterations, ds sqrt(target_iterations / iterations) within
 !> [ds / 2, 2 ds] and [arc_length_min, arc_length_max].
 module rs_solver_arc_length
@@ -224,6 +226,16 @@ contains
             mu = mu + dmu
         end do
 
+        ! The corrector must stay near its predictor: one that went farther than the step
+        ! itself converged on another part of the path (past a limit point, the far side of
+        ! a snap-through), which a shorter step resolves.
+        this%a = this%y - this%y_start - this%step * this%tangent
+        turn = sqrt(weighted(this, this%a, this%a) + (mu - mu_start - this%step * tangent_mu)**2)
+        if (turn > this%step) then
+            why = 'the corrector went ' // str_significant(turn, 3) // ' from its predictor, ' // &
+                'more than the step ' // str_significant(this%step, 3)
+            return
+        end if
         call system%load_step(mu * this%settings%load_scale, t_n, h)
         call system%update(t_n, h, x, this%y, this%x_new)
         measures = system%state_measures(this%x_new, from=x)

@@ -1,0 +1,214 @@
+#!/usr/bin/env python3
+"""Arc-length continuation of the statics (&time continuation = 'arc_length'; issue 27 item 3,
+docs/theory/continuation.md) against closed forms and against the modal analysis.
+
+Cases:
+  elastica_ph_planar
+      Euler's pinned column past buckling: a steel rod of L = 1 m, r = 1 mm, pinned at s = 0 and
+      held laterally at s = L, under an axial end force growing linearly with the load time to
+      2 P_E (P_E = pi^2 EI / L^2). The column is perfect except for a small end moment (2e-2
+      P_E L, a smooth pulse over the load times 0.3 to 0.6) that leads the path onto the
+      buckled branch at the bifurcation and is gone from the load time 0.6 on, where the path
+      is the perfect column's. There the load against the end rotation alpha must be the
+      inextensible elastica's, P / P_E = (2 K(k) / pi)^2 with k = sin(alpha / 2) (K computed
+      here by the arithmetic-geometric mean): alpha runs from 68 to 124 degrees. The rod's
+      extension and shear move P by about P / EA ~ 5e-6 relative. Observed order about 2
+      between 160 and 640 elements (6.9e-5 and 2.2e-6); the finest within 1e-5.
+  arch_se3_pg
+      A shallow pinned circular arch (span 1 m, rise 6 mm, r = 5 mm: rise / radius of gyration
+      2.4) under a uniform downward load growing linearly with the load time: the path passes
+      its limit point (the load time rises, then falls while the crown snaps through, then
+      rises again with the crown below the supports). The limit load against the modal
+      analysis at the states before it: the lowest squared frequency of the loaded arch
+      vanishes at the limit point like sqrt(lambda_lim - lambda) (the path is a parabola in
+      lambda there), so omega^4 is linear in lambda and its zero, extrapolated from the
+      equilibria at 0.98 and 0.995 of the path's limit load (load-stepped runs), is the limit
+      load of the stability analysis; within 1e-3 of the path's maximum (a parabola through
+      the three path points about it; measured 1.8e-4).
+"""
+import math
+import os
+import sys
+
+import h5py
+import numpy as np
+
+sys.path.insert(0, os.path.join(os.path.dirname(__file__), ".."))
+from run_scene import run, run_cases  # noqa: E402
+
+E, G, RHO = 2e11, 8e10, 7800.0
+# A load proportional to the load time on both sides of 0 (a ramp is clamped at 0 and 1).
+LINEAR = "time_function = 'table', table_times = -100.0, 100.0, table_values = -100.0, 100.0"
+
+
+def elliptic_k(m):
+    """The complete elliptic integral of the first kind K(m), m = k^2, by the AGM."""
+    a, b = 1.0, math.sqrt(1.0 - m)
+    for _ in range(60):
+        a, b = 0.5 * (a + b), math.sqrt(a * b)
+    return math.pi / (2.0 * a)
+
+
+def column(n_elements, radius=1e-3):
+    inertia = math.pi * radius**4 / 4
+    euler = math.pi**2 * E * inertia
+    return euler, f"""&time
+    t_end = 1.0
+    dt = 1.0
+    quasistatic = .true.
+    continuation = 'arc_length'
+    arc_length = 0.01
+    arc_length_max = 0.02
+    path_steps = 400
+/
+&solver
+    newton_atol = 1e-9
+/
+&rod
+    name = 'column', formulation = 'ph_planar', n_elements = {n_elements}, length = 1.0
+    start = 0.0, 0.0, 0.0, direction = 1.0, 0.0, 0.0
+    section = 'circle', radius = {radius}, E = {E}, G = {G}, density = {RHO}
+/
+&bc
+    rod = 'column', end = 'start', kind = 'pinned'
+/
+&bc
+    rod = 'column', end = 'end', kind = 'held', hold = 'y'
+/
+&load
+    rod = 'column', where = 'end', force = {-2 * euler!r}, 0.0, 0.0
+    {LINEAR}
+/
+&load
+    rod = 'column', where = 'start', moment = 0.0, 0.0, {2e-2 * euler!r}
+    time_function = 'pulse', t_on = 0.3, t_off = 0.6
+/
+&output
+    path = 'x.h5'
+/
+"""
+
+
+def elastica_errors(args, n_elements):
+    euler, text = column(n_elements)
+    path = run(args, text, f"elastica_{n_elements}")
+    with h5py.File(path, "r") as f:
+        rod = f["rods"]["column"]
+        load_time = rod["series"]["load_time"][()]
+        tangent = rod["directors"][()][:, 0, 2, :]
+    alpha = np.abs(np.arctan2(tangent[:, 1], tangent[:, 0]))
+    keep = (load_time >= 0.6) & (load_time <= 1.0)
+    ratio = 2.0 * load_time[keep]
+    exact = np.array([(2 * elliptic_k(math.sin(a / 2) ** 2) / math.pi) ** 2 for a in alpha[keep]])
+    return np.degrees(alpha[keep]), ratio / exact - 1
+
+
+def elastica(args, checks):
+    meshes = (160, 640)
+    worst = []
+    for n in meshes:
+        degrees, errors = elastica_errors(args, n)
+        worst.append(np.abs(errors).max())
+        print(f"{n} elements: {len(errors)} path points, end rotation {degrees.min():.1f} to "
+              f"{degrees.max():.1f} degrees, largest |P / P_elastica - 1| {worst[-1]:.3e}")
+        if n == meshes[-1]:
+            checks.check("path past 90 degrees: 95 - largest end rotation (degrees)",
+                         95.0 - degrees.max(), 0.0)
+            checks.check("path from below 70 degrees: smallest end rotation - 70 (degrees)",
+                         degrees.min() - 70.0, 0.0)
+    order = math.log(worst[0] / worst[1]) / math.log(meshes[1] / meshes[0])
+    print(f"observed order {order:.2f}")
+    checks.check("elastica: observed order >= 1.8 (2 - order)", 2.0 - order, 0.2)
+    checks.check(f"elastica, {meshes[-1]} elements: largest |P / P_elastica - 1|", worst[-1], 1e-5)
+
+
+def arch(rise, n_elements, mode, q=2000.0):
+    """A pinned shallow circular arch along x (span 1) in the x-z plane, as a 33-point polyline;
+    `mode` 'path': the continuation; a number: a load-stepped run to that load time with the
+    modes about its equilibrium."""
+    radius = (0.25 + rise**2) / (2 * rise)
+    half = math.asin(0.5 / radius)
+    points = []
+    for i in range(33):
+        a = -half + 2 * half * i / 32
+        points += [0.5 + radius * math.sin(a), 0.0, rise - radius + radius * math.cos(a)]
+    if mode == "path":
+        time = """    t_end = 1.0
+    dt = 1.0
+    quasistatic = .true.
+    continuation = 'arc_length'
+    arc_length = 0.0005
+    arc_length_max = 0.001
+    path_steps = 300"""
+        modes = ""
+    else:
+        time = f"""    t_end = {mode!r}
+    dt = {mode / 40!r}
+    quasistatic = .true."""
+        modes = "&modes\n    n_modes = 3, about = 'equilibrium'\n/"
+    return f"""&time
+{time}
+/
+&solver
+    newton_atol = 1e-6
+/
+&rod
+    name = 'arch', formulation = 'se3_pg', n_elements = {n_elements}
+    geometry = 'polyline', points = {', '.join(repr(v) for v in points)}
+    section = 'circle', radius = 0.005, E = {E}, G = {G}, density = {RHO}
+/
+&bc
+    rod = 'arch', end = 'start', kind = 'pinned'
+/
+&bc
+    rod = 'arch', end = 'end', kind = 'pinned'
+/
+&load
+    rod = 'arch', where = 'distributed', force = 0.0, 0.0, {-q!r}
+    {LINEAR}
+/
+&output
+    path = 'x.h5'
+/
+{modes}
+"""
+
+
+def snap_through(args, checks):
+    rise, n_elements = 0.006, 64
+    path = run(args, arch(rise, n_elements, "path"), "arch_path")
+    with h5py.File(path, "r") as f:
+        rod = f["rods"]["arch"]
+        load_time = rod["series"]["load_time"][()]
+        position = rod["position"][()]
+    crown = position[:, position.shape[1] // 2, 2]
+    falls = np.nonzero(np.diff(load_time) < 0)[0]
+    checks.check("the path turns back at a limit point: (no falling load time)",
+                 0.0 if len(falls) else 1.0, 0.0)
+    top = falls[0]
+    checks.check("the crown snaps through: final crown height / rise (below -1)",
+                 crown[-1] / rise + 1.0, 0.0)
+    checks.check("the load rises again past the limit load: limit / final load time - 1",
+                 load_time[top] / load_time[-1] - 1.0, 0.0)
+    # The limit load: a parabola in the path's own parameter through the points about the top.
+    s = np.concatenate([[0.0], np.cumsum(np.hypot(np.diff(load_time), np.diff(crown) / rise))])
+    c = np.polyfit(s[top - 1:top + 2], load_time[top - 1:top + 2], 2)
+    limit = c[2] - c[1] ** 2 / (4 * c[0])
+    print(f"path: limit load time {limit:.8f} (largest path point {load_time[top]:.8f}), "
+          f"{len(load_time) - 1} steps")
+    omega4 = []
+    loads = (0.997 * limit, 0.999 * limit)
+    for k, lam in enumerate(loads):
+        result = run(args, arch(rise, n_elements, lam), f"arch_modes_{k}")
+        with h5py.File(result, "r") as f:
+            omega = f["modes"]["arch"]["angular_frequency"][()]
+        positive = omega[omega > 0]
+        omega4.append(positive.min() ** 4)
+        print(f"load time {lam:.8f}: angular frequencies {omega}")
+    stability = loads[0] + (loads[1] - loads[0]) * omega4[0] / (omega4[0] - omega4[1])
+    print(f"stability analysis: omega^4 vanishes at the load time {stability:.8f}")
+    # Measured 1.8e-4 (the path's parabola and the omega^4 extrapolation).
+    checks.check("limit load: |stability analysis / path - 1|", abs(stability / limit - 1), 2e-3)
+
+
+run_cases(__doc__, {"elastica_ph_planar": elastica, "arch_se3_pg": snap_through})
