@@ -162,7 +162,8 @@ contains
         call linearize_system(system, 0.0_rk, x0, dt, reference, err)
         RS_RETURN_IF_ERROR(err)
         if (reference%n /= loaded%n) then
-            RS_SET_ERROR(err, 'buckling_stiffness', 'the loaded and unloaded pencils differ in size')
+            message = 'the loaded and unloaded pencils differ in size'
+            RS_SET_ERROR(err, 'buckling_stiffness', message)
             return
         end if
         ! The fit's round-off is too large for the difference of the two stiffnesses.
