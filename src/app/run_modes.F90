@@ -7,7 +7,9 @@
 !> included), their lowest modes
 !> (rs_solver_modal_solver, SLEPc on all ranks together), and on rank 0 the frequencies and
 !> the mode shapes in /modes of the result file (docs/user/output.md) and the modes sidecar
-!> FILE.modes.xdmf (docs/user/postprocessing.md).
+!> FILE.modes.xdmf (docs/user/postprocessing.md). Linearized buckling (kind = 'buckling')
+!> compares the tangent stiffnesses of the reference and of the loaded equilibrium
+!> (rs_system_linearization's buckling_stiffness; build_system) and writes /buckling.
 module rs_app_run_modes
     use rs_core_kinds, only: rk, pi
     use rs_core_error, only: error_t, set_error
@@ -18,11 +20,11 @@ module rs_app_run_modes
     use rs_model_units, only: unit_in_system
     use rs_model_coupling, only: coupled_systems
     use rs_parallel_mpi_env, only: world_rank, world_size, any_rank_true, broadcast_text
-    use rs_formulations_formulation, only: modal_first_order, max_node_coordinates
+    use rs_formulations_formulation, only: formulation_traits_t, modal_first_order, &
+        max_node_coordinates
     use rs_system_rod_system, only: rod_system_t
     use rs_math_so3, only: exp_so3, tangent_so3, hat
-    use rs_system_linearization, only: pencil_t, linearize_system, static_stiffness, &
-        mass_rows
+    use rs_system_linearization, only: pencil_t, linearize_system, buckling_stiffness
     use rs_solver_modal_solver, only: modes_t, solve_modes, solve_buckling, lowest_elastic
     use rs_io_hdf5_file, only: hdf5_file_t
     use rs_io_xdmf_writer, only: xdmf_mode_rod_t, write_xdmf_modes_sidecar, &
@@ -56,7 +58,6 @@ contains
         type(modes_t) :: modes
         type(xdmf_mode_rod_t), allocatable :: sidecar(:), rods(:)
         real(rk), allocatable :: x(:), x0(:)
-        logical, allocatable :: rows(:)
         real(rk) :: started, t
         integer :: k
         character(len=:), allocatable :: name, message
@@ -76,38 +77,26 @@ contains
             started = wall_time()
             ! Every rank builds the whole system (a modal analysis is one linearization and
             ! one eigen solve: the assembly is cheap next to the solve, which is distributed).
-            allocate(system)
-            call system%init(dynamic, members(first(k):first(k + 1) - 1), err)
+            call build_system(scene, dynamic, members(first(k):first(k + 1) - 1), buckling, &
+                system, err)
             if (.not. allocated(err)) then
                 allocate(x(system%n_state()))
                 call system%initial_state(x)
                 if (equilibrium) call equilibrium_state(system, states(k)%x, x, err)
             end if
-            if (.not. allocated(err)) call linearize_system(system, t, x, scene%time%dt, &
-                pencil, err)
             if (buckling) then
                 ! The unloaded reference: the initial state with the loads of t = 0.
                 if (.not. allocated(err)) then
                     allocate(x0(size(x)))
                     call system%initial_state(x0)
-                    call linearize_system(system, 0.0_rk, x0, scene%time%dt, reference, err)
+                    call buckling_stiffness(system, t, x, x0, scene%time%dt, reference, pencil, err)
+                    deallocate(x0)
                 end if
-                if (.not. allocated(err)) then
-                    if (reference%n /= pencil%n) then
-                        RS_SET_ERROR(err, 'run_modes', 'the loaded and unloaded pencils differ in size')
-                    end if
-                end if
-                if (.not. allocated(err)) then
-                    ! The stiffness of both states from one long step each (static_stiffness:
-                    ! the fit's round-off is too large for their difference), the same rows.
-                    rows = mass_rows(reference) .or. mass_rows(pencil)
-                    call static_stiffness(system, 0.0_rk, x0, rows, reference, err)
-                    if (.not. allocated(err)) call static_stiffness(system, t, x, rows, pencil, err)
-                end if
-                if (allocated(x0)) deallocate(x0)
                 if (.not. allocated(err)) call solve_buckling(reference, pencil, &
                     scene%modes%n_modes, modes, err)
             else
+                if (.not. allocated(err)) call linearize_system(system, t, x, scene%time%dt, &
+                    pencil, err)
                 if (.not. allocated(err)) call solve_modes(pencil, scene%modes%n_modes, modes, err)
             end if
             name = system_name(scene, members(first(k):first(k + 1) - 1))
@@ -142,7 +131,32 @@ contains
         end if
     end subroutine run_modes
 
-    !> The run's end state `from` as the dynamic system's state x, at rest: the same layout (a
+    !> The system of the rods `rods`, allocated: built for dynamics with the midpoint rule
+    !> (`dynamic`), whose step Jacobians give the modes and a second-order pencil's stiffness;
+    !> for linearized buckling (`buckling`) first as the run had it (`scene`), so that a
+    !> formulation whose static problem has the tangent stiffness as its Jacobian
+    !> (formulation_traits_t%static_tangent: ph_director) gives it from the problem the run
+    !> solved (rs_system_linearization's buckling_stiffness), and for dynamics otherwise.
+    subroutine build_system(scene, dynamic, rods, buckling, system, err)
+        type(scene_t), intent(in) :: scene, dynamic
+        integer, intent(in) :: rods(:)
+        logical, intent(in) :: buckling
+        type(rod_system_t), allocatable, intent(out) :: system
+        type(error_t), allocatable, intent(out) :: err
+        type(formulation_traits_t) :: traits
+        if (buckling) then
+            allocate(system)
+            call system%init(scene, rods, err)
+            RS_RETURN_IF_ERROR(err)
+            traits = system%traits()
+            if (traits%static_tangent) return
+            deallocate(system)
+        end if
+        allocate(system)
+        call system%init(dynamic, rods, err)
+    end subroutine build_system
+
+    !> The run's end state `from` as the system's state x, at rest: the same layout (a
     !> static object's state has the dynamic one's), checked by its length, with the load
     !> path's rates removed (rod_system_t%rest_state).
     subroutine equilibrium_state(system, from, x, err)

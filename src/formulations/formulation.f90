@@ -82,6 +82,14 @@ module rs_formulations_formulation
         !> modal_second_order): which linear pencil modal analysis reads from it
         !> (rs_system_linearization), checked there against Jacobians at several h.
         integer :: modal_form = modal_none
+        !> The step problem of the endpoint equilibrium (set_step_problem(.true., t_load)
+        !> without continue_from) is the static equilibrium at t_load whose Jacobian is its
+        !> tangent stiffness, every row a force or an algebraic row and no mass term (rows
+        !> scaled by the step h, unknowns as those of a step): linearized buckling reads K_T
+        !> there (rs_system_linearization's buckling_stiffness; ph_director in quasistatic
+        !> runs, whose K_T is the mixed static problem's, stresses and multipliers
+        !> included); false: from the dynamic step's second-order pencil (modal_form).
+        logical :: static_tangent = .false.
     end type formulation_traits_t
 
     !> Two measures of a state that the run's control uses (state_measures).

@@ -80,8 +80,9 @@ module rs_model_capabilities
         !> Modes of damped rods too (a pencil that solves them: the first-order form's damping
         !> is in A; se3_pg's damped quadratic pencil is not solved yet).
         logical :: damped_modes = .false.
-        !> Linearized buckling (&modes kind = 'buckling'): a second-order pencil, whose
-        !> stiffness one long step reads (rs_system_linearization's static_stiffness).
+        !> Linearized buckling (&modes kind = 'buckling'): a tangent stiffness to read
+        !> (rs_system_linearization's buckling_stiffness: the Jacobian of the static problem,
+        !> or one long step of a second-order pencil).
         logical :: buckling = .false.
         !> Arc-length continuation of its statics (&time continuation = 'arc_length';
         !> docs/theory/continuation.md): a static problem at any load time

@@ -106,12 +106,13 @@ contains
     !> The n_modes load factors lambda nearest zero of linearized buckling (issue 27 item 2,
     !> docs/theory/modes.md): K_0 phi = -lambda (K_1 - K_0) phi, K_0 the stiffness of the
     !> reference state (pencil `reference`, unloaded) and K_1 that of the equilibrium under the
-    !> loads (`loaded`), both the a0 of second-order pencils on the same pattern. Solved as the
-    !> generalized problem Op0 = K_0, Op1 = K_0 - K_1 with shift-and-invert at 0 (K_0 is
-    !> factorized: a system with rigid-body motions has none, and is refused by MUMPS). The
-    !> geometric stiffness is singular (axial and torsional rows barely change), its infinite
-    !> eigenvalues lie far from the target. Complex pairs (a non-conservative load) are
-    !> skipped. Collective on all ranks.
+    !> loads (`loaded`), both the a0 of rs_system_linearization's buckling_stiffness on the
+    !> same pattern. Solved as the generalized problem Op0 = K_0, Op1 = K_0 - K_1 with
+    !> shift-and-invert at 0 (K_0 is factorized: a system with rigid-body motions has none, and
+    !> is refused by MUMPS). The geometric stiffness is singular (axial and torsional rows
+    !> barely change; the algebraic rows of a mixed K_T, ph_director's constraints, stress and
+    !> kinematic rows, hardly or not at all), its infinite eigenvalues lie far from the
+    !> target. Complex pairs (a non-conservative load) are skipped. Collective on all ranks.
     subroutine solve_buckling(reference, loaded, n_modes, modes, err)
         type(pencil_t), intent(in) :: reference, loaded
         integer, intent(in) :: n_modes
@@ -121,9 +122,8 @@ contains
         type(modes_t) :: found
         character(len=:), allocatable :: why
         integer :: i
-        if (reference%form /= modal_second_order .or. loaded%form /= modal_second_order) then
-            why = 'linearized buckling needs the stiffness of a second-order pencil (se3_pg, ' // &
-                'ph_planar); not available for first-order formulations yet'
+        if (.not. (reference%stiffness .and. loaded%stiffness)) then
+            why = 'linearized buckling needs the tangent stiffnesses of buckling_stiffness'
             RS_SET_ERROR(err, 'solve_buckling', why)
             return
         end if

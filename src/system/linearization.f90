@@ -26,6 +26,11 @@
 !> z0 = 1 / dt until it settles), and the rows with two powers are read once more at steps
 !> where each term dominates (refine).
 !>
+!> Linearized buckling (buckling_stiffness) needs the tangent stiffness alone, of the reference
+!> and of the loaded equilibrium: read from the system's static problem where the formulation
+!> has one whose Jacobian is K_T (formulation_traits_t%static_tangent: ph_director), else from
+!> one long dynamic step of a second-order pencil (static_stiffness).
+!>
 !> Pure Fortran on the system layer (rs_system_rod_system): no PETSc; the eigen solve is
 !> src/solver/modal_solver.F90's.
 module rs_system_linearization
@@ -38,7 +43,7 @@ module rs_system_linearization
     implicit none
     private
 
-    public :: linearize_system, static_stiffness, mass_rows
+    public :: linearize_system, buckling_stiffness
 
     !> The linear pencil P(s) = a0 + s a1 + s^2 a2 of a system about a state at rest, on the
     !> system's Jacobian pattern (0-based CSR over its step unknowns).
@@ -56,6 +61,8 @@ module rs_system_linearization
         integer :: n_algebraic = 0
         !> The balanced z0 (1/s).
         real(rk) :: z0 = 0.0_rk
+        !> a0 is a tangent stiffness read for linearized buckling (buckling_stiffness).
+        logical :: stiffness = .false.
     end type pencil_t
 
     !> Powers of h of the fit, and the sample points z / z0 (the last one checks).
@@ -119,6 +126,88 @@ contains
         end if
     end subroutine linearize_system
 
+    !> The tangent stiffnesses of linearized buckling (docs/theory/modes.md) as the a0 of two
+    !> pencils on the system's pattern: `reference` at the unloaded state x0 with the loads of
+    !> t = 0, `loaded` at the equilibrium x with the loads of t (its unbalance set). Read
+    !> - where the formulation's static problem has K_T as its Jacobian (traits%static_tangent:
+    !>   ph_director in a quasistatic run), from that Jacobian (static_tangent);
+    !> - for a second-order pencil (traits%modal_form; the system built for dynamics), from
+    !>   linearize_system's pencils with their stiffness rows read again from one long step
+    !>   each (static_stiffness), the same rows in both;
+    !> and refused otherwise. `dt` is the scene's step (linearize_system's first time scale).
+    subroutine buckling_stiffness(system, t, x, x0, dt, reference, loaded, err)
+        type(rod_system_t), intent(inout) :: system
+        real(rk), intent(in) :: t, x(:), x0(:), dt
+        type(pencil_t), intent(out) :: reference, loaded
+        type(error_t), allocatable, intent(out) :: err
+        type(formulation_traits_t) :: traits
+        logical, allocatable :: rows(:)
+        character(len=:), allocatable :: message
+        traits = system%traits()
+        if (traits%static_tangent) then
+            call static_tangent(system, 0.0_rk, x0, reference, err)
+            RS_RETURN_IF_ERROR(err)
+            call static_tangent(system, t, x, loaded, err)
+            return
+        end if
+        if (traits%modal_form /= modal_second_order) then
+            message = 'linearized buckling is not available for ' // system%formulation // &
+                ': neither a static problem whose Jacobian is the tangent stiffness nor a ' // &
+                'second-order pencil to read it from (docs/theory/modes.md)'
+            RS_SET_ERROR(err, 'buckling_stiffness', message)
+            return
+        end if
+        call linearize_system(system, t, x, dt, loaded, err)
+        RS_RETURN_IF_ERROR(err)
+        call linearize_system(system, 0.0_rk, x0, dt, reference, err)
+        RS_RETURN_IF_ERROR(err)
+        if (reference%n /= loaded%n) then
+            message = 'the loaded and unloaded pencils differ in size'
+            RS_SET_ERROR(err, 'buckling_stiffness', message)
+            return
+        end if
+        ! The fit's round-off is too large for the difference of the two stiffnesses.
+        rows = mass_rows(reference) .or. mass_rows(loaded)
+        call static_stiffness(system, 0.0_rk, x0, rows, reference, err)
+        RS_RETURN_IF_ERROR(err)
+        call static_stiffness(system, t, x, rows, loaded, err)
+    end subroutine buckling_stiffness
+
+    !> The tangent stiffness of `system` at x with the loads of t as the a0 of `pencil` (a1 =
+    !> a2 = 0): the Jacobian of its static problem at load time t (set_step_problem; the
+    !> system is set back to time steps), at the step h = 1 (rows of forces as a step of unit
+    !> length, continue_equilibrium's scaling in rs_solver_rod_run), about the unknowns of x
+    !> (the predictor's: the static problem's Y is its state's). For ph_director the mixed
+    !> static problem of methods/ph_director_3d.md §2.8 (eqs. 96e-g): the rows of the
+    !> momenta with the geometric stiffness of the stresses, multipliers and loads, the
+    !> stress rows C sigma - int psi (eps(q) - eps_0) and the constraints g(d) = 0; the
+    !> kinematic rows -h/2 (v_1 - v_n) give v = 0 in any buckling mode. The unbalance is that
+    !> of the static residual at x (zero at the run's equilibrium).
+    subroutine static_tangent(system, t, x, pencil, err)
+        type(rod_system_t), intent(inout) :: system
+        real(rk), intent(in) :: t, x(:)
+        type(pencil_t), intent(out) :: pencil
+        type(error_t), allocatable, intent(out) :: err
+        real(rk), allocatable :: y(:), f(:)
+        integer :: status
+        pencil%stiffness = .true.
+        pencil%n = system%n_unknown()
+        call system%jacobian_pattern(pencil%row_ptr, pencil%cols)
+        allocate(pencil%a0(size(pencil%cols)), y(pencil%n), f(pencil%n))
+        call system%set_step_problem(.true., t)
+        call system%predictor(0.0_rk, 1.0_rk, x, y)
+        call system%step_jacobian(0.0_rk, 1.0_rk, x, y, pencil%a0, status)
+        if (status == state_valid) call system%step_residual(0.0_rk, 1.0_rk, x, y, f, status)
+        call system%set_step_problem(.false., t)
+        if (status /= state_valid) then
+            RS_SET_ERROR(err, 'static_tangent', 'the state is invalid (NaN, an inverted element)')
+            return
+        end if
+        allocate(pencil%a1(size(pencil%cols)), pencil%a2(size(pencil%cols)), source=0.0_rk)
+        pencil%unbalance = maxval(abs(f)) / max(tiny(1.0_rk), maxval(abs(pencil%a0)) * &
+            max(maxval(abs(y)), tiny(1.0_rk)))
+    end subroutine static_tangent
+
     !> The stiffness rows of a second-order `pencil` (linearize_system's, of `system` about x
     !> with the loads of t) read again from one Jacobian at a step so long that the mass
     !> terms are below round-off:
@@ -160,6 +249,7 @@ contains
             if (.not. rows(i)) cycle
             pencil%a0(lo:hi) = 4.0_rk * values(lo:hi)
         end do
+        pencil%stiffness = .true.
     end subroutine static_stiffness
 
     !> The rows of `pencil` with mass (a2 /= 0 in the row).

@@ -1077,7 +1077,9 @@ contains
     !>   2.4 at the first touch of the crossing ropes and Newton stalled (docs/theory/
     !>   bundles.md, "No tunnelling"); with backtracking they converge. With ties the scaling
     !>   above rules (the seven-wire strand's quasistatic stretch needs full steps); dynamic
-    !>   steps have the mass terms and converge with full steps.
+    !>   steps have the mass terms and converge with full steps;
+    !> - the members' static tangent (linearized buckling) is the system's: in the endpoint
+    !>   equilibrium the couplings act at X_{n+1} (rs_system_coupling).
     function system_traits(this) result(traits)
         class(rod_system_t), intent(in) :: this
         type(formulation_traits_t) :: traits
@@ -1086,7 +1088,7 @@ contains
         traits = formulation_traits_t(full_newton=.not. (traits%wants_endpoint_solve .and. &
             this%refuses_iterates() .and. .not. this%tied), &
             wants_endpoint_solve=traits%wants_endpoint_solve, energy_scheme=traits%energy_scheme, &
-            modal_form=traits%modal_form)
+            modal_form=traits%modal_form, static_tangent=traits%static_tangent)
     end function system_traits
 
     subroutine system_set_step_problem(this, endpoint, t_load, continue_from)

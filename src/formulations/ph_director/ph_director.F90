@@ -1740,6 +1740,10 @@ contains
         traits%continues_equilibrium = this%quasistatic .and. .not. this%condensed
         ! The implicit midpoint rule on (q, v, lambda, sigma) (methods §5.1-5.2).
         if (.not. this%quasistatic) traits%modal_form = modal_first_order
+        ! The endpoint equilibrium of a quasistatic run (methods §2.8 eqs. 96e-g; no mass, its
+        ! kinematic rows -h/2 (v_1 - v_n) keep the velocities out of the equilibrium): its
+        ! Jacobian is the tangent stiffness of the mixed static problem.
+        traits%static_tangent = this%quasistatic
     end function ph_director_traits
 
     !> Make the next steps the endpoint equilibrium at load time t_load (`endpoint`), or time

@@ -36,6 +36,9 @@ contains
         ! ends held in chosen directions (issue 26 item 3; held coordinates eliminated).
         ! Prestrain (issue 26 item 3, docs/theory/prestretched_starts.md): the reference
         ! strains Gamma_0 / (1 + prestrain) with the consistent initial stresses.
+        ! Modes (issue 27 item 1) from the first-order pencil of the midpoint step; linearized
+        ! buckling (item 2) from the tangent of the quasistatic endpoint equilibrium (traits
+        ! static_tangent, docs/theory/modes.md).
         d%capability = capability_t(formulation=d%name, available=.true., &
             end_kinds='clamped|pinned|free|driven|sliding|held|body', &
             load_places='start|end|distributed|gravity', drive='pose', &
@@ -44,7 +47,7 @@ contains
             joints='rigid|spherical|revolute', end_plates=.true., floating_plates=.true., &
             contact=.true., order_4=.true., adaptive=.true., damping=.true., &
             segments=.true., prestrain=.true., initial_equilibrium=.true., modes=.true., &
-            damped_modes=.true.)
+            damped_modes=.true., buckling=.true.)
         ! Arc-length continuation of its endpoint statics (docs/theory/continuation.md).
         d%capability%continuation = .true.
         d%default_choice = .true.

@@ -6,7 +6,11 @@
 !>   (b) ph_director (first order) and se3_pg on a free rod: a0 applied to a rigid translation
 !>       of the nodes (the state's layout: positions moved, everything else still) vanishes,
 !>       and a1 (B) or a2 (M) applied to it does not (a translation has inertia);
-!>   (c) the refusals: a formulation without a modal form (se3_strand), a state in motion.
+!>   (c) the refusals: a formulation without a modal form (se3_strand), a state in motion;
+!>   (d) buckling_stiffness of a quasistatic ph_director rod (the Jacobian of its static
+!>       problem, traits static_tangent): a rigid translation is in the null space of K_T at
+!>       the reference, the system is back in time steps after it, and a dynamic ph_director
+!>       rod (a first-order pencil, no static problem) is refused.
 module rs_test_system_linearization
     use rs_core_kinds, only: rk
     use rs_core_error, only: error_t, error_list_t
@@ -16,7 +20,7 @@ module rs_test_system_linearization
     use rs_io_input_file, only: parse_scene
     use rs_formulations_formulation, only: state_valid, modal_first_order, modal_second_order
     use rs_system_rod_system, only: rod_system_t
-    use rs_system_linearization, only: pencil_t, linearize_system
+    use rs_system_linearization, only: pencil_t, linearize_system, buckling_stiffness
     implicit none
     private
 
@@ -33,15 +37,22 @@ contains
         call run_test('ph_director_translation', test_ph_director_translation)
         call run_test('se3_pg_translation', test_se3_pg_translation)
         call run_test('refusals', test_refusals)
+        call run_test('ph_director_static_tangent', test_ph_director_static_tangent)
     end subroutine run_all_tests
 
-    !> A steel rod of `n` elements along x, clamped at its start unless `free`.
-    function scene_text(formulation, n, free, extra) result(text)
+    !> A steel rod of `n` elements along x, clamped at its start unless `free`; a quasistatic
+    !> run with `quasistatic`.
+    function scene_text(formulation, n, free, extra, quasistatic) result(text)
         character(len=*), intent(in) :: formulation, extra
         integer, intent(in) :: n
         logical, intent(in) :: free
+        logical, intent(in), optional :: quasistatic
         character(len=:), allocatable :: text
-        text = '&time t_end = 1e-4, dt = 1e-4 /' // nl // &
+        text = '&time t_end = 1e-4, dt = 1e-4 /' // nl
+        if (present(quasistatic)) then
+            if (quasistatic) text = '&time t_end = 1, dt = 0.5, quasistatic = .true. /' // nl
+        end if
+        text = text // &
             "&rod name = 'beam', formulation = '" // formulation // "', n_elements = " // &
             str(n) // ', length = 1,' // nl // &
             '     start = 0, 0, 0, direction = 1, 0, 0,' // nl // &
@@ -160,6 +171,44 @@ contains
         CHECK_TRUE(allocated(err), 'a state in motion is refused')
         if (allocated(err)) CHECK_CONTAINS(err%message, 'not at rest', 'the refusal says why')
     end subroutine test_refusals
+
+    !> buckling_stiffness of a free quasistatic ph_director rod about its reference: both
+    !> stiffnesses read from the static problem (no mass: a1 = a2 = 0), a rigid translation of
+    !> the nodes in the null space of K_T (the strains do not change; no stress or multiplier
+    !> at the reference), the unbalance zero; the system in time steps again. A dynamic
+    !> ph_director rod has no static problem and a first-order pencil: refused.
+    subroutine test_ph_director_static_tangent()
+        type(rod_system_t) :: system
+        type(pencil_t) :: reference, loaded
+        type(error_t), allocatable :: err
+        real(rk), allocatable :: x(:), t(:), kt(:)
+        character(len=:), allocatable :: message
+        integer :: k, i
+        call build(scene_text('ph_director', 4, .true., '', quasistatic=.true.), system, x)
+        call buckling_stiffness(system, 1.0_rk, x, x, 0.5_rk, reference, loaded, err)
+        CHECK_TRUE(.not. allocated(err), 'the static tangent of a quasistatic ph_director rod')
+        if (allocated(err)) return
+        CHECK_TRUE(reference%stiffness .and. loaded%stiffness, 'both are stiffnesses')
+        CHECK_TRUE(all(reference%a1 == 0.0_rk) .and. all(reference%a2 == 0.0_rk), 'no mass terms')
+        CHECK_TRUE(.not. system%static, 'the system is in time steps again')
+        CHECK_TRUE(loaded%unbalance <= 1.0e-14_rk, 'the unloaded reference is in equilibrium')
+        allocate(t(reference%n), source=0.0_rk)
+        associate (nodes => system%layout%members(1)%nodes)
+            do k = 1, nodes%n_nodes
+                do i = 1, 3
+                    if (nodes%unknown(i, k) > 0) t(nodes%unknown(i, k)) = real(i, rk) / 3.0_rk
+                end do
+            end do
+        end associate
+        kt = csr_times(reference, reference%a0, t)
+        message = 'ph_director: a rigid translation is in the null space of K_T (|K_T t| = ' // &
+            str_significant(maxval(abs(kt)), 3) // ')'
+        CHECK_TRUE(maxval(abs(kt)) <= 1.0e-12_rk * maxval(abs(reference%a0)), message)
+        call build(scene_text('ph_director', 4, .false., ''), system, x)
+        call buckling_stiffness(system, 0.0_rk, x, x, dt, reference, loaded, err)
+        CHECK_TRUE(allocated(err), 'a dynamic ph_director rod is refused')
+        if (allocated(err)) CHECK_CONTAINS(err%message, 'not available for ph_director', 'named')
+    end subroutine test_ph_director_static_tangent
 
     function csr_times(pencil, values, v) result(w)
         type(pencil_t), intent(in) :: pencil
