@@ -55,8 +55,7 @@ contains
         type(pencil_t) :: pencil, reference
         type(modes_t) :: modes
         type(xdmf_mode_rod_t), allocatable :: sidecar(:), rods(:)
-        real(rk), allocatable :: x(:), x0(:)
-        logical, allocatable :: rows(:)
+        real(rk), allocatable :: x(:)
         real(rk) :: started, t
         integer :: k
         character(len=:), allocatable :: name, message
@@ -83,31 +82,15 @@ contains
                 call system%initial_state(x)
                 if (equilibrium) call equilibrium_state(system, states(k)%x, x, err)
             end if
-            if (.not. allocated(err)) call linearize_system(system, t, x, scene%time%dt, &
-                pencil, err)
             if (buckling) then
-                ! The unloaded reference: the initial state with the loads of t = 0.
-                if (.not. allocated(err)) then
-                    allocate(x0(size(x)))
-                    call system%initial_state(x0)
-                    call linearize_system(system, 0.0_rk, x0, scene%time%dt, reference, err)
-                end if
-                if (.not. allocated(err)) then
-                    if (reference%n /= pencil%n) then
-                        RS_SET_ERROR(err, 'run_modes', 'the loaded and unloaded pencils differ in size')
-                    end if
-                end if
-                if (.not. allocated(err)) then
-                    ! The stiffness of both states from one long step each (static_stiffness:
-                    ! the fit's round-off is too large for their difference), the same rows.
-                    rows = mass_rows(reference) .or. mass_rows(pencil)
-                    call static_stiffness(system, 0.0_rk, x0, rows, reference, err)
-                    if (.not. allocated(err)) call static_stiffness(system, t, x, rows, pencil, err)
-                end if
-                if (allocated(x0)) deallocate(x0)
+                ! The modes are drawn about the state the loaded pencil is about.
+                if (.not. allocated(err)) call buckling_pencils(system, t, scene%time%dt, x, &
+                    reference, pencil, err)
                 if (.not. allocated(err)) call solve_buckling(reference, pencil, &
                     scene%modes%n_modes, modes, err)
             else
+                if (.not. allocated(err)) call linearize_system(system, t, x, scene%time%dt, &
+                    pencil, err)
                 if (.not. allocated(err)) call solve_modes(pencil, scene%modes%n_modes, modes, err)
             end if
             name = system_name(scene, members(first(k):first(k + 1) - 1))
@@ -141,6 +124,46 @@ contains
             RS_SET_ERROR(err, 'run_modes', message)
         end if
     end subroutine run_modes
+
+    !> The two pencils of linearized buckling (docs/theory/modes.md): `reference`, the
+    !> initial state x_0 with the loads of t = 0 (unloaded: K_0), and `loaded`, with the loads
+    !> of t (the run's t_end: the load pattern) about x_0 whose members carry the stresses of
+    !> the run's equilibrium x (rod_system_t%prestress: K_0 + K_sigma + the loads' stiffness at
+    !> x_0), or, where a formulation cannot give the reference those stresses (ph_planar),
+    !> about x itself (K_T(x)); x becomes the state `loaded` is about. The stiffness rows of
+    !> both are read from one long step each (static_stiffness: the fit's round-off is too
+    !> large for their difference), the same rows in both.
+    subroutine buckling_pencils(system, t, dt, x, reference, loaded, err)
+        type(rod_system_t), intent(inout) :: system
+        real(rk), intent(in) :: t, dt
+        real(rk), intent(inout) :: x(:)
+        type(pencil_t), intent(out) :: reference, loaded
+        type(error_t), allocatable, intent(out) :: err
+        real(rk), allocatable :: x0(:), about(:)
+        logical, allocatable :: rows(:)
+        logical :: stressed, cleared
+        allocate(x0(size(x)))
+        call system%initial_state(x0)
+        call linearize_system(system, 0.0_rk, x0, dt, reference, err)
+        if (allocated(err)) return
+        about = x0
+        call system%prestress(stressed, about, x)
+        if (.not. stressed) about = x
+        call linearize_system(system, t, about, dt, loaded, err)
+        if (.not. allocated(err)) then
+            rows = mass_rows(reference) .or. mass_rows(loaded)
+            call static_stiffness(system, t, about, rows, loaded, err)
+        end if
+        call system%prestress(cleared, x0)
+        if (allocated(err)) return
+        call static_stiffness(system, 0.0_rk, x0, rows, reference, err)
+        if (allocated(err)) return
+        if (reference%n /= loaded%n) then
+            RS_SET_ERROR(err, 'run_modes', 'the loaded and unloaded pencils differ in size')
+            return
+        end if
+        x = about
+    end subroutine buckling_pencils
 
     !> The run's end state `from` as the dynamic system's state x, at rest: the same layout (a
     !> static object's state has the dynamic one's), checked by its length, with the load

@@ -221,6 +221,13 @@ module rs_formulations_formulation
         !> linearizes about after a quasistatic run, whose states carry the load path's rates
         !> (docs/theory/modes.md); default: x unchanged.
         procedure :: rest_state => default_rest_state
+        !> Linearized buckling's stress state (docs/theory/modes.md): with `loaded` (a state),
+        !> the reference configuration is given the stresses of `loaded`, so that the tangent
+        !> about the initial state is the material stiffness of the reference plus the stress
+        !> stiffness of those stresses; without it, the stress-free reference again.
+        !> `available` false: the formulation cannot (default), and the buckling analysis
+        !> takes the loaded state's own tangent instead.
+        procedure :: prestress => default_prestress
         !> Where the coordinates of the nodes are (rod_nodes_t), for couplings; default: no
         !> node access.
         procedure :: nodes => default_nodes
@@ -368,6 +375,13 @@ contains
         class(rod_formulation_t), intent(in) :: this
         real(rk), intent(inout) :: x(:)
     end subroutine default_rest_state
+
+    subroutine default_prestress(this, available, loaded)
+        class(rod_formulation_t), intent(inout) :: this
+        logical, intent(out) :: available
+        real(rk), intent(in), optional :: loaded(:)
+        available = .false.
+    end subroutine default_prestress
 
     function default_nodes(this) result(nodes)
         class(rod_formulation_t), intent(in) :: this

@@ -37,7 +37,8 @@ contains
         type(capability_t), intent(in) :: row
         character(len=:), allocatable :: line
         line = '| ' // trim(row%formulation) // &
-            ' | ' // listed(row%end_kinds) // &
+            ' | ' // listed(row%end_kinds) // trim(merge(' (held: also the twist alone)', &
+            '                             ', row%held_twist)) // &
             ' | ' // listed(row%end_kinds_at_end) // &
             ' | ' // drive_text(row%drive) // &
             ' | ' // end_load_text(row) // &

@@ -102,6 +102,12 @@ module rs_system_rod_system
         procedure :: state_measures => system_state_measures
         !> Each member's state brought to rest (rod_formulation_t%rest_state).
         procedure :: rest_state => system_rest_state
+        !> Linearized buckling's stress state (rod_formulation_t%prestress): with `loaded`, every
+        !> member's reference given the stresses of its part of `loaded`, and the couplings'
+        !> forces (their multipliers' state entries) of `loaded` copied into x, the state to
+        !> linearize about (the initial one); without, the stress-free references again.
+        !> `available` false when a member cannot (then none is changed).
+        procedure :: prestress => system_prestress
         !> The members' error entries (rs_formulations_formulation); coupling unknowns are not.
         procedure :: error_entries => system_error_entries
         !> Before each step from X_n: the couplings refresh what the step needs (contact
@@ -1098,6 +1104,41 @@ contains
             call this%couplings(c)%coupling%set_endpoint(endpoint, t_load)
         end do
     end subroutine system_set_step_problem
+
+    subroutine system_prestress(this, available, x, loaded)
+        class(rod_system_t), intent(inout) :: this
+        logical, intent(out) :: available
+        real(rk), intent(inout) :: x(:)
+        real(rk), intent(in), optional :: loaded(:)
+        logical :: done
+        integer :: m, c, b
+        available = .true.
+        do m = 1, size(this%members)
+            associate (place => this%layout%members(m))
+                if (present(loaded)) then
+                    call this%members(m)%rod%prestress(done, loaded(place%state_offset + 1: &
+                        place%state_offset + place%n_state))
+                else
+                    call this%members(m)%rod%prestress(done)
+                end if
+                available = available .and. done
+            end associate
+        end do
+        if (.not. available .and. present(loaded)) then
+            call this%prestress(done, x)
+            available = .false.
+            return
+        end if
+        if (.not. present(loaded)) return
+        do c = 1, size(this%couplings)
+            associate (blocks => this%couplings(c)%coupling%blocks)
+                do b = 1, size(blocks)
+                    x(blocks(b)%state_offset + 1:blocks(b)%state_offset + blocks(b)%size) = &
+                        loaded(blocks(b)%state_offset + 1:blocks(b)%state_offset + blocks(b)%size)
+                end do
+            end associate
+        end do
+    end subroutine system_prestress
 
     subroutine system_rest_state(this, x)
         class(rod_system_t), intent(in) :: this

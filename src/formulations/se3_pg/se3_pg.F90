@@ -42,7 +42,8 @@
 !>
 !> Supports eliminate unknowns (what each holds: rs_model_support): clamped fixes r and psi,
 !> pinned fixes r (the heavy top's spherical joint), sliding and held the held coordinates of r
-!> (and psi with the rotation), driven prescribes r and psi (a clamp moved and turned in time,
+!> (and psi with the rotation, or its twist component alone: twist_coordinate), driven
+!> prescribes r and psi (a clamp moved and turned in time,
 !> e.g. the superimposed rotation of methods §10.3; rs_formulations_end_drive). Loads: dead
 !> (spatial) and follower end forces and moments, dead distributed forces and moments,
 !> gravity.
@@ -62,7 +63,7 @@ module rs_se3_pg
         axial_reference, unset_real
     use rs_model_rod_history, only: rod_history_t
     use rs_model_time_function, only: time_function_t, time_function_from_load
-    use rs_model_support, only: end_hold, held_coordinates, coordinate_hold_refusal
+    use rs_model_support, only: end_hold_t, end_hold, held_coordinates, coordinate_hold_refusal
     use rs_formulations_end_drive, only: end_drive_t, end_drive_init
     use rs_model_rod_geometry, only: rod_geometry_t, rod_geometry_of, centreline_point, &
         centreline_frame
@@ -124,8 +125,10 @@ module rs_se3_pg
         real(rk), allocatable :: viscosity(:, :)
         real(rk) :: drag = 0.0_rk, angular_drag = 0.0_rk
         logical :: kelvin_voigt = .false., dragged = .false.
-        !> Per element: reference length l_e = |theta_v(Q)| and reference strains (§5.3).
-        real(rk), allocatable :: element_length(:), eps_ref(:, :)
+        !> Per element: reference length l_e = |theta_v(Q)| and reference strains (§5.3);
+        !> eps_free: the reference strains of the stress-free rod while `prestress` has shifted
+        !> eps_ref (linearized buckling).
+        real(rk), allocatable :: element_length(:), eps_ref(:, :), eps_free(:, :)
         !> Reference arc length of the nodes.
         real(rk), allocatable :: node_s(:)
         type(se3_load_t), allocatable :: loads(:)
@@ -138,6 +141,9 @@ module rs_se3_pg
         !> Supports released at a time (&bc release_time): the release time of q(i) of node k
         !> (unset_real: not released), and the held rows of those unknowns.
         real(rk), allocatable :: release_time(:, :)
+        !> keep_chart(k): node k's twist is held (one component of psi fixed), so `update` never
+        !> takes the complement of its rotation vector, which would change that component.
+        logical, allocatable :: keep_chart(:)
         type(held_rows_t) :: held
         integer :: n_y = 0
         type(csr_pattern_t) :: pattern
@@ -166,6 +172,7 @@ module rs_se3_pg
         procedure :: new_tie => se3_new_tie
         procedure :: set_step_problem => se3_set_step_problem
         procedure :: state_measures => se3_state_measures
+        procedure :: prestress => se3_prestress
         procedure, private :: full_q, nodal_loads, energies, stage_velocity, set_drives, &
             rate_of, stage_q, initial_rates, stage_strain_rate, strain_rate_at, drag_matrix
     end type se3_pg_t
@@ -332,17 +339,20 @@ contains
     !> Supports fix the coordinates they hold (rs_model_support): clamped and driven ends r and
     !> psi, pinned ends r, sliding and held ends the held coordinates of r (inertial, methods/
     !> se3_petrov_galerkin.md §5.1, so a slide's axis must be a coordinate axis) and psi with
-    !> the rotation; the rest are the unknowns, node by node.
+    !> the rotation, or its twist component alone (twist_coordinate); the rest are the
+    !> unknowns, node by node.
     subroutine fix_supports(this, scene, err)
         type(se3_pg_t), intent(inout) :: this
         type(scene_t), intent(in) :: scene
         type(error_t), allocatable, intent(out) :: err
         character(len=:), allocatable :: message
         logical :: fixed(6, this%n_nodes), held(6), ok
-        integer :: i, k, node
+        integer :: i, k, node, axis
         type(end_drive_t) :: drive
+        type(end_hold_t) :: hold
         fixed = .false.
         allocate(this%release_time(6, this%n_nodes), source=unset_real)
+        allocate(this%keep_chart(this%n_nodes), source=.false.)
         allocate(this%drives(0))
         do i = 1, size(scene%bcs)
             associate (bc => scene%bcs(i))
@@ -356,7 +366,20 @@ contains
                     RS_SET_ERROR(err, 'se3_pg%init', message)
                     return
                 end select
-                call held_coordinates(end_hold(bc), held, ok)
+                hold = end_hold(bc)
+                ! The twist is no coordinate of held_coordinates: one of psi here.
+                call held_coordinates(end_hold_t(hold%position, hold%rotation), held, ok)
+                if (ok .and. hold%twist) then
+                    axis = twist_coordinate(this%initial(6 * (node - 1) + 4:6 * node))
+                    if (axis == 0) then
+                        message = twist_refusal(this%name, bc%end, &
+                            this%initial(6 * (node - 1) + 4:6 * node))
+                        RS_SET_ERROR(err, 'se3_pg%init', message)
+                        return
+                    end if
+                    held(3 + axis) = .true.
+                    this%keep_chart(node) = .true.
+                end if
                 if (bc%release_time == unset_real) then
                     fixed(:, node) = fixed(:, node) .or. held
                 else
@@ -386,6 +409,39 @@ contains
             end do
         end do
     end subroutine fix_supports
+
+    !> The component of the rotation vector psi (A = Exp(psi), the end's reference pose) that
+    !> is the end's twist, the rotation about its tangent t = A e_x (K basis e_x = d3): at psi
+    !> the body rotation is K dphi = T(psi) dpsi (methods/se3_petrov_galerkin.md §5.4) and its
+    !> twist e_x . K dphi = (T(psi)^T e_x) . dpsi, so fixing psi_i holds the twist and leaves
+    !> the two bending rotations free exactly when T(psi)^T e_x is along e_i (e.g. psi = 0 or
+    !> psi along e_x: a rod along x whose frame is turned about x; i = 1). 0 if it is along no
+    !> coordinate axis: then no coordinate holds the twist alone.
+    pure integer function twist_coordinate(psi) result(axis)
+        real(rk), intent(in) :: psi(3)
+        real(rk) :: v(3)
+        integer :: i, k
+        real(rk), parameter :: aligned = 1.0e-12_rk
+        v = matmul(transpose(tangent_so3(psi)), [1.0_rk, 0.0_rk, 0.0_rk])
+        axis = 0
+        do i = 1, 3
+            if (norm2(v - [(merge(v(i), 0.0_rk, k == i), k = 1, 3)]) <= aligned * norm2(v)) &
+                axis = i
+        end do
+    end function twist_coordinate
+
+    !> Why the twist of end `end_name` of rod `rod`, whose reference rotation vector is psi, is
+    !> no coordinate of se3_pg (twist_coordinate gave 0).
+    function twist_refusal(rod, end_name, psi) result(message)
+        character(len=*), intent(in) :: rod, end_name
+        real(rk), intent(in) :: psi(3)
+        character(len=:), allocatable :: message
+        message = 'rod ''' // rod // ''': se3_pg holds the twist of the ''' // trim(end_name) // &
+            ''' end (hold = ''twist'') by fixing one component of its rotation vector, which ' // &
+            'needs T(psi)^T e_x along a coordinate axis; its reference rotation vector psi = (' // &
+            vector_text(psi) // ') gives (' // vector_text(matmul(transpose(tangent_so3(psi)), &
+            [1.0_rk, 0.0_rk, 0.0_rk])) // ') (a rod along x, its frame turned about x, has it)'
+    end function twist_refusal
 
     !> The driven nodes' coordinates at time t: position and the rotation vector of
     !> Exp(f rotation) A0 nearest to the node's coordinates in x_n (continuous in time).
@@ -633,7 +689,9 @@ contains
     !> §7.3). Then the complement of every rotation vector longer than complement_angle (pi;
     !> 1.25 pi with generalized-alpha) (methods eq. 40), which changes the coordinates, not the
     !> rotation, so u (K components) stays and psi' is carried to the new chart
-    !> (rate_in_complement). With Kelvin-Voigt damping, the strains' history eps'_{n+1} by the
+    !> (rate_in_complement); not at a node whose twist is held (keep_chart: the complement would
+    !> move the held component; its bending rotation then must stay below 2 pi, where T^{-1} is
+    !> singular). With Kelvin-Voigt damping, the strains' history eps'_{n+1} by the
     !> same update formula (the strains do not depend on the chart).
     subroutine se3_update(this, t_n, h, x_n, y, x_1)
         class(se3_pg_t), intent(inout) :: this
@@ -668,7 +726,8 @@ contains
             end if
             x_1(at + 1:at + 3) = this%q_1(1:3, k)
             psi = this%q_1(4:6, k)
-            if (norm2(psi) > complement_angle(this%scheme)) psi = complement_rotation_vector(psi)
+            if (norm2(psi) > complement_angle(this%scheme) .and. .not. this%keep_chart(k)) &
+                psi = complement_rotation_vector(psi)
             x_1(at + 4:at + 6) = psi
             if (this%scheme%history .and. any(psi /= this%q_1(4:6, k))) &
                 x_1(aq + 4:aq + 6) = rate_in_complement(this%q_1(4:6, k), x_1(aq + 4:aq + 6), &
@@ -1287,6 +1346,30 @@ contains
         if (len_trim(made%kind) == 0 .or. made%n == 0) return
         allocate(tie, source=made)
     end subroutine se3_new_tie
+
+    !> Linearized buckling's stress state (rod_formulation_t%prestress; docs/theory/
+    !> modes.md): the reference strains shifted by the elastic strains of `loaded`, eps_ref =
+    !> eps_free - (eps(q_loaded) - eps_free) per element, so that the reference configuration
+    !> Q, whose strains are eps_free, carries the stresses C (eps(q_loaded) - eps_free) of the
+    !> loaded state (methods/se3_petrov_galerkin.md eq. (12)). The element tangent there is the
+    !> material stiffness of Q plus the stress stiffness of those stresses (the terms of the
+    !> stresses n, m in methods §6.4): the K_0 + lambda K_sigma of linearized buckling, without
+    !> the loaded state's deformation. Without `loaded`: eps_free back.
+    subroutine se3_prestress(this, available, loaded)
+        class(se3_pg_t), intent(inout) :: this
+        logical, intent(out) :: available
+        real(rk), intent(in), optional :: loaded(:)
+        real(rk) :: eps(6)
+        integer :: e
+        available = .true.
+        if (.not. allocated(this%eps_free)) this%eps_free = this%eps_ref
+        this%eps_ref = this%eps_free
+        if (.not. present(loaded)) return
+        do e = 1, this%n_elements
+            call se3_strains(this%element_length(e), loaded(6 * (e - 1) + 1:6 * (e + 1)), eps)
+            this%eps_ref(:, e) = this%eps_free(:, e) - (eps - this%eps_free(:, e))
+        end do
+    end subroutine se3_prestress
 
     ! ---- Small helpers ----------------------------------------------------------------------
 

@@ -4,11 +4,12 @@ against closed forms.
 
 Cases:
   euler_se3_pg, euler_ph_planar
-      Euler's cantilever column, P_cr = pi^2 EI / (4 L^2): a steel rod of L = 1 m, r = 1 mm
-      (L / r = 1000: the Cosserat rod's shear and extension move P_cr by P_cr / (G A) = 1.5e-6
-      and P_cr / (E A) = 6e-7), clamped at s = 0 and loaded at s = L along its axis by a
-      ramped force of a share of P_cr; the critical load lambda_1 P against Euler's: observed
-      order 2 between the meshes, the finest within 1e-5; the load factor does not depend on
+      Euler's cantilever column, P_E = pi^2 EI / (4 L^2): a steel rod of L = 1 m, r = 1 mm
+      (L / r = 1000), clamped at s = 0 and loaded at s = L along its axis by a ramped force
+      of a share of P_E; the critical load lambda_1 P against the shear-deformable column's,
+      P_cr = P_E (1 - P_E / (G A)) (Engesser's and Haringx's formulas to first order in P_E /
+      (G A) = 1.5e-6, which the Cosserat rod's stress stiffness has): observed order 2
+      between the meshes, the finest within 1e-5; the load factor does not depend on
       the load applied (se3_pg: 1e-3 P_cr against 0.5 P_cr); the second load factor 9 times
       the first ((3 pi / 2)^2 / (pi / 2)^2); the first buckling mode's shape against
       1 - cos(pi s / (2 L)) (se3_pg).
@@ -36,6 +37,8 @@ LENGTH, RADIUS, E, G, RHO = 1.0, 0.001, 2e11, 8e10, 7800.0
 INERTIA = math.pi * RADIUS**4 / 4
 AREA = math.pi * RADIUS**2
 EULER = math.pi**2 * E * INERTIA / (4 * LENGTH**2)
+# The shear-deformable column (Engesser, Haringx: equal to first order in EULER / (G A)).
+SHEARED = EULER * (1 - EULER / (G * AREA))
 
 
 CIRCLE = f"section = 'circle', radius = {RADIUS}, E = {E}, G = {G}, density = {RHO}"
@@ -91,15 +94,14 @@ def buckle(args, formulation, n_elements, share, ranks=1):
 
 def euler(formulation, meshes):
     def case(args, checks):
-        print(f"Euler: P_cr = {EULER:.10g} N; with shear (Engesser) "
-              f"{EULER / (1 + EULER / (G * AREA)):.10g} N")
+        print(f"Euler: P_E = {EULER:.10g} N; with shear P_cr = {SHEARED:.10g} N")
         planar = formulation == "ph_planar"
         errors = []
         for n in meshes:
             factors, shapes = buckle(args, formulation, n, 0.5)
             # A 3D rod buckles in either plane: a degenerate pair.
             distinct = factors if planar else factors[::2]
-            errors.append(distinct[0] - 1)
+            errors.append(distinct[0] * EULER / SHEARED - 1)
             print(f"{n} elements: load factors x share {factors}, relative error "
                   f"{errors[-1]:.3e}")
         orders = [math.log(abs(errors[k] / errors[k + 1])) / math.log(meshes[k + 1] / meshes[k])
