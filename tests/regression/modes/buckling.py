@@ -20,6 +20,25 @@ Cases:
       4.0125993...). EI_strong / EI_weak = EI_strong / GJ = 1e4, so that the prebuckling
       deflection, which Prandtl neglects, moves P_cr by about 1e-4; the load is 1e-3 P_cr.
       Observed order 2, the finest mesh within 1e-3 (measured 7.3e-5 at 200 elements).
+  greenhill_se3_pg
+      Greenhill's shaft: the steel rod of the Euler case between ball joints, s = 0 held in
+      position and twist (&bc hold = 'x', 'y', 'z', 'twist': the twist hold removes the rigid
+      turn about the axis), s = L held laterally, twisted by dead axial end moments +-M e_x at
+      both ends (the hold carries none: Greenhill's axial torques). The critical moment is
+      M_G = 2 pi EI / L ((M / (2 EI))^2 + P / EI = (pi / L)^2 with P = 0); the load is 1e-2 of
+      it. Observed order 2 between 100 and 200 elements, the finer within 1e-3 (measured 8e-5);
+      the moment and its reverse buckle alike; the buckling mode is Greenhill's helix, the
+      lateral displacement y + i z = w (exp(i 2 pi s / L) - 1) (y and z in quadrature: the
+      centreline's projection is a circle through the axis), to 1e-3 of |w|; the prebuckling
+      twist at s = L is M L / GJ (held at s = 0). The same shaft with the twist hold carrying
+      the torque (no moment at s = 0) is a semi-tangential reaction against a dead moment, a
+      non-conservative pair without divergence: the run says there are no real factors
+      (docs/theory/modes.md, "Greenhill's shaft").
+  greenhill_axial_se3_pg
+      the shaft of greenhill_se3_pg under axial compression P too, at P / P_E = 0.25 and 0.75
+      of the pinned Euler load P_E = pi^2 EI / L^2 at criticality: the load pattern is (P, M)
+      on Greenhill's curve, scaled by 1e-2, and the critical factor lambda solves (lambda M /
+      (2 EI))^2 + lambda P / EI = (pi / L)^2. Order 2 between 100 and 200 elements, within 1e-3.
   ranks
       the se3_pg column's load factors on 2 ranks (a distributed eigen solve) equal those on 1.
 """
@@ -31,7 +50,7 @@ import h5py
 import numpy as np
 
 sys.path.insert(0, os.path.join(os.path.dirname(__file__), ".."))
-from run_scene import Checks, run, run_cases  # noqa: E402
+from run_scene import Checks, rod, run, run_cases, run_failing  # noqa: E402
 
 LENGTH, RADIUS, E, G, RHO = 1.0, 0.001, 2e11, 8e10, 7800.0
 INERTIA = math.pi * RADIUS**4 / 4
@@ -176,6 +195,151 @@ def prandtl(args, checks):
     checks.check(f"prandtl, {meshes[-1]} elements: |P / P_cr - 1|", abs(errors[-1]), 1e-3)
 
 
+SHAFT_EI = E * INERTIA
+SHAFT_GJ = G * 2 * INERTIA
+PINNED_EULER = math.pi**2 * SHAFT_EI / LENGTH**2
+GREENHILL = 2 * math.pi * SHAFT_EI / LENGTH
+
+
+def shaft(n_elements, moment, force=0.0, start_moment=True):
+    """Greenhill's shaft along x: ball joints at both ends, the twist held at s = 0; dead axial
+    end moments +-moment (none at s = 0 if not start_moment) and a dead axial force -force at
+    s = L, ramped."""
+    start = ""
+    if start_moment:
+        start = f"""&load
+    rod = 'shaft', where = 'start', moment = {-moment!r}, 0.0, 0.0
+    time_function = 'ramp', t_off = 1.0
+/
+"""
+    return f"""&time
+    t_end = 1.0
+    dt = 0.5
+    quasistatic = .true.
+/
+&solver
+    newton_atol = 1e-9
+/
+&rod
+    name = 'shaft', formulation = 'se3_pg', n_elements = {n_elements}, length = {LENGTH}
+    start = 0.0, 0.0, 0.0, direction = 1.0, 0.0, 0.0
+    {CIRCLE}
+/
+&bc
+    rod = 'shaft', end = 'start', kind = 'held', hold = 'x', 'y', 'z', 'twist'
+/
+&bc
+    rod = 'shaft', end = 'end', kind = 'held', hold = 'y', 'z'
+/
+&load
+    rod = 'shaft', where = 'end', moment = {moment!r}, 0.0, 0.0, force = {-force!r}, 0.0, 0.0
+    time_function = 'ramp', t_off = 1.0
+/
+{start}&output
+    path = 'x.h5'
+/
+&modes
+    n_modes = 4, about = 'equilibrium', kind = 'buckling'
+/
+"""
+
+
+def greenhill_factor(moment, force):
+    """The smallest positive lambda with (lambda M / (2 EI))^2 + lambda P / EI = (pi / L)^2."""
+    a = (moment / (2 * SHAFT_EI))**2
+    b = force / SHAFT_EI
+    c = -(math.pi / LENGTH)**2
+    if a == 0:
+        return -c / b
+    return (-b + math.sqrt(b * b - 4 * a * c)) / (2 * a)
+
+
+def shaft_buckling(args, n, moment, force, name):
+    path = run(args, shaft(n, moment, force), name)
+    with h5py.File(path, "r") as f:
+        group = f["buckling"]["shaft"]
+        factors = group["load_factor"][()]
+        shapes = (group["shaft"]["position"][()], group["shaft"]["displacement"][()])
+    return path, factors, shapes
+
+
+def order_and_error(checks, label, errors, meshes, bound):
+    order = math.log(abs(errors[0] / errors[1])) / math.log(meshes[1] / meshes[0])
+    print(f"{label}: relative errors {errors}, observed order {order:.3f}")
+    checks.check(f"{label}: |observed order - 2| ({meshes[0]}-{meshes[1]} elements)",
+                 abs(order - 2), 0.1)
+    checks.check(f"{label}, {meshes[1]} elements: |lambda / lambda_Greenhill - 1|",
+                 abs(errors[1]), bound)
+
+
+def greenhill(args, checks):
+    share = 1e-2
+    moment = share * GREENHILL
+    print(f"Greenhill: EI = {SHAFT_EI:.10g} N m^2, GJ = {SHAFT_GJ:.10g} N m^2, "
+          f"M_G = 2 pi EI / L = {GREENHILL:.10g} N m")
+    meshes = [100, 200]
+    errors = []
+    for n in meshes:
+        path, factors, (position, displacement) = shaft_buckling(args, n, moment, 0.0,
+                                                                  f"greenhill_{n}")
+        print(f"{n} elements: load factors {factors}")
+        # A double pair (either helix sense of the isotropic shaft), +- (the reversed moment).
+        positive = factors[factors > 0]
+        negative = factors[factors < 0]
+        errors.append(positive[0] * share - 1)
+        checks.check(f"{n} elements: the reversed moment buckles alike (relative difference)",
+                     abs(negative[0] / positive[0] + 1), 1e-6)
+    order_and_error(checks, "greenhill", errors, meshes, 1e-3)
+    # The mode: y + i z = w (exp(+-i 2 pi s / L) - 1) at the nodes (interior: 0/0 at the ends).
+    s = position[:, 0]
+    lateral = displacement[0, :, 1] + 1j * displacement[0, :, 2]
+    inner = slice(1, len(s) - 1)
+    spreads = []
+    for sense in (1, -1):
+        w = lateral[inner] / (np.exp(sense * 2j * np.pi * s[inner] / LENGTH) - 1)
+        spreads.append(float(np.abs(w - w.mean()).max() / np.abs(w.mean())))
+    print(f"mode 1: largest |w_k - w| / |w| for either helix sense {spreads}")
+    checks.check("mode 1: Greenhill's helix, largest |w_k - w| / |w|", min(spreads), 1e-3)
+    checks.check("mode 1: axial displacement / lateral",
+                 float(np.abs(displacement[0, :, 0]).max() / np.abs(lateral).max()), 1e-2)
+    # The prebuckling twist: d1 turned about x by M s / GJ, held at s = 0.
+    fields = rod(path, "shaft")
+    d1 = fields["directors"][-1][:, 0, :]
+    twist = np.arctan2(d1[:, 2], d1[:, 1])
+    print(f"twist at s = 0: {twist[0]:.3e} rad, at s = L: {twist[-1]:.10e} rad "
+          f"(M L / GJ = {moment * LENGTH / SHAFT_GJ:.10e})")
+    checks.check("twist held at s = 0 (rad)", abs(twist[0]), 1e-14)
+    checks.check("twist at s = L against M L / GJ (relative)",
+                  abs(twist[-1] / (moment * LENGTH / SHAFT_GJ) - 1), 1e-8)
+    # The twist hold carrying the torque: no real factor.
+    text = shaft(meshes[0], moment, start_moment=False)
+    text = text.replace("path = 'x.h5'", f"path = '{os.path.join(args.workdir, 'held_torque.h5')}'")
+    status, log = run_failing(args, text, "held_torque")
+    checks.check("the twist hold carrying the torque: the run fails", float(status == 0), 0.0)
+    checks.check("... saying it found no real factor, only complex ones",
+                 float("SLEPc found 0 real buckling load factors" not in log or
+                       "complex ones" not in log), 0.0)
+
+
+def greenhill_axial(args, checks):
+    share = 1e-2
+    meshes = [100, 200]
+    for ratio in (0.25, 0.75):
+        # (P, M) on Greenhill's curve: lambda = 1 / share.
+        force = ratio * PINNED_EULER
+        moment = GREENHILL * math.sqrt(1 - ratio)
+        expected = greenhill_factor(share * moment, share * force)
+        print(f"P / P_E = {ratio}: pattern P = {share * force:.6g} N, M = {share * moment:.6g} "
+              f"N m; Greenhill's factor {expected:.10g}")
+        errors = []
+        for n in meshes:
+            _, factors, _ = shaft_buckling(args, n, share * moment, share * force,
+                                           f"greenhill_axial_{ratio}_{n}")
+            print(f"{n} elements: load factors {factors}")
+            errors.append(factors[factors > 0][0] / expected - 1)
+        order_and_error(checks, f"P / P_E = {ratio}", errors, meshes, 1e-3)
+
+
 def ranks(args, checks):
     one, _ = buckle(args, "se3_pg", 200, 0.5)
     two, _ = buckle(args, "se3_pg", 200, 0.5, ranks=2)
@@ -189,5 +353,7 @@ if __name__ == "__main__":
         "euler_se3_pg": euler("se3_pg", [50, 100, 200, 400]),
         "euler_ph_planar": euler("ph_planar", [50, 100, 200, 400]),
         "prandtl_se3_pg": prandtl,
+        "greenhill_se3_pg": greenhill,
+        "greenhill_axial_se3_pg": greenhill_axial,
         "ranks": ranks,
     })
