@@ -35,6 +35,7 @@ module rs_test_se3_pg
     use rs_formulations_formulation, only: state_valid, step_energy_t
     use rs_math_so3, only: exp_so3, tangent_so3, complement_rotation_vector
     use rs_se3_pg, only: se3_pg_t
+    use rs_model_rod_history, only: rod_history_t
     use rs_se3_pg_element, only: se3_element_mass, se3_gyroscopic, se3_internal_force
     implicit none
     private
@@ -67,7 +68,90 @@ contains
         call run_test('damped_initial_history_is_consistent', test_damped_initial_history)
         call run_test('dissipation_is_the_damping_work', test_dissipation)
         call run_test('released_support_jacobian', test_released_jacobian)
+        call run_test('held_twist', test_held_twist)
+        call run_test('prestress_carries_the_loaded_stresses', test_prestress)
     end subroutine run_all_tests
+
+    !> hold = 'twist' (a ball joint that does not turn about the axis): on a rod along x, the
+    !> start's rotation vector psi = 0 loses its first component (T(0)^T e_x = e_x) and keeps
+    !> the two bending ones; the step Jacobian equals central differences. On a rod along z
+    !> (its frame (d3, d1, d2) = (e_z, e_x, e_y), a turn about (1, 1, 1)) no component of psi
+    !> is the twist: init refuses it, naming the end and psi.
+    subroutine test_held_twist()
+        type(se3_pg_t), allocatable :: rod
+        type(scene_t) :: scene
+        type(error_list_t) :: errors
+        type(error_t), allocatable :: err
+        real(rk), allocatable :: x_n(:), y(:), values(:), dense(:, :), difference(:, :)
+        integer, allocatable :: row_ptr(:), cols(:)
+        character(len=:), allocatable :: text
+        real(rk) :: worst
+        integer :: status
+        logical :: ok, held
+        text = '&time t_end = 1, dt = 0.05 /' // nl // &
+            "&rod name = 'beam', formulation = 'se3_pg', n_elements = 4, length = 2," // nl // &
+            '     EA = 1e3, GA1 = 5e2, GA2 = 5e2, EI1 = 2, EI2 = 3, GJ = 1.5,' // nl // &
+            '     rhoA = 1, rhoI1 = 0.1, rhoI2 = 0.15 /' // nl // &
+            "&bc rod = 'beam', end = 'start', kind = 'held', hold = 'x', 'y', 'z', 'twist' /" // nl // &
+            "&load rod = 'beam', where = 'end', moment = 0.3, 0.1, -0.2, force = 0, 0.2, 0.1 /" // nl
+        allocate(rod)
+        call build(rod, text, ok)
+        if (.not. ok) return
+        CHECK_EQUAL(rod%n_unknown(), 6 * 5 - 4, 'the start holds x, y, z and one rotation coordinate')
+        held = rod%unknown_of(4, 1) == 0 .and. all(rod%unknown_of(5:6, 1) > 0)
+        CHECK_TRUE(held, 'the held one is psi_1, the twist of a rod along x')
+        call perturbed_step(rod, x_n, y)
+        call rod%jacobian_pattern(row_ptr, cols)
+        allocate(values(size(cols)))
+        call rod%step_jacobian(t_n, h, x_n, y, values, status)
+        CHECK_EQUAL(status, state_valid, 'Jacobian status')
+        dense = dense_jacobian(row_ptr, cols, values)
+        difference = central_differences(rod, t_n, h, x_n, y, 1.0e-6_rk)
+        worst = maxval(abs(difference - dense)) / maxval(abs(difference))
+        write(*, '(a,es10.3)') '  held twist: relative difference ', worst
+        CHECK_TRUE(worst <= 1.0e-8_rk, 'Jacobian with a held twist = central differences')
+        deallocate(rod)
+        allocate(rod)
+        text = '&time t_end = 1, dt = 0.05 /' // nl // &
+            "&rod name = 'beam', formulation = 'se3_pg', n_elements = 4, length = 2," // nl // &
+            '     EA = 1e3, GA1 = 5e2, GA2 = 5e2, EI1 = 2, EI2 = 3, GJ = 1.5,' // nl // &
+            '     rhoA = 1, rhoI1 = 0.1, rhoI2 = 0.15, direction = 0, 0, 1 /' // nl // &
+            "&bc rod = 'beam', end = 'start', kind = 'held', hold = 'x', 'y', 'z', 'twist' /" // nl
+        call parse_scene(text, 'along_z.nml', scene, errors)
+        CHECK_EQUAL(errors%count, 0, 'the scene along z parses: ' // errors%joined())
+        if (errors%count > 0) return
+        call rod%init(scene, [1], err)
+        CHECK_TRUE(allocated(err), 'a rod along z: the twist is no coordinate of psi')
+        if (.not. allocated(err)) return
+        ok = index(err%message, 'se3_pg holds the twist of the ''start'' end') > 0
+        CHECK_TRUE(ok, 'the refusal names the end: ' // err%message)
+    end subroutine test_held_twist
+
+    !> prestress(loaded) (linearized buckling's stress state): the reference state then
+    !> carries the loaded state's stresses (its record's stresses are the loaded state's, to
+    !> round-off), and prestress() gives back the stress-free reference.
+    subroutine test_prestress()
+        type(se3_pg_t) :: rod
+        type(rod_history_t) :: histories(1)
+        real(rk), allocatable :: x0(:), x_n(:), y(:), loaded(:, :), stressed(:, :)
+        logical :: ok, available
+        call build(rod, scene_text('', .true.), ok)
+        if (.not. ok) return
+        call perturbed_step(rod, x_n, y)
+        allocate(x0(rod%n_state()))
+        call rod%initial_state(x0)
+        call rod%init_history(histories, 4)
+        call rod%record(histories, 0.0_rk, x_n)
+        loaded = histories(1)%stress(:, :, 1)
+        call rod%prestress(available, x_n)
+        CHECK_TRUE(available, 'se3_pg gives its reference the loaded stresses')
+        call rod%record(histories, 1.0_rk, x0)
+        stressed = histories(1)%stress(:, :, 2)
+        CHECK_CLOSE(stressed, loaded, 1.0e-12_rk, 1.0e-12_rk, 'the reference carries the loaded stresses')
+        call rod%prestress(available)
+        call rod%record(histories, 2.0_rk, x0)
+        CHECK_CLOSE(histories(1)%stress(:, :, 3), 0.0_rk * loaded, 1.0e-12_rk, 0.0_rk, 'stress-free again')
+    end subroutine test_prestress
 
     !> A prestrained rod clamped at its start and pinned at its end, released at t = 1 (held in
     !> the step from t_n = 0.3) or at t = 0.1 (free), under gravity, midpoint rule: the step
