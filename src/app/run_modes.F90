@@ -125,43 +125,45 @@ contains
         end if
     end subroutine run_modes
 
-    !> The two pencils of linearized buckling (docs/theory/modes.md): `reference`, the
-    !> initial state x_0 with the loads of t = 0 (unloaded: K_0), and `loaded`, with the loads
-    !> of t (the run's t_end: the load pattern) about x_0 whose members carry the stresses of
-    !> the run's equilibrium x (rod_system_t%prestress: K_0 + K_sigma + the loads' stiffness at
-    !> x_0), or, where a formulation cannot give the reference those stresses (ph_planar),
-    !> about x itself (K_T(x)); x becomes the state `loaded` is about. The stiffness rows of
+    !> The two pencils of linearized buckling (docs/theory/modes.md), K_0 phi = -lambda K_geo
+    !> phi: `reference`, about the initial state x_0 with the loads of t = 0 (unloaded: K_0),
+    !> and `geometric`, K_geo in its a0: the stress stiffness of the stresses of the run's
+    !> equilibrium x at x_0 with the loads of t (the run's t_end: the load pattern) and their
+    !> tangents (rod_system_t%stress_only), or, where a formulation cannot hold its stresses
+    !> (ph_planar), K_T(x) - K_0, the loaded equilibrium's tangent less the reference's. x
+    !> becomes the state the modes are drawn about (x_0, or x itself). The stiffness rows of
     !> both are read from one long step each (static_stiffness: the fit's round-off is too
-    !> large for their difference), the same rows in both.
-    subroutine buckling_pencils(system, t, dt, x, reference, loaded, err)
+    !> large for the buckling mode), the same rows in both.
+    subroutine buckling_pencils(system, t, dt, x, reference, geometric, err)
         type(rod_system_t), intent(inout) :: system
         real(rk), intent(in) :: t, dt
         real(rk), intent(inout) :: x(:)
-        type(pencil_t), intent(out) :: reference, loaded
+        type(pencil_t), intent(out) :: reference, geometric
         type(error_t), allocatable, intent(out) :: err
         real(rk), allocatable :: x0(:), about(:)
         logical, allocatable :: rows(:)
-        logical :: stressed, cleared
+        logical :: stressed, restored
         allocate(x0(size(x)))
         call system%initial_state(x0)
         call linearize_system(system, 0.0_rk, x0, dt, reference, err)
         if (allocated(err)) return
         about = x0
-        call system%prestress(stressed, about, x)
+        call system%stress_only(stressed, about, x)
         if (.not. stressed) about = x
-        call linearize_system(system, t, about, dt, loaded, err)
+        call linearize_system(system, t, about, dt, geometric, err)
         if (.not. allocated(err)) then
-            rows = mass_rows(reference) .or. mass_rows(loaded)
-            call static_stiffness(system, t, about, rows, loaded, err)
+            rows = mass_rows(reference) .or. mass_rows(geometric)
+            call static_stiffness(system, t, about, rows, geometric, err)
         end if
-        call system%prestress(cleared, x0)
+        call system%stress_only(restored, x0)
         if (allocated(err)) return
         call static_stiffness(system, 0.0_rk, x0, rows, reference, err)
         if (allocated(err)) return
-        if (reference%n /= loaded%n) then
+        if (reference%n /= geometric%n) then
             RS_SET_ERROR(err, 'run_modes', 'the loaded and unloaded pencils differ in size')
             return
         end if
+        if (.not. stressed) geometric%a0 = geometric%a0 - reference%a0
         x = about
     end subroutine buckling_pencils
 

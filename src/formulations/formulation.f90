@@ -221,13 +221,13 @@ module rs_formulations_formulation
         !> linearizes about after a quasistatic run, whose states carry the load path's rates
         !> (docs/theory/modes.md); default: x unchanged.
         procedure :: rest_state => default_rest_state
-        !> Linearized buckling's stress state (docs/theory/modes.md): with `loaded` (a state),
-        !> the reference configuration is given the stresses of `loaded`, so that the tangent
-        !> about the initial state is the material stiffness of the reference plus the stress
-        !> stiffness of those stresses; without it, the stress-free reference again.
-        !> `available` false: the formulation cannot (default), and the buckling analysis
-        !> takes the loaded state's own tangent instead.
-        procedure :: prestress => default_prestress
+        !> Linearized buckling's stress stiffness (docs/theory/modes.md): with `loaded` (a
+        !> state), the internal stresses are held at those of `loaded` in place of the elastic
+        !> law, so that the tangent at any state is the stress (geometric) stiffness of those
+        !> stresses there, with the loads' tangents; without it, the elastic rod again.
+        !> `available` false: the formulation cannot (default), and the buckling analysis takes
+        !> the difference of the loaded and the unloaded tangents instead.
+        procedure :: stress_only => default_stress_only
         !> Where the coordinates of the nodes are (rod_nodes_t), for couplings; default: no
         !> node access.
         procedure :: nodes => default_nodes
@@ -376,12 +376,12 @@ contains
         real(rk), intent(inout) :: x(:)
     end subroutine default_rest_state
 
-    subroutine default_prestress(this, available, loaded)
+    subroutine default_stress_only(this, available, loaded)
         class(rod_formulation_t), intent(inout) :: this
         logical, intent(out) :: available
         real(rk), intent(in), optional :: loaded(:)
         available = .false.
-    end subroutine default_prestress
+    end subroutine default_stress_only
 
     function default_nodes(this) result(nodes)
         class(rod_formulation_t), intent(in) :: this

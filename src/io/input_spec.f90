@@ -959,9 +959,11 @@ contains
             spec_v('kind', 'string', '-', "'modes'", &
                 '''modes'': frequencies and mode shapes; ''buckling'': linearized buckling, ' // &
                 'the critical load factors lambda of the run''s loads (those of t_end) and ' // &
-                'the buckling modes, from K_T(u_0) phi = -lambda (K_T(u_1) - K_T(u_0)) phi ' // &
-                'with u_0 the reference state (loads of t = 0, give a ramp) and u_1 the ' // &
-                'equilibrium (needs about = ''equilibrium''; /buckling of the result file).', &
+                'the buckling modes, from (K_0 + lambda K_geo) phi = 0 with K_0 the ' // &
+                'stiffness of the reference state (loads of t = 0, give a ramp) and K_geo ' // &
+                'that of the stresses of the equilibrium u_1 and of the loads, at the ' // &
+                'reference (se3_pg; ph_planar: K_T(u_1) - K_0; docs/theory/modes.md; needs ' // &
+                'about = ''equilibrium''; /buckling of the result file).', &
                 allowed='modes|buckling', example="'buckling'")]
     end function modes_group
 

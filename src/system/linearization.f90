@@ -120,16 +120,19 @@ contains
     end subroutine linearize_system
 
     !> The stiffness rows of a second-order `pencil` (linearize_system's, of `system` about x
-    !> with the loads of t) read again from one Jacobian at a step so long that the mass
-    !> terms are below round-off:
-    !> J(h) = K / 2 + 2 M / h^2 at rest, so at z = 1/h = 1e-20 z0 the mass terms are far below
-    !> round-off, and a0 = 4 J exactly in `rows` (those with mass); the others, algebraic, keep
-    !> the fit's a0. Linearized buckling (docs/theory/modes.md) needs the stiffness of the
-    !> slowest mode, where the fit's a0 is not good enough: with it, the Euler load of a se3_pg
-    !> cantilever (L / r = 1000) of 400 - 800 elements moved by up to 3.5e-5 with the run's dt
-    !> (z0 starts at 1/dt); with z = 1e-8 z0 the mass left, 2 M z^2, raised it by (z / omega_1)^2
-    !> (z0 grows with the mesh: 1e-5 at 800 elements); with 1e-20 z0 it is independent of dt
-    !> and of the load to 3e-7 and converges at order 2 (tests/regression/modes/buckling.py).
+    !> with the loads of t) read again from one Jacobian at a step so long that the mass terms
+    !> are below round-off: J(h) = K / 2 + 2 M / h^2 at rest, so a0 = 4 J in `rows` (those with
+    !> mass); the others, algebraic, keep the fit's a0. Linearized buckling (docs/theory/
+    !> modes.md) needs the stiffness of the slowest mode, where the fit's a0 is not good
+    !> enough: with it, the Euler load of a se3_pg cantilever (L / r = 1000) of 400 - 800
+    !> elements moved by up to 3.5e-5 with the run's dt (z0 starts at 1/dt); with h = 1e8 /
+    !> z0 the mass left, 2 M / h^2, raised it by (1 / (h omega_1))^2 (z0 grows with the mesh:
+    !> 1e-5 at 800 elements). h is 1e20 / z0, but at most 1e8 |t| for t /= 0: the step's forces
+    !> act at t_n + h / 2 = t, a sum that keeps t only to eps h / (2 |t|) (1e-8 of it; with h
+    !> = 1e20 / z0 the loads of t = 1 were those of t = 0, and a dead moment's stiffness was
+    !> lost); the mass then left is (1e-8 / (|t| omega_1))^2 of the stiffness. One Jacobian
+    !> times 4, exactly: a Richardson step that removed 2 M / h^2 from two of them cost the
+    !> Euler load at 400 elements 5e-6 of round-off (the entries' sums no longer cancel alike).
     subroutine static_stiffness(system, t, x, rows, pencil, err)
         type(rod_system_t), intent(inout) :: system
         real(rk), intent(in) :: t, x(:)
@@ -146,6 +149,7 @@ contains
             return
         end if
         h = 1.0e20_rk / pencil%z0
+        if (t /= 0.0_rk) h = min(h, 1.0e8_rk * abs(t))
         allocate(y(pencil%n), values(size(pencil%cols)))
         call system%predictor(t - 0.5_rk * h, h, x, y)
         call system%step_jacobian(t - 0.5_rk * h, h, x, y, values, status)

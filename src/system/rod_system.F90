@@ -102,12 +102,12 @@ module rs_system_rod_system
         procedure :: state_measures => system_state_measures
         !> Each member's state brought to rest (rod_formulation_t%rest_state).
         procedure :: rest_state => system_rest_state
-        !> Linearized buckling's stress state (rod_formulation_t%prestress): with `loaded`, every
-        !> member's reference given the stresses of its part of `loaded`, and the couplings'
-        !> forces (their multipliers' state entries) of `loaded` copied into x, the state to
-        !> linearize about (the initial one); without, the stress-free references again.
-        !> `available` false when a member cannot (then none is changed).
-        procedure :: prestress => system_prestress
+        !> Linearized buckling's stress stiffness (rod_formulation_t%stress_only): with
+        !> `loaded`, every member's stresses held at those of its part of `loaded`, and the
+        !> couplings' forces (their multipliers' state entries) of `loaded` copied into x, the
+        !> state to linearize about; without, the elastic rods again. `available` false when
+        !> a member cannot (then none is changed).
+        procedure :: stress_only => system_stress_only
         !> The members' error entries (rs_formulations_formulation); coupling unknowns are not.
         procedure :: error_entries => system_error_entries
         !> Before each step from X_n: the couplings refresh what the step needs (contact
@@ -1105,7 +1105,7 @@ contains
         end do
     end subroutine system_set_step_problem
 
-    subroutine system_prestress(this, available, x, loaded)
+    subroutine system_stress_only(this, available, x, loaded)
         class(rod_system_t), intent(inout) :: this
         logical, intent(out) :: available
         real(rk), intent(inout) :: x(:)
@@ -1116,16 +1116,16 @@ contains
         do m = 1, size(this%members)
             associate (place => this%layout%members(m))
                 if (present(loaded)) then
-                    call this%members(m)%rod%prestress(done, loaded(place%state_offset + 1: &
+                    call this%members(m)%rod%stress_only(done, loaded(place%state_offset + 1: &
                         place%state_offset + place%n_state))
                 else
-                    call this%members(m)%rod%prestress(done)
+                    call this%members(m)%rod%stress_only(done)
                 end if
                 available = available .and. done
             end associate
         end do
         if (.not. available .and. present(loaded)) then
-            call this%prestress(done, x)
+            call this%stress_only(done, x)
             available = .false.
             return
         end if
@@ -1138,7 +1138,7 @@ contains
                 end do
             end associate
         end do
-    end subroutine system_prestress
+    end subroutine system_stress_only
 
     subroutine system_rest_state(this, x)
         class(rod_system_t), intent(in) :: this

@@ -125,10 +125,11 @@ module rs_se3_pg
         real(rk), allocatable :: viscosity(:, :)
         real(rk) :: drag = 0.0_rk, angular_drag = 0.0_rk
         logical :: kelvin_voigt = .false., dragged = .false.
-        !> Per element: reference length l_e = |theta_v(Q)| and reference strains (§5.3);
-        !> eps_free: the reference strains of the stress-free rod while `prestress` has shifted
-        !> eps_ref (linearized buckling).
-        real(rk), allocatable :: element_length(:), eps_ref(:, :), eps_free(:, :)
+        !> Per element: reference length l_e = |theta_v(Q)| and reference strains (§5.3).
+        real(rk), allocatable :: element_length(:), eps_ref(:, :)
+        !> Linearized buckling (stress_only): per element the stresses (n, m) held fixed in
+        !> place of the elastic ones; not allocated otherwise.
+        real(rk), allocatable :: held_stress(:, :)
         !> Reference arc length of the nodes.
         real(rk), allocatable :: node_s(:)
         type(se3_load_t), allocatable :: loads(:)
@@ -141,8 +142,14 @@ module rs_se3_pg
         !> Supports released at a time (&bc release_time): the release time of q(i) of node k
         !> (unset_real: not released), and the held rows of those unknowns.
         real(rk), allocatable :: release_time(:, :)
-        !> keep_chart(k): node k's twist is held (one component of psi fixed), so `update` never
-        !> takes the complement of its rotation vector, which would change that component.
+        !> keep_chart(k): node k's twist is held (one component psi_i fixed, twist_coordinate):
+        !> `update` never takes the complement of its rotation vector, which would change
+        !> psi_i, and its rotation rows are T(psi)^T times the body rows K dphi, the virtual
+        !> work on d psi, of which those of the free components are kept: the equations of
+        !> the holonomic constraint psi_i = const, whose reaction is a moment conjugate to psi_i
+        !> (semi-tangential, docs/theory/modes.md). Eliminating the body row K dphi_i instead
+        !> would make the reaction follow the section's axis (a follower moment, not
+        !> conservative) once the end tilts.
         logical, allocatable :: keep_chart(:)
         type(held_rows_t) :: held
         integer :: n_y = 0
@@ -172,10 +179,13 @@ module rs_se3_pg
         procedure :: new_tie => se3_new_tie
         procedure :: set_step_problem => se3_set_step_problem
         procedure :: state_measures => se3_state_measures
-        procedure :: prestress => se3_prestress
+        procedure :: stress_only => se3_stress_only
         procedure, private :: full_q, nodal_loads, energies, stage_velocity, set_drives, &
             rate_of, stage_q, initial_rates, stage_strain_rate, strain_rate_at, drag_matrix
     end type se3_pg_t
+
+    !> The elastic stiffness of an element whose stress is held (stress_only).
+    real(rk), parameter :: no_stiffness(6) = 0.0_rk
 
 contains
 
@@ -866,16 +876,43 @@ contains
         real(rk), intent(in) :: t_n, h, x_n(:), y(:)
         real(rk), intent(out) :: f(:)
         integer, intent(out) :: status
-        real(rk) :: q_e(12), g(12), m(12, 12), u_stage(12), accel(12), gyr(12), kg(12, 12)
-        real(rk) :: q_at(6, this%n_nodes), rows(6, this%n_nodes), c(12, 12), eps_1(6)
-        integer :: e, k, i
+        real(rk) :: q_at(6, this%n_nodes), rows(6, this%n_nodes)
+        integer :: k, i
         call this%set_drives(step_end_time(this, t_n, h), x_n)
         call this%full_q(x_n, y, this%q_1)
         call this%stage_q(x_n, this%q_1, q_at)
+        call body_rows(this, t_n, h, x_n, q_at, rows)
+        do k = 1, this%n_nodes
+            if (this%keep_chart(k)) rows(4:6, k) = matmul(transpose(tangent_so3(q_at(4:6, k))), &
+                rows(4:6, k))
+            do i = 1, 6
+                if (this%unknown_of(i, k) > 0) f(this%unknown_of(i, k)) = rows(i, k)
+            end do
+        end do
+        ! The Newton homotopy of the continuation: t_n + h is the pseudo-time tau.
+        if (this%continuing) f = f - max(0.0_rk, 1.0_rk - (t_n + h)) * this%anchor
+        call this%held%apply_residual(held_time(this, t_n), h, this%static_stage, x_n, y, f)
+        status = state_valid
+        if (any(f /= f)) status = state_invalid
+    end subroutine se3_step_residual
+
+    !> The step's generalized forces per node in the virtual-displacement rows (I dr, K dphi)
+    !> of every coordinate, held ones included (se3_step_residual), at the stage q_at, with
+    !> this%q_1 = q_{n+1}.
+    subroutine body_rows(this, t_n, h, x_n, q_at, rows)
+        type(se3_pg_t), intent(inout) :: this
+        real(rk), intent(in) :: t_n, h, x_n(:), q_at(:, :)
+        real(rk), intent(out) :: rows(:, :)
+        real(rk) :: q_e(12), g(12), m(12, 12), u_stage(12), accel(12), gyr(12), kg(12, 12)
+        real(rk) :: c(12, 12), eps_1(6)
+        integer :: e
         rows = 0.0_rk
         do e = 1, this%n_elements
             q_e = [q_at(:, e), q_at(:, e + 1)]
-            if (this%kelvin_voigt .and. .not. this%statics) then
+            if (allocated(this%held_stress)) then
+                call se3_viscous_internal_force(this%element_length(e), no_stiffness, &
+                    this%eps_ref(:, e), this%held_stress(:, e), q_e, g)
+            else if (this%kelvin_voigt .and. .not. this%statics) then
                 call se3_strains(this%element_length(e), [this%q_1(:, e), this%q_1(:, e + 1)], &
                     eps_1)
                 call se3_viscous_internal_force(this%element_length(e), this%stiffness(:, e), &
@@ -901,17 +938,7 @@ contains
         end do
         call this%nodal_loads(force_time(this, t_n, h), q_at, .false.)
         rows = rows - this%f_ext
-        do k = 1, this%n_nodes
-            do i = 1, 6
-                if (this%unknown_of(i, k) > 0) f(this%unknown_of(i, k)) = rows(i, k)
-            end do
-        end do
-        ! The Newton homotopy of the continuation: t_n + h is the pseudo-time tau.
-        if (this%continuing) f = f - max(0.0_rk, 1.0_rk - (t_n + h)) * this%anchor
-        call this%held%apply_residual(held_time(this, t_n), h, this%static_stage, x_n, y, f)
-        status = state_valid
-        if (any(f /= f)) status = state_invalid
-    end subroutine se3_step_residual
+    end subroutine body_rows
 
     !> The stage velocities u_{n+alpha_f} and accelerations u'_{n+alpha_m} of element e's two
     !> nodes (12 each), from x_n and q_{n+1} (this%q_1).
@@ -955,7 +982,10 @@ contains
         values = 0.0_rk
         do e = 1, this%n_elements
             q_e = [q_at(:, e), q_at(:, e + 1)]
-            if (this%kelvin_voigt .and. .not. this%statics) then
+            if (allocated(this%held_stress)) then
+                call se3_viscous_internal_force(this%element_length(e), no_stiffness, &
+                    this%eps_ref(:, e), this%held_stress(:, e), q_e, g, k)
+            else if (this%kelvin_voigt .and. .not. this%statics) then
                 call se3_twist_tangent([this%q_1(:, e), this%q_1(:, e + 1)], theta, dtheta)
                 call se3_viscous_internal_force(this%element_length(e), this%stiffness(:, e), &
                     this%eps_ref(:, e), this%viscosity(:, e) * this%stage_strain_rate(h, x_n, e, &
@@ -999,6 +1029,12 @@ contains
                     k = k + matmul(b_t, dtheta)
                 end if
             end if
+            ! A held twist's rows are T^T times the body rows (se3_step_residual).
+            do node = 0, 1
+                if (.not. this%keep_chart(e + node)) cycle
+                k(6 * node + 4:6 * node + 6, :) = matmul(transpose(tangent_so3(q_at(4:6, &
+                    e + node))), k(6 * node + 4:6 * node + 6, :))
+            end do
             do j = 1, 12
                 do i = 1, 12
                     if (this%element_map(i, j, e) > 0) values(this%element_map(i, j, e)) = &
@@ -1006,10 +1042,39 @@ contains
                 end do
             end do
         end do
+        if (any(this%keep_chart)) call twist_row_tangent(this, t_n, h, x_n, q_at, scale, values)
         call this%held%apply_jacobian(held_time(this, t_n), h, this%static_stage, values)
         status = state_valid
         if (any(values /= values)) status = state_invalid
     end subroutine se3_step_jacobian
+
+    !> The rest of the derivative of a held twist's rows T(psi)^T r (se3_step_residual): the
+    !> derivative of T^T at the stage rotation psi_s times the node's body rows r, sum_j
+    !> (dT/dpsi_j)^T r d psi_s,j / d psi_j, with d psi_s / d psi_{n+1} = `scale`, on the node's
+    !> free rotation coordinates.
+    subroutine twist_row_tangent(this, t_n, h, x_n, q_at, scale, values)
+        type(se3_pg_t), intent(inout) :: this
+        real(rk), intent(in) :: t_n, h, x_n(:), q_at(:, :), scale
+        real(rk), intent(inout) :: values(:)
+        real(rk) :: rows(6, this%n_nodes), dt(3, 3, 3), column(3)
+        integer :: k, i, j, row, col
+        call body_rows(this, t_n, h, x_n, q_at, rows)
+        do k = 1, this%n_nodes
+            if (.not. this%keep_chart(k)) cycle
+            dt = tangent_so3_derivative(q_at(4:6, k))
+            do j = 1, 3
+                col = this%unknown_of(3 + j, k)
+                if (col <= 0) cycle
+                column = scale * matmul(transpose(dt(:, :, j)), rows(4:6, k))
+                do i = 1, 3
+                    row = this%unknown_of(3 + i, k)
+                    if (row <= 0) cycle
+                    values(this%pattern%position(row, col)) = &
+                        values(this%pattern%position(row, col)) + column(i)
+                end do
+            end do
+        end do
+    end subroutine twist_row_tangent
 
     !> d u_{n+alpha_f} / d q_{n+1} of one node (6 x 6) for `stage_velocity`: c = alpha_m / (h
     !> gamma) on the positions, and c T(psi_s) + alpha_f sum_k dT/dpsi_k(psi_s) psi'_s e_k^T on
@@ -1347,29 +1412,30 @@ contains
         allocate(tie, source=made)
     end subroutine se3_new_tie
 
-    !> Linearized buckling's stress state (rod_formulation_t%prestress; docs/theory/
-    !> modes.md): the reference strains shifted by the elastic strains of `loaded`, eps_ref =
-    !> eps_free - (eps(q_loaded) - eps_free) per element, so that the reference configuration
-    !> Q, whose strains are eps_free, carries the stresses C (eps(q_loaded) - eps_free) of the
-    !> loaded state (methods/se3_petrov_galerkin.md eq. (12)). The element tangent there is the
-    !> material stiffness of Q plus the stress stiffness of those stresses (the terms of the
-    !> stresses n, m in methods §6.4): the K_0 + lambda K_sigma of linearized buckling, without
-    !> the loaded state's deformation. Without `loaded`: eps_free back.
-    subroutine se3_prestress(this, available, loaded)
+    !> Linearized buckling's stress stiffness (rod_formulation_t%stress_only; docs/theory/
+    !> modes.md): with `loaded`, every element's stress is held at the elastic stress of the
+    !> loaded state, sigma_1 = C (eps(q_loaded) - eps_ref) (methods eq. (12)), in place of
+    !> the elastic one: the internal force is that of sigma_1 (eq. (42)) and its tangent the
+    !> terms of the stresses n, m in methods §6.4 alone, the stress (geometric) stiffness of
+    !> sigma_1 at any state; the loads keep their tangents. Computed directly, not as the
+    !> difference of two tangents that share the elastic stiffness (GA L^2 / EI up to 1e6
+    !> times the stress terms, whose round-off the difference would keep). Without `loaded`:
+    !> the elastic rod again.
+    subroutine se3_stress_only(this, available, loaded)
         class(se3_pg_t), intent(inout) :: this
         logical, intent(out) :: available
         real(rk), intent(in), optional :: loaded(:)
         real(rk) :: eps(6)
         integer :: e
         available = .true.
-        if (.not. allocated(this%eps_free)) this%eps_free = this%eps_ref
-        this%eps_ref = this%eps_free
+        if (allocated(this%held_stress)) deallocate(this%held_stress)
         if (.not. present(loaded)) return
+        allocate(this%held_stress(6, this%n_elements))
         do e = 1, this%n_elements
             call se3_strains(this%element_length(e), loaded(6 * (e - 1) + 1:6 * (e + 1)), eps)
-            this%eps_ref(:, e) = this%eps_free(:, e) - (eps - this%eps_free(:, e))
+            this%held_stress(:, e) = this%stiffness(:, e) * (eps - this%eps_ref(:, e))
         end do
-    end subroutine se3_prestress
+    end subroutine se3_stress_only
 
     ! ---- Small helpers ----------------------------------------------------------------------
 

@@ -35,8 +35,8 @@ module rs_test_se3_pg
     use rs_formulations_formulation, only: state_valid, step_energy_t
     use rs_math_so3, only: exp_so3, tangent_so3, complement_rotation_vector
     use rs_se3_pg, only: se3_pg_t
-    use rs_model_rod_history, only: rod_history_t
-    use rs_se3_pg_element, only: se3_element_mass, se3_gyroscopic, se3_internal_force
+    use rs_se3_pg_element, only: se3_element_mass, se3_gyroscopic, se3_internal_force, &
+        se3_strains
     implicit none
     private
 
@@ -69,7 +69,7 @@ contains
         call run_test('dissipation_is_the_damping_work', test_dissipation)
         call run_test('released_support_jacobian', test_released_jacobian)
         call run_test('held_twist', test_held_twist)
-        call run_test('prestress_carries_the_loaded_stresses', test_prestress)
+        call run_test('stress_only_is_the_stress_stiffness', test_stress_only)
     end subroutine run_all_tests
 
     !> hold = 'twist' (a ball joint that does not turn about the axis): on a rod along x, the
@@ -127,31 +127,56 @@ contains
         CHECK_TRUE(ok, 'the refusal names the end: ' // err%message)
     end subroutine test_held_twist
 
-    !> prestress(loaded) (linearized buckling's stress state): the reference state then
-    !> carries the loaded state's stresses (its record's stresses are the loaded state's, to
-    !> round-off), and prestress() gives back the stress-free reference.
-    subroutine test_prestress()
+    !> stress_only(loaded) (linearized buckling's stress stiffness): statics without loads, so
+    !> the step is the internal force alone. At the reference state the residual is the
+    !> internal force of the loaded state's stresses and the Jacobian their stress stiffness:
+    !> the same as the elastic rod's whose reference strains are shifted so that the reference
+    !> carries those stresses, less the unshifted rod's Jacobian (its material stiffness), to
+    !> round-off of the latter. stress_only() gives back the elastic rod.
+    subroutine test_stress_only()
         type(se3_pg_t) :: rod
-        type(rod_history_t) :: histories(1)
-        real(rk), allocatable :: x0(:), x_n(:), y(:), loaded(:, :), stressed(:, :)
+        real(rk), allocatable :: x0(:), loaded(:), y(:), y0(:), f_held(:), f_shifted(:), &
+            k_held(:), k_shifted(:), k_elastic(:), free(:, :)
+        integer, allocatable :: row_ptr(:), cols(:)
+        real(rk) :: eps_e(6), worst
+        integer :: status, e
         logical :: ok, available
-        call build(rod, scene_text('', .true.), ok)
+        call build(rod, '&time t_end = 1, dt = 0.05, quasistatic = .true. /' // nl // &
+            "&rod name = 'beam', formulation = 'se3_pg', n_elements = 4, length = 2," // nl // &
+            '     EA = 1e3, GA1 = 5e2, GA2 = 5e2, EI1 = 2, EI2 = 3, GJ = 1.5,' // nl // &
+            '     rhoA = 1, rhoI1 = 0.1, rhoI2 = 0.15 /' // nl // &
+            "&bc rod = 'beam', end = 'start', kind = 'clamped' /" // nl, ok)
         if (.not. ok) return
-        call perturbed_step(rod, x_n, y)
-        allocate(x0(rod%n_state()))
+        call perturbed_step(rod, loaded, y)
+        allocate(x0(rod%n_state()), y0(rod%n_unknown()), f_held(rod%n_unknown()), &
+            f_shifted(rod%n_unknown()))
         call rod%initial_state(x0)
-        call rod%init_history(histories, 4)
-        call rod%record(histories, 0.0_rk, x_n)
-        loaded = histories(1)%stress(:, :, 1)
-        call rod%prestress(available, x_n)
-        CHECK_TRUE(available, 'se3_pg gives its reference the loaded stresses')
-        call rod%record(histories, 1.0_rk, x0)
-        stressed = histories(1)%stress(:, :, 2)
-        CHECK_CLOSE(stressed, loaded, 1.0e-12_rk, 1.0e-12_rk, 'the reference carries the loaded stresses')
-        call rod%prestress(available)
-        call rod%record(histories, 2.0_rk, x0)
-        CHECK_CLOSE(histories(1)%stress(:, :, 3), 0.0_rk * loaded, 1.0e-12_rk, 0.0_rk, 'stress-free again')
-    end subroutine test_prestress
+        call rod%predictor(0.0_rk, 1.0_rk, x0, y0)
+        call rod%jacobian_pattern(row_ptr, cols)
+        allocate(k_held(size(cols)), k_shifted(size(cols)), k_elastic(size(cols)))
+        call rod%step_jacobian(0.0_rk, 1.0_rk, x0, y0, k_elastic, status)
+        call rod%stress_only(available, loaded)
+        CHECK_TRUE(available, 'se3_pg holds its stresses')
+        call rod%step_residual(0.0_rk, 1.0_rk, x0, y0, f_held, status)
+        call rod%step_jacobian(0.0_rk, 1.0_rk, x0, y0, k_held, status)
+        call rod%stress_only(available)
+        free = rod%eps_ref
+        do e = 1, rod%n_elements
+            call se3_strains(rod%element_length(e), loaded(6 * (e - 1) + 1:6 * (e + 1)), eps_e)
+            rod%eps_ref(:, e) = 2.0_rk * free(:, e) - eps_e
+        end do
+        call rod%step_residual(0.0_rk, 1.0_rk, x0, y0, f_shifted, status)
+        call rod%step_jacobian(0.0_rk, 1.0_rk, x0, y0, k_shifted, status)
+        CHECK_CLOSE(f_held, f_shifted, 1.0e-12_rk, 1.0e-12_rk, 'the internal force of the loaded stresses')
+        worst = maxval(abs(k_held - (k_shifted - k_elastic))) / maxval(abs(k_elastic))
+        write(*, '(a,es10.3)') '  stress stiffness against the shifted difference: ', worst
+        CHECK_TRUE(worst <= 1.0e-13_rk, 'the held stresses'' tangent = their stress stiffness')
+        worst = maxval(abs(k_held)) / maxval(abs(k_elastic))
+        CHECK_TRUE(worst > 1.0e-6_rk, 'the stress stiffness is not zero')
+        rod%eps_ref = free
+        call rod%step_jacobian(0.0_rk, 1.0_rk, x0, y0, k_shifted, status)
+        CHECK_CLOSE(k_shifted, k_elastic, 0.0_rk, 0.0_rk, 'the elastic rod again')
+    end subroutine test_stress_only
 
     !> A prestrained rod clamped at its start and pinned at its end, released at t = 1 (held in
     !> the step from t_n = 0.3) or at t = 0.1 (free), under gravity, midpoint rule: the step
