@@ -82,11 +82,9 @@ contains
         type(scene_t) :: scene
         type(error_list_t) :: errors
         type(error_t), allocatable :: err
-        real(rk), allocatable :: x_n(:), y(:), values(:), dense(:, :), difference(:, :)
-        integer, allocatable :: row_ptr(:), cols(:)
+        real(rk), allocatable :: x_n(:), y(:)
         character(len=:), allocatable :: text
         real(rk) :: worst
-        integer :: status
         logical :: ok, held
         text = '&time t_end = 1, dt = 0.05 /' // nl // &
             "&rod name = 'beam', formulation = 'se3_pg', n_elements = 4, length = 2," // nl // &
@@ -101,14 +99,7 @@ contains
         held = rod%unknown_of(4, 1) == 0 .and. all(rod%unknown_of(5:6, 1) > 0)
         CHECK_TRUE(held, 'the held one is psi_1, the twist of a rod along x')
         call perturbed_step(rod, x_n, y)
-        call rod%jacobian_pattern(row_ptr, cols)
-        allocate(values(size(cols)))
-        call rod%step_jacobian(t_n, h, x_n, y, values, status)
-        CHECK_EQUAL(status, state_valid, 'Jacobian status')
-        dense = dense_jacobian(row_ptr, cols, values)
-        difference = central_differences(rod, t_n, h, x_n, y, 1.0e-6_rk)
-        worst = maxval(abs(difference - dense)) / maxval(abs(difference))
-        write(*, '(a,es10.3)') '  held twist: relative difference ', worst
+        worst = jacobian_mismatch(rod, x_n, y, 'held twist')
         CHECK_TRUE(worst <= 1.0e-8_rk, 'Jacobian with a held twist = central differences')
         deallocate(rod)
         allocate(rod)
@@ -270,6 +261,27 @@ contains
         ok = .not. allocated(err)
     end subroutine build
 
+    !> The largest difference of the rod's step Jacobian at (x_n, y) from central differences
+    !> (step 1e-6), relative to the largest of these, printed after `label`.
+    function jacobian_mismatch(rod, x_n, y, label) result(worst)
+        type(se3_pg_t), intent(inout) :: rod
+        real(rk), intent(in) :: x_n(:)
+        real(rk), intent(inout) :: y(:)
+        character(len=*), intent(in) :: label
+        real(rk) :: worst
+        real(rk), allocatable :: values(:), dense(:, :), difference(:, :)
+        integer, allocatable :: row_ptr(:), cols(:)
+        integer :: status
+        call rod%jacobian_pattern(row_ptr, cols)
+        allocate(values(size(cols)))
+        call rod%step_jacobian(t_n, h, x_n, y, values, status)
+        CHECK_EQUAL(status, state_valid, 'Jacobian status')
+        dense = dense_jacobian(row_ptr, cols, values)
+        difference = central_differences(rod, t_n, h, x_n, y, 1.0e-6_rk)
+        worst = maxval(abs(difference - dense)) / maxval(abs(difference))
+        write(*, '(a,es10.3)') '  ' // label // ': relative difference ', worst
+    end function jacobian_mismatch
+
     !> The initial state moved by a random 0.05 in every entry (history included) and the
     !> predicted unknown moved by a random 0.01: no term vanishes by the symmetry of the start.
     subroutine perturbed_step(rod, x_n, y)
@@ -298,10 +310,8 @@ contains
         character(len=*), intent(in) :: rho_text
         character(len=*), intent(in), optional :: damping
         type(se3_pg_t) :: rod
-        real(rk), allocatable :: x_n(:), y(:), values(:), dense(:, :), difference(:, :)
-        integer, allocatable :: row_ptr(:), cols(:)
+        real(rk), allocatable :: x_n(:), y(:)
         real(rk) :: worst
-        integer :: status
         logical :: ok
         if (rho_text == 'midpoint') then
             call build(rod, scene_text('', .true., damping), ok)
@@ -316,14 +326,7 @@ contains
             CHECK_EQUAL(rod%n_state(), 24 * 5, 'the state carries q, u, q'' and u'' per node')
         end if
         call perturbed_step(rod, x_n, y)
-        call rod%jacobian_pattern(row_ptr, cols)
-        allocate(values(size(cols)))
-        call rod%step_jacobian(t_n, h, x_n, y, values, status)
-        CHECK_EQUAL(status, state_valid, 'Jacobian status')
-        dense = dense_jacobian(row_ptr, cols, values)
-        difference = central_differences(rod, t_n, h, x_n, y, 1.0e-6_rk)
-        worst = maxval(abs(difference - dense)) / maxval(abs(difference))
-        write(*, '(a,es10.3)') '  rho_inf = ' // rho_text // ': relative difference ', worst
+        worst = jacobian_mismatch(rod, x_n, y, 'rho_inf = ' // rho_text)
         CHECK_TRUE(worst <= 1.0e-8_rk, 'assembled Jacobian = central differences')
     end subroutine check_jacobian
 
