@@ -342,7 +342,8 @@ contains
         type(rod_geometry_t) :: geometry
         real(rk) :: frame(3, 3)
         geometry = rod_geometry_of(rod)
-        frame = centreline_frame(geometry, merge(0.0_rk, geometry%length, trim(end_name) == 'start'))
+        frame = centreline_frame(geometry, merge(0.0_rk, geometry%length, &
+            trim(end_name) == 'start'))
         t = frame(:, 3)
     end function end_tangent
 

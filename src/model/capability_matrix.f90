@@ -37,7 +37,8 @@ contains
         type(capability_t), intent(in) :: row
         character(len=:), allocatable :: line
         line = '| ' // trim(row%formulation) // &
-            ' | ' // listed(row%end_kinds) // yes_no(row%held_twist, ' (also `hold = ''twist''`)', '') // &
+            ' | ' // listed(row%end_kinds) // &
+            yes_no(row%held_twist, ' (also `hold = ''twist''`)', '') // &
             ' | ' // listed(row%end_kinds_at_end) // &
             ' | ' // drive_text(row%drive) // &
             ' | ' // end_load_text(row) // &

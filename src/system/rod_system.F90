@@ -630,7 +630,8 @@ contains
                     if (owned_only .and. .not. this%layout%owns_member(blocks(b)%owner)) cycle
                     source = merge(blocks(b)%state_offset, blocks(b)%unknown_offset, from_state)
                     target = merge(blocks(b)%state_offset, blocks(b)%unknown_offset, to_state)
-                    to(target + 1:target + blocks(b)%size) = from(source + 1:source + blocks(b)%size)
+                    to(target + 1:target + blocks(b)%size) = &
+                        from(source + 1:source + blocks(b)%size)
                 end do
             end associate
         end do
