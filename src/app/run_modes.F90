@@ -57,7 +57,7 @@ contains
         type(pencil_t) :: pencil, reference
         type(modes_t) :: modes
         type(xdmf_mode_rod_t), allocatable :: sidecar(:), rods(:)
-        real(rk), allocatable :: x(:), x0(:)
+        real(rk), allocatable :: x(:)
         real(rk) :: started, t
         integer :: k
         character(len=:), allocatable :: name, message
@@ -85,13 +85,9 @@ contains
                 if (equilibrium) call equilibrium_state(system, states(k)%x, x, err)
             end if
             if (buckling) then
-                ! The unloaded reference: the initial state with the loads of t = 0.
-                if (.not. allocated(err)) then
-                    allocate(x0(size(x)))
-                    call system%initial_state(x0)
-                    call buckling_stiffness(system, t, x, x0, scene%time%dt, reference, pencil, err)
-                    deallocate(x0)
-                end if
+                ! The modes are drawn about the state the geometric stiffness is about.
+                if (.not. allocated(err)) call buckling_stiffness(system, t, x, scene%time%dt, &
+                    reference, pencil, err)
                 if (.not. allocated(err)) call solve_buckling(reference, pencil, &
                     scene%modes%n_modes, modes, err)
             else

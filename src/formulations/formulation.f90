@@ -235,6 +235,13 @@ module rs_formulations_formulation
         !> small turn dtheta of the section (L the rod's length), zero on stresses and
         !> multipliers; default: every unknown alike, w = 1 / n_unknown.
         procedure :: path_weights => default_path_weights
+        !> Linearized buckling's stress stiffness (docs/theory/modes.md): with `loaded` (a
+        !> state), the internal stresses are held at those of `loaded` in place of the elastic
+        !> law, so that the tangent at any state is the stress (geometric) stiffness of those
+        !> stresses there, with the loads' tangents; without it, the elastic rod again.
+        !> `available` false: the formulation cannot (default), and the buckling analysis takes
+        !> the difference of the loaded and the unloaded tangents instead.
+        procedure :: stress_only => default_stress_only
         !> Where the coordinates of the nodes are (rod_nodes_t), for couplings; default: no
         !> node access.
         procedure :: nodes => default_nodes
@@ -388,6 +395,13 @@ contains
         class(rod_formulation_t), intent(in) :: this
         real(rk), intent(inout) :: x(:)
     end subroutine default_rest_state
+
+    subroutine default_stress_only(this, available, loaded)
+        class(rod_formulation_t), intent(inout) :: this
+        logical, intent(out) :: available
+        real(rk), intent(in), optional :: loaded(:)
+        available = .false.
+    end subroutine default_stress_only
 
     function default_nodes(this) result(nodes)
         class(rod_formulation_t), intent(in) :: this

@@ -93,8 +93,10 @@ contains
         if (scene%modes%given .and. trim(scene%modes%kind) == 'buckling') then
             call add('buckling: after the run, the ' // str(scene%modes%n_modes) // &
                 ' load factors nearest 0 of the run''s loads (those of t_end) and their ' // &
-                'buckling modes, K_T(u_0) phi = -lambda (K_T(u_1) - K_T(u_0)) phi with u_0 ' // &
-                'the reference and u_1 the end equilibrium (docs/theory/modes.md), by SLEPc ' // &
+                'buckling modes, (K_0 + lambda K_geo) phi = 0 with K_0 the unloaded ' // &
+                'reference''s stiffness and K_geo the stiffness of the end equilibrium''s ' // &
+                'stresses and of the loads at the reference (se3_pg; ph_planar: K_geo = ' // &
+                'K_T(u_1) - K_0 at the equilibrium u_1; docs/theory/modes.md), by SLEPc ' // &
                 'shift-and-invert at 0 with MUMPS; load factors (unit 1) and modes into ' // &
                 '/buckling of the result file and its .modes.xdmf sidecar')
         else if (scene%modes%given) then

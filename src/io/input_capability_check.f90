@@ -610,6 +610,11 @@ contains
                         cycle
                     end if
                     if (trim(bc%kind) == 'driven') call check_drive(bc)
+                    if (trim(bc%kind) == 'held' .and. any(bc%hold == 'twist') .and. &
+                        .not. row%held_twist) call errors%add(at(scene, bc%input_line) // &
+                        '&bc hold: ''twist'' (the rotation about the end''s axis alone) ' // &
+                        'is not available for ' // what // '; available: ''x'', ''y'', ' // &
+                        '''z'', ''rotation''' // see_matrix)
                     if (bc%release_time /= unset_real .and. .not. row%release) &
                         call errors%add(at(scene, bc%input_line) // '&bc release_time: a ' // &
                         'support released at a time is not available for ' // what // &

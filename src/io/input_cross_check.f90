@@ -16,7 +16,8 @@ module rs_io_input_cross_check
         unset_int, name_len, body_inertia_tensor, inertia_tensor, plate_input_t
     use rs_model_time_function, only: time_function_t, time_function_from_bc, &
         time_function_from_plate, time_function_from_obstacle
-    use rs_model_rod_geometry, only: rod_geometry_t, rod_geometry_of, centreline_point
+    use rs_model_rod_geometry, only: rod_geometry_t, rod_geometry_of, centreline_point, &
+        centreline_frame
     use rs_model_support, only: end_hold_t, end_hold
     use rs_model_capabilities, only: capability_t
     use rs_formulations_registry, only: capability_of
@@ -67,7 +68,8 @@ contains
     !> there only without velocity and angular_velocity,
     !> since the director rates are angular_velocity x d_i), a pinned end starting at rest
     !> (it may turn: a rotation about the pin is allowed), sliding and held ends at rest in
-    !> what they hold (rs_model_support) and a held end naming each entry once.
+    !> what they hold (rs_model_support) and a held end naming each entry once (and the
+    !> rotation or its twist, not both).
     subroutine check_bcs(scene, geometry_ok, errors)
         type(scene_t), intent(in) :: scene
         logical, intent(in) :: geometry_ok(:)
@@ -254,15 +256,16 @@ contains
 
     !> A held or sliding end (rs_model_support) starts at rest in what it holds: the initial
     !> velocity velocity + angular_velocity x (p - rotation_center) at the end (point p) has no
-    !> component along the held directions, and a held rotation does not turn
-    !> (angular_velocity = 0, since the director rates are angular_velocity x d_i).
+    !> component along the held directions, a held rotation does not turn
+    !> (angular_velocity = 0, since the director rates are angular_velocity x d_i), and a held
+    !> twist does not turn about the end's axis (angular_velocity . d3 = 0 there).
     subroutine check_held_at_rest(scene, r, bc, errors)
         type(scene_t), intent(in) :: scene
         integer, intent(in) :: r
         type(bc_input_t), intent(in) :: bc
         type(error_list_t), intent(inout) :: errors
         type(end_hold_t) :: hold
-        real(rk) :: p(3), arm(3), v(3), scale
+        real(rk) :: p(3), arm(3), v(3), scale, tangent(3)
         character(len=:), allocatable :: where
         associate (rod => scene%rods(r))
             if (all(rod%velocity == 0.0_rk) .and. all(rod%angular_velocity == 0.0_rk)) return
@@ -272,6 +275,15 @@ contains
                 'angular_velocity: (' // vector_text(rod%angular_velocity) // ') given, but ' // &
                 'the ''' // trim(bc%end) // ''' end''s rotation is held (&bc at line ' // &
                 str(bc%input_line) // ') and starts at rest; allowed: 0, 0, 0')
+            if (hold%twist) then
+                tangent = end_tangent(rod, bc%end)
+                if (abs(dot_product(rod%angular_velocity, tangent)) > rest_tolerance * &
+                    norm2(rod%angular_velocity)) call errors%add(where // 'angular_velocity: (' // &
+                    vector_text(rod%angular_velocity) // ') turns the ''' // trim(bc%end) // &
+                    ''' end about its axis (' // vector_text(tangent) // '), whose twist is ' // &
+                    'held (&bc at line ' // str(bc%input_line) // ') and starts at rest; ' // &
+                    'allowed: an angular velocity across the axis')
+            end if
             p = end_point(rod, bc%end)
             arm = p - rod%rotation_center
             v = matmul(hold%position, rod%velocity + cross3(rod%angular_velocity, arm))
@@ -286,17 +298,22 @@ contains
     end subroutine check_held_at_rest
 
 
-    !> A held end names each of x, y, z, rotation at most once.
+    !> A held end names each of x, y, z, rotation, twist at most once, and not both the
+    !> rotation and its twist.
     subroutine check_hold_entries(scene, bc, errors)
         type(scene_t), intent(in) :: scene
         type(bc_input_t), intent(in) :: bc
         type(error_list_t), intent(inout) :: errors
         integer :: i
+        if (any(bc%hold == 'rotation') .and. any(bc%hold == 'twist')) call errors%add(at(scene, &
+            bc%input_line) // '&bc hold: ''rotation'' and ''twist'' are both named; the ' // &
+            'whole rotation includes the twist: name ''rotation'' for a clamp, ''twist'' ' // &
+            'for an end free to bend but not to turn about its axis')
         do i = 2, size(bc%hold)
             if (len_trim(bc%hold(i)) == 0) cycle
             if (.not. any(bc%hold(1:i - 1) == bc%hold(i))) cycle
             call errors%add(at(scene, bc%input_line) // '&bc hold: ''' // trim(bc%hold(i)) // &
-                ''' is named twice; name each of x, y, z, rotation at most once')
+                ''' is named twice; name each of x, y, z, rotation, twist at most once')
             return
         end do
     end subroutine check_hold_entries
@@ -315,6 +332,20 @@ contains
             p = centreline_point(geometry, geometry%length)
         end if
     end function end_point
+
+
+    !> The reference tangent d3 at end `end_name` ('start' or 'end') of a resolved rod.
+    function end_tangent(rod, end_name) result(t)
+        type(rod_input_t), intent(in) :: rod
+        character(len=*), intent(in) :: end_name
+        real(rk) :: t(3)
+        type(rod_geometry_t) :: geometry
+        real(rk) :: frame(3, 3)
+        geometry = rod_geometry_of(rod)
+        frame = centreline_frame(geometry, merge(0.0_rk, geometry%length, &
+            trim(end_name) == 'start'))
+        t = frame(:, 3)
+    end function end_tangent
 
 
     pure function cross3(a, b) result(c)

@@ -697,10 +697,14 @@ contains
             spec_v('hold', 'string', '-', '(held: required)', 'A held end (kind = ''held''; ' // &
                 'issue 26 item 3): 1 to 4 names of what is held at the end''s reference: the ' // &
                 'inertial coordinates ''x'', ''y'', ''z'' of its position and ''rotation'' its ' // &
-                'whole rotation. ''x'', ''y'', ''z'' is pinned, with ''rotation'' clamped; ' // &
-                '''y'', ''z'', ''rotation'' slides along x; ''z'' is a roller on the plane ' // &
-                'z = z_0. Planar formulations hold the planar coordinates the held directions ' // &
-                'fix (none for the plane''s normal; docs/user/capabilities.md).', count=1, &
+                'whole rotation, or ''twist'' its rotation about its axis alone (free to ' // &
+                'bend; se3_pg, which needs the twist to be one coordinate of the end''s ' // &
+                'rotation vector, e.g. a rod along x). ''x'', ''y'', ''z'' is pinned, with ' // &
+                '''rotation'' clamped, with ''twist'' a ball joint that does not turn about ' // &
+                'the axis (Greenhill''s shaft, docs/theory/modes.md); ''y'', ''z'', ' // &
+                '''rotation'' slides along x; ''z'' is a roller on the plane z = z_0. Planar ' // &
+                'formulations hold the planar coordinates the held directions fix (none for ' // &
+                'the plane''s normal; docs/user/capabilities.md).', count=1, &
                 max_count=4, allowed=hold_entry_names, required_if='kind=held', &
                 only_if='kind=held', example="'z'"), &
             spec_v('axis', 'real', '-', '(sliding: required)', 'A sliding end (kind = ' // &
@@ -975,9 +979,11 @@ contains
             spec_v('kind', 'string', '-', "'modes'", &
                 '''modes'': frequencies and mode shapes; ''buckling'': linearized buckling, ' // &
                 'the critical load factors lambda of the run''s loads (those of t_end) and ' // &
-                'the buckling modes, from K_T(u_0) phi = -lambda (K_T(u_1) - K_T(u_0)) phi ' // &
-                'with u_0 the reference state (loads of t = 0, give a ramp) and u_1 the ' // &
-                'equilibrium (needs about = ''equilibrium''; /buckling of the result file).', &
+                'the buckling modes, from (K_0 + lambda K_geo) phi = 0 with K_0 the ' // &
+                'stiffness of the reference state (loads of t = 0, give a ramp) and K_geo ' // &
+                'that of the stresses of the equilibrium u_1 and of the loads, at the ' // &
+                'reference (se3_pg; ph_planar: K_T(u_1) - K_0; docs/theory/modes.md; needs ' // &
+                'about = ''equilibrium''; /buckling of the result file).', &
                 allowed='modes|buckling', example="'buckling'")]
     end function modes_group
 

@@ -21,6 +21,9 @@ module rs_model_capabilities
         character(len=64) :: end_kinds_at_end = ''
         !> Why the ends differ, appended to the messages about them ('; ...'), or blank.
         character(len=160) :: end_kinds_note = ''
+        !> A held end (&bc kind = 'held') can hold the twist alone (hold = 'twist': the rotation
+        !> about the end's axis, the end free to bend; rs_model_support).
+        logical :: held_twist = .false.
         character(len=64) :: load_places = ''
         character(len=64) :: load_frames = ''
         !> Kinematic constraints (&rod constraint) it can enforce.

@@ -38,6 +38,7 @@ contains
         character(len=:), allocatable :: line
         line = '| ' // trim(row%formulation) // &
             ' | ' // listed(row%end_kinds) // &
+            yes_no(row%held_twist, ' (also `hold = ''twist''`)', '') // &
             ' | ' // listed(row%end_kinds_at_end) // &
             ' | ' // drive_text(row%drive) // &
             ' | ' // end_load_text(row) // &
@@ -94,12 +95,16 @@ contains
         if (floating) text = 'yes: fixed, driven or floating (`&plate`, `mass`)'
     end function plates_text
 
-    function yes_no(flag, what) result(text)
+    !> `what` if `flag`, else `otherwise` (default '-').
+    function yes_no(flag, what, otherwise) result(text)
         logical, intent(in) :: flag
         character(len=*), intent(in) :: what
+        character(len=*), intent(in), optional :: otherwise
         character(len=:), allocatable :: text
         if (flag) then
             text = what
+        else if (present(otherwise)) then
+            text = otherwise
         else
             text = none
         end if

@@ -168,7 +168,8 @@ contains
     !> held (a roller on a plane parallel to the scene's); rank 2: x and y; rank 1: the one
     !> planar coordinate Q holds, which must be x or y (Q diagonal), else `ok` is false (an
     !> oblique direction cannot be held by eliminating a coordinate). theta is held with the
-    !> rotation.
+    !> rotation; the twist alone (about the rod's in-plane axis, where a planar rod has no
+    !> torsion) is refused: `ok` is false (rs_model_support's twist_hold_refusal).
     pure subroutine planar_held(plane, hold, held, ok)
         type(plane_t), intent(in) :: plane
         type(end_hold_t), intent(in) :: hold
@@ -193,6 +194,7 @@ contains
             ok = .false.
         end if
         held(3) = hold%rotation
+        if (hold%twist) ok = .false.
     end subroutine planar_held
 
     !> The point origin + x e1 + y e2 of planar coordinates `xy`.

@@ -104,17 +104,17 @@ contains
     end subroutine solve_modes
 
     !> The n_modes load factors lambda nearest zero of linearized buckling (issue 27 item 2,
-    !> docs/theory/modes.md): K_0 phi = -lambda (K_1 - K_0) phi, K_0 the stiffness of the
-    !> reference state (pencil `reference`, unloaded) and K_1 that of the equilibrium under the
-    !> loads (`loaded`), both the a0 of rs_system_linearization's buckling_stiffness on the
-    !> same pattern. Solved as the generalized problem Op0 = K_0, Op1 = K_0 - K_1 with
-    !> shift-and-invert at 0 (K_0 is factorized: a system with rigid-body motions has none, and
-    !> is refused by MUMPS). The geometric stiffness is singular (axial and torsional rows
-    !> barely change; the algebraic rows of a mixed K_T, ph_director's constraints, stress and
-    !> kinematic rows, hardly or not at all), its infinite eigenvalues lie far from the
-    !> target. Complex pairs (a non-conservative load) are skipped. Collective on all ranks.
-    subroutine solve_buckling(reference, loaded, n_modes, modes, err)
-        type(pencil_t), intent(in) :: reference, loaded
+    !> docs/theory/modes.md): K_0 phi = -lambda K_geo phi, K_0 the tangent stiffness of the
+    !> reference state (pencil `reference`, unloaded) and K_geo the stiffness the loads add
+    !> (`geometric`), both the a0 of rs_system_linearization's buckling_stiffness on the same
+    !> pattern. Solved as the generalized problem Op0 = K_0, Op1 = -K_geo with shift-and-invert
+    !> at 0 (K_0 is factorized: a system with rigid-body motions has none, and is refused by
+    !> MUMPS). The geometric stiffness is singular (axial and torsional rows barely change; the
+    !> algebraic rows of a mixed K_T, ph_director's constraints, stress and kinematic rows,
+    !> hardly or not at all), its infinite eigenvalues lie far from the target. Complex pairs
+    !> (a non-conservative load) are skipped. Collective on all ranks.
+    subroutine solve_buckling(reference, geometric, n_modes, modes, err)
+        type(pencil_t), intent(in) :: reference, geometric
         integer, intent(in) :: n_modes
         type(modes_t), intent(out) :: modes
         type(error_t), allocatable, intent(out) :: err
@@ -122,22 +122,22 @@ contains
         type(modes_t) :: found
         character(len=:), allocatable :: why
         integer :: i
-        if (.not. (reference%stiffness .and. loaded%stiffness)) then
+        if (.not. (reference%stiffness .and. geometric%stiffness)) then
             why = 'linearized buckling needs the tangent stiffnesses of buckling_stiffness'
             RS_SET_ERROR(err, 'solve_buckling', why)
             return
         end if
-        if (reference%n /= loaded%n .or. size(reference%cols) /= size(loaded%cols)) then
+        if (reference%n /= geometric%n .or. size(reference%cols) /= size(geometric%cols)) then
             RS_SET_ERROR(err, 'solve_buckling', 'the loaded and unloaded pencils differ in pattern')
             return
         end if
-        if (any(reference%cols /= loaded%cols)) then
+        if (any(reference%cols /= geometric%cols)) then
             RS_SET_ERROR(err, 'solve_buckling', 'the loaded and unloaded pencils differ in pattern')
             return
         end if
         pencil = reference
         pencil%form = modal_first_order
-        pencil%a1 = reference%a0 - loaded%a0
+        pencil%a1 = -geometric%a0
         pencil%a2 = 0.0_rk * reference%a0
         call eigen_solve_real(pencil, n_modes, found, err)
         if (allocated(err)) return

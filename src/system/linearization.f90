@@ -126,28 +126,43 @@ contains
         end if
     end subroutine linearize_system
 
-    !> The tangent stiffnesses of linearized buckling (docs/theory/modes.md) as the a0 of two
-    !> pencils on the system's pattern: `reference` at the unloaded state x0 with the loads of
-    !> t = 0, `loaded` at the equilibrium x with the loads of t (its unbalance set). Read
+    !> The stiffnesses of linearized buckling (docs/theory/modes.md), K_0 phi = -lambda K_geo
+    !> phi, as the a0 of two pencils on the system's pattern: `reference`, K_0 at the unloaded
+    !> initial state x_0 with the loads of t = 0, and `geometric`, K_geo, the stiffness the
+    !> loads of t add (the run's t_end: the load pattern) for the run's equilibrium x. Read
     !> - where the formulation's static problem has K_T as its Jacobian (traits%static_tangent:
-    !>   ph_director in a quasistatic run), from that Jacobian (static_tangent);
+    !>   ph_director in a quasistatic run), from that Jacobian (static_tangent): K_geo =
+    !>   K_T(x) - K_0;
     !> - for a second-order pencil (traits%modal_form; the system built for dynamics), from
     !>   linearize_system's pencils with their stiffness rows read again from one long step
-    !>   each (static_stiffness), the same rows in both;
-    !> and refused otherwise. `dt` is the scene's step (linearize_system's first time scale).
-    subroutine buckling_stiffness(system, t, x, x0, dt, reference, loaded, err)
+    !>   each (static_stiffness), the same rows in both: K_geo the stress stiffness of x's
+    !>   stresses at x_0 with the loads' own tangents where the formulation can hold its
+    !>   stresses (rod_system_t%stress_only: se3_pg, whose difference of tangents turns a
+    !>   twisted section's stiffness into a load, Greenhill's shaft), else K_T(x) - K_0
+    !>   (ph_planar);
+    !> and refused otherwise. x becomes the state the modes are drawn about (x_0 with the
+    !> stresses held, or x itself; unbalance set there). `dt` is the scene's step
+    !> (linearize_system's first time scale).
+    subroutine buckling_stiffness(system, t, x, dt, reference, geometric, err)
         type(rod_system_t), intent(inout) :: system
-        real(rk), intent(in) :: t, x(:), x0(:), dt
-        type(pencil_t), intent(out) :: reference, loaded
+        real(rk), intent(in) :: t, dt
+        real(rk), intent(inout) :: x(:)
+        type(pencil_t), intent(out) :: reference, geometric
         type(error_t), allocatable, intent(out) :: err
         type(formulation_traits_t) :: traits
+        real(rk), allocatable :: x0(:), about(:)
         logical, allocatable :: rows(:)
+        logical :: stressed, restored
         character(len=:), allocatable :: message
+        allocate(x0(size(x)))
+        call system%initial_state(x0)
         traits = system%traits()
         if (traits%static_tangent) then
             call static_tangent(system, 0.0_rk, x0, reference, err)
             RS_RETURN_IF_ERROR(err)
-            call static_tangent(system, t, x, loaded, err)
+            call static_tangent(system, t, x, geometric, err)
+            RS_RETURN_IF_ERROR(err)
+            geometric%a0 = geometric%a0 - reference%a0
             return
         end if
         if (traits%modal_form /= modal_second_order) then
@@ -157,20 +172,27 @@ contains
             RS_SET_ERROR(err, 'buckling_stiffness', message)
             return
         end if
-        call linearize_system(system, t, x, dt, loaded, err)
-        RS_RETURN_IF_ERROR(err)
         call linearize_system(system, 0.0_rk, x0, dt, reference, err)
         RS_RETURN_IF_ERROR(err)
-        if (reference%n /= loaded%n) then
-            message = 'the loaded and unloaded pencils differ in size'
-            RS_SET_ERROR(err, 'buckling_stiffness', message)
-            return
+        about = x0
+        call system%stress_only(stressed, about, x)
+        if (.not. stressed) about = x
+        call linearize_system(system, t, about, dt, geometric, err)
+        if (.not. allocated(err)) then
+            ! The fit's round-off is too large for the buckling mode.
+            rows = mass_rows(reference) .or. mass_rows(geometric)
+            call static_stiffness(system, t, about, rows, geometric, err)
         end if
-        ! The fit's round-off is too large for the difference of the two stiffnesses.
-        rows = mass_rows(reference) .or. mass_rows(loaded)
+        call system%stress_only(restored, x0)
+        RS_RETURN_IF_ERROR(err)
         call static_stiffness(system, 0.0_rk, x0, rows, reference, err)
         RS_RETURN_IF_ERROR(err)
-        call static_stiffness(system, t, x, rows, loaded, err)
+        if (reference%n /= geometric%n) then
+            RS_SET_ERROR(err, 'buckling_stiffness', 'the loaded and unloaded pencils differ in size')
+            return
+        end if
+        if (.not. stressed) geometric%a0 = geometric%a0 - reference%a0
+        x = about
     end subroutine buckling_stiffness
 
     !> The tangent stiffness of `system` at x with the loads of t as the a0 of `pencil` (a1 =
@@ -209,16 +231,19 @@ contains
     end subroutine static_tangent
 
     !> The stiffness rows of a second-order `pencil` (linearize_system's, of `system` about x
-    !> with the loads of t) read again from one Jacobian at a step so long that the mass
-    !> terms are below round-off:
-    !> J(h) = K / 2 + 2 M / h^2 at rest, so at z = 1/h = 1e-20 z0 the mass terms are far below
-    !> round-off, and a0 = 4 J exactly in `rows` (those with mass); the others, algebraic, keep
-    !> the fit's a0. Linearized buckling (docs/theory/modes.md) needs the stiffness of the
-    !> slowest mode, where the fit's a0 is not good enough: with it, the Euler load of a se3_pg
-    !> cantilever (L / r = 1000) of 400 - 800 elements moved by up to 3.5e-5 with the run's dt
-    !> (z0 starts at 1/dt); with z = 1e-8 z0 the mass left, 2 M z^2, raised it by (z / omega_1)^2
-    !> (z0 grows with the mesh: 1e-5 at 800 elements); with 1e-20 z0 it is independent of dt
-    !> and of the load to 3e-7 and converges at order 2 (tests/regression/modes/buckling.py).
+    !> with the loads of t) read again from one Jacobian at a step so long that the mass terms
+    !> are below round-off: J(h) = K / 2 + 2 M / h^2 at rest, so a0 = 4 J in `rows` (those with
+    !> mass); the others, algebraic, keep the fit's a0. Linearized buckling (docs/theory/
+    !> modes.md) needs the stiffness of the slowest mode, where the fit's a0 is not good
+    !> enough: with it, the Euler load of a se3_pg cantilever (L / r = 1000) of 400 - 800
+    !> elements moved by up to 3.5e-5 with the run's dt (z0 starts at 1/dt); with h = 1e8 /
+    !> z0 the mass left, 2 M / h^2, raised it by (1 / (h omega_1))^2 (z0 grows with the mesh:
+    !> 1e-5 at 800 elements). h is 1e20 / z0, but at most 1e8 |t| for t /= 0: the step's forces
+    !> act at t_n + h / 2 = t, a sum that keeps t only to eps h / (2 |t|) (1e-8 of it; with h
+    !> = 1e20 / z0 the loads of t = 1 were those of t = 0, and a dead moment's stiffness was
+    !> lost); the mass then left is (1e-8 / (|t| omega_1))^2 of the stiffness. One Jacobian
+    !> times 4, exactly: a Richardson step that removed 2 M / h^2 from two of them cost the
+    !> Euler load at 400 elements 5e-6 of round-off (the entries' sums no longer cancel alike).
     subroutine static_stiffness(system, t, x, rows, pencil, err)
         type(rod_system_t), intent(inout) :: system
         real(rk), intent(in) :: t, x(:)
@@ -235,6 +260,7 @@ contains
             return
         end if
         h = 1.0e20_rk / pencil%z0
+        if (t /= 0.0_rk) h = min(h, 1.0e8_rk * abs(t))
         allocate(y(pencil%n), values(size(pencil%cols)))
         call system%predictor(t - 0.5_rk * h, h, x, y)
         call system%step_jacobian(t - 0.5_rk * h, h, x, y, values, status)

@@ -111,6 +111,12 @@ module rs_system_rod_system
         procedure :: state_measures => system_state_measures
         !> Each member's state brought to rest (rod_formulation_t%rest_state).
         procedure :: rest_state => system_rest_state
+        !> Linearized buckling's stress stiffness (rod_formulation_t%stress_only): with
+        !> `loaded`, every member's stresses held at those of its part of `loaded`, and the
+        !> couplings' forces (their multipliers' state entries) of `loaded` copied into x, the
+        !> state to linearize about; without, the elastic rods again. `available` false when
+        !> a member cannot (then none is changed).
+        procedure :: stress_only => system_stress_only
         !> The members' error entries (rs_formulations_formulation); coupling unknowns are not.
         procedure :: error_entries => system_error_entries
         !> Before each step from X_n: the couplings refresh what the step needs (contact
@@ -592,7 +598,7 @@ contains
         class(rod_system_t), intent(inout) :: this
         real(rk), intent(in) :: t_n, h, x_n(:), y(:)
         real(rk), intent(out) :: x_1(:)
-        integer :: m, c, b
+        integer :: m
         if (this%direct) then
             call this%members(1)%rod%update(t_n, h, x_n, y, x_1)
             return
@@ -607,15 +613,7 @@ contains
                     x_1(place%state_offset + 1:place%state_offset + place%n_state))
             end associate
         end do
-        do c = 1, size(this%couplings)
-            associate (blocks => this%couplings(c)%coupling%blocks)
-                do b = 1, size(blocks)
-                    if (.not. this%layout%owns_member(blocks(b)%owner)) cycle
-                    x_1(blocks(b)%state_offset + 1:blocks(b)%state_offset + blocks(b)%size) = &
-                        y(blocks(b)%unknown_offset + 1:blocks(b)%unknown_offset + blocks(b)%size)
-                end do
-            end associate
-        end do
+        call copy_coupling_blocks(this, y, .false., x_1, .true., owned_only=.true.)
     end subroutine system_update
 
     !> The couplings' unknowns (multipliers) of y from their state in x (all, or this rank's).
@@ -624,17 +622,29 @@ contains
         real(rk), intent(in) :: x(:)
         real(rk), intent(inout) :: y(:)
         logical, intent(in) :: owned_only
-        integer :: c, b
+        call copy_coupling_blocks(this, x, .true., y, .false., owned_only)
+    end subroutine unknown_blocks_from_state
+
+    !> The couplings' blocks (multipliers) of `from` into `to`, each a state (its blocks at
+    !> their state offsets) or step unknowns (at their unknown offsets): all, or this rank's.
+    subroutine copy_coupling_blocks(this, from, from_state, to, to_state, owned_only)
+        type(rod_system_t), intent(in) :: this
+        real(rk), intent(in) :: from(:)
+        logical, intent(in) :: from_state, to_state, owned_only
+        real(rk), intent(inout) :: to(:)
+        integer :: c, b, source, target
         do c = 1, size(this%couplings)
             associate (blocks => this%couplings(c)%coupling%blocks)
                 do b = 1, size(blocks)
                     if (owned_only .and. .not. this%layout%owns_member(blocks(b)%owner)) cycle
-                    y(blocks(b)%unknown_offset + 1:blocks(b)%unknown_offset + blocks(b)%size) = &
-                        x(blocks(b)%state_offset + 1:blocks(b)%state_offset + blocks(b)%size)
+                    source = merge(blocks(b)%state_offset, blocks(b)%unknown_offset, from_state)
+                    target = merge(blocks(b)%state_offset, blocks(b)%unknown_offset, to_state)
+                    to(target + 1:target + blocks(b)%size) = &
+                        from(source + 1:source + blocks(b)%size)
                 end do
             end associate
         end do
-    end subroutine unknown_blocks_from_state
+    end subroutine copy_coupling_blocks
 
     ! ---- The step problem -----------------------------------------------------------------
 
@@ -1159,6 +1169,33 @@ contains
         end do
         w = w / size(this%members)
     end subroutine system_path_weights
+    subroutine system_stress_only(this, available, x, loaded)
+        class(rod_system_t), intent(inout) :: this
+        logical, intent(out) :: available
+        real(rk), intent(inout) :: x(:)
+        real(rk), intent(in), optional :: loaded(:)
+        logical :: done
+        integer :: m
+        available = .true.
+        do m = 1, size(this%members)
+            associate (place => this%layout%members(m))
+                if (present(loaded)) then
+                    call this%members(m)%rod%stress_only(done, loaded(place%state_offset + 1: &
+                        place%state_offset + place%n_state))
+                else
+                    call this%members(m)%rod%stress_only(done)
+                end if
+                available = available .and. done
+            end associate
+        end do
+        if (.not. available .and. present(loaded)) then
+            call this%stress_only(done, x)
+            available = .false.
+            return
+        end if
+        if (present(loaded)) call copy_coupling_blocks(this, loaded, .true., x, .true., &
+            owned_only=.false.)
+    end subroutine system_stress_only
 
     subroutine system_rest_state(this, x)
         class(rod_system_t), intent(in) :: this

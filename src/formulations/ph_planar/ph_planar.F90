@@ -38,7 +38,7 @@ module rs_ph_planar
     use rs_model_planarity, only: plane_t, plane_of_rods, point_in_plane, vector_in_plane, &
         point_from_plane, vector_from_plane, angle_in_plane, cross, planar_coordinate_axis, &
         planar_held
-    use rs_model_support, only: end_hold, hold_list
+    use rs_model_support, only: end_hold, hold_list, twist_hold_refusal
     use rs_assembly_csr_pattern, only: csr_builder_t, csr_pattern_t
     use rs_formulations_formulation, only: rod_formulation_t, formulation_traits_t, &
         state_measures_t, state_valid, state_invalid, modal_second_order
@@ -529,7 +529,11 @@ contains
                     ! oblique one.
                     if (trim(bc%kind) == 'sliding') ok = planar_coordinate_axis(this%plane, &
                         bc%axis) > 0
-                    if (.not. ok) then
+                    if (.not. ok .and. any(bc%hold == 'twist')) then
+                        message = twist_hold_refusal(trim(bc%rod), this%formulation_name)
+                        RS_SET_ERROR(err, 'ph_planar%init', message)
+                        return
+                    else if (.not. ok) then
                         message = 'rod ''' // trim(bc%rod) // ''': ' // this%formulation_name // &
                             ' holds the planar coordinates x, y (along e1 = (' // &
                             vector_text(this%plane%e1) // '), e2 = (' // &

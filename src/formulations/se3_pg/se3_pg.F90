@@ -42,7 +42,8 @@
 !>
 !> Supports eliminate unknowns (what each holds: rs_model_support): clamped fixes r and psi,
 !> pinned fixes r (the heavy top's spherical joint), sliding and held the held coordinates of r
-!> (and psi with the rotation), driven prescribes r and psi (a clamp moved and turned in time,
+!> (and psi with the rotation, or its twist component alone: twist_coordinate), driven
+!> prescribes r and psi (a clamp moved and turned in time,
 !> e.g. the superimposed rotation of methods §10.3; rs_formulations_end_drive). Loads: dead
 !> (spatial) and follower end forces and moments, dead distributed forces and moments,
 !> gravity.
@@ -62,7 +63,7 @@ module rs_se3_pg
         axial_reference, unset_real
     use rs_model_rod_history, only: rod_history_t
     use rs_model_time_function, only: time_function_t, time_function_from_load
-    use rs_model_support, only: end_hold, held_coordinates, coordinate_hold_refusal
+    use rs_model_support, only: end_hold_t, end_hold, held_coordinates, coordinate_hold_refusal
     use rs_formulations_end_drive, only: end_drive_t, end_drive_init
     use rs_model_rod_geometry, only: rod_geometry_t, rod_geometry_of, centreline_point, &
         centreline_frame
@@ -126,6 +127,9 @@ module rs_se3_pg
         logical :: kelvin_voigt = .false., dragged = .false.
         !> Per element: reference length l_e = |theta_v(Q)| and reference strains (§5.3).
         real(rk), allocatable :: element_length(:), eps_ref(:, :)
+        !> Linearized buckling (stress_only): per element the stresses (n, m) held fixed in
+        !> place of the elastic ones; not allocated otherwise.
+        real(rk), allocatable :: held_stress(:, :)
         !> Reference arc length of the nodes.
         real(rk), allocatable :: node_s(:)
         type(se3_load_t), allocatable :: loads(:)
@@ -138,6 +142,15 @@ module rs_se3_pg
         !> Supports released at a time (&bc release_time): the release time of q(i) of node k
         !> (unset_real: not released), and the held rows of those unknowns.
         real(rk), allocatable :: release_time(:, :)
+        !> keep_chart(k): node k's twist is held (one component psi_i fixed, twist_coordinate):
+        !> `update` never takes the complement of its rotation vector, which would change
+        !> psi_i, and its rotation rows are T(psi)^T times the body rows K dphi, the virtual
+        !> work on d psi, of which those of the free components are kept: the equations of
+        !> the holonomic constraint psi_i = const, whose reaction is a moment conjugate to psi_i
+        !> (semi-tangential, docs/theory/modes.md). Eliminating the body row K dphi_i instead
+        !> would make the reaction follow the section's axis (a follower moment, not
+        !> conservative) once the end tilts.
+        logical, allocatable :: keep_chart(:)
         type(held_rows_t) :: held
         integer :: n_y = 0
         type(csr_pattern_t) :: pattern
@@ -167,9 +180,13 @@ module rs_se3_pg
         procedure :: set_step_problem => se3_set_step_problem
         procedure :: state_measures => se3_state_measures
         procedure :: path_weights => se3_path_weights
+        procedure :: stress_only => se3_stress_only
         procedure, private :: full_q, nodal_loads, energies, stage_velocity, set_drives, &
             rate_of, stage_q, initial_rates, stage_strain_rate, strain_rate_at, drag_matrix
     end type se3_pg_t
+
+    !> The elastic stiffness of an element whose stress is held (stress_only).
+    real(rk), parameter :: no_stiffness(6) = 0.0_rk
 
 contains
 
@@ -333,17 +350,20 @@ contains
     !> Supports fix the coordinates they hold (rs_model_support): clamped and driven ends r and
     !> psi, pinned ends r, sliding and held ends the held coordinates of r (inertial, methods/
     !> se3_petrov_galerkin.md §5.1, so a slide's axis must be a coordinate axis) and psi with
-    !> the rotation; the rest are the unknowns, node by node.
+    !> the rotation, or its twist component alone (twist_coordinate); the rest are the
+    !> unknowns, node by node.
     subroutine fix_supports(this, scene, err)
         type(se3_pg_t), intent(inout) :: this
         type(scene_t), intent(in) :: scene
         type(error_t), allocatable, intent(out) :: err
         character(len=:), allocatable :: message
         logical :: fixed(6, this%n_nodes), held(6), ok
-        integer :: i, k, node
+        integer :: i, k, node, axis
         type(end_drive_t) :: drive
+        type(end_hold_t) :: hold
         fixed = .false.
         allocate(this%release_time(6, this%n_nodes), source=unset_real)
+        allocate(this%keep_chart(this%n_nodes), source=.false.)
         allocate(this%drives(0))
         do i = 1, size(scene%bcs)
             associate (bc => scene%bcs(i))
@@ -357,7 +377,20 @@ contains
                     RS_SET_ERROR(err, 'se3_pg%init', message)
                     return
                 end select
-                call held_coordinates(end_hold(bc), held, ok)
+                hold = end_hold(bc)
+                ! The twist is no coordinate of held_coordinates: one of psi here.
+                call held_coordinates(end_hold_t(hold%position, hold%rotation), held, ok)
+                if (ok .and. hold%twist) then
+                    axis = twist_coordinate(this%initial(6 * (node - 1) + 4:6 * node))
+                    if (axis == 0) then
+                        message = twist_refusal(this%name, bc%end, &
+                            this%initial(6 * (node - 1) + 4:6 * node))
+                        RS_SET_ERROR(err, 'se3_pg%init', message)
+                        return
+                    end if
+                    held(3 + axis) = .true.
+                    this%keep_chart(node) = .true.
+                end if
                 if (bc%release_time == unset_real) then
                     fixed(:, node) = fixed(:, node) .or. held
                 else
@@ -387,6 +420,39 @@ contains
             end do
         end do
     end subroutine fix_supports
+
+    !> The component of the rotation vector psi (A = Exp(psi), the end's reference pose) that
+    !> is the end's twist, the rotation about its tangent t = A e_x (K basis e_x = d3): at psi
+    !> the body rotation is K dphi = T(psi) dpsi (methods/se3_petrov_galerkin.md §5.4) and its
+    !> twist e_x . K dphi = (T(psi)^T e_x) . dpsi, so fixing psi_i holds the twist and leaves
+    !> the two bending rotations free exactly when T(psi)^T e_x is along e_i (e.g. psi = 0 or
+    !> psi along e_x: a rod along x whose frame is turned about x; i = 1). 0 if it is along no
+    !> coordinate axis: then no coordinate holds the twist alone.
+    pure integer function twist_coordinate(psi) result(axis)
+        real(rk), intent(in) :: psi(3)
+        real(rk) :: v(3)
+        integer :: i, k
+        real(rk), parameter :: aligned = 1.0e-12_rk
+        v = matmul(transpose(tangent_so3(psi)), [1.0_rk, 0.0_rk, 0.0_rk])
+        axis = 0
+        do i = 1, 3
+            if (norm2(v - [(merge(v(i), 0.0_rk, k == i), k = 1, 3)]) <= aligned * norm2(v)) &
+                axis = i
+        end do
+    end function twist_coordinate
+
+    !> Why the twist of end `end_name` of rod `rod`, whose reference rotation vector is psi, is
+    !> no coordinate of se3_pg (twist_coordinate gave 0).
+    function twist_refusal(rod, end_name, psi) result(message)
+        character(len=*), intent(in) :: rod, end_name
+        real(rk), intent(in) :: psi(3)
+        character(len=:), allocatable :: message
+        message = 'rod ''' // rod // ''': se3_pg holds the twist of the ''' // trim(end_name) // &
+            ''' end (hold = ''twist'') by fixing one component of its rotation vector, which ' // &
+            'needs T(psi)^T e_x along a coordinate axis; its reference rotation vector psi = (' // &
+            vector_text(psi) // ') gives (' // vector_text(matmul(transpose(tangent_so3(psi)), &
+            [1.0_rk, 0.0_rk, 0.0_rk])) // ') (a rod along x, its frame turned about x, has it)'
+    end function twist_refusal
 
     !> The driven nodes' coordinates at time t: position and the rotation vector of
     !> Exp(f rotation) A0 nearest to the node's coordinates in x_n (continuous in time).
@@ -634,7 +700,9 @@ contains
     !> §7.3). Then the complement of every rotation vector longer than complement_angle (pi;
     !> 1.25 pi with generalized-alpha) (methods eq. 40), which changes the coordinates, not the
     !> rotation, so u (K components) stays and psi' is carried to the new chart
-    !> (rate_in_complement). With Kelvin-Voigt damping, the strains' history eps'_{n+1} by the
+    !> (rate_in_complement); not at a node whose twist is held (keep_chart: the complement would
+    !> move the held component; its bending rotation then must stay below 2 pi, where T^{-1} is
+    !> singular). With Kelvin-Voigt damping, the strains' history eps'_{n+1} by the
     !> same update formula (the strains do not depend on the chart).
     subroutine se3_update(this, t_n, h, x_n, y, x_1)
         class(se3_pg_t), intent(inout) :: this
@@ -669,7 +737,8 @@ contains
             end if
             x_1(at + 1:at + 3) = this%q_1(1:3, k)
             psi = this%q_1(4:6, k)
-            if (norm2(psi) > complement_angle(this%scheme)) psi = complement_rotation_vector(psi)
+            if (norm2(psi) > complement_angle(this%scheme) .and. .not. this%keep_chart(k)) &
+                psi = complement_rotation_vector(psi)
             x_1(at + 4:at + 6) = psi
             if (this%scheme%history .and. any(psi /= this%q_1(4:6, k))) &
                 x_1(aq + 4:aq + 6) = rate_in_complement(this%q_1(4:6, k), x_1(aq + 4:aq + 6), &
@@ -808,16 +877,43 @@ contains
         real(rk), intent(in) :: t_n, h, x_n(:), y(:)
         real(rk), intent(out) :: f(:)
         integer, intent(out) :: status
-        real(rk) :: q_e(12), g(12), m(12, 12), u_stage(12), accel(12), gyr(12), kg(12, 12)
-        real(rk) :: q_at(6, this%n_nodes), rows(6, this%n_nodes), c(12, 12), eps_1(6)
-        integer :: e, k, i
+        real(rk) :: q_at(6, this%n_nodes), rows(6, this%n_nodes)
+        integer :: k, i
         call this%set_drives(step_end_time(this, t_n, h), x_n)
         call this%full_q(x_n, y, this%q_1)
         call this%stage_q(x_n, this%q_1, q_at)
+        call body_rows(this, t_n, h, x_n, q_at, rows)
+        do k = 1, this%n_nodes
+            if (this%keep_chart(k)) rows(4:6, k) = matmul(transpose(tangent_so3(q_at(4:6, k))), &
+                rows(4:6, k))
+            do i = 1, 6
+                if (this%unknown_of(i, k) > 0) f(this%unknown_of(i, k)) = rows(i, k)
+            end do
+        end do
+        ! The Newton homotopy of the continuation: t_n + h is the pseudo-time tau.
+        if (this%continuing) f = f - max(0.0_rk, 1.0_rk - (t_n + h)) * this%anchor
+        call this%held%apply_residual(held_time(this, t_n), h, this%static_stage, x_n, y, f)
+        status = state_valid
+        if (any(f /= f)) status = state_invalid
+    end subroutine se3_step_residual
+
+    !> The step's generalized forces per node in the virtual-displacement rows (I dr, K dphi)
+    !> of every coordinate, held ones included (se3_step_residual), at the stage q_at, with
+    !> this%q_1 = q_{n+1}.
+    subroutine body_rows(this, t_n, h, x_n, q_at, rows)
+        type(se3_pg_t), intent(inout) :: this
+        real(rk), intent(in) :: t_n, h, x_n(:), q_at(:, :)
+        real(rk), intent(out) :: rows(:, :)
+        real(rk) :: q_e(12), g(12), m(12, 12), u_stage(12), accel(12), gyr(12), kg(12, 12)
+        real(rk) :: c(12, 12), eps_1(6)
+        integer :: e
         rows = 0.0_rk
         do e = 1, this%n_elements
             q_e = [q_at(:, e), q_at(:, e + 1)]
-            if (this%kelvin_voigt .and. .not. this%statics) then
+            if (allocated(this%held_stress)) then
+                call se3_viscous_internal_force(this%element_length(e), no_stiffness, &
+                    this%eps_ref(:, e), this%held_stress(:, e), q_e, g)
+            else if (this%kelvin_voigt .and. .not. this%statics) then
                 call se3_strains(this%element_length(e), [this%q_1(:, e), this%q_1(:, e + 1)], &
                     eps_1)
                 call se3_viscous_internal_force(this%element_length(e), this%stiffness(:, e), &
@@ -843,17 +939,7 @@ contains
         end do
         call this%nodal_loads(force_time(this, t_n, h), q_at, .false.)
         rows = rows - this%f_ext
-        do k = 1, this%n_nodes
-            do i = 1, 6
-                if (this%unknown_of(i, k) > 0) f(this%unknown_of(i, k)) = rows(i, k)
-            end do
-        end do
-        ! The Newton homotopy of the continuation: t_n + h is the pseudo-time tau.
-        if (this%continuing) f = f - max(0.0_rk, 1.0_rk - (t_n + h)) * this%anchor
-        call this%held%apply_residual(held_time(this, t_n), h, this%static_stage, x_n, y, f)
-        status = state_valid
-        if (any(f /= f)) status = state_invalid
-    end subroutine se3_step_residual
+    end subroutine body_rows
 
     !> The stage velocities u_{n+alpha_f} and accelerations u'_{n+alpha_m} of element e's two
     !> nodes (12 each), from x_n and q_{n+1} (this%q_1).
@@ -897,7 +983,10 @@ contains
         values = 0.0_rk
         do e = 1, this%n_elements
             q_e = [q_at(:, e), q_at(:, e + 1)]
-            if (this%kelvin_voigt .and. .not. this%statics) then
+            if (allocated(this%held_stress)) then
+                call se3_viscous_internal_force(this%element_length(e), no_stiffness, &
+                    this%eps_ref(:, e), this%held_stress(:, e), q_e, g, k)
+            else if (this%kelvin_voigt .and. .not. this%statics) then
                 call se3_twist_tangent([this%q_1(:, e), this%q_1(:, e + 1)], theta, dtheta)
                 call se3_viscous_internal_force(this%element_length(e), this%stiffness(:, e), &
                     this%eps_ref(:, e), this%viscosity(:, e) * this%stage_strain_rate(h, x_n, e, &
@@ -941,6 +1030,12 @@ contains
                     k = k + matmul(b_t, dtheta)
                 end if
             end if
+            ! A held twist's rows are T^T times the body rows (se3_step_residual).
+            do node = 0, 1
+                if (.not. this%keep_chart(e + node)) cycle
+                k(6 * node + 4:6 * node + 6, :) = matmul(transpose(tangent_so3(q_at(4:6, &
+                    e + node))), k(6 * node + 4:6 * node + 6, :))
+            end do
             do j = 1, 12
                 do i = 1, 12
                     if (this%element_map(i, j, e) > 0) values(this%element_map(i, j, e)) = &
@@ -948,10 +1043,39 @@ contains
                 end do
             end do
         end do
+        if (any(this%keep_chart)) call twist_row_tangent(this, t_n, h, x_n, q_at, scale, values)
         call this%held%apply_jacobian(held_time(this, t_n), h, this%static_stage, values)
         status = state_valid
         if (any(values /= values)) status = state_invalid
     end subroutine se3_step_jacobian
+
+    !> The rest of the derivative of a held twist's rows T(psi)^T r (se3_step_residual): the
+    !> derivative of T^T at the stage rotation psi_s times the node's body rows r, sum_j
+    !> (dT/dpsi_j)^T r d psi_s,j / d psi_j, with d psi_s / d psi_{n+1} = `scale`, on the node's
+    !> free rotation coordinates.
+    subroutine twist_row_tangent(this, t_n, h, x_n, q_at, scale, values)
+        type(se3_pg_t), intent(inout) :: this
+        real(rk), intent(in) :: t_n, h, x_n(:), q_at(:, :), scale
+        real(rk), intent(inout) :: values(:)
+        real(rk) :: rows(6, this%n_nodes), dt(3, 3, 3), column(3)
+        integer :: k, i, j, row, col
+        call body_rows(this, t_n, h, x_n, q_at, rows)
+        do k = 1, this%n_nodes
+            if (.not. this%keep_chart(k)) cycle
+            dt = tangent_so3_derivative(q_at(4:6, k))
+            do j = 1, 3
+                col = this%unknown_of(3 + j, k)
+                if (col <= 0) cycle
+                column = scale * matmul(transpose(dt(:, :, j)), rows(4:6, k))
+                do i = 1, 3
+                    row = this%unknown_of(3 + i, k)
+                    if (row <= 0) cycle
+                    values(this%pattern%position(row, col)) = &
+                        values(this%pattern%position(row, col)) + column(i)
+                end do
+            end do
+        end do
+    end subroutine twist_row_tangent
 
     !> d u_{n+alpha_f} / d q_{n+1} of one node (6 x 6) for `stage_velocity`: c = alpha_m / (h
     !> gamma) on the positions, and c T(psi_s) + alpha_f sum_k dT/dpsi_k(psi_s) psi'_s e_k^T on
@@ -1305,6 +1429,31 @@ contains
         if (len_trim(made%kind) == 0 .or. made%n == 0) return
         allocate(tie, source=made)
     end subroutine se3_new_tie
+
+    !> Linearized buckling's stress stiffness (rod_formulation_t%stress_only; docs/theory/
+    !> modes.md): with `loaded`, every element's stress is held at the elastic stress of the
+    !> loaded state, sigma_1 = C (eps(q_loaded) - eps_ref) (methods eq. (12)), in place of
+    !> the elastic one: the internal force is that of sigma_1 (eq. (42)) and its tangent the
+    !> terms of the stresses n, m in methods §6.4 alone, the stress (geometric) stiffness of
+    !> sigma_1 at any state; the loads keep their tangents. Computed directly, not as the
+    !> difference of two tangents that share the elastic stiffness (GA L^2 / EI up to 1e6
+    !> times the stress terms, whose round-off the difference would keep). Without `loaded`:
+    !> the elastic rod again.
+    subroutine se3_stress_only(this, available, loaded)
+        class(se3_pg_t), intent(inout) :: this
+        logical, intent(out) :: available
+        real(rk), intent(in), optional :: loaded(:)
+        real(rk) :: eps(6)
+        integer :: e
+        available = .true.
+        if (allocated(this%held_stress)) deallocate(this%held_stress)
+        if (.not. present(loaded)) return
+        allocate(this%held_stress(6, this%n_elements))
+        do e = 1, this%n_elements
+            call se3_strains(this%element_length(e), loaded(6 * (e - 1) + 1:6 * (e + 1)), eps)
+            this%held_stress(:, e) = this%stiffness(:, e) * (eps - this%eps_ref(:, e))
+        end do
+    end subroutine se3_stress_only
 
     ! ---- Small helpers ----------------------------------------------------------------------
 

@@ -20,6 +20,7 @@ contains
         d%name = 'se3_pg'
         ! seed 002 (methods/se3_petrov_galerkin.md §3.4, §7, §10): clamped, pinned, driven,
         ! sliding (along a coordinate axis) and held ends (issue 26 item 3) by elimination,
+        ! also the twist alone (one component of the end's rotation vector, issue 27 item 2),
         ! dead and follower end loads, dead distributed loads and gravity,
         ! statics (&time quasistatic) and dynamics by the midpoint rule or the paper's
         ! generalized-alpha scheme (§7.3); any reference the SE(3) interpolation represents;
@@ -28,7 +29,7 @@ contains
         ! prestrain, the initial equilibrium (its statics continued in a dynamic run) and
         ! supports released at a time (held rows).
         d%capability = capability_t(formulation=d%name, available=.true., &
-            end_kinds='clamped|pinned|free|driven|sliding|held', &
+            end_kinds='clamped|pinned|free|driven|sliding|held', held_twist=.true., &
             load_places='start|end|distributed|gravity', load_frames='spatial|follower', &
             constraints='none', quasistatic=.true., viscoelastic=.false., actuation=.false., &
             curved_reference=.true., joints='rigid|spherical|revolute', end_plates=.true., &

@@ -3,7 +3,7 @@
 module rs_se3_pg_plan
     use rs_core_strings, only: str, vector_text
     use rs_model_scene, only: scene_t, load_applies_to, rod_is_damped, unset_real
-    use rs_model_support, only: end_hold, held_coordinates, held_names
+    use rs_model_support, only: end_hold_t, end_hold, held_coordinates, held_names
     use rs_model_damping, only: damping_plan_text
     use rs_model_rod_geometry, only: centreline_text
     implicit none
@@ -19,6 +19,7 @@ contains
         integer, intent(in) :: i
         character(len=:), allocatable :: lines
         character(len=:), allocatable :: supports
+        type(end_hold_t) :: hold
         logical :: mask(6), ok
         integer :: j, n_nodes, n_fixed, n_follower, n_dead
         associate (rod => scene%rods(i))
@@ -36,7 +37,10 @@ contains
                 if (trim(scene%bcs(j)%rod) /= trim(rod%name)) cycle
                 ! What the support holds (rs_model_support): its coordinates are not unknowns;
                 ! a released support's unknowns stay (held by their own rows until then).
-                call held_coordinates(end_hold(scene%bcs(j)), mask, ok)
+                hold = end_hold(scene%bcs(j))
+                call held_coordinates(end_hold_t(hold%position, hold%rotation), mask, ok)
+                ! The twist alone: one component of psi (se3_pg's twist_coordinate).
+                if (hold%twist) mask(4) = .true.
                 if (scene%bcs(j)%release_time == unset_real) n_fixed = n_fixed + count(mask)
                 supports = supports // ' ' // trim(scene%bcs(j)%end) // ' ' // trim(scene%bcs(j)%kind)
                 if (trim(scene%bcs(j)%kind) == 'sliding') supports = supports // ' along (' // &

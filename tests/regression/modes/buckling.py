@@ -4,11 +4,12 @@ against closed forms.
 
 Cases:
   euler_se3_pg, euler_ph_planar
-      Euler's cantilever column, P_cr = pi^2 EI / (4 L^2): a steel rod of L = 1 m, r = 1 mm
-      (L / r = 1000: the Cosserat rod's shear and extension move P_cr by P_cr / (G A) = 1.5e-6
-      and P_cr / (E A) = 6e-7), clamped at s = 0 and loaded at s = L along its axis by a
-      ramped force of a share of P_cr; the critical load lambda_1 P against Euler's: observed
-      order 2 between the meshes, the finest within 1e-5; the load factor does not depend on
+      Euler's cantilever column, P_E = pi^2 EI / (4 L^2): a steel rod of L = 1 m, r = 1 mm
+      (L / r = 1000), clamped at s = 0 and loaded at s = L along its axis by a ramped force
+      of a share of P_E; the critical load lambda_1 P against the shear-deformable column's,
+      P_cr = P_E (1 - P_E / (G A)) (Engesser's and Haringx's formulas to first order in P_E /
+      (G A) = 1.5e-6, which the Cosserat rod's stress stiffness has): observed order 2
+      between the meshes, the finest within 1e-5; the load factor does not depend on
       the load applied (se3_pg: 1e-3 P_cr against 0.5 P_cr); the second load factor 9 times
       the first ((3 pi / 2)^2 / (pi / 2)^2); the first buckling mode's shape against
       1 - cos(pi s / (2 L)) and its cross-sections' rotation against the slope (se3_pg).
@@ -24,9 +25,29 @@ Cases:
       Prandtl's lateral-torsional buckling of a narrow cantilever under a dead tip force at the
       centroid in its stiff plane: P_cr = gamma sqrt(EI_weak GJ) / L^2 with gamma = 2 j, j the
       first zero of the Bessel function J_{-1/4} (found here by bisection on its series:
-      4.0125993...). EI_strong / EI_weak = EI_strong / GJ = 1e4, so that the prebuckling
-      deflection, which Prandtl neglects, moves P_cr by about 1e-4; the load is 1e-3 P_cr.
-      Observed order 2, the finest mesh within 1e-3 (measured 7.3e-5 at 200 elements).
+      4.0125993...). EI_strong / EI_weak = EI_strong / GJ = 1e4 (the prebuckling deflection,
+      which Prandtl neglects and the stress stiffness at the reference too, would move P_cr by
+      about 1e-4); the load is 1e-3 P_cr. Observed order 2, the finest mesh within 1e-3
+      (measured 1.9e-5 at 200 elements).
+  greenhill_se3_pg
+      Greenhill's shaft: the steel rod of the Euler case between ball joints, s = 0 held in
+      position and twist (&bc hold = 'x', 'y', 'z', 'twist': the twist hold removes the rigid
+      turn about the axis), s = L held laterally, twisted by dead axial end moments +-M e_x at
+      both ends (the hold carries none: Greenhill's axial torques). The critical moment is
+      M_G = 2 pi EI / L ((M / (2 EI))^2 + P / EI = (pi / L)^2 with P = 0); the load is 1e-2 of
+      it. Observed order 2 between 100 and 200 elements, the finer within 1e-3 (measured 8e-5);
+      the moment and its reverse buckle alike; the buckling mode is Greenhill's helix, the
+      lateral displacement y + i z = w (exp(i 2 pi s / L) - 1) (y and z in quadrature: the
+      centreline's projection is a circle through the axis), to 1e-3 of |w|; the prebuckling
+      twist at s = L is M L / GJ (held at s = 0). The same shaft with the twist hold carrying
+      the torque (no moment at s = 0) is a semi-tangential reaction against a dead moment, a
+      non-conservative pair without divergence: the run says there are no real factors
+      (docs/theory/modes.md, "Greenhill's shaft").
+  greenhill_axial_se3_pg
+      the shaft of greenhill_se3_pg under axial compression P too, at P / P_E = 0.25 and 0.75
+      of the pinned Euler load P_E = pi^2 EI / L^2 at criticality: the load pattern is (P, M)
+      on Greenhill's curve, scaled by 1e-2, and the critical factor lambda solves (lambda M /
+      (2 EI))^2 + lambda P / EI = (pi / L)^2. Order 2 between 100 and 200 elements, within 1e-3.
   ranks, ranks_ph_director
       the se3_pg (ph_director) column's load factors on 2 ranks (a distributed eigen solve)
       equal those on 1.
@@ -39,12 +60,14 @@ import h5py
 import numpy as np
 
 sys.path.insert(0, os.path.join(os.path.dirname(__file__), ".."))
-from run_scene import Checks, run, run_cases  # noqa: E402
+from run_scene import Checks, rod, run, run_cases, run_failing  # noqa: E402
 
 LENGTH, RADIUS, E, G, RHO = 1.0, 0.001, 2e11, 8e10, 7800.0
 INERTIA = math.pi * RADIUS**4 / 4
 AREA = math.pi * RADIUS**2
 EULER = math.pi**2 * E * INERTIA / (4 * LENGTH**2)
+# The shear-deformable column (Engesser, Haringx: equal to first order in EULER / (G A)).
+SHEARED = EULER * (1 - EULER / (G * AREA))
 
 
 CIRCLE = f"section = 'circle', radius = {RADIUS}, E = {E}, G = {G}, density = {RHO}"
@@ -113,15 +136,16 @@ def euler(formulation, meshes, order=2, order_meshes=None, load_tolerance=1e-6,
     order_meshes = order_meshes or meshes[:-1]
 
     def case(args, checks):
-        print(f"Euler: P_cr = {EULER:.10g} N; with shear (Engesser) "
-              f"{EULER / (1 + EULER / (G * AREA)):.10g} N")
+        print(f"Euler: P_E = {EULER:.10g} N; with shear P_cr = {SHEARED:.10g} N")
         planar = formulation == "ph_planar"
         errors = {}
         for n in meshes:
             factors, shapes = buckle(args, formulation, n, 0.5)
             # A 3D rod buckles in either plane: a degenerate pair.
             distinct = factors if planar else factors[::2]
-            errors[n] = distinct[0] - 1
+            # ph_director's column is inextensible and shear-rigid: Euler's own load.
+            reference = EULER if formulation == "ph_director" else SHEARED
+            errors[n] = distinct[0] * EULER / reference - 1
             print(f"{n} elements: load factors x share {factors}, relative error "
                   f"{errors[n]:.3e}")
         orders = [math.log(abs(errors[a] / errors[b])) / math.log(b / a)
@@ -215,6 +239,151 @@ def ranks(formulation, n_elements, tolerance):
     return case
 
 
+SHAFT_EI = E * INERTIA
+SHAFT_GJ = G * 2 * INERTIA
+PINNED_EULER = math.pi**2 * SHAFT_EI / LENGTH**2
+GREENHILL = 2 * math.pi * SHAFT_EI / LENGTH
+
+
+def shaft(n_elements, moment, force=0.0, start_moment=True):
+    """Greenhill's shaft along x: ball joints at both ends, the twist held at s = 0; dead axial
+    end moments +-moment (none at s = 0 if not start_moment) and a dead axial force -force at
+    s = L, ramped."""
+    start = ""
+    if start_moment:
+        start = f"""&load
+    rod = 'shaft', where = 'start', moment = {-moment!r}, 0.0, 0.0
+    time_function = 'ramp', t_off = 1.0
+/
+"""
+    return f"""&time
+    t_end = 1.0
+    dt = 0.5
+    quasistatic = .true.
+/
+&solver
+    newton_atol = 1e-9
+/
+&rod
+    name = 'shaft', formulation = 'se3_pg', n_elements = {n_elements}, length = {LENGTH}
+    start = 0.0, 0.0, 0.0, direction = 1.0, 0.0, 0.0
+    {CIRCLE}
+/
+&bc
+    rod = 'shaft', end = 'start', kind = 'held', hold = 'x', 'y', 'z', 'twist'
+/
+&bc
+    rod = 'shaft', end = 'end', kind = 'held', hold = 'y', 'z'
+/
+&load
+    rod = 'shaft', where = 'end', moment = {moment!r}, 0.0, 0.0, force = {-force!r}, 0.0, 0.0
+    time_function = 'ramp', t_off = 1.0
+/
+{start}&output
+    path = 'x.h5'
+/
+&modes
+    n_modes = 4, about = 'equilibrium', kind = 'buckling'
+/
+"""
+
+
+def greenhill_factor(moment, force):
+    """The smallest positive lambda with (lambda M / (2 EI))^2 + lambda P / EI = (pi / L)^2."""
+    a = (moment / (2 * SHAFT_EI))**2
+    b = force / SHAFT_EI
+    c = -(math.pi / LENGTH)**2
+    if a == 0:
+        return -c / b
+    return (-b + math.sqrt(b * b - 4 * a * c)) / (2 * a)
+
+
+def shaft_buckling(args, n, moment, force, name):
+    path = run(args, shaft(n, moment, force), name)
+    with h5py.File(path, "r") as f:
+        group = f["buckling"]["shaft"]
+        factors = group["load_factor"][()]
+        shapes = (group["shaft"]["position"][()], group["shaft"]["displacement"][()])
+    return path, factors, shapes
+
+
+def order_and_error(checks, label, errors, meshes, bound):
+    order = math.log(abs(errors[0] / errors[1])) / math.log(meshes[1] / meshes[0])
+    print(f"{label}: relative errors {errors}, observed order {order:.3f}")
+    checks.check(f"{label}: |observed order - 2| ({meshes[0]}-{meshes[1]} elements)",
+                 abs(order - 2), 0.1)
+    checks.check(f"{label}, {meshes[1]} elements: |lambda / lambda_Greenhill - 1|",
+                 abs(errors[1]), bound)
+
+
+def greenhill(args, checks):
+    share = 1e-2
+    moment = share * GREENHILL
+    print(f"Greenhill: EI = {SHAFT_EI:.10g} N m^2, GJ = {SHAFT_GJ:.10g} N m^2, "
+          f"M_G = 2 pi EI / L = {GREENHILL:.10g} N m")
+    meshes = [100, 200]
+    errors = []
+    for n in meshes:
+        path, factors, (position, displacement) = shaft_buckling(args, n, moment, 0.0,
+                                                                  f"greenhill_{n}")
+        print(f"{n} elements: load factors {factors}")
+        # A double pair (either helix sense of the isotropic shaft), +- (the reversed moment).
+        positive = factors[factors > 0]
+        negative = factors[factors < 0]
+        errors.append(positive[0] * share - 1)
+        checks.check(f"{n} elements: the reversed moment buckles alike (relative difference)",
+                     abs(negative[0] / positive[0] + 1), 1e-6)
+    order_and_error(checks, "greenhill", errors, meshes, 1e-3)
+    # The mode: y + i z = w (exp(+-i 2 pi s / L) - 1) at the nodes (interior: 0/0 at the ends).
+    s = position[:, 0]
+    lateral = displacement[0, :, 1] + 1j * displacement[0, :, 2]
+    inner = slice(1, len(s) - 1)
+    spreads = []
+    for sense in (1, -1):
+        w = lateral[inner] / (np.exp(sense * 2j * np.pi * s[inner] / LENGTH) - 1)
+        spreads.append(float(np.abs(w - w.mean()).max() / np.abs(w.mean())))
+    print(f"mode 1: largest |w_k - w| / |w| for either helix sense {spreads}")
+    checks.check("mode 1: Greenhill's helix, largest |w_k - w| / |w|", min(spreads), 1e-3)
+    checks.check("mode 1: axial displacement / lateral",
+                 float(np.abs(displacement[0, :, 0]).max() / np.abs(lateral).max()), 1e-2)
+    # The prebuckling twist: d1 turned about x by M s / GJ, held at s = 0.
+    fields = rod(path, "shaft")
+    d1 = fields["directors"][-1][:, 0, :]
+    twist = np.arctan2(d1[:, 2], d1[:, 1])
+    print(f"twist at s = 0: {twist[0]:.3e} rad, at s = L: {twist[-1]:.10e} rad "
+          f"(M L / GJ = {moment * LENGTH / SHAFT_GJ:.10e})")
+    checks.check("twist held at s = 0 (rad)", abs(twist[0]), 1e-14)
+    checks.check("twist at s = L against M L / GJ (relative)",
+                  abs(twist[-1] / (moment * LENGTH / SHAFT_GJ) - 1), 1e-8)
+    # The twist hold carrying the torque: no real factor.
+    text = shaft(meshes[0], moment, start_moment=False)
+    text = text.replace("path = 'x.h5'", f"path = '{os.path.join(args.workdir, 'held_torque.h5')}'")
+    status, log = run_failing(args, text, "held_torque")
+    checks.check("the twist hold carrying the torque: the run fails", float(status == 0), 0.0)
+    checks.check("... saying it found no real factor, only complex ones",
+                 float("SLEPc found 0 real buckling load factors" not in log or
+                       "complex ones" not in log), 0.0)
+
+
+def greenhill_axial(args, checks):
+    share = 1e-2
+    meshes = [100, 200]
+    for ratio in (0.25, 0.75):
+        # (P, M) on Greenhill's curve: lambda = 1 / share.
+        force = ratio * PINNED_EULER
+        moment = GREENHILL * math.sqrt(1 - ratio)
+        expected = greenhill_factor(share * moment, share * force)
+        print(f"P / P_E = {ratio}: pattern P = {share * force:.6g} N, M = {share * moment:.6g} "
+              f"N m; Greenhill's factor {expected:.10g}")
+        errors = []
+        for n in meshes:
+            _, factors, _ = shaft_buckling(args, n, share * moment, share * force,
+                                           f"greenhill_axial_{ratio}_{n}")
+            print(f"{n} elements: load factors {factors}")
+            errors.append(factors[factors > 0][0] / expected - 1)
+        order_and_error(checks, f"P / P_E = {ratio}", errors, meshes, 1e-3)
+
+
 if __name__ == "__main__":
     run_cases(__doc__, {
         "euler_se3_pg": euler("se3_pg", [50, 100, 200, 400]),
@@ -225,6 +394,8 @@ if __name__ == "__main__":
         "euler_ph_director": euler("ph_director", [8, 16], order=4, order_meshes=[8, 16],
                                    load_tolerance=1e-12, shape_tolerance=1e-5),
         "prandtl_se3_pg": prandtl,
+        "greenhill_se3_pg": greenhill,
+        "greenhill_axial_se3_pg": greenhill_axial,
         "ranks": ranks("se3_pg", 200, 1e-8),
         # Measured 2e-14 (MUMPS pivots differently on 2 ranks).
         "ranks_ph_director": ranks("ph_director", 16, 1e-12),

@@ -35,7 +35,8 @@ module rs_test_se3_pg
     use rs_formulations_formulation, only: state_valid, step_energy_t
     use rs_math_so3, only: exp_so3, tangent_so3, complement_rotation_vector
     use rs_se3_pg, only: se3_pg_t
-    use rs_se3_pg_element, only: se3_element_mass, se3_gyroscopic, se3_internal_force
+    use rs_se3_pg_element, only: se3_element_mass, se3_gyroscopic, se3_internal_force, &
+        se3_strains
     implicit none
     private
 
@@ -67,7 +68,106 @@ contains
         call run_test('damped_initial_history_is_consistent', test_damped_initial_history)
         call run_test('dissipation_is_the_damping_work', test_dissipation)
         call run_test('released_support_jacobian', test_released_jacobian)
+        call run_test('held_twist', test_held_twist)
+        call run_test('stress_only_is_the_stress_stiffness', test_stress_only)
     end subroutine run_all_tests
+
+    !> hold = 'twist' (a ball joint that does not turn about the axis): on a rod along x, the
+    !> start's rotation vector psi = 0 loses its first component (T(0)^T e_x = e_x) and keeps
+    !> the two bending ones; the step Jacobian equals central differences. On a rod along z
+    !> (its frame (d3, d1, d2) = (e_z, e_x, e_y), a turn about (1, 1, 1)) no component of psi
+    !> is the twist: init refuses it, naming the end and psi.
+    subroutine test_held_twist()
+        type(se3_pg_t), allocatable :: rod
+        type(scene_t) :: scene
+        type(error_list_t) :: errors
+        type(error_t), allocatable :: err
+        real(rk), allocatable :: x_n(:), y(:)
+        character(len=:), allocatable :: text
+        real(rk) :: worst
+        logical :: ok, held
+        text = '&time t_end = 1, dt = 0.05 /' // nl // &
+            "&rod name = 'beam', formulation = 'se3_pg', n_elements = 4, length = 2," // nl // &
+            '     EA = 1e3, GA1 = 5e2, GA2 = 5e2, EI1 = 2, EI2 = 3, GJ = 1.5,' // nl // &
+            '     rhoA = 1, rhoI1 = 0.1, rhoI2 = 0.15 /' // nl // &
+            "&bc rod = 'beam', end = 'start', kind = 'held', hold = 'x', 'y', 'z', 'twist' /" // nl // &
+            "&load rod = 'beam', where = 'end', moment = 0.3, 0.1, -0.2, force = 0, 0.2, 0.1 /" // nl
+        allocate(rod)
+        call build(rod, text, ok)
+        if (.not. ok) return
+        CHECK_EQUAL(rod%n_unknown(), 6 * 5 - 4, 'the start holds x, y, z and one rotation coordinate')
+        held = rod%unknown_of(4, 1) == 0 .and. all(rod%unknown_of(5:6, 1) > 0)
+        CHECK_TRUE(held, 'the held one is psi_1, the twist of a rod along x')
+        call perturbed_step(rod, x_n, y)
+        worst = jacobian_mismatch(rod, x_n, y, 'held twist')
+        CHECK_TRUE(worst <= 1.0e-8_rk, 'Jacobian with a held twist = central differences')
+        deallocate(rod)
+        allocate(rod)
+        text = '&time t_end = 1, dt = 0.05 /' // nl // &
+            "&rod name = 'beam', formulation = 'se3_pg', n_elements = 4, length = 2," // nl // &
+            '     EA = 1e3, GA1 = 5e2, GA2 = 5e2, EI1 = 2, EI2 = 3, GJ = 1.5,' // nl // &
+            '     rhoA = 1, rhoI1 = 0.1, rhoI2 = 0.15, direction = 0, 0, 1 /' // nl // &
+            "&bc rod = 'beam', end = 'start', kind = 'held', hold = 'x', 'y', 'z', 'twist' /" // nl
+        call parse_scene(text, 'along_z.nml', scene, errors)
+        CHECK_EQUAL(errors%count, 0, 'the scene along z parses: ' // errors%joined())
+        if (errors%count > 0) return
+        call rod%init(scene, [1], err)
+        CHECK_TRUE(allocated(err), 'a rod along z: the twist is no coordinate of psi')
+        if (.not. allocated(err)) return
+        ok = index(err%message, 'se3_pg holds the twist of the ''start'' end') > 0
+        CHECK_TRUE(ok, 'the refusal names the end: ' // err%message)
+    end subroutine test_held_twist
+
+    !> stress_only(loaded) (linearized buckling's stress stiffness): statics without loads, so
+    !> the step is the internal force alone. At the reference state the residual is the
+    !> internal force of the loaded state's stresses and the Jacobian their stress stiffness:
+    !> the same as the elastic rod's whose reference strains are shifted so that the reference
+    !> carries those stresses, less the unshifted rod's Jacobian (its material stiffness), to
+    !> round-off of the latter. stress_only() gives back the elastic rod.
+    subroutine test_stress_only()
+        type(se3_pg_t) :: rod
+        real(rk), allocatable :: x0(:), loaded(:), y(:), y0(:), f_held(:), f_shifted(:), &
+            k_held(:), k_shifted(:), k_elastic(:), free(:, :)
+        integer, allocatable :: row_ptr(:), cols(:)
+        real(rk) :: eps_e(6), worst
+        integer :: status, e
+        logical :: ok, available
+        call build(rod, '&time t_end = 1, dt = 0.05, quasistatic = .true. /' // nl // &
+            "&rod name = 'beam', formulation = 'se3_pg', n_elements = 4, length = 2," // nl // &
+            '     EA = 1e3, GA1 = 5e2, GA2 = 5e2, EI1 = 2, EI2 = 3, GJ = 1.5,' // nl // &
+            '     rhoA = 1, rhoI1 = 0.1, rhoI2 = 0.15 /' // nl // &
+            "&bc rod = 'beam', end = 'start', kind = 'clamped' /" // nl, ok)
+        if (.not. ok) return
+        call perturbed_step(rod, loaded, y)
+        allocate(x0(rod%n_state()), y0(rod%n_unknown()), f_held(rod%n_unknown()), &
+            f_shifted(rod%n_unknown()))
+        call rod%initial_state(x0)
+        call rod%predictor(0.0_rk, 1.0_rk, x0, y0)
+        call rod%jacobian_pattern(row_ptr, cols)
+        allocate(k_held(size(cols)), k_shifted(size(cols)), k_elastic(size(cols)))
+        call rod%step_jacobian(0.0_rk, 1.0_rk, x0, y0, k_elastic, status)
+        call rod%stress_only(available, loaded)
+        CHECK_TRUE(available, 'se3_pg holds its stresses')
+        call rod%step_residual(0.0_rk, 1.0_rk, x0, y0, f_held, status)
+        call rod%step_jacobian(0.0_rk, 1.0_rk, x0, y0, k_held, status)
+        call rod%stress_only(available)
+        free = rod%eps_ref
+        do e = 1, rod%n_elements
+            call se3_strains(rod%element_length(e), loaded(6 * (e - 1) + 1:6 * (e + 1)), eps_e)
+            rod%eps_ref(:, e) = 2.0_rk * free(:, e) - eps_e
+        end do
+        call rod%step_residual(0.0_rk, 1.0_rk, x0, y0, f_shifted, status)
+        call rod%step_jacobian(0.0_rk, 1.0_rk, x0, y0, k_shifted, status)
+        CHECK_CLOSE(f_held, f_shifted, 1.0e-12_rk, 1.0e-12_rk, 'the internal force of the loaded stresses')
+        worst = maxval(abs(k_held - (k_shifted - k_elastic))) / maxval(abs(k_elastic))
+        write(*, '(a,es10.3)') '  stress stiffness against the shifted difference: ', worst
+        CHECK_TRUE(worst <= 1.0e-13_rk, 'the held stresses'' tangent = their stress stiffness')
+        worst = maxval(abs(k_held)) / maxval(abs(k_elastic))
+        CHECK_TRUE(worst > 1.0e-6_rk, 'the stress stiffness is not zero')
+        rod%eps_ref = free
+        call rod%step_jacobian(0.0_rk, 1.0_rk, x0, y0, k_shifted, status)
+        CHECK_CLOSE(k_shifted, k_elastic, 0.0_rk, 0.0_rk, 'the elastic rod again')
+    end subroutine test_stress_only
 
     !> A prestrained rod clamped at its start and pinned at its end, released at t = 1 (held in
     !> the step from t_n = 0.3) or at t = 0.1 (free), under gravity, midpoint rule: the step
@@ -161,6 +261,27 @@ contains
         ok = .not. allocated(err)
     end subroutine build
 
+    !> The largest difference of the rod's step Jacobian at (x_n, y) from central differences
+    !> (step 1e-6), relative to the largest of these, printed after `label`.
+    function jacobian_mismatch(rod, x_n, y, label) result(worst)
+        type(se3_pg_t), intent(inout) :: rod
+        real(rk), intent(in) :: x_n(:)
+        real(rk), intent(inout) :: y(:)
+        character(len=*), intent(in) :: label
+        real(rk) :: worst
+        real(rk), allocatable :: values(:), dense(:, :), difference(:, :)
+        integer, allocatable :: row_ptr(:), cols(:)
+        integer :: status
+        call rod%jacobian_pattern(row_ptr, cols)
+        allocate(values(size(cols)))
+        call rod%step_jacobian(t_n, h, x_n, y, values, status)
+        CHECK_EQUAL(status, state_valid, 'Jacobian status')
+        dense = dense_jacobian(row_ptr, cols, values)
+        difference = central_differences(rod, t_n, h, x_n, y, 1.0e-6_rk)
+        worst = maxval(abs(difference - dense)) / maxval(abs(difference))
+        write(*, '(a,es10.3)') '  ' // label // ': relative difference ', worst
+    end function jacobian_mismatch
+
     !> The initial state moved by a random 0.05 in every entry (history included) and the
     !> predicted unknown moved by a random 0.01: no term vanishes by the symmetry of the start.
     subroutine perturbed_step(rod, x_n, y)
@@ -189,10 +310,8 @@ contains
         character(len=*), intent(in) :: rho_text
         character(len=*), intent(in), optional :: damping
         type(se3_pg_t) :: rod
-        real(rk), allocatable :: x_n(:), y(:), values(:), dense(:, :), difference(:, :)
-        integer, allocatable :: row_ptr(:), cols(:)
+        real(rk), allocatable :: x_n(:), y(:)
         real(rk) :: worst
-        integer :: status
         logical :: ok
         if (rho_text == 'midpoint') then
             call build(rod, scene_text('', .true., damping), ok)
@@ -207,14 +326,7 @@ contains
             CHECK_EQUAL(rod%n_state(), 24 * 5, 'the state carries q, u, q'' and u'' per node')
         end if
         call perturbed_step(rod, x_n, y)
-        call rod%jacobian_pattern(row_ptr, cols)
-        allocate(values(size(cols)))
-        call rod%step_jacobian(t_n, h, x_n, y, values, status)
-        CHECK_EQUAL(status, state_valid, 'Jacobian status')
-        dense = dense_jacobian(row_ptr, cols, values)
-        difference = central_differences(rod, t_n, h, x_n, y, 1.0e-6_rk)
-        worst = maxval(abs(difference - dense)) / maxval(abs(difference))
-        write(*, '(a,es10.3)') '  rho_inf = ' // rho_text // ': relative difference ', worst
+        worst = jacobian_mismatch(rod, x_n, y, 'rho_inf = ' // rho_text)
         CHECK_TRUE(worst <= 1.0e-8_rk, 'assembled Jacobian = central differences')
     end subroutine check_jacobian
 

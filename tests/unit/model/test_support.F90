@@ -1,13 +1,15 @@
 #include "rs_assert.h"
 !> Unit tests of rs_model_support: what each kind of &bc holds (the projector onto the held
-!> directions of the position and the rotation flag), held_coordinates (inertial coordinates,
-!> refused for an oblique slide), held_names and hold_list for the plan and messages. The
+!> directions of the position and the rotation flag, the twist alone), held_coordinates
+!> (inertial coordinates, refused for an oblique slide and the twist alone, with the twist's
+!> own message), held_names and hold_list for the plan and messages. The
 !> planar mapping of a hold is tested with rs_model_planarity (test_planarity.F90).
 module rs_test_model_support
     use rs_core_kinds, only: rk
     use rs_test_assert, only: run_test, assert_true, assert_close, assert_equal
     use rs_model_scene, only: bc_input_t
-    use rs_model_support, only: end_hold_t, end_hold, held_coordinates, held_names, hold_list
+    use rs_model_support, only: end_hold_t, end_hold, held_coordinates, held_names, hold_list, &
+        coordinate_hold_refusal
     implicit none
     private
 
@@ -19,6 +21,7 @@ contains
         call run_test('kinds', test_kinds)
         call run_test('held_entries', test_held_entries)
         call run_test('sliding', test_sliding)
+        call run_test('twist', test_twist)
         call run_test('names', test_names)
     end subroutine run_all_tests
 
@@ -100,11 +103,37 @@ contains
         CHECK_TRUE(.not. ok, 'an oblique slide is not held by coordinates')
     end subroutine test_sliding
 
+    !> hold = 'twist': the twist alone (not the rotation), which no formulation that holds the
+    !> rotation as a whole holds by coordinates (ok false, and the refusal says so); with
+    !> 'rotation' the whole rotation (the input check refuses naming both).
+    subroutine test_twist()
+        type(bc_input_t) :: bc
+        type(end_hold_t) :: hold
+        logical :: mask(6), ok
+        character(len=:), allocatable :: message
+        bc = bc_of('held')
+        bc%hold(1:4) = ['x       ', 'y       ', 'z       ', 'twist   ']
+        hold = end_hold(bc)
+        CHECK_TRUE(hold%twist .and. .not. hold%rotation, 'x, y, z, twist: the twist alone')
+        call mask_of(bc, mask, ok)
+        CHECK_TRUE(.not. ok, 'the twist alone is no coordinate of held_coordinates')
+        message = coordinate_hold_refusal('beam', 'ph_director', 'phi', bc)
+        ok = index(message, 'cannot hold the twist of an end alone') > 0
+        CHECK_TRUE(ok, 'the refusal names the twist')
+        bc%hold(4) = 'rotation'
+        bc%hold(3) = 'twist'
+        hold = end_hold(bc)
+        CHECK_TRUE(hold%rotation .and. .not. hold%twist, 'rotation and twist: the rotation')
+    end subroutine test_twist
+
     subroutine test_names()
         type(bc_input_t) :: bc
+        logical :: twist(6)
         CHECK_EQUAL(held_names([.true., .false., .true., .false., .false., .false.]), 'x, z', 'x, z')
         CHECK_EQUAL(held_names([.false., .false., .false., .true., .true., .true.]), 'rotation', 'rotation')
         CHECK_EQUAL(held_names([.false., .false., .false., .false., .false., .false.]), 'none', 'none')
+        twist = [.true., .true., .true., .true., .false., .false.]
+        CHECK_EQUAL(held_names(twist), 'x, y, z, twist', 'one rotation coordinate: the twist (se3_pg)')
         bc = bc_of('held')
         bc%hold(1:2) = ['z       ', 'rotation']
         CHECK_EQUAL(hold_list(bc), '''z'', ''rotation''', 'the entries quoted')

@@ -185,7 +185,7 @@ contains
         character(len=:), allocatable :: message
         integer :: k, i
         call build(scene_text('ph_director', 4, .true., '', quasistatic=.true.), system, x)
-        call buckling_stiffness(system, 1.0_rk, x, x, 0.5_rk, reference, loaded, err)
+        call buckling_stiffness(system, 1.0_rk, x, 0.5_rk, reference, loaded, err)
         CHECK_TRUE(.not. allocated(err), 'the static tangent of a quasistatic ph_director rod')
         if (allocated(err)) return
         CHECK_TRUE(reference%stiffness .and. loaded%stiffness, 'both are stiffnesses')
@@ -205,7 +205,7 @@ contains
             str_significant(maxval(abs(kt)), 3) // ')'
         CHECK_TRUE(maxval(abs(kt)) <= 1.0e-12_rk * maxval(abs(reference%a0)), message)
         call build(scene_text('ph_director', 4, .false., ''), system, x)
-        call buckling_stiffness(system, 0.0_rk, x, x, dt, reference, loaded, err)
+        call buckling_stiffness(system, 0.0_rk, x, dt, reference, loaded, err)
         CHECK_TRUE(allocated(err), 'a dynamic ph_director rod is refused')
         if (allocated(err)) CHECK_CONTAINS(err%message, 'not available for ph_director', 'named')
     end subroutine test_ph_director_static_tangent
