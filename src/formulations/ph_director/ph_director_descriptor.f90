@@ -48,8 +48,8 @@ contains
             contact=.true., order_4=.true., adaptive=.true., damping=.true., &
             segments=.true., prestrain=.true., initial_equilibrium=.true., modes=.true., &
             damped_modes=.true., buckling=.true.)
-        ! Arc-length continuation (docs/theory/continuation.md): its endpoint statics run
-        ! through rs_solver_arc_length, but no path is verified yet, so it is refused.
+        ! Arc-length continuation of its endpoint statics (docs/theory/continuation.md).
+        d%capability%continuation = .true.
         d%default_choice = .true.
         d%system_couplings = .true.
         d%create => create
