@@ -81,6 +81,7 @@ contains
         call run_test('view_names_rodmid', test_view)
         call run_test('traits_reach_the_solver', test_traits_reach_the_solver)
         call run_test('bad_pattern_rejected', test_bad_pattern)
+        call run_test('bordered_solves', test_bordered_solves)
         ! Last: these end in PETSc errors (printed with PETSc's trace).
         call run_test('fatal_callback_status', test_fatal_callback)
         call run_test('native_lu_fails_on_saddle_point', test_native_lu_fails)
@@ -151,6 +152,62 @@ contains
         call stepper%create(problem%n_state, problem%n_unknown, row_ptr, cols, residual, &
             jacobian, predictor, update, c_funloc(record_poststep), c_loc(problem), traits, err)
     end subroutine create_stepper
+
+    !> The bordered solves of arc-length continuation (rs_stepper_factor, rs_stepper_solve) on
+    !> the pendulum's saddle-point pattern (a zero multiplier diagonal): two right-hand sides
+    !> with one factorization, each J sol = rhs to 1e-13 (the residual computed here from the
+    !> CSR values), a second factorization of other values used by the next solve, and a
+    !> singular matrix (a zero row) reported as singular or as an error, not as a solution.
+    subroutine test_bordered_solves()
+        type(problem_t), target :: problem
+        type(rod_stepper_t) :: stepper
+        type(error_t), allocatable :: err
+        integer, parameter :: row_ptr(6) = [0, 2, 4, 7, 10, 12]
+        integer, parameter :: cols(12) = [0, 2, 1, 3, 0, 2, 4, 1, 3, 4, 0, 1]
+        real(rk) :: values(12), rhs(5, 2), sol(5)
+        logical :: singular, failed
+        integer :: k
+        problem = new_problem(pendulum)
+        call create_stepper(stepper, problem, 6, err)
+        if (allocated(err)) then
+            CHECK_TRUE(.false., 'create: ' // err%message)
+            return
+        end if
+        values = [2.0_rk, -0.5_rk, 3.0_rk, 0.25_rk, 0.5_rk, 4.0_rk, 1.0_rk, -1.0_rk, 5.0_rk, &
+            0.7_rk, 1.0_rk, 0.7_rk]
+        rhs(:, 1) = [1.0_rk, -2.0_rk, 0.5_rk, 3.0_rk, -1.0_rk]
+        rhs(:, 2) = [0.0_rk, 1.0_rk, 0.0_rk, -1.0_rk, 2.0_rk]
+        call stepper%factor(values, singular, err)
+        CHECK_TRUE(.not. allocated(err), 'the factorization runs')
+        CHECK_TRUE(.not. singular, 'a regular saddle-point matrix is not singular')
+        if (allocated(err) .or. singular) return
+        do k = 1, 2
+            call stepper%solve(rhs(:, k), sol, failed, err)
+            CHECK_TRUE(.not. allocated(err) .and. .not. failed, 'each right-hand side solves')
+            CHECK_TRUE(maxval(abs(csr_times(values, sol) - rhs(:, k))) <= 1.0e-13_rk, 'J sol = rhs for each right-hand side')
+        end do
+        values(1:2) = 2.0_rk * values(1:2)
+        call stepper%factor(values, singular, err)
+        call stepper%solve(rhs(:, 1), sol, failed, err)
+        CHECK_TRUE(.not. allocated(err) .and. .not. failed, 'solve after a new factorization')
+        CHECK_TRUE(maxval(abs(csr_times(values, sol) - rhs(:, 1))) <= 1.0e-13_rk, 'J sol = rhs with the new values')
+        values(3:4) = 0.0_rk
+        call stepper%factor(values, singular, err)
+        CHECK_TRUE(singular .or. allocated(err), 'a zero row: singular, or an error')
+        call stepper%destroy()
+    contains
+        function csr_times(a, v) result(w)
+            real(rk), intent(in) :: a(:), v(:)
+            real(rk) :: w(5)
+            integer :: i, p
+            w = 0.0_rk
+            do i = 1, 5
+                do p = row_ptr(i) + 1, row_ptr(i + 1)
+                    w(i) = w(i) + a(p) * v(cols(p) + 1)
+                end do
+            end do
+        end function csr_times
+    end subroutine test_bordered_solves
 
     !> Midpoint rule for q' = v, v' = -omega^2 q: F = (q1 - q0 - h vm, v1 - v0 + h omega^2 qm).
     function oscillator_residual(ctx, t_n, h, x_n, y, f) result(status) bind(C)
