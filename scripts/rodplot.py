@@ -10,6 +10,7 @@ docs/user/postprocessing.md).
     python3 scripts/rodplot.py summary out/flying_spaghetti.h5
     python3 scripts/rodplot.py contact out/pressed_rods.h5
     python3 scripts/rodplot.py modes out/modes_cantilever.h5
+    python3 scripts/rodplot.py path out/arch_snap_through.h5
     python3 scripts/rodplot.py sweep out/sweep_cantilever.h5 --x 'rod(1)%EI1' --y tip_z
     python3 scripts/rodplot.py summary out/sweep_cantilever.h5
 
@@ -223,6 +224,53 @@ def modes_plot(res, rod_name, out, dpi):
                 points += [x, y]
             equal_3d_axes(ax, np.concatenate(points))
             ax.set_title("mode %d: %.5g %s" % (k + 1, frequency[k], unit), fontsize=9)
+    fig.tight_layout()
+    fig.savefig(out, dpi=dpi)
+    plt.close(fig)
+
+
+def limit_points(load_time):
+    """Indices of the path points where the load time turns (a local maximum or minimum:
+    limit points of an arc-length continuation)."""
+    turns = []
+    for k in range(1, load_time.size - 1):
+        before, after = load_time[k] - load_time[k - 1], load_time[k + 1] - load_time[k]
+        if before * after < 0:
+            turns.append(k)
+    return turns
+
+
+def path_plot(res, rod_name, out, dpi):
+    """An arc-length continuation's equilibrium path (series/load_time, docs/theory/
+    continuation.md): per rod the load time against the displacement of the node that moves
+    farthest (each component and the magnitude), the limit points marked and printed."""
+    names = [rod_name] if rod_name is not None else res.rods()
+    names = [n for n in names if res.rod(n).has("series/load_time")]
+    if not names:
+        raise MissingData("%s: no rod has series/load_time: the scene was not an arc-length "
+                          "continuation (&time continuation)" % res.path)
+    fig, axes = plt.subplots(1, len(names), figsize=(6.5 * len(names), 5.0), squeeze=False)
+    for ax, name in zip(axes[0], names):
+        rod = res.rod(name)
+        load = rod.field("series/load_time")
+        position = rod.field("position")
+        displacement = position - position[0]
+        node = int(np.argmax(np.abs(displacement).max(axis=(0, 2))))
+        u = displacement[:, node, :]
+        for k, colour in enumerate(("tab:blue", "tab:orange", "tab:green")):
+            if np.abs(u[:, k]).max() > 0:
+                ax.plot(u[:, k], load, "-", color=colour, lw=1.2, label="u_" + AXIS_NAMES[k])
+        ax.plot(np.linalg.norm(u, axis=1), load, "k--", lw=1.0, label="|u|")
+        print("path of %s: %d points, load time %.8g to %.8g, node %d moves farthest" % (
+            name, load.size, load.min(), load.max(), node + 1))
+        for k in limit_points(load):
+            print("  limit point near step %d: load time %.8g" % (k, load[k]))
+            ax.axhline(load[k], color="tab:red", lw=0.8, ls=":")
+        ax.set_xlabel("displacement of node %d [m]" % (node + 1))
+        ax.set_ylabel("load time")
+        ax.set_title("%s: equilibrium path" % name)
+        ax.grid(True, alpha=0.3)
+        ax.legend(loc="best")
     fig.tight_layout()
     fig.savefig(out, dpi=dpi)
     plt.close(fig)
@@ -999,7 +1047,8 @@ def member_rows(table):
 
 COMMANDS = {"energy": energy_plot, "momentum": momentum_plot, "snapshots": snapshots_plot,
             "tip": tip_plot, "animate": animate_plot, "summary": summary_command,
-            "sweep": sweep_plot, "contact": contact_plot, "modes": modes_plot}
+            "sweep": sweep_plot, "contact": contact_plot, "modes": modes_plot,
+            "path": path_plot}
 #: What each command writes by default, next to FILE (None: standard output only).
 DEFAULT_SUFFIX = {"animate": ".gif", "summary": None}
 
@@ -1034,6 +1083,10 @@ def parser():
                "             lowest modes on the reference centreline (displacement scaled\n"
                "             to a tenth of the system's extent); the frequencies are also\n"
                "             printed. --rod: the system of that rod.\n"
+               "  path       an arc-length continuation (&time continuation): the load time\n"
+               "             against the displacement of the node that moves farthest, with\n"
+               "             its limit points (turns of the load time) marked and printed.\n"
+               "             Without --rod: every rod.\n"
                "  animate    3D centrelines over time as a GIF (needs Pillow): one frame per\n"
                "             record, at most --frames evenly spaced, --fps frames a second,\n"
                "             fixed equal axes. Without --rod: every rod.\n"

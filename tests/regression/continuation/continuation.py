@@ -30,10 +30,12 @@ Cases:
       lambda there), so omega^4 is linear in lambda and its zero, extrapolated from the
       equilibria at 0.98 and 0.995 of the path's limit load (load-stepped runs), is the limit
       load of the stability analysis; within 1e-3 of the path's maximum (a parabola through
-      the three path points about it; measured 1.8e-4).
+      the three path points about it; measured 1.8e-4). `rodplot.py path` prints the same
+      limit point.
 """
 import math
 import os
+import subprocess
 import sys
 
 import h5py
@@ -221,6 +223,16 @@ def snap_through(args, checks):
     limit = c[2] - c[1] ** 2 / (4 * c[0])
     print(f"path: limit load time {limit:.8f} (largest path point {load_time[top]:.8f}), "
           f"{len(load_time) - 1} steps")
+    # rodplot's `path` finds the same limit point.
+    plot = subprocess.run([sys.executable, os.path.join(args.source, "scripts", "rodplot.py"),
+                           "path", path, "-o", os.path.join(args.workdir, "path.png")],
+                          capture_output=True, text=True)
+    print(plot.stdout + plot.stderr)
+    checks.check("rodplot.py path: exit status", plot.returncode, 0)
+    printed = [float(line.split()[-1]) for line in plot.stdout.splitlines()
+               if "limit point" in line]
+    checks.check("rodplot.py path: its first limit point is the path's largest load time "
+                 "(difference)", abs(printed[0] - load_time[top]) if printed else math.inf, 1e-8)
     omega4 = []
     loads = (0.997 * limit, 0.999 * limit)
     for k, lam in enumerate(loads):
