@@ -694,17 +694,16 @@ contains
                 'docs/user/capabilities.md.', &
                 allowed='clamped|pinned|free|driven|body|sliding|held', required=.true., &
                 example="'clamped'"), &
-            spec_v('hold', 'string', '-', '(held: required)', 'A held end (kind = ''held''; ' // &
-                'issue 26 item 3): 1 to 4 names of what is held at the end''s reference: the ' // &
-                'inertial coordinates ''x'', ''y'', ''z'' of its position and ''rotation'' its ' // &
-                'whole rotation, or ''twist'' its rotation about its axis alone (free to ' // &
-                'bend; se3_pg, which needs the twist to be one coordinate of the end''s ' // &
-                'rotation vector, e.g. a rod along x). ''x'', ''y'', ''z'' is pinned, with ' // &
-                '''rotation'' clamped, with ''twist'' a ball joint that does not turn about ' // &
-                'the axis (Greenhill''s shaft, docs/theory/modes.md); ''y'', ''z'', ' // &
-                '''rotation'' slides along x; ''z'' is a roller on the plane z = z_0. Planar ' // &
-                'formulations hold the planar coordinates the held directions fix (none for ' // &
-                'the plane''s normal; docs/user/capabilities.md).', count=1, &
+            spec_v('hold', 'string', '-', '(held: required)', 'A held end (kind = ''held''): ' // &
+                '1 to 4 names of what is held at the end''s reference: ''x'', ''y'', ''z'' ' // &
+                '(inertial position coordinates), ''rotation'' (the whole rotation) or ' // &
+                '''twist'' (the rotation about the axis alone; se3_pg, a rod along x). ' // &
+                '''x'', ''y'', ''z'' is pinned, with ''rotation'' clamped, with ''twist'' a ' // &
+                'ball joint that does not turn about the axis (Greenhill''s shaft, ' // &
+                'docs/theory/modes.md); ''y'', ''z'', ''rotation'' slides along x; ''z'' is a ' // &
+                'roller on z = z_0. Planar formulations hold the planar coordinates the held ' // &
+                'directions fix (none for the plane''s normal; docs/user/capabilities.md).', &
+                count=1, &
                 max_count=4, allowed=hold_entry_names, required_if='kind=held', &
                 only_if='kind=held', example="'z'"), &
             spec_v('axis', 'real', '-', '(sliding: required)', 'A sliding end (kind = ' // &
