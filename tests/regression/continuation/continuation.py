@@ -2,6 +2,9 @@
 """Arc-length continuation of the statics (&time continuation = 'arc_length'; issue 27 item 3,
 docs/theory/continuation.md) against closed forms and against the modal analysis.
 
+Both cases run the examples of input/ (elastica_continuation.nml, arch_snap_through.nml), the
+elastica at two meshes, the arch's stability check from its scene with load steps and &modes.
+
 Cases:
   elastica_ph_planar
       Euler's pinned column past buckling: a steel rod of L = 1 m, r = 1 mm, pinned at s = 0 and
@@ -22,8 +25,8 @@ Cases:
       analysis at the states before it: the lowest squared frequency of the loaded arch
       vanishes at the limit point like sqrt(lambda_lim - lambda) (the path is a parabola in
       lambda there), so omega^4 is linear in lambda and its zero, extrapolated from the
-      equilibria at 0.98 and 0.995 of the path's limit load (load-stepped runs), is the limit
-      load of the stability analysis; within 1e-3 of the path's maximum (a parabola through
+      equilibria at 0.997 and 0.999 of the path's limit load (load-stepped runs), is the limit
+      load of the stability analysis; within 2e-3 of the path's maximum (a parabola through
       the three path points about it; measured 1.8e-4).
 """
 import math
@@ -34,11 +37,10 @@ import h5py
 import numpy as np
 
 sys.path.insert(0, os.path.join(os.path.dirname(__file__), ".."))
-from run_scene import run, run_cases  # noqa: E402
+from run_scene import number, numbers, read_example, run, run_cases, set_variable  # noqa: E402
 
-E, G, RHO = 2e11, 8e10, 7800.0
-# A load proportional to the load time on both sides of 0 (a ramp is clamped at 0 and 1).
-LINEAR = "time_function = 'table', table_times = -100.0, 100.0, table_values = -100.0, 100.0"
+COLUMN = "elastica_continuation.nml"
+ARCH = "arch_snap_through.nml"
 
 
 def elliptic_k(m):
@@ -49,48 +51,19 @@ def elliptic_k(m):
     return math.pi / (2.0 * a)
 
 
-def column(n_elements, radius=1e-3):
-    inertia = math.pi * radius**4 / 4
-    euler = math.pi**2 * E * inertia
-    return euler, f"""&time
-    t_end = 1.0
-    dt = 1.0
-    quasistatic = .true.
-    continuation = 'arc_length'
-    arc_length = 0.01
-    arc_length_max = 0.02
-    path_steps = 400
-/
-&solver
-    newton_atol = 1e-9
-/
-&rod
-    name = 'column', formulation = 'ph_planar', n_elements = {n_elements}, length = 1.0
-    start = 0.0, 0.0, 0.0, direction = 1.0, 0.0, 0.0
-    section = 'circle', radius = {radius}, E = {E}, G = {G}, density = {RHO}
-/
-&bc
-    rod = 'column', end = 'start', kind = 'pinned'
-/
-&bc
-    rod = 'column', end = 'end', kind = 'held', hold = 'y'
-/
-&load
-    rod = 'column', where = 'end', force = {-2 * euler!r}, 0.0, 0.0
-    {LINEAR}
-/
-&load
-    rod = 'column', where = 'start', moment = 0.0, 0.0, {2e-2 * euler!r}
-    time_function = 'pulse', t_on = 0.3, t_off = 0.6
-/
-&output
-    path = 'x.h5'
-/
-"""
+def column(args, n_elements):
+    """input/elastica_continuation.nml at n_elements, and its Euler load pi^2 EI / L^2 from its
+    own section and length; its end force is -2 of it (the load time 1 is 2 P_E)."""
+    text = set_variable(read_example(args.source, COLUMN), "rod", "n_elements", n_elements)
+    radius, modulus = number(text, "rod", "radius"), number(text, "rod", "E")
+    length = number(text, "rod", "length")
+    euler = math.pi**2 * modulus * math.pi * radius**4 / 4 / length**2
+    return euler, text
 
 
 def elastica_errors(args, n_elements):
-    euler, text = column(n_elements)
+    euler, text = column(args, n_elements)
+    force = -number(text, "load", "force")
     path = run(args, text, f"elastica_{n_elements}")
     with h5py.File(path, "r") as f:
         rod = f["rods"]["column"]
@@ -98,7 +71,7 @@ def elastica_errors(args, n_elements):
         tangent = rod["directors"][()][:, 0, 2, :]
     alpha = np.abs(np.arctan2(tangent[:, 1], tangent[:, 0]))
     keep = (load_time >= 0.6) & (load_time <= 1.0)
-    ratio = 2.0 * load_time[keep]
+    ratio = force * load_time[keep] / euler
     exact = np.array([(2 * elliptic_k(math.sin(a / 2) ** 2) / math.pi) ** 2 for a in alpha[keep]])
     return np.degrees(alpha[keep]), ratio / exact - 1
 
@@ -122,61 +95,25 @@ def elastica(args, checks):
     checks.check(f"elastica, {meshes[-1]} elements: largest |P / P_elastica - 1|", worst[-1], 1e-5)
 
 
-def arch(rise, n_elements, mode, q=2000.0):
-    """A pinned shallow circular arch along x (span 1) in the x-z plane, as a 33-point polyline;
-    `mode` 'path': the continuation; a number: a load-stepped run to that load time with the
+def load_stepped(text, load_time):
+    """The scene `text` with load steps to `load_time` in place of its continuation, and the
     modes about its equilibrium."""
-    radius = (0.25 + rise**2) / (2 * rise)
-    half = math.asin(0.5 / radius)
-    points = []
-    for i in range(33):
-        a = -half + 2 * half * i / 32
-        points += [0.5 + radius * math.sin(a), 0.0, rise - radius + radius * math.cos(a)]
-    if mode == "path":
-        time = """    t_end = 1.0
-    dt = 1.0
-    quasistatic = .true.
-    continuation = 'arc_length'
-    arc_length = 0.0005
-    arc_length_max = 0.001
-    path_steps = 300"""
-        modes = ""
-    else:
-        time = f"""    t_end = {mode!r}
-    dt = {mode / 40!r}
+    start = text.index("\n&time")
+    end = text.index("\n/", start + 1)
+    time = f"""
+&time
+    t_end = {load_time!r}
+    dt = {load_time / 40!r}
     quasistatic = .true."""
-        modes = "&modes\n    n_modes = 3, about = 'equilibrium'\n/"
-    return f"""&time
-{time}
-/
-&solver
-    newton_atol = 1e-6
-/
-&rod
-    name = 'arch', formulation = 'se3_pg', n_elements = {n_elements}
-    geometry = 'polyline', points = {', '.join(repr(v) for v in points)}
-    section = 'circle', radius = 0.005, E = {E}, G = {G}, density = {RHO}
-/
-&bc
-    rod = 'arch', end = 'start', kind = 'pinned'
-/
-&bc
-    rod = 'arch', end = 'end', kind = 'pinned'
-/
-&load
-    rod = 'arch', where = 'distributed', force = 0.0, 0.0, {-q!r}
-    {LINEAR}
-/
-&output
-    path = 'x.h5'
-/
-{modes}
-"""
+    return (text[:start] + time + text[end:] +
+            "&modes\n    n_modes = 3, about = 'equilibrium'\n/\n")
 
 
 def snap_through(args, checks):
-    rise, n_elements = 0.006, 64
-    path = run(args, arch(rise, n_elements, "path"), "arch_path")
+    text = read_example(args.source, ARCH)
+    # The crown's height above the supports (at z = 0): the polyline's highest point.
+    rise = max(numbers(text, "rod", "points")[2::3])
+    path = run(args, text, "arch_path")
     with h5py.File(path, "r") as f:
         rod = f["rods"]["arch"]
         load_time = rod["series"]["load_time"][()]
@@ -199,7 +136,7 @@ def snap_through(args, checks):
     omega4 = []
     loads = (0.997 * limit, 0.999 * limit)
     for k, lam in enumerate(loads):
-        result = run(args, arch(rise, n_elements, lam), f"arch_modes_{k}")
+        result = run(args, load_stepped(text, lam), f"arch_modes_{k}")
         with h5py.File(result, "r") as f:
             omega = f["modes"]["arch"]["angular_frequency"][()]
         positive = omega[omega > 0]
