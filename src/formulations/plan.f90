@@ -45,7 +45,7 @@ contains
         integer, allocatable :: system_of(:), first(:), members(:), system_rank(:)
         type(formulation_descriptor_t) :: d
         class(rod_formulation_t), allocatable :: mold
-        character(len=:), allocatable :: semi_implicit_step
+        character(len=:), allocatable :: semi_implicit_step, after_path
 
         units = trim(scene%run%units)
         n_steps = step_count(scene)
@@ -62,6 +62,8 @@ contains
                 str(scene%time%dt) // ' ' // unit_in_system('s', units) // ' to t_end = ' // &
                 str(scene%time%t_end) // ' ' // unit_in_system('s', units) // &
                 ' (' // semi_implicit_step // ')')
+        else if (trim(scene%time%continuation) == 'arc_length') then
+            call add_continuation_lines()
         else if (scene%time%quasistatic) then
             call add('time: quasistatic, ' // str(n_steps) // ' midpoint load step(s) of ' // &
                 str(scene%time%dt) // ' to the load factor t_end = ' // str(scene%time%t_end) // &
@@ -86,26 +88,45 @@ contains
                 'PH-EM, PETSc''s own LU where the Jacobian needs no pivoting (planar dynamics, ' // &
                 'se3_strand), MUMPS for a system the ranks share')
         end if
-        call add('output: ' // trim(scene%output%path) // ': fields ''' // trim(scene%output%fields) // &
-            ''', ' // str(n_records) // ' record(s) (t = 0, every ' // str(scene%output%stride) // &
-            ' step(s) and the last), flushed every ' // str(scene%output%flush_every) // &
-            ' step(s), XDMF sidecar ' // trim(merge('yes', 'no ', scene%output%xdmf)))
+        if (trim(scene%time%continuation) == 'arc_length') then
+            ! The path may pass t_end before its last step; /time holds the step number.
+            call add('output: ' // trim(scene%output%path) // ': fields ''' // &
+                trim(scene%output%fields) // ''', at most ' // str(n_records) // ' record(s) ' // &
+                '(the start, every ' // str(scene%output%stride) // ' path step(s) and the ' // &
+                'last; /time holds the step number, /rods/NAME/series/load_time the load ' // &
+                'time of each record), flushed every ' // str(scene%output%flush_every) // &
+                ' step(s), XDMF sidecar ' // trim(merge('yes', 'no ', scene%output%xdmf)))
+        else
+            call add('output: ' // trim(scene%output%path) // ': fields ''' // &
+                trim(scene%output%fields) // ''', ' // str(n_records) // ' record(s) (t = ' // &
+                '0, every ' // str(scene%output%stride) // ' step(s) and the last), flushed ' // &
+                'every ' // str(scene%output%flush_every) // ' step(s), XDMF sidecar ' // &
+                trim(merge('yes', 'no ', scene%output%xdmf)))
+        end if
+        ! After a continuation the equilibrium is the path's last point, whose load time
+        ! passed t_end, while the linearization takes the loads of t_end (rs_app_run_modes).
+        after_path = ''
+        if (trim(scene%time%continuation) == 'arc_length' .and. &
+            trim(scene%modes%about) == 'equilibrium') after_path = ' (after the ' // &
+            'continuation: about the path''s last point, whose load time is past t_end, with ' // &
+            'the loads of t_end; the run reports the unbalance)'
         if (scene%modes%given .and. trim(scene%modes%kind) == 'buckling') then
             call add('buckling: after the run, the ' // str(scene%modes%n_modes) // &
                 ' load factors nearest 0 of the run''s loads (those of t_end) and their ' // &
                 'buckling modes, (K_0 + lambda K_geo) phi = 0 with K_0 the unloaded ' // &
                 'reference''s stiffness and K_geo the stiffness of the end equilibrium''s ' // &
                 'stresses and of the loads at the reference (se3_pg; ph_planar: K_geo = ' // &
-                'K_T(u_1) - K_0 at the equilibrium u_1; docs/theory/modes.md), by SLEPc ' // &
-                'shift-and-invert at 0 with MUMPS; load factors (unit 1) and modes into ' // &
-                '/buckling of the result file and its .modes.xdmf sidecar')
+                'K_T(u_1) - K_0 at the equilibrium u_1, ph_director: the same from its ' // &
+                'static problem; docs/theory/modes.md), by SLEPc shift-and-invert at 0 with ' // &
+                'MUMPS; load factors and modes into /buckling of the result file and its ' // &
+                '.modes.xdmf sidecar' // after_path)
         else if (scene%modes%given) then
             call add('modes: after the run, the lowest ' // &
                 str(scene%modes%n_modes) // ' modes of every system about its ' // &
                 trim(scene%modes%about) // ' state (the linearized equations of motion read from ' // &
                 'the step Jacobians at five steps, docs/theory/modes.md), by SLEPc ' // &
                 'shift-and-invert with MUMPS on all ranks; frequencies and mode shapes into ' // &
-                '/modes of the result file and its .modes.xdmf sidecar')
+                '/modes of the result file and its .modes.xdmf sidecar' // after_path)
         end if
         call add('units: ''' // units // ''' (length ' // unit_in_system('m', units) // ', mass ' // &
             unit_in_system('kg', units) // ', time ' // unit_in_system('s', units) // ', force ' // &
@@ -194,6 +215,42 @@ contains
             if (size(scene%rods) == 0) return
             text = trim(d%name) // ', ' // trim(d%semi_implicit_step)
         end function semi_implicit_step_of_all
+
+        !> An arc-length continuation (&time continuation; docs/theory/continuation.md,
+        !> rs_solver_arc_length and rod_run's start_path): its path steps replace the load
+        !> steps and the endpoint solve; the bordered solves reuse the stepper's LU.
+        subroutine add_continuation_lines()
+            call add('time: quasistatic by arc-length continuation (docs/theory/' // &
+                'continuation.md): the load time an unknown, at most ' // &
+                str(scene%time%path_steps) // ' path step(s), the first of arc length ' // &
+                str(scene%time%arc_length) // ' in the scaled path length (the mean over the ' // &
+                'nodes of |dr|^2 / L^2 + |dtheta|^2, plus (d load time / t_end)^2), then ' // &
+                'about 4 Newton iterations per step, between ' // &
+                str(scene%time%arc_length * 0.5_rk**(2 * scene%solver%max_cutbacks)) // &
+                ' (arc_length / 4^max_cutbacks) and arc_length_max = ' // &
+                str(max(scene%time%arc_length, scene%time%arc_length_max)) // &
+                '; the path ends when its load time passes t_end = ' // &
+                str(scene%time%t_end) // '; dt is not used')
+            call add('path steps: Riks''s predictor along the tangent at the last point ' // &
+                '(oriented by the last secant, so the path turns back at a limit point), ' // &
+                'then Newton on the equilibrium in the hyperplane normal to it; a step is ' // &
+                'halved when Newton fails, when the corrector ends farther from its ' // &
+                'predictor than the step (a jump to another branch) or when a section turns ' // &
+                'by more than 0.5 rad')
+            call add('bordered solves: the stepper''s LU (below) factors the Jacobian J ' // &
+                'once at the step''s start (the tangent, J dY/dlambda = -R_lambda) and once ' // &
+                'per Newton iteration, solved twice there, J a = -R and J b = -R_lambda ' // &
+                '(R_lambda by a central difference in the load time), the load-time ' // &
+                'increment from the arc-length row; the bordered matrix is never formed')
+            if (scene%time%equilibrium_solves) then
+                call add('equilibrium: at t = 0 before the path (ph_director and planar ' // &
+                    'rods; continued from the initial state); no endpoint solve: every path ' // &
+                    'point is an equilibrium at its own load time')
+            else
+                call add('equilibrium: no solve at t = 0 (equilibrium_solves = .false.); no ' // &
+                    'endpoint solve: every path point is an equilibrium at its own load time')
+            end if
+        end subroutine add_continuation_lines
 
         subroutine add(line)
             character(len=*), intent(in) :: line

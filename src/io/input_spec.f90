@@ -306,7 +306,7 @@ contains
                 'time as an unknown (Riks''s arc-length method), through limit points where ' // &
                 'load steps stop (snap-through, post-buckling); the path ends when the load ' // &
                 'time passes t_end or after path_steps steps, and records the load time of ' // &
-                'each point (/rods/NAME/load_time). dt is not used. Formulations: ' // &
+                'each point (/rods/NAME/series/load_time). dt is not used. Formulations: ' // &
                 'docs/user/capabilities.md (docs/theory/continuation.md).', &
                 allowed='none|arc_length', &
                 example="'arc_length'"), &
@@ -981,7 +981,8 @@ contains
                 'the buckling modes, from (K_0 + lambda K_geo) phi = 0 with K_0 the ' // &
                 'stiffness of the reference state (loads of t = 0, give a ramp) and K_geo ' // &
                 'that of the stresses of the equilibrium u_1 and of the loads, at the ' // &
-                'reference (se3_pg; ph_planar: K_T(u_1) - K_0; docs/theory/modes.md; needs ' // &
+                'reference (se3_pg; ph_planar and ph_director: K_T(u_1) - K_0; ' // &
+                'docs/theory/modes.md; needs ' // &
                 'about = ''equilibrium''; /buckling of the result file).', &
                 allowed='modes|buckling', example="'buckling'")]
     end function modes_group

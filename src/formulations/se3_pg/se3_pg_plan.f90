@@ -50,7 +50,11 @@ contains
             end do
             call add('unknowns: 6 x ' // str(n_nodes) // ' nodes (position, rotation vector) = ' // &
                 str(6 * n_nodes) // ', less ' // str(n_fixed) // ' fixed by supports;' // supports)
-            if (scene%time%quasistatic) then
+            if (trim(scene%time%continuation) == 'arc_length') then
+                call add('statics: Newton at the points of the arc-length path (the load ' // &
+                    'time an unknown, above; methods §7.2 for the equilibrium); complement ' // &
+                    'rotation vectors after each path step')
+            else if (scene%time%quasistatic) then
                 call add('statics: Newton at each load factor t (methods §7.2), full steps, ' // &
                     'increments halved on failure; complement rotation vectors after each increment')
             else if (trim(scene%time%scheme) == 'generalized_alpha') then

@@ -2,6 +2,9 @@
 """Arc-length continuation of the statics (&time continuation = 'arc_length'; issue 27 item 3,
 docs/theory/continuation.md) against closed forms and against the modal analysis.
 
+Both cases run the examples of input/ (elastica_continuation.nml, arch_snap_through.nml), the
+elastica at two meshes, the arch's stability check from its scene with load steps and &modes.
+
 Cases:
   elastica_ph_planar
       Euler's pinned column past buckling: a steel rod of L = 1 m, r = 1 mm, pinned at s = 0 and
@@ -28,8 +31,8 @@ Cases:
       analysis at the states before it: the lowest squared frequency of the loaded arch
       vanishes at the limit point like sqrt(lambda_lim - lambda) (the path is a parabola in
       lambda there), so omega^4 is linear in lambda and its zero, extrapolated from the
-      equilibria at 0.98 and 0.995 of the path's limit load (load-stepped runs), is the limit
-      load of the stability analysis; within 1e-3 of the path's maximum (a parabola through
+      equilibria at 0.997 and 0.999 of the path's limit load (load-stepped runs), is the limit
+      load of the stability analysis; within 2e-3 of the path's maximum (a parabola through
       the three path points about it; measured 1.8e-4). `rodplot.py path` prints the same
       limit point.
 """
@@ -42,8 +45,10 @@ import h5py
 import numpy as np
 
 sys.path.insert(0, os.path.join(os.path.dirname(__file__), ".."))
-from run_scene import run, run_cases  # noqa: E402
+from run_scene import number, numbers, read_example, run, run_cases, set_variable  # noqa: E402
 
+COLUMN = "elastica_continuation.nml"
+ARCH = "arch_snap_through.nml"
 E, G, RHO = 2e11, 8e10, 7800.0
 # A load proportional to the load time on both sides of 0 (a ramp is clamped at 0 and 1).
 LINEAR = "time_function = 'table', table_times = -100.0, 100.0, table_values = -100.0, 100.0"
@@ -113,8 +118,14 @@ def column(formulation, n_elements, pinned, atol=1e-9, extra="", radius=1e-3):
 def elastica_errors(args, formulation, n_elements, pinned, **options):
     """End rotations (degrees) of the path's points past the pulse and P / P_elastica - 1 there:
     P / P_cr = (2 K(k) / pi)^2, k = sin(alpha / 2), for both columns (the cantilever is half
-    the pinned column of twice its length)."""
-    _, text, node = column(formulation, n_elements, pinned, **options)
+    the pinned column of twice its length). The pinned ph_planar column is the example
+    input/elastica_continuation.nml at n_elements, its critical load from its own section."""
+    critical, text, node = column(formulation, n_elements, pinned, **options)
+    if pinned and formulation == "ph_planar":
+        text = set_variable(read_example(args.source, COLUMN), "rod", "n_elements", n_elements)
+        radius, modulus = number(text, "rod", "radius"), number(text, "rod", "E")
+        critical = math.pi**3 * modulus * radius**4 / 4 / number(text, "rod", "length")**2
+    force = -number(text, "load", "force")
     path = run(args, text, f"elastica_{formulation}_{n_elements}")
     with h5py.File(path, "r") as f:
         rod = f["rods"]["column"]
@@ -122,7 +133,7 @@ def elastica_errors(args, formulation, n_elements, pinned, **options):
         tangent = rod["directors"][()][:, node, 2, :]
     alpha = np.arccos(np.clip(tangent[:, 0], -1.0, 1.0))
     keep = (load_time >= 0.6) & (load_time <= 1.0)
-    ratio = 2.0 * load_time[keep]
+    ratio = force * load_time[keep] / critical
     exact = np.array([(2 * elliptic_k(math.sin(a / 2) ** 2) / math.pi) ** 2 for a in alpha[keep]])
     return np.degrees(alpha[keep]), ratio / exact - 1
 
@@ -149,61 +160,25 @@ def elastica(formulation, meshes, order, pinned=True, **options):
     return case
 
 
-def arch(rise, n_elements, mode, q=2000.0):
-    """A pinned shallow circular arch along x (span 1) in the x-z plane, as a 33-point polyline;
-    `mode` 'path': the continuation; a number: a load-stepped run to that load time with the
+def load_stepped(text, load_time):
+    """The scene `text` with load steps to `load_time` in place of its continuation, and the
     modes about its equilibrium."""
-    radius = (0.25 + rise**2) / (2 * rise)
-    half = math.asin(0.5 / radius)
-    points = []
-    for i in range(33):
-        a = -half + 2 * half * i / 32
-        points += [0.5 + radius * math.sin(a), 0.0, rise - radius + radius * math.cos(a)]
-    if mode == "path":
-        time = """    t_end = 1.0
-    dt = 1.0
-    quasistatic = .true.
-    continuation = 'arc_length'
-    arc_length = 0.0005
-    arc_length_max = 0.001
-    path_steps = 300"""
-        modes = ""
-    else:
-        time = f"""    t_end = {mode!r}
-    dt = {mode / 40!r}
+    start = text.index("\n&time")
+    end = text.index("\n/", start + 1)
+    time = f"""
+&time
+    t_end = {load_time!r}
+    dt = {load_time / 40!r}
     quasistatic = .true."""
-        modes = "&modes\n    n_modes = 3, about = 'equilibrium'\n/"
-    return f"""&time
-{time}
-/
-&solver
-    newton_atol = 1e-6
-/
-&rod
-    name = 'arch', formulation = 'se3_pg', n_elements = {n_elements}
-    geometry = 'polyline', points = {', '.join(repr(v) for v in points)}
-    section = 'circle', radius = 0.005, E = {E}, G = {G}, density = {RHO}
-/
-&bc
-    rod = 'arch', end = 'start', kind = 'pinned'
-/
-&bc
-    rod = 'arch', end = 'end', kind = 'pinned'
-/
-&load
-    rod = 'arch', where = 'distributed', force = 0.0, 0.0, {-q!r}
-    {LINEAR}
-/
-&output
-    path = 'x.h5'
-/
-{modes}
-"""
+    return (text[:start] + time + text[end:] +
+            "&modes\n    n_modes = 3, about = 'equilibrium'\n/\n")
 
 
 def snap_through(args, checks):
-    rise, n_elements = 0.006, 64
-    path = run(args, arch(rise, n_elements, "path"), "arch_path")
+    text = read_example(args.source, ARCH)
+    # The crown's height above the supports (at z = 0): the polyline's highest point.
+    rise = max(numbers(text, "rod", "points")[2::3])
+    path = run(args, text, "arch_path")
     with h5py.File(path, "r") as f:
         rod = f["rods"]["arch"]
         load_time = rod["series"]["load_time"][()]
@@ -236,7 +211,7 @@ def snap_through(args, checks):
     omega4 = []
     loads = (0.997 * limit, 0.999 * limit)
     for k, lam in enumerate(loads):
-        result = run(args, arch(rise, n_elements, lam), f"arch_modes_{k}")
+        result = run(args, load_stepped(text, lam), f"arch_modes_{k}")
         with h5py.File(result, "r") as f:
             omega = f["modes"]["arch"]["angular_frequency"][()]
         positive = omega[omega > 0]

@@ -51,6 +51,13 @@ Cases:
   ranks, ranks_ph_director
       the se3_pg (ph_director) column's load factors on 2 ranks (a distributed eigen solve)
       equal those on 1.
+  example_euler, example_greenhill
+      the examples input/euler_buckling.nml (the se3_pg column of euler_se3_pg at 400
+      elements under a tip force of 0.1 N) and input/greenhill_shaft.nml (the shaft of
+      greenhill_se3_pg at 200 elements under end moments of 0.01 N m) as given, against the
+      closed forms computed here from their own section, length and loads: lambda_1 |F| within
+      1e-5 of P_cr (a degenerate pair, the third factor 9 times the first); lambda_1 M within
+      1e-3 of M_G (+- pairs) and the prebuckling twist at s = L within 1e-8 of M L / GJ.
 """
 import math
 import os
@@ -60,7 +67,8 @@ import h5py
 import numpy as np
 
 sys.path.insert(0, os.path.join(os.path.dirname(__file__), ".."))
-from run_scene import Checks, rod, run, run_cases, run_failing  # noqa: E402
+from run_scene import (  # noqa: E402
+    Checks, number, numbers, read_example, rod, run, run_cases, run_failing)
 
 LENGTH, RADIUS, E, G, RHO = 1.0, 0.001, 2e11, 8e10, 7800.0
 INERTIA = math.pi * RADIUS**4 / 4
@@ -384,6 +392,56 @@ def greenhill_axial(args, checks):
         order_and_error(checks, f"P / P_E = {ratio}", errors, meshes, 1e-3)
 
 
+def example_section(text):
+    """EI, GA, GJ and L of the circular rod of a scene text."""
+    radius, modulus, shear = (number(text, "rod", name) for name in ("radius", "E", "G"))
+    inertia = math.pi * radius**4 / 4
+    return (modulus * inertia, shear * math.pi * radius**2, shear * 2 * inertia,
+            number(text, "rod", "length"))
+
+
+def example_euler(args, checks):
+    """input/euler_buckling.nml as given."""
+    text = read_example(args.source, "euler_buckling.nml")
+    bending, shear, _, length = example_section(text)
+    force = abs(number(text, "load", "force"))
+    euler_load = math.pi**2 * bending / (4 * length**2)
+    critical = euler_load * (1 - euler_load / shear)
+    path = run(args, text, "example_euler")
+    with h5py.File(path, "r") as f:
+        factors = f["buckling"]["column"]["load_factor"][()]
+    print(f"P_cr = {critical:.10g} N, tip force {force} N: expected factor "
+          f"{critical / force:.10g}; load factors {factors}")
+    checks.check("euler_buckling.nml: |lambda_1 F / P_cr - 1|",
+                 abs(factors[0] * force / critical - 1), 1e-5)
+    checks.check("euler_buckling.nml: the two bending planes alike (|lambda_2 / lambda_1 - 1|)",
+                 abs(factors[1] / factors[0] - 1), 1e-8)
+    checks.check("euler_buckling.nml: |lambda_3 / lambda_1 / 9 - 1|",
+                 abs(factors[2] / factors[0] / 9 - 1), 2e-3)
+
+
+def example_greenhill(args, checks):
+    """input/greenhill_shaft.nml as given."""
+    text = read_example(args.source, "greenhill_shaft.nml")
+    bending, _, torsion, length = example_section(text)
+    moment = abs(numbers(text, "load", "moment")[0])
+    greenhill_moment = 2 * math.pi * bending / length
+    path = run(args, text, "example_greenhill")
+    with h5py.File(path, "r") as f:
+        factors = f["buckling"]["shaft"]["load_factor"][()]
+    print(f"M_G = {greenhill_moment:.10g} N m, end moments {moment} N m: expected factor "
+          f"{greenhill_moment / moment:.10g}; load factors {factors}")
+    positive, negative = factors[factors > 0], factors[factors < 0]
+    checks.check("greenhill_shaft.nml: |lambda_1 M / M_G - 1|",
+                 abs(positive[0] * moment / greenhill_moment - 1), 1e-3)
+    checks.check("greenhill_shaft.nml: the reversed moments buckle alike (relative difference)",
+                 abs(negative[0] / positive[0] + 1), 1e-6)
+    d1 = rod(path, "shaft")["directors"][-1][:, 0, :]
+    twist = np.arctan2(d1[-1, 2], d1[-1, 1])
+    checks.check("greenhill_shaft.nml: twist at s = L against M L / GJ (relative)",
+                 abs(twist / (moment * length / torsion) - 1), 1e-8)
+
+
 if __name__ == "__main__":
     run_cases(__doc__, {
         "euler_se3_pg": euler("se3_pg", [50, 100, 200, 400]),
@@ -399,4 +457,6 @@ if __name__ == "__main__":
         "ranks": ranks("se3_pg", 200, 1e-8),
         # Measured 2e-14 (MUMPS pivots differently on 2 ranks).
         "ranks_ph_director": ranks("ph_director", 16, 1e-12),
+        "example_euler": example_euler,
+        "example_greenhill": example_greenhill,
     })

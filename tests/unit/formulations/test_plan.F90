@@ -44,6 +44,7 @@ contains
         call run_test('bundle_plan', test_bundle_plan)
         call run_test('strand_step', test_strand_step)
         call run_test('se3_pg_damping', test_se3_pg_damping)
+        call run_test('continuation_plan', test_continuation_plan)
         call run_test('long_rod_counts', test_long_rod_counts)
         call run_test('sizes_extend_exactly', test_sizes_extend_exactly)
     end subroutine run_all_tests
@@ -120,6 +121,40 @@ contains
         plan = plan_of(cantilever(", formulation = 'se3_pg'", ''), 1)
         CHECK_TRUE(index(plan, 'damping:') == 0, 'no damping line for an undamped rod')
     end subroutine test_se3_pg_damping
+
+    ! An arc-length continuation (issue 27 item 3, &time continuation): its path steps replace
+    ! the load steps and the endpoint solve (the time line says how many, the smallest step
+    ! arc_length / 4^max_cutbacks and where the path ends), the bordered solves and the records'
+    ! load times are named, se3_pg's statics follow the path, and modes after it say about which
+    ! point they are; a load-stepped run keeps its lines.
+    subroutine test_continuation_plan()
+        character(len=*), parameter :: path = "&time t_end = 1, dt = 1, quasistatic = .true., " // &
+            "continuation = 'arc_length', arc_length = 0.02, arc_length_max = 0.1, " // &
+            "path_steps = 50 /" // nl // "&solver max_cutbacks = 3 /" // nl // &
+            "&modes about = 'equilibrium', n_modes = 2 /" // nl
+        character(len=*), parameter :: bounds = 'between 3.125e-04 (arc_length / ' // &
+            '4^max_cutbacks) and arc_length_max = 0.1'
+        character(len=:), allocatable :: plan
+        plan = plan_of(path // "&output stride = 1 /" // nl // &
+            "&rod formulation = 'se3_pg', n_elements = 4, length = 1, section = 'circle', " // &
+            "radius = 0.01, E = 2e11, nu = 0.3, density = 7800 /" // nl // &
+            "&bc rod = 'rod1', end = 'start', kind = 'clamped' /" // nl // &
+            "&load rod = 'rod1', where = 'end', force = -1, 0, 0 /" // nl, 1)
+        CHECK_CONTAINS(plan, 'time: quasistatic by arc-length continuation', 'continuation')
+        CHECK_CONTAINS(plan, 'at most 50 path step(s), the first of arc length 0.02', 'path steps')
+        CHECK_CONTAINS(plan, bounds, 'step bounds')
+        CHECK_CONTAINS(plan, 'passes t_end = 1.0; dt is not used', 'end of the path')
+        CHECK_CONTAINS(plan, 'bordered solves: ', 'bordered solves')
+        CHECK_CONTAINS(plan, 'no endpoint solve', 'no endpoint solve')
+        CHECK_CONTAINS(plan, 'at most 51 record(s)', 'records')
+        CHECK_CONTAINS(plan, '/rods/NAME/series/load_time', 'load times')
+        CHECK_CONTAINS(plan, 'statics: Newton at the points of the arc-length path', 'se3_pg')
+        CHECK_CONTAINS(plan, 'after the continuation: about the path''s last point', 'modes')
+        CHECK_TRUE(index(plan, 'load step(s)') == 0, 'no load steps')
+        CHECK_TRUE(index(plan, 'statics: Newton at each load factor') == 0, 'no load factors')
+        plan = plan_of(cantilever(", formulation = 'se3_pg'", ''), 1)
+        CHECK_TRUE(index(plan, 'continuation') == 0, 'no continuation without it')
+    end subroutine test_continuation_plan
 
     ! A rod longer than the plan's small builds (issue 21 item 17: the plan builds at most 3
     ! elements and extends the sizes): 40 quadratic elements clamped at both ends, 81 nodes, 79
