@@ -598,7 +598,7 @@ contains
         integer, intent(in) :: n, first_step
         type(rod_runner_t), intent(in) :: runners(:)
         real(rk), intent(in) :: elapsed
-        real(rk) :: balance, energy, left
+        real(rk) :: balance, energy, left, load
         integer :: i, iterations
         if (world_rank() /= 0) return
         balance = 0.0_rk
@@ -611,6 +611,19 @@ contains
             iterations = iterations + runners(i)%total_iterations
         end do
         left = elapsed / real(n - first_step + 1, rk) * real(step_count(scene) - n, rk)
+        if (trim(scene%time%continuation) == 'arc_length') then
+            ! A continuation: the path's step and the load time reached (largest over the
+            ! systems); the steps left are at most path_steps - n.
+            load = -huge(1.0_rk)
+            do i = 1, size(runners)
+                if (system_owner(i) == 0) load = max(load, runners(i)%path%load)
+            end do
+            call log_info('rodsolve: path step ' // str(n) // ' of at most ' // &
+                str(step_count(scene)) // ', load time ' // str_significant(load, 6) // &
+                ' (ends past ' // str(scene%time%t_end) // '), Newton iterations ' // &
+                str(iterations) // ', ' // str_significant(elapsed, 3) // ' s')
+            return
+        end if
         call log_info('rodsolve: t = ' // str(min(real(n, rk) * scene%time%dt, &
             scene%time%t_end)) // ', step ' // str(n) // '/' // str(step_count(scene)) // &
             ', dt = ' // str(scene%time%dt) // ', Newton iterations ' // &

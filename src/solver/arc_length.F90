@@ -63,9 +63,11 @@ module rs_solver_arc_length
         !> Load time lambda of the current point and the next step's arc length.
         real(rk) :: load = 0.0_rk
         real(rk) :: step = 0.0_rk
-        !> The last step's Newton iterations (Jacobians factored) and its halvings.
+        !> The last step's Newton iterations (Jacobians factored) and its halvings; the
+        !> factorizations of the whole path (tangents included).
         integer :: iterations = 0
         integer :: cutbacks = 0
+        integer :: factorizations = 0
         !> Largest residual |R|_inf of the last point.
         real(rk) :: residual = 0.0_rk
         !> The stepper's factorization is J at the last corrector iterate of the accepted step.
@@ -97,6 +99,7 @@ contains
         this%step = settings%arc_length
         this%has_secant = .false.
         this%fresh = .false.
+        this%factorizations = 0
         n = system%n_unknown()
         if (allocated(this%weights)) deallocate(this%weights, this%tangent, this%y_start, this%y, &
             this%f, this%f_plus, this%a, this%b, this%values, this%secant, this%x_new)
@@ -320,6 +323,7 @@ contains
         end if
         call stepper%factor(this%values, singular, err)
         RS_RETURN_IF_ERROR(err)
+        this%factorizations = this%factorizations + 1
         ok = .not. singular
         if (singular) why = 'the tangent stiffness is singular at the load time ' // &
             str_significant(load, 8) // ' (a bifurcation point?)'

@@ -702,7 +702,7 @@ contains
         assembly = this%assembly_seconds()
         call this%stepper%run_stats(jacobians, floor_steps, shortened)
         call this%stepper%adaptive_stats(rejected, h_smallest, h_largest)
-        jacobians = this%jacobians_before + jacobians
+        jacobians = this%jacobians_before + jacobians + this%path%factorizations
         floor_steps = this%floor_steps_before + floor_steps
         shortened = this%shortened_before + shortened
         call this%stepper%destroy()
