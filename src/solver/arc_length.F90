@@ -22,9 +22,10 @@
 !>
 !> A step whose Newton fails, whose corrector ends farther from its predictor than the step's
 !> length (it jumped to another part of the path), or that turns a section by more than
-!> max_rotation, is halved;
-!> the next step's length follows the iterations, ds sqrt(target_iterations / iterations) within
-!> [ds / 2, 2 ds] and [arc_length_min, arc_length_max].
+!> max_rotation, is halved; the next step's length follows the iterations, ds sqrt(
+!> target_iterations / iterations) within [ds / 2, 2 ds] and [arc_length_min, arc_length_max].
+!> The tangent at a new point reuses the last corrector iteration's factorization when the
+!> point's coordinates are the corrector's (a quarter fewer factorizations).
 module rs_solver_arc_length
     use rs_core_kinds, only: rk
     use rs_core_error, only: error_t, set_error
