@@ -17,7 +17,7 @@ module rs_solver_modal_solver
     use rs_core_error, only: error_t, set_error
     use rs_core_strings, only: str, from_c_string
     use rs_formulations_formulation, only: modal_first_order, modal_second_order
-    use rs_system_linearization, only: pencil_t
+    use rs_system_linearization, only: pencil_t, equilibrate, balance_weight
     implicit none
     private
 
@@ -32,7 +32,7 @@ module rs_solver_modal_solver
         !> Buckling (solve_buckling): the load factor lambda of each mode, smallest |lambda|
         !> first (omega and decay zero).
         real(rk), allocatable :: load_factor(:)
-        !> SLEPc's relative residual of each eigenpair.
+        !> SLEPc's relative residual of each eigenpair (of the equilibrated pencil).
         real(rk), allocatable :: residual(:)
         !> The eigenvectors in the step unknowns (n_unknown x n), real and imaginary parts,
         !> scaled to a largest modulus of 1. Their phase is free: the caller chooses it on the
@@ -71,13 +71,38 @@ module rs_solver_modal_solver
     !> 1/sigma, and Krylov-Schur stalls: with 1e-3 / dt, seed 004's 16 m tube (0.528 Hz, dt =
     !> 1e-6) found no mode in 500 restarts. A shift below them separates them as 1/omega.
     real(rk), parameter :: shift_share = 1.0e-6_rk
+    !> The weight of solve_buckling's equilibration (equilibrated_solve), a load factor: the
+    !> loads of a buckling run are a share of the critical ones, so the factors wanted are of
+    !> order 1 and above. 1 and 1e3 gave the same factors in every case of
+    !> tests/regression/modes/buckling.py; equilibrated, the se3_pg column's factors on 2
+    !> ranks agree with those on 1 to 1e-12 (as assembled: 5e-10 - 6e-9 with the OpenBLAS
+    !> kernel, against a bound of 1e-8).
+    real(rk), parameter :: buckling_weight = 1.0_rk
 
 contains
 
     !> The n_modes lowest modes of `pencil`. Collective on all ranks (the solve is distributed).
     !>
-    !> One solve, with the shift shift_share z0 far below the modes. A second solve with the
-    !> shift at half the lowest elastic frequency was tried and dropped: it joined the split
+    !> The pencil is solved equilibrated (equilibrated_solve; docs/theory/modes.md, "The eigen
+    !> solve"). As assembled, its unknowns (positions, velocities, multipliers, stresses) and
+    !> its rows are in mixed units, which the Krylov solver's Euclidean norms weigh as numbers:
+    !> the eigenvalues of ph_director's damped cantilever had normwise condition numbers of
+    !> 1e13 - 1e16, and the round-off of the factorization decided digits that the tests
+    !> measure: the damping ratio of the second member of each bending pair was off by up to
+    !> 1.5e-4 (theory: tau omega_n / 2 exactly), and the torsion mode took up to 2.7e-8 of the
+    !> nearby fifth bending pair's displacement, differently with each OpenBLAS kernel
+    !> (Prescott, Sandybridge, Haswell, SkylakeX; scaling the rows alone did not help).
+    !> Equilibrated at a frequency w near the modes, their condition numbers fall to 1e4 - 1e6
+    !> and the two are at 1e-9 and 1e-11 on every kernel. A mode far above w is conditioned
+    !> worse (w at 2e-3 of the torsion mode's frequency: its displacement back at 1e-9), and
+    !> the rigid-body double zeros of a free rod split more as w rises above the first elastic
+    !> frequency. For ph_director z0 is 1/dt (no entry has two powers), the scene's choice, not
+    !> the rod's: so the modes are solved twice, first equilibrated at z0, then at the lowest
+    !> elastic frequency that solve found (lowest_elastic; when it is above the shift and
+    !> another power of 2 than z0).
+    !>
+    !> The shift is shift_share z0, far below the modes. A solve shifted instead to half the
+    !> lowest elastic frequency was tried and dropped: it joined the split
     !> bending pair of ph_director's free rod (1.4e-6 apart with this shift, whose a0 - sigma
     !> a1 is nearly singular on the rigid-body Jordan blocks), but on the clamped tube of seed
     !> 004 the first frequency's error against Timoshenko's rose from 5e-7 to 9.5e-6 (the
@@ -89,7 +114,7 @@ contains
         integer, intent(in) :: n_modes
         type(modes_t), intent(out) :: modes
         type(error_t), allocatable, intent(out) :: err
-        real(rk) :: sigma
+        real(rk) :: sigma, shift, lowest
         integer :: degree
         character(len=:), allocatable :: why
         if (pencil%form == modal_second_order .and. any(pencil%a1 /= 0.0_rk)) then
@@ -100,7 +125,13 @@ contains
         end if
         degree = merge(1, 2, pencil%form == modal_first_order)
         sigma = shift_share * pencil%z0
-        call eigen_solve(pencil, n_modes, merge(-sigma, -sigma**2, degree == 1), modes, err)
+        shift = merge(-sigma, -sigma**2, degree == 1)
+        call eigen_solve(pencil, n_modes, shift, pencil%z0, modes, err)
+        if (allocated(err)) return
+        lowest = lowest_elastic(modes%omega(1:modes%n))
+        if (lowest <= sigma) return
+        if (balance_weight(lowest) /= balance_weight(pencil%z0)) &
+            call eigen_solve(pencil, n_modes, shift, lowest, modes, err)
     end subroutine solve_modes
 
     !> The n_modes load factors lambda nearest zero of linearized buckling (issue 27 item 2,
@@ -109,10 +140,11 @@ contains
     !> (`geometric`), both the a0 of rs_system_linearization's buckling_stiffness on the same
     !> pattern. Solved as the generalized problem Op0 = K_0, Op1 = -K_geo with shift-and-invert
     !> at 0 (K_0 is factorized: a system with rigid-body motions has none, and is refused by
-    !> MUMPS). The geometric stiffness is singular (axial and torsional rows barely change; the
-    !> algebraic rows of a mixed K_T, ph_director's constraints, stress and kinematic rows,
-    !> hardly or not at all), its infinite eigenvalues lie far from the target. Complex pairs
-    !> (a non-conservative load) are skipped. Collective on all ranks.
+    !> MUMPS), equilibrated at the load factor buckling_weight (solve_modes says why). The
+    !> geometric stiffness is singular (axial and torsional rows barely change; the algebraic
+    !> rows of a mixed K_T, ph_director's constraints, stress and kinematic rows, hardly or
+    !> not at all), its infinite eigenvalues lie far from the target. Complex pairs (a
+    !> non-conservative load) are skipped. Collective on all ranks.
     subroutine solve_buckling(reference, geometric, n_modes, modes, err)
         type(pencil_t), intent(in) :: reference, geometric
         integer, intent(in) :: n_modes
@@ -158,10 +190,8 @@ contains
             n_wanted = min(n_modes + 2, pencil%n)
             allocate(mu_re(n_wanted), mu_im(n_wanted), errors(n_wanted), &
                 vec_re(pencil%n, n_wanted), vec_im(pencil%n, n_wanted))
-            ierr = rs_modes_solve(int(pencil%n, c_int), pencil%row_ptr, pencil%cols, pencil%a0, &
-                pencil%a1, pencil%a2, 1_c_int, int(n_wanted, c_int), 0.0_c_double, n_found, &
-                mu_re, mu_im, vec_re, vec_im, errors, text, int(size(text), c_int), message, &
-                int(size(message), c_int))
+            call equilibrated_solve(pencil, 1, n_wanted, 0.0_rk, buckling_weight, n_found, &
+                mu_re, mu_im, vec_re, vec_im, errors, text, message, ierr)
             if (ierr /= 0) then
                 why = from_c_string(message) // ' (linearized buckling factorizes the ' // &
                     'unloaded stiffness: the system must be supported against rigid motion)'
@@ -220,11 +250,12 @@ contains
         end do
     end function lowest_elastic
 
-    !> The n_modes modes nearest the real shift `shift` (module header).
-    subroutine eigen_solve(pencil, n_modes, shift, modes, err)
+    !> The n_modes modes nearest the real shift `shift` (module header), of the pencil
+    !> equilibrated at the frequency `weight` (solve_modes).
+    subroutine eigen_solve(pencil, n_modes, shift, weight, modes, err)
         type(pencil_t), intent(in) :: pencil
         integer, intent(in) :: n_modes
-        real(rk), intent(in) :: shift
+        real(rk), intent(in) :: shift, weight
         type(modes_t), intent(out) :: modes
         type(error_t), allocatable, intent(out) :: err
         real(rk), allocatable :: mu_re(:), mu_im(:), vec_re(:, :), vec_im(:, :), errors(:)
@@ -237,10 +268,8 @@ contains
         n_wanted = min(merge(2 * n_modes + 2, n_modes, degree == 1), pencil%n)
         allocate(mu_re(n_wanted), mu_im(n_wanted), errors(n_wanted), &
             vec_re(pencil%n, n_wanted), vec_im(pencil%n, n_wanted))
-        ierr = rs_modes_solve(int(pencil%n, c_int), pencil%row_ptr, pencil%cols, pencil%a0, &
-            pencil%a1, pencil%a2, int(degree, c_int), int(n_wanted, c_int), shift, found, mu_re, &
-            mu_im, vec_re, vec_im, errors, text, int(size(text), c_int), message, &
-            int(size(message), c_int))
+        call equilibrated_solve(pencil, degree, n_wanted, shift, weight, found, mu_re, mu_im, &
+            vec_re, vec_im, errors, text, message, ierr)
         if (ierr /= 0) then
             RS_SET_ERROR(err, 'eigen_solve', from_c_string(message))
             return
@@ -294,6 +323,49 @@ contains
             modes%shape_im(:, modes%n) = im / scale
         end subroutine add_mode
     end subroutine eigen_solve
+
+    !> rs_modes_solve on `pencil` equilibrated at the frequency `weight` (rs_system_
+    !> linearization's equilibrate; solve_modes): D_r P D_c has P's eigenvalues, and its
+    !> eigenvectors y give P's, x = D_c y. Arguments as rs_modes_solve's.
+    subroutine equilibrated_solve(pencil, degree, n_wanted, shift, weight, n_found, mu_re, &
+            mu_im, vec_re, vec_im, errors, text, message, ierr)
+        type(pencil_t), intent(in) :: pencil
+        integer, intent(in) :: degree, n_wanted
+        real(rk), intent(in) :: shift, weight
+        integer(c_int), intent(out) :: n_found, ierr
+        real(rk), intent(out) :: mu_re(:), mu_im(:), vec_re(:, :), vec_im(:, :), errors(:)
+        character(kind=c_char), intent(out) :: text(:), message(:)
+        real(rk), allocatable :: row_scale(:), col_scale(:)
+        type(pencil_t) :: scaled
+        integer :: i
+        allocate(row_scale(pencil%n), col_scale(pencil%n))
+        call equilibrate(pencil, weight, row_scale, col_scale)
+        scaled = pencil
+        call scale_values(scaled%a0)
+        call scale_values(scaled%a1)
+        call scale_values(scaled%a2)
+        ierr = rs_modes_solve(int(pencil%n, c_int), pencil%row_ptr, pencil%cols, scaled%a0, &
+            scaled%a1, scaled%a2, int(degree, c_int), int(n_wanted, c_int), shift, n_found, &
+            mu_re, mu_im, vec_re, vec_im, errors, text, int(size(text), c_int), message, &
+            int(size(message), c_int))
+        if (ierr /= 0) return
+        do i = 1, n_found
+            vec_re(:, i) = col_scale * vec_re(:, i)
+            vec_im(:, i) = col_scale * vec_im(:, i)
+        end do
+    contains
+
+        !> Values on the pencil's pattern scaled in place: D_r values D_c.
+        pure subroutine scale_values(values)
+            real(rk), intent(inout) :: values(:)
+            integer :: row, k
+            do row = 1, pencil%n
+                do k = pencil%row_ptr(row) + 1, pencil%row_ptr(row + 1)
+                    values(k) = row_scale(row) * values(k) * col_scale(pencil%cols(k) + 1)
+                end do
+            end do
+        end subroutine scale_values
+    end subroutine equilibrated_solve
 
     !> SLEPc's version ("3.18.2").
     function slepc_version() result(text)

@@ -10,10 +10,12 @@
    Both are non-Hermitian in general (constraint rows, se3_pg's rotation rows in the body
    basis), and Op1 is singular (algebraic rows), so EPS_GNHEP with shift-and-invert: the shift
    sigma is real and negative, and the eigenvalues wanted are +-i omega (degree 1) or omega^2
-   >= 0 (degree 2), so |mu - sigma| grows with omega for either: EPS_TARGET_MAGNITUDE returns
-   the lowest modes in order, and a0 - sigma a1 is regular even when a0 is singular (the rigid
-   modes of a free rod). The factorization is MUMPS's LU (KSPPREONLY, PCLU): the pencils have
-   multipliers and are indefinite (DESIGN.md §3). Options with the prefix -modes_ override.
+   >= 0 (degree 2), so |mu - sigma| grows with omega for either: the eigenvalues nearest the
+   target (EPS_TARGET_MAGNITUDE's order, with ties: compare_nearest) are the lowest modes in
+   order, and a0 - sigma a1 is regular even when a0 is singular (the rigid modes of a free
+   rod). The caller passes the pencil equilibrated (src/solver/modal_solver.F90). The
+   factorization is MUMPS's LU (KSPPREONLY, PCLU): the pencils have multipliers and are
+   indefinite (DESIGN.md §3). Options with the prefix -modes_ override.
 
    Floating-point traps and PETSc error messages are handled as in rod_stepper.c. */
 #include <slepceps.h>
@@ -86,6 +88,83 @@ static PetscErrorCode mumps_defaults(void)
     PetscFunctionReturn(0);
 }
 
+/* Eigenvalues whose distances from the target agree to this share are ties (compare_nearest). */
+static const PetscReal tie_share = 1.0e-6;
+
+/* EPS_TARGET_MAGNITUDE with ties: a before b (-1), after it (1), or a tie (0) when their
+   distances from the target agree to tie_share, so that SLEPc's sorting keeps tied Ritz values
+   in the order of their Schur form. With the plain comparison, the selection sort of the
+   projected problem (DSSort_NHEP_Total) moved one member of a degenerate bending pair of the
+   circular section (two 2 x 2 blocks with equal eigenvalues when the pencil is equilibrated,
+   src/solver/modal_solver.F90) past the other whenever round-off put it nearer the target, and
+   LAPACK's trexc refused that swap (info = 1: the blocks are too close for a stable swap),
+   which stopped the solve: seed 004's 1 m tube with OpenBLAS's Sandybridge kernels, a free
+   ph_director rod's cluster of rigid-body modes with one of the equilibration weights tried.
+   On that tube ties up to 1e-12 still failed and 1e-10 passed; with 1e-6 none of 120 solves
+   failed (the tube at five lengths, free rods of 10 - 40 elements, the damped and output
+   cases of tests/regression/modes/modes.py; four OpenBLAS kernels, three MUMPS orderings),
+   one did without ties. 1e-6 leaves room for Ritz values not yet converged. The converged
+   pairs are then put in the strict order (strict_order), so that a pair split by more than
+   round-off keeps its order (se3_pg's Euler column: its two bending planes' load factors 7e-8
+   apart with OpenBLAS's SkylakeX kernels, the quasistatic state not exactly symmetric). */
+static PetscErrorCode compare_nearest(PetscScalar ar, PetscScalar ai, PetscScalar br,
+                                      PetscScalar bi, PetscInt *result, void *ctx)
+{
+    const PetscScalar target = *(const PetscScalar *)ctx;
+    const PetscReal a = SlepcAbsEigenvalue(ar - target, ai);
+    const PetscReal b = SlepcAbsEigenvalue(br - target, bi);
+    PetscFunctionBeginUser;
+    if (PetscAbsReal(a - b) <= tie_share * PetscMax(a, b)) *result = 0;
+    else *result = a > b ? 1 : -1;
+    PetscFunctionReturn(0);
+}
+
+/* The converged eigenpairs of eps in order of their distance from the target, nearest first,
+   a complex conjugate pair (adjacent in SLEPc's order) kept together and in its order:
+   order[k] is the index for EPSGetEigenpair of the k-th (nconv entries, allocated here). */
+static PetscErrorCode strict_order(EPS eps, PetscInt nconv, PetscScalar target, PetscInt **order)
+{
+    PetscReal *distance;
+    PetscInt *size, n_units = 0;
+    PetscFunctionBeginUser;
+    PetscCall(PetscMalloc1(nconv, order));
+    PetscCall(PetscMalloc2(nconv, &distance, nconv, &size));
+    /* units: a real eigenvalue, or a conjugate pair (its first index, size 2) */
+    for (PetscInt i = 0; i < nconv; i++) {
+        PetscScalar kr, ki;
+        PetscCall(EPSGetEigenvalue(eps, i, &kr, &ki));
+        (*order)[n_units] = i;
+        distance[n_units] = SlepcAbsEigenvalue(kr - target, ki);
+        size[n_units] = (PetscRealPart(ki) != 0.0 && i + 1 < nconv) ? 2 : 1;
+        i += size[n_units] - 1;
+        n_units++;
+    }
+    /* insertion sort of the units, stable */
+    for (PetscInt u = 1; u < n_units; u++) {
+        PetscInt first = (*order)[u], width = size[u], v = u;
+        PetscReal d = distance[u];
+        while (v > 0 && distance[v - 1] > d) {
+            (*order)[v] = (*order)[v - 1];
+            distance[v] = distance[v - 1];
+            size[v] = size[v - 1];
+            v--;
+        }
+        (*order)[v] = first;
+        distance[v] = d;
+        size[v] = width;
+    }
+    /* expand the units into eigenpair indices, from the back so as not to overwrite */
+    {
+        PetscInt k = nconv;
+        for (PetscInt u = n_units - 1; u >= 0; u--) {
+            const PetscInt first = (*order)[u];
+            for (PetscInt j = size[u] - 1; j >= 0; j--) (*order)[--k] = first + j;
+        }
+    }
+    PetscCall(PetscFree2(distance, size));
+    PetscFunctionReturn(0);
+}
+
 static PetscErrorCode solve(int n, const int *row_ptr, const int *cols, const double *a0,
                             const double *a1, const double *a2, int degree, int n_wanted,
                             double shift, int *n_found, double *mu_re, double *mu_im,
@@ -98,11 +177,12 @@ static PetscErrorCode solve(int n, const int *row_ptr, const int *cols, const do
     KSP ksp;
     PC pc;
     Vec xr, xi;
-    PetscInt lo = PETSC_DECIDE, hi, local = PETSC_DECIDE, nconv, nn = n;
+    PetscInt lo = PETSC_DECIDE, hi, local = PETSC_DECIDE, nconv, nn = n, *order;
     PetscBool initialized;
     MPI_Comm comm = PETSC_COMM_WORLD;
     EPSType type;
     MatSolverType package;
+    PetscScalar target;
     PetscFunctionBeginUser;
     PetscCall(SlepcInitialized(&initialized));
     if (!initialized) PetscCall(SlepcInitializeNoArguments());
@@ -116,7 +196,9 @@ static PetscErrorCode solve(int n, const int *row_ptr, const int *cols, const do
     PetscCall(EPSSetOperators(eps, A, B));
     PetscCall(EPSSetProblemType(eps, EPS_GNHEP));
     PetscCall(EPSSetType(eps, EPSKRYLOVSCHUR));
-    PetscCall(EPSSetWhichEigenpairs(eps, EPS_TARGET_MAGNITUDE));
+    target = shift;
+    PetscCall(EPSSetWhichEigenpairs(eps, EPS_WHICH_USER));
+    PetscCall(EPSSetEigenvalueComparison(eps, compare_nearest, &target));
     PetscCall(EPSSetTarget(eps, shift));
     PetscCall(EPSSetDimensions(eps, n_wanted, PETSC_DEFAULT, PETSC_DEFAULT));
     PetscCall(EPSSetTolerances(eps, 1.0e-14, 500));
@@ -138,19 +220,21 @@ static PetscErrorCode solve(int n, const int *row_ptr, const int *cols, const do
              type, shift, package ? package : "petsc");
 
     *n_found = nconv < n_wanted ? (int)nconv : n_wanted;
+    PetscCall(strict_order(eps, nconv, target, &order));
     PetscCall(MatCreateVecs(A, &xr, NULL));
     PetscCall(VecDuplicate(xr, &xi));
     for (int i = 0; i < *n_found; i++) {
         PetscScalar kr, ki;
         PetscReal error;
-        PetscCall(EPSGetEigenpair(eps, i, &kr, &ki, xr, xi));
-        PetscCall(EPSComputeError(eps, i, EPS_ERROR_RELATIVE, &error));
+        PetscCall(EPSGetEigenpair(eps, order[i], &kr, &ki, xr, xi));
+        PetscCall(EPSComputeError(eps, order[i], EPS_ERROR_RELATIVE, &error));
         mu_re[i] = PetscRealPart(kr);
         mu_im[i] = PetscRealPart(ki);
         errors[i] = error;
         PetscCall(gather_whole(xr, vec_re + (size_t)i * n));
         PetscCall(gather_whole(xi, vec_im + (size_t)i * n));
     }
+    PetscCall(PetscFree(order));
     PetscCall(VecDestroy(&xr));
     PetscCall(VecDestroy(&xi));
     PetscCall(EPSDestroy(&eps));

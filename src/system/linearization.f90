@@ -43,7 +43,7 @@ module rs_system_linearization
     implicit none
     private
 
-    public :: linearize_system, buckling_stiffness
+    public :: linearize_system, buckling_stiffness, equilibrate, balance_weight
 
     !> The linear pencil P(s) = a0 + s a1 + s^2 a2 of a system about a state at rest, on the
     !> system's Jacobian pattern (0-based CSR over its step unknowns).
@@ -75,6 +75,8 @@ module rs_system_linearization
     real(rk), parameter :: balance_tol = 1.0e-14_rk
     !> The largest relative disagreement of the check Jacobian that is round-off.
     real(rk), parameter :: fit_tol = 1.0e-8_rk
+    !> The most sweeps of equilibrate (it settles in about log2 of the entries' spread).
+    integer, parameter :: max_equilibration_sweeps = 100
 
 contains
 
@@ -382,6 +384,68 @@ contains
             RS_SET_ERROR(err, 'linearize_system', message)
         end if
     end subroutine fit
+
+    !> Row and column scalings D_r, D_c of `pencil` at the frequency `weight` (1/s), for the
+    !> eigen solve (src/solver/modal_solver.F90, docs/theory/modes.md): Ruiz's simultaneous
+    !> equilibration (each sweep divides every row and column by about the square root of its
+    !> largest entry) of |a0| + w |a1| + w^2 |a2|, the pencil's magnitude at |s| = w, with w =
+    !> balance_weight(weight), until the largest entry of every row and column of D_r |P| D_c
+    !> is within a factor 2 of 1. Every factor is a power of 2, so D_r P(s) D_c has exactly the
+    !> eigenvalues of P (its eigenvectors y, P's x = D_c y). An empty row or column keeps 1.
+    pure subroutine equilibrate(pencil, weight, row_scale, col_scale)
+        type(pencil_t), intent(in) :: pencil
+        real(rk), intent(in) :: weight
+        real(rk), intent(out) :: row_scale(:), col_scale(:)
+        real(rk), allocatable :: magnitude(:), row_max(:), col_max(:)
+        real(rk) :: w, v
+        integer :: sweep, i, j, k
+        logical :: settled
+        row_scale = 1.0_rk
+        col_scale = 1.0_rk
+        w = balance_weight(weight)
+        magnitude = abs(pencil%a0) + w * abs(pencil%a1) + w**2 * abs(pencil%a2)
+        allocate(row_max(pencil%n), col_max(pencil%n))
+        do sweep = 1, max_equilibration_sweeps
+            row_max = 0.0_rk
+            col_max = 0.0_rk
+            do i = 1, pencil%n
+                do k = pencil%row_ptr(i) + 1, pencil%row_ptr(i + 1)
+                    j = pencil%cols(k) + 1
+                    v = row_scale(i) * magnitude(k) * col_scale(j)
+                    row_max(i) = max(row_max(i), v)
+                    col_max(j) = max(col_max(j), v)
+                end do
+            end do
+            settled = .true.
+            do i = 1, pencil%n
+                call rescale(row_max(i), row_scale(i), settled)
+                call rescale(col_max(i), col_scale(i), settled)
+            end do
+            if (settled) exit
+        end do
+    contains
+
+        !> factor times 2^-round(log2(largest) / 2), about 1 / sqrt(largest), unless that is 1.
+        pure subroutine rescale(largest, factor, settled)
+            real(rk), intent(in) :: largest
+            real(rk), intent(inout) :: factor
+            logical, intent(inout) :: settled
+            integer :: e
+            if (largest <= 0.0_rk) return
+            e = nint(0.5_rk * log(largest) / log(2.0_rk))
+            if (e == 0) return
+            factor = scale(factor, -e)
+            settled = .false.
+        end subroutine rescale
+    end subroutine equilibrate
+
+    !> The frequency equilibrate uses for `weight` (> 0): the nearest power of 2, so that
+    !> weights differing in their last bits (an eigenvalue found on another number of ranks)
+    !> scale the pencil alike.
+    pure real(rk) function balance_weight(weight) result(w)
+        real(rk), intent(in) :: weight
+        w = 2.0_rk**nint(log(weight) / log(2.0_rk))
+    end function balance_weight
 
     !> The pencil's a0, a1, a2 from the powers present in each row (module header).
     subroutine classify(pencil, coefficients, row_scale, z0, err)

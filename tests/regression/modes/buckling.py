@@ -28,7 +28,7 @@ Cases:
       4.0125993...). EI_strong / EI_weak = EI_strong / GJ = 1e4 (the prebuckling deflection,
       which Prandtl neglects and the stress stiffness at the reference too, would move P_cr by
       about 1e-4); the load is 1e-3 P_cr. Observed order 2, the finest mesh within 1e-3
-      (measured 1.9e-5 at 200 elements).
+      (measured 2.4e-5 at 200 elements).
   greenhill_se3_pg
       Greenhill's shaft: the steel rod of the Euler case between ball joints, s = 0 held in
       position and twist (&bc hold = 'x', 'y', 'z', 'twist': the twist hold removes the rigid

@@ -206,10 +206,11 @@ def ranks(args, checks):
     one, _ = modes(args, "ph_director", 20, "ranks_1", n_modes=11)
     two, _ = modes(args, "ph_director", 20, "ranks_2", ranks=2, n_modes=11)
     print("1 rank:", one, "\n2 ranks:", two)
-    # A degenerate pair of the circular section is split by round-off (by up to 1.3e-9 on one
-    # rank: the first-order pencil is not symmetric), differently on 2 ranks; its mean less so.
-    # What remains (measured up to 6e-10) is the eigenvalues' sensitivity to the factorization:
-    # MUMPS pivots otherwise on 2 ranks (each rank count is deterministic).
+    # A degenerate pair of the circular section is split by round-off, differently on 2 ranks;
+    # its mean less so. What remains is the eigenvalues' sensitivity to the factorization:
+    # MUMPS pivots otherwise on 2 ranks (each rank count is deterministic). Measured 5e-12 -
+    # 1.1e-11 and 1e-12 - 6e-12 with the pencil equilibrated (docs/theory/modes.md); 5.4e-9 and
+    # 4e-10 before, the pairs split by up to 1.3e-9.
     checks.check("2 ranks against 1: largest relative difference of a frequency",
                  float(np.max(np.abs(two / one - 1))), 1e-8)
     pairs_one, pairs_two = bending_pairs(one, 5), bending_pairs(two, 5)
@@ -365,8 +366,9 @@ def joined(formulation):
         with h5py.File(path, "r") as f:
             halves = f["modes"]["beam+tip"]["frequency"][()]
         print("one rod:", whole, "\ntwo halves joined:", halves)
-        # Measured 2e-11 (ph_director) and 4.7e-8 (se3_pg: its multipliers' columns, of order
-        # 1 next to stiffness entries of 1e8, leave the saddle-point pencil less well scaled).
+        # Measured 2e-12 - 6e-12 (ph_director) and 6e-11 - 7e-11 (se3_pg) with the pencil
+        # equilibrated; before, 2e-11 and up to 4.7e-8 (se3_pg's multipliers' columns, of order
+        # 1 next to stiffness entries of 1e8, left the saddle-point pencil badly scaled).
         checks.check(f"{formulation}: two halves joined against one rod, largest relative "
                      "difference of the first 8 frequencies",
                      float(np.max(np.abs(halves / whole - 1))), 2e-7)
@@ -419,8 +421,10 @@ def output_case(args, checks, formulation):
         print(f"torsion: mode {k + 1}, {frequency[k]:.6g} Hz (shaft {shaft:.6g} Hz)")
         checks.check("torsion mode: share of its rotations off the axis", 1 - float(axial[k]),
                      1e-10)
-        # Measured 4e-13 (se3_pg) and 6e-10 (ph_director: round-off mixes in the fifth bending
-        # pair, 0.3 % below it).
+        # Measured 1e-14 (se3_pg) and 2e-12 - 4e-11 (ph_director) with the pencil equilibrated
+        # (docs/theory/modes.md): round-off mixes in the fifth bending pair, 0.3 % below it, as
+        # much as the eigenvector's condition allows; unscaled, ph_director's took 4e-9 -
+        # 2.7e-8 of it, depending on the OpenBLAS kernel.
         checks.check("torsion mode: largest displacement", float(np.abs(displacement[k]).max()),
                      1e-8)
         checks.check("torsion mode: relative difference from the shaft's frequency (20 "

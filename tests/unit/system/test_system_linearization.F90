@@ -10,7 +10,11 @@
 !>   (d) buckling_stiffness of a quasistatic ph_director rod (the Jacobian of its static
 !>       problem, traits static_tangent): a rigid translation is in the null space of K_T at
 !>       the reference, the system is back in time steps after it, and a dynamic ph_director
-!>       rod (a first-order pencil, no static problem) is refused.
+!>       rod (a first-order pencil, no static problem) is refused;
+!>   (e) equilibrate (the eigen solve's scaling) on a damped ph_director and a se3_pg pencil,
+!>       whose rows' largest entries lie orders of magnitude apart: factors that are powers of
+!>       2, every row's and column's largest entry of the scaled magnitude within a factor 2
+!>       of 1, and the same scaling for a weight that differs in its last bits.
 module rs_test_system_linearization
     use rs_core_kinds, only: rk
     use rs_core_error, only: error_t, error_list_t
@@ -20,7 +24,8 @@ module rs_test_system_linearization
     use rs_io_input_file, only: parse_scene
     use rs_formulations_formulation, only: state_valid, modal_first_order, modal_second_order
     use rs_system_rod_system, only: rod_system_t
-    use rs_system_linearization, only: pencil_t, linearize_system, buckling_stiffness
+    use rs_system_linearization, only: pencil_t, linearize_system, buckling_stiffness, &
+        equilibrate
     implicit none
     private
 
@@ -38,6 +43,8 @@ contains
         call run_test('se3_pg_translation', test_se3_pg_translation)
         call run_test('refusals', test_refusals)
         call run_test('ph_director_static_tangent', test_ph_director_static_tangent)
+        call run_test('ph_director_equilibrate', test_ph_director_equilibrate)
+        call run_test('se3_pg_equilibrate', test_se3_pg_equilibrate)
     end subroutine run_all_tests
 
     !> A steel rod of `n` elements along x, clamped at its start unless `free`; a quasistatic
@@ -222,6 +229,64 @@ contains
             end do
         end do
     end function csr_times
+
+    subroutine test_ph_director_equilibrate()
+        call check_equilibrate('ph_director', ', kelvin_voigt_time = 1e-4', 1.0e3_rk)
+    end subroutine test_ph_director_equilibrate
+
+    subroutine test_se3_pg_equilibrate()
+        call check_equilibrate('se3_pg', '', 1.0e3_rk)
+    end subroutine test_se3_pg_equilibrate
+
+    !> equilibrate on the clamped rod's pencil at the frequency `weight` (module header, (e)).
+    subroutine check_equilibrate(formulation, extra, weight)
+        character(len=*), intent(in) :: formulation, extra
+        real(rk), intent(in) :: weight
+        type(rod_system_t) :: system
+        type(pencil_t) :: pencil
+        type(error_t), allocatable :: err
+        real(rk), allocatable :: x(:), rows(:), cols(:), again_rows(:), again_cols(:)
+        real(rk), allocatable :: before(:), row_max(:), col_max(:)
+        real(rk) :: w, v, spread
+        character(len=:), allocatable :: message
+        logical :: ok
+        integer :: i, j, k
+        call build(scene_text(formulation, 8, .false., extra), system, x)
+        call linearize_system(system, 0.0_rk, x, dt, pencil, err)
+        CHECK_TRUE(.not. allocated(err), formulation // ' linearizes')
+        if (allocated(err)) return
+        allocate(rows(pencil%n), cols(pencil%n), again_rows(pencil%n), again_cols(pencil%n))
+        call equilibrate(pencil, weight, rows, cols)
+        ok = all(fraction(rows) == 0.5_rk) .and. all(fraction(cols) == 0.5_rk)
+        CHECK_TRUE(ok, formulation // ': every factor is a power of 2')
+        ! The weight is used as the nearest power of 2 (1024 for 1e3).
+        w = 1024.0_rk
+        allocate(before(pencil%n), row_max(pencil%n), col_max(pencil%n), source=0.0_rk)
+        do i = 1, pencil%n
+            do k = pencil%row_ptr(i) + 1, pencil%row_ptr(i + 1)
+                j = pencil%cols(k) + 1
+                v = abs(pencil%a0(k)) + w * abs(pencil%a1(k)) + w**2 * abs(pencil%a2(k))
+                before(i) = max(before(i), v)
+                row_max(i) = max(row_max(i), rows(i) * v * cols(j))
+                col_max(j) = max(col_max(j), rows(i) * v * cols(j))
+            end do
+        end do
+        spread = maxval(before) / minval(before, mask=before > 0.0_rk)
+        ! Measured 5.5e8 (damped ph_director: a row of stiffness and damping next to a kinematic
+        ! identity) and 1.0e5 (se3_pg).
+        message = formulation // ': the pencil''s rows are not balanced (their largest ' // &
+            'entries ' // str_significant(spread, 3) // ' apart)'
+        CHECK_TRUE(spread > 1.0e4_rk, message)
+        message = formulation // ': every row''s and column''s largest scaled entry in ' // &
+            '[1/2, 2] (' // str_significant(min(minval(row_max), minval(col_max)), 3) // ' .. ' // &
+            str_significant(max(maxval(row_max), maxval(col_max)), 3) // ')'
+        ok = all(row_max >= 0.5_rk .and. row_max <= 2.0_rk) .and. &
+            all(col_max >= 0.5_rk .and. col_max <= 2.0_rk)
+        CHECK_TRUE(ok, message)
+        call equilibrate(pencil, weight * (1.0_rk + 1.0e-12_rk), again_rows, again_cols)
+        ok = all(again_rows == rows) .and. all(again_cols == cols)
+        CHECK_TRUE(ok, formulation // ': a weight differing in its last bits scales alike')
+    end subroutine check_equilibrate
 
 end module rs_test_system_linearization
 
