@@ -350,7 +350,13 @@ contains
         nn = layout%n_nodes
         ns = layout%n_stress_points
         allocate(fields(0))
-        call add('time', [integer ::], 's', 'time of each stored record, [step]')
+        if (index(layout%recorded, ',series/load_time,') > 0) then
+            ! An arc-length continuation's records are its path steps.
+            call add('time', [integer ::], '1', 'path step of each stored record (an ' // &
+                'arc-length continuation: the load time is series/load_time), [step]')
+        else
+            call add('time', [integer ::], 's', 'time of each stored record, [step]')
+        end if
         if (field_selected(selection, 'position')) call add('position', [3, nn], 'm', &
             'centreline position phi of the nodes in the spatial frame, [step, node, component]')
         if (field_selected(selection, 'directors')) call add('directors', [3, 3, nn], '1', &
@@ -842,8 +848,15 @@ contains
             end do
             if (file%exists('/series')) call file%delete('/series', err)
             if (allocated(err)) exit body
-            call file%write_dataset('/series/time', time, unit_in_system('s', system), &
-                'time of each stored record, shared by all rods, [step]', err, series=.true.)
+            if (index(layouts(1)%recorded, ',series/load_time,') > 0) then
+                ! An arc-length continuation: the records are its path steps.
+                call file%write_dataset('/series/time', time, '1', 'path step of each ' // &
+                    'stored record, shared by all rods (the load times are the rods'' ' // &
+                    'series/load_time), [step]', err, series=.true.)
+            else
+                call file%write_dataset('/series/time', time, unit_in_system('s', system), &
+                    'time of each stored record, shared by all rods, [step]', err, series=.true.)
+            end if
             if (allocated(err)) exit body
             do k = 1, size(energy_names) + size(momentum_names)
                 if (k <= size(energy_names)) then

@@ -183,6 +183,12 @@ def snap_through(args, checks):
         rod = f["rods"]["arch"]
         load_time = rod["series"]["load_time"][()]
         position = rod["position"][()]
+        unit = rod["time"].attrs["unit"]
+        steps = rod["time"][()]
+    unit = unit.decode() if isinstance(unit, bytes) else unit
+    checks.check("the records' time is the path step: unit '1' (0: yes)", float(unit != "1"), 0.0)
+    checks.check("the records' time is the path step: largest |time - record index|",
+                 float(np.abs(steps - np.arange(steps.size)).max()), 0.0)
     crown = position[:, position.shape[1] // 2, 2]
     falls = np.nonzero(np.diff(load_time) < 0)[0]
     checks.check("the path turns back at a limit point: (no falling load time)",
