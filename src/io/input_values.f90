@@ -75,8 +75,8 @@ contains
     end subroutine check_relaxation
 
     !> &time continuation = 'arc_length' (docs/theory/continuation.md): a path of the statics,
-    !> so only in quasistatic runs; its step bounds in order; no restart (the path's tangent
-    !> and step length are not in the checkpoint).
+    !> so only in quasistatic runs; its step bounds in order; no contact (the pattern changes);
+    !> no restart (the path's tangent and step length are not in the checkpoint).
     subroutine check_continuation(scene, errors)
         type(scene_t), intent(in) :: scene
         type(error_list_t), intent(inout) :: errors
@@ -88,6 +88,14 @@ contains
         if (scene%time%arc_length_max < scene%time%arc_length) call errors%add(here // &
             'arc_length_max = ' // str(scene%time%arc_length_max) // ' is shorter than ' // &
             'arc_length = ' // str(scene%time%arc_length))
+        ! Contact's candidate pairs change the Jacobian's pattern between steps (the stepper is
+        ! built again), which the path's factorization and work arrays do not follow.
+        if (scene%contact%given) call errors%add(here // 'not with &contact (its pairs change ' // &
+            'the Jacobian''s pattern along the path)')
+        if (allocated(scene%obstacles)) then
+            if (size(scene%obstacles) > 0) call errors%add(here // 'not with &obstacle (its ' // &
+                'contact pairs change the Jacobian''s pattern along the path)')
+        end if
         if (len_trim(scene%run%restart_from) > 0) call errors%add(here // 'a continuation ' // &
             'cannot be restarted (its path''s tangent and step are not checkpointed); ' // &
             'remove &run restart_from')

@@ -88,12 +88,15 @@ module rs_solver_arc_length
 
 contains
 
-    subroutine path_init(this, system, settings, n_values, load)
+    !> The path from the state x in equilibrium at the load time `load`: the system's step
+    !> problem becomes the statics for the whole path (set_load_problem once; every
+    !> evaluation then only sets its load time).
+    subroutine path_init(this, system, settings, n_values, load, x)
         class(arc_length_path_t), intent(inout) :: this
         type(rod_system_t), intent(inout) :: system
         type(arc_length_settings_t), intent(in) :: settings
         integer, intent(in) :: n_values
-        real(rk), intent(in) :: load
+        real(rk), intent(in) :: load, x(:)
         integer :: n
         this%settings = settings
         this%load = load
@@ -108,6 +111,7 @@ contains
             this%f_plus(n), this%a(n), this%b(n), this%secant(n))
         allocate(this%values(n_values), this%x_new(system%n_state()))
         call system%path_weights(this%weights)
+        call system%set_load_problem(load, base=x)
     end subroutine path_init
 
     subroutine path_advance(this, system, stepper, x, err)
@@ -157,7 +161,7 @@ contains
         converged = .false.
         why = ''
         mu_start = this%load / this%settings%load_scale
-        call system%set_load_problem(this%load, base=x)
+        call system%set_load_problem(this%load)
         call system%load_step(this%load, t_n, h)
         call system%predictor(t_n, h, x, this%y_start)
 

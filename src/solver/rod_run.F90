@@ -208,7 +208,7 @@ contains
             load_scale=scene%time%t_end, newton_atol=scene%solver%newton_atol, &
             max_newton=scene%solver%max_newton)
         settings%arc_length_min = settings%arc_length * 0.5_rk**(2 * scene%solver%max_cutbacks)
-        call this%path%init(this%system, settings, this%context%n_values, 0.0_rk)
+        call this%path%init(this%system, settings, this%context%n_values, 0.0_rk, this%x)
         do i = 1, size(this%histories)
             call this%histories(i)%init_load_time()
         end do
@@ -224,7 +224,6 @@ contains
         started = wall_time()
         load_before = this%path%load
         call this%path%advance(this%system, this%stepper, this%x, this%err)
-        call this%system%set_step_problem(.false., this%path%load)
         this%solve_seconds = this%solve_seconds + (wall_time() - started)
         this%total_iterations = this%total_iterations + this%path%iterations
         this%total_cutbacks = this%total_cutbacks + this%path%cutbacks
