@@ -1795,8 +1795,8 @@ contains
 
     !> The continuation's path weights (rod_formulation_t%path_weights): positions by 1 / L^2,
     !> directors by 1/2 (a small turn dtheta moves the three unit directors by |dd_1|^2 +
-    !> |dd_2|^2 + |dd_3|^2 = 2 dtheta^2), each over the number of nodes; stresses, velocities
-    !> and multipliers 0.
+    !> |dd_2|^2 + |dd_3|^2 = 2 dtheta^2 for orthonormal directors, methods/ph_director_3d.md
+    !> §2.1), each over the number of nodes; stresses, velocities and multipliers 0.
     subroutine ph_director_path_weights(this, w)
         class(ph_director_t), intent(in) :: this
         real(rk), intent(out) :: w(:)

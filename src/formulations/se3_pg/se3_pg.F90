@@ -1373,8 +1373,9 @@ contains
     end function se3_state_measures
 
     !> The continuation's path weights (rod_formulation_t%path_weights): the free positions by
-    !> 1 / L^2 and rotation vectors by 1 (a small turn changes psi by dtheta to first order),
-    !> each over the number of nodes.
+    !> 1 / L^2 and rotation vectors by 1 (a small turn K dphi = T(psi) dpsi changes psi by
+    !> dtheta to first order near psi = 0; methods/se3_petrov_galerkin.md §5.4), each over the
+    !> number of nodes.
     subroutine se3_path_weights(this, w)
         class(se3_pg_t), intent(in) :: this
         real(rk), intent(out) :: w(:)
