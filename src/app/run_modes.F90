@@ -271,8 +271,8 @@ contains
                     'loads (those of t_end), smallest |lambda| first (negative: the reversed ' // &
                     'loads), [mode]', err)
                 if (.not. allocated(err)) call file%write_dataset(group // '/residual', &
-                    modes%residual(1:n), '-', 'relative residual of each eigenpair (SLEPc, ' // &
-                    'of the equilibrated pencil), [mode]', err)
+                    modes%residual(1:n), '-', 'backward error of each eigenpair (SLEPc, ' // &
+                    '|r| / ((|A| + |mu| |B|) |x|) of the equilibrated pencil), [mode]', err)
                 if (.not. allocated(err)) call file%write_attribute(group, 'solver', &
                     modes%solver, err)
                 if (.not. allocated(err)) call file%write_attribute(group, 'unbalance', &
@@ -292,8 +292,8 @@ contains
                     'i omega (zero without damping), [mode]', err)
                 if (allocated(err)) exit body
                 call file%write_dataset(group // '/residual', modes%residual(1:n), '-', &
-                    'relative residual of each eigenpair (SLEPc, of the equilibrated ' // &
-                    'pencil), [mode]', err)
+                    'backward error of each eigenpair (SLEPc, |r| / ((|A| + |mu| |B|) ' // &
+                    '|x|) of the equilibrated pencil), [mode]', err)
                 if (allocated(err)) exit body
                 call file%write_attribute(group, 'about', trim(scene%modes%about), err)
                 if (.not. allocated(err)) call file%write_attribute(group, 'solver', modes%solver, err)

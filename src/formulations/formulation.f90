@@ -37,8 +37,14 @@ module rs_formulations_formulation
     !> row may carry a factor h^p, e.g. ph_director's momentum rows, methods §5.2) ...
     integer, parameter, public :: modal_first_order = 1
     !> ... or a second-order one M q'' + C q' + K q = 0 in positions alone (the velocities
-    !> eliminated by the midpoint rule), J(h) = 2 M/h^2 + C/h + K/2.
+    !> eliminated by the midpoint rule), J(h) = 2 M/h^2 + C/h + K/2 ...
     integer, parameter, public :: modal_second_order = 2
+    !> ... or a first-order system B x' + A x = 0 in rates and stresses (an intrinsic state
+    !> without positions, whose rigid motions are simple zeros) advanced by a consistent
+    !> one-step scheme other than the midpoint rule (se3_strand's semi-implicit step, whose
+    !> coefficients are frozen at t_n): J(h) = dF/dY = B/h + A_Y and dF/dX_n = -B/h + A_X
+    !> (rod_formulation_t%state_jacobian), A = A_Y + A_X (each row may carry a factor h^p).
+    integer, parameter, public :: modal_one_step = 3
 
     !> What a formulation is, as the run and the solver need to know it: constants of the
     !> object once init has run (they follow from the scene: quasistatic or not, condensed
@@ -79,7 +85,7 @@ module rs_formulations_formulation
         !> balance on the first rod and zero on the others (docs/developer/architecture.md).
         logical :: shared_balance = .false.
         !> The form of the step Jacobian at rest (modal_none, modal_first_order,
-        !> modal_second_order): which linear pencil modal analysis reads from it
+        !> modal_second_order, modal_one_step): which linear pencil modal analysis reads from it
         !> (rs_system_linearization), checked there against Jacobians at several h.
         integer :: modal_form = modal_none
         !> The step problem of the endpoint equilibrium (set_step_problem(.true., t_load)
@@ -242,6 +248,11 @@ module rs_formulations_formulation
         !> `available` false: the formulation cannot (default), and the buckling analysis takes
         !> the difference of the loaded and the unloaded tangents instead.
         procedure :: stress_only => default_stress_only
+        !> dF/dX_n in the values of the CSR pattern of dF/dY, the columns being the entries of
+        !> X_n that the predictor copies into Y (x_n(1:n_unknown)): what modal analysis needs
+        !> besides dF/dY when the step's coefficients are frozen at t_n (modal_one_step,
+        !> docs/theory/modes.md). status state_invalid: not available (the default).
+        procedure :: state_jacobian => default_state_jacobian
         !> Where the coordinates of the nodes are (rod_nodes_t), for couplings; default: no
         !> node access.
         procedure :: nodes => default_nodes
@@ -395,6 +406,15 @@ contains
         class(rod_formulation_t), intent(in) :: this
         real(rk), intent(inout) :: x(:)
     end subroutine default_rest_state
+
+    subroutine default_state_jacobian(this, t_n, h, x_n, y, values, status)
+        class(rod_formulation_t), intent(inout) :: this
+        real(rk), intent(in) :: t_n, h, x_n(:), y(:)
+        real(rk), intent(out) :: values(:)
+        integer, intent(out) :: status
+        values = 0.0_rk
+        status = state_invalid
+    end subroutine default_state_jacobian
 
     subroutine default_stress_only(this, available, loaded)
         class(rod_formulation_t), intent(inout) :: this

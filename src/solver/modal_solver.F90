@@ -8,7 +8,9 @@
 !> pencil gives every mode as two eigenvalues: an oscillating one as a conjugate pair (counted
 !> once, omega = |Im mu|), a rigid-body mode as a double zero (a Jordan block of the first-
 !> order form) that round-off splits into +-i epsilon (a pair, as before) or +-epsilon (two
-!> real eigenvalues, paired: omega^2 = mu_1 mu_2); a second-order undamped pencil gives
+!> real eigenvalues, paired: omega^2 = mu_1 mu_2), except in a state of rates and stresses
+!> without positions (pencil_t%simple_zeros: se3_strand), where a rigid motion is one zero and
+!> every real eigenvalue a mode of its own; a second-order undamped pencil gives
 !> omega^2 directly. A negative omega^2 (an unstable state, or a rigid-body zero split to
 !> -epsilon^2) is reported as a negative frequency.
 module rs_solver_modal_solver
@@ -32,7 +34,7 @@ module rs_solver_modal_solver
         !> Buckling (solve_buckling): the load factor lambda of each mode, smallest |lambda|
         !> first (omega and decay zero).
         real(rk), allocatable :: load_factor(:)
-        !> SLEPc's relative residual of each eigenpair (of the equilibrated pencil).
+        !> SLEPc's backward error of each eigenpair (of the equilibrated pencil).
         real(rk), allocatable :: residual(:)
         !> The eigenvectors in the step unknowns (n_unknown x n), real and imaginary parts,
         !> scaled to a largest modulus of 1. Their phase is free: the caller chooses it on the
@@ -71,6 +73,9 @@ module rs_solver_modal_solver
     !> 1/sigma, and Krylov-Schur stalls: with 1e-3 / dt, seed 004's 16 m tube (0.528 Hz, dt =
     !> 1e-6) found no mode in 500 restarts. A shift below them separates them as 1/omega.
     real(rk), parameter :: shift_share = 1.0e-6_rk
+    !> An eigenvalue |mu| below this share of the shift is a zero at round-off (the rigid
+    !> motions of pencil_t%simple_zeros: about 1e-15 of it).
+    real(rk), parameter :: zero_share = 1.0e-6_rk
     !> The weight of solve_buckling's equilibration (equilibrated_solve), a load factor: the
     !> loads of a buckling run are a share of the critical ones, so the factors wanted are of
     !> order 1 and above. 1 and 1e3 gave the same factors in every case of
@@ -285,10 +290,23 @@ contains
                 call add_mode(sign(sqrt(abs(mu_re(i))), mu_re(i)), 0.0_rk, errors(i), &
                     vec_re(:, i), 0.0_rk * vec_re(:, i))
                 i = i + 1
+            else if (mu_im(i) /= 0.0_rk .and. pencil%simple_zeros .and. &
+                    hypot(mu_re(i), mu_im(i)) < zero_share * abs(shift)) then
+                ! Two simple zeros (rigid motions of a state of rates and stresses) that
+                ! round-off turned into a conjugate pair: two modes, its real and imaginary
+                ! parts spanning their motions.
+                call add_mode(abs(mu_im(i)), mu_re(i), errors(i), vec_re(:, i), 0.0_rk * vec_re(:, i))
+                if (modes%n < n_modes) call add_mode(abs(mu_im(i)), mu_re(i), errors(i), &
+                    vec_im(:, i), 0.0_rk * vec_re(:, i))
+                i = i + 2
             else if (mu_im(i) /= 0.0_rk) then
                 ! mu = -s = delta -+ i omega; its conjugate follows it (real SLEPc).
                 call add_mode(abs(mu_im(i)), mu_re(i), errors(i), vec_re(:, i), vec_im(:, i))
                 i = i + 2
+            else if (pencil%simple_zeros) then
+                ! A state of rates and stresses: a real eigenvalue is a mode, s = -mu.
+                call add_mode(0.0_rk, mu_re(i), errors(i), vec_re(:, i), 0.0_rk * vec_re(:, i))
+                i = i + 1
             else if (pending == 0) then
                 pending = i
                 i = i + 1

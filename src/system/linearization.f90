@@ -38,7 +38,7 @@ module rs_system_linearization
     use rs_core_error, only: error_t, set_error
     use rs_core_strings, only: str, str_significant
     use rs_formulations_formulation, only: formulation_traits_t, state_valid, modal_none, &
-        modal_first_order, modal_second_order
+        modal_first_order, modal_second_order, modal_one_step
     use rs_system_rod_system, only: rod_system_t
     implicit none
     private
@@ -63,6 +63,10 @@ module rs_system_linearization
         real(rk) :: z0 = 0.0_rk
         !> a0 is a tangent stiffness read for linearized buckling (buckling_stiffness).
         logical :: stiffness = .false.
+        !> First order in rates and stresses without positions (modal_one_step: se3_strand's
+        !> intrinsic state): a rigid motion is one zero eigenvalue, not a Jordan block of two,
+        !> and every real eigenvalue is a mode of its own.
+        logical :: simple_zeros = .false.
     end type pencil_t
 
     !> Powers of h of the fit, and the sample points z / z0 (the last one checks).
@@ -88,7 +92,7 @@ contains
         type(pencil_t), intent(out) :: pencil
         type(error_t), allocatable, intent(out) :: err
         type(formulation_traits_t) :: traits
-        real(rk), allocatable :: coefficients(:, :), row_scale(:)
+        real(rk), allocatable :: coefficients(:, :), row_scale(:), total(:, :), total_scale(:)
         real(rk) :: z0, z_new
         character(len=:), allocatable :: message
         integer :: pass
@@ -101,7 +105,10 @@ contains
             RS_SET_ERROR(err, 'linearize_system', message)
             return
         end if
-        pencil%form = traits%modal_form
+        ! A one-step scheme's pencil is first order; its A needs dF/dX_n as well (fit_total).
+        pencil%form = merge(modal_first_order, traits%modal_form, &
+            traits%modal_form == modal_one_step)
+        pencil%simple_zeros = traits%modal_form == modal_one_step
         pencil%n = system%n_unknown()
         call system%jacobian_pattern(pencil%row_ptr, pencil%cols)
         ! Rebalance z0 from the coefficients of the pass before until it settles (a stiff rod
@@ -119,7 +126,13 @@ contains
         pencil%z0 = z0
         call refine(system, t, x, z0, pencil, coefficients, row_scale, err)
         RS_RETURN_IF_ERROR(err)
-        call classify(pencil, coefficients, row_scale, z0, err)
+        if (traits%modal_form == modal_one_step) then
+            call fit(system, t, x, z0, pencil, total, total_scale, err, with_state=.true.)
+            RS_RETURN_IF_ERROR(err)
+            call classify(pencil, coefficients, row_scale, z0, err, total, total_scale)
+        else
+            call classify(pencil, coefficients, row_scale, z0, err)
+        end if
         RS_RETURN_IF_ERROR(err)
         if (all(pencil%a1 == 0.0_rk) .and. all(pencil%a2 == 0.0_rk)) then
             message = 'the equations of motion have no inertia: give the rods a density ' // &
@@ -321,18 +334,23 @@ contains
 
     !> Jacobians at z0 * samples, the coefficients of h^powers entry by entry (nnz x 4), each
     !> row's largest sample entry, the check against the fifth sample and the unbalance.
-    subroutine fit(system, t, x, z0, pencil, coefficients, row_scale, err)
+    !> `with_state`: of dF/dY + dF/dX_n (a one-step scheme's total, modal_one_step).
+    subroutine fit(system, t, x, z0, pencil, coefficients, row_scale, err, with_state)
         type(rod_system_t), intent(inout) :: system
         real(rk), intent(in) :: t, x(:), z0
         type(pencil_t), intent(inout) :: pencil
         real(rk), allocatable, intent(out) :: coefficients(:, :), row_scale(:)
         type(error_t), allocatable, intent(out) :: err
+        logical, intent(in), optional :: with_state
         real(rk) :: vandermonde(4, 4), inverse(4, 4), z, h, worst, scale
-        real(rk), allocatable :: values(:, :), y(:), y_first(:), f(:)
+        real(rk), allocatable :: values(:, :), y(:), y_first(:), f(:), state(:)
         character(len=:), allocatable :: message
         integer :: k, j, status, nnz, i
+        logical :: total
+        total = .false.
+        if (present(with_state)) total = with_state
         nnz = size(pencil%cols)
-        allocate(values(nnz, 5), y(pencil%n), f(pencil%n))
+        allocate(values(nnz, 5), y(pencil%n), f(pencil%n), state(nnz))
         do k = 1, 5
             z = z0 * samples(k)
             h = 1.0_rk / z
@@ -350,6 +368,17 @@ contains
             if (status /= state_valid) then
                 RS_SET_ERROR(err, 'linearize_system', 'the state is invalid (NaN, an inverted element)')
                 return
+            end if
+            if (total) then
+                call system%state_jacobian(t - 0.5_rk * h, h, x, y, state, status)
+                if (status /= state_valid) then
+                    message = 'modal analysis of ' // system%formulation // ' needs the ' // &
+                        'derivative of its step by the state at t_n, which it gives for one ' // &
+                        'rod without couplings or dead loads (docs/theory/modes.md)'
+                    RS_SET_ERROR(err, 'linearize_system', message)
+                    return
+                end if
+                values(:, k) = values(:, k) + state
             end if
             if (k == 1) then
                 call system%step_residual(t - 0.5_rk * h, h, x, y, f, status)
@@ -447,12 +476,15 @@ contains
         w = 2.0_rk**nint(log(weight) / log(2.0_rk))
     end function balance_weight
 
-    !> The pencil's a0, a1, a2 from the powers present in each row (module header).
-    subroutine classify(pencil, coefficients, row_scale, z0, err)
+    !> The pencil's a0, a1, a2 from the powers present in each row (module header). With
+    !> `total` and `total_scale`, the coefficients of dF/dY + dF/dX_n of a one-step scheme
+    !> (modal_one_step, classify_one_step_row).
+    subroutine classify(pencil, coefficients, row_scale, z0, err, total, total_scale)
         type(pencil_t), intent(inout) :: pencil
         real(rk), intent(in) :: coefficients(:, :), row_scale(:), z0
         type(error_t), allocatable, intent(out) :: err
-        logical :: present(4)
+        real(rk), intent(in), optional :: total(:, :), total_scale(:)
+        logical :: has(4)
         character(len=:), allocatable :: message
         integer :: i, k, lo, hi
         allocate(pencil%a0(size(pencil%cols)), pencil%a1(size(pencil%cols)), &
@@ -462,10 +494,19 @@ contains
             lo = pencil%row_ptr(i) + 1
             hi = pencil%row_ptr(i + 1)
             if (hi < lo) cycle
-            present = row_powers(coefficients(lo:hi, :), row_scale(i), z0)
-            if (count(present) == 1) then
+            has = row_powers(coefficients(lo:hi, :), row_scale(i), z0)
+            if (present(total)) then
+                call classify_one_step_row(pencil, lo, hi, has, coefficients(lo:hi, :), &
+                    total(lo:hi, :), row_powers(total(lo:hi, :), max(row_scale(i), &
+                    total_scale(i)), z0), message)
+                if (.not. allocated(message)) cycle
+                message = 'row ' // str(i) // ' of the step ' // message
+                RS_SET_ERROR(err, 'linearize_system', message)
+                return
+            end if
+            if (count(has) == 1) then
                 ! One power: an algebraic row (a constraint), whatever its factor.
-                k = findloc(present, .true., dim=1)
+                k = findloc(has, .true., dim=1)
                 pencil%a0(lo:hi) = coefficients(lo:hi, k)
                 pencil%n_algebraic = pencil%n_algebraic + 1
                 cycle
@@ -473,28 +514,61 @@ contains
             if (pencil%form == modal_first_order) then
                 ! h^p (B / h + A / 2): two neighbouring powers p (A / 2) and p - 1 (B).
                 do k = 1, 3
-                    if (present(k) .and. present(k + 1) .and. count(present) == 2) then
+                    if (has(k) .and. has(k + 1) .and. count(has) == 2) then
                         pencil%a0(lo:hi) = 2.0_rk * coefficients(lo:hi, k)
                         pencil%a1(lo:hi) = coefficients(lo:hi, k + 1)
                         exit
                     end if
                 end do
                 if (k <= 3) cycle
-            else if (.not. present(1)) then
+            else if (.not. has(1)) then
                 ! 2 M / h^2 + C / h + K / 2, doubled; an absent power is round-off, dropped.
-                if (present(2)) pencil%a0(lo:hi) = 4.0_rk * coefficients(lo:hi, 2)
-                if (present(3)) pencil%a1(lo:hi) = 2.0_rk * coefficients(lo:hi, 3)
-                if (present(4)) pencil%a2(lo:hi) = coefficients(lo:hi, 4)
+                if (has(2)) pencil%a0(lo:hi) = 4.0_rk * coefficients(lo:hi, 2)
+                if (has(3)) pencil%a1(lo:hi) = 2.0_rk * coefficients(lo:hi, 3)
+                if (has(4)) pencil%a2(lo:hi) = coefficients(lo:hi, 4)
                 cycle
             end if
             message = 'row ' // str(i) // ' of the step Jacobian has the powers of h ' // &
-                powers_text(present) // ', which a ' // trim(merge('first ', 'second', &
+                powers_text(has) // ', which a ' // trim(merge('first ', 'second', &
                 pencil%form == modal_first_order)) // '-order midpoint step does not have ' // &
                 '(docs/theory/modes.md)'
             RS_SET_ERROR(err, 'linearize_system', message)
             return
         end do
     end subroutine classify
+
+    !> Entries lo:hi of the pencil of a one-step scheme (modal_one_step) from the powers and
+    !> coefficients of the row in dF/dY (`has`, `coefficients`) and in dF/dY + dF/dX_n
+    !> (`has_total`, `total`): a row h^p (B / h + A_Y) of dF/dY with dF/dX_n = h^p (-B / h
+    !> + A_X) gives a1 = B and a0 = A_Y + A_X, the total's h^p coefficient, whose h^(p-1) one
+    !> must vanish (the scheme is consistent there: X_n and Y differ by h x'); a row with one
+    !> power is algebraic, its a0 the total's coefficient of that power. `message` is
+    !> allocated (the rest of an error text) when the row is of neither kind.
+    subroutine classify_one_step_row(pencil, lo, hi, has, coefficients, total, &
+            has_total, message)
+        type(pencil_t), intent(inout) :: pencil
+        integer, intent(in) :: lo, hi
+        logical, intent(in) :: has(4), has_total(4)
+        real(rk), intent(in) :: coefficients(:, :), total(:, :)
+        character(len=:), allocatable, intent(out) :: message
+        integer :: k
+        k = findloc(has, .true., dim=1)
+        if (count(has) == 1 .and. count(has_total .and. .not. has) == 0) then
+            pencil%a0(lo:hi) = total(:, k)
+            pencil%n_algebraic = pencil%n_algebraic + 1
+            return
+        end if
+        if (count(has) == 2 .and. k < 4) then
+            if (has(k + 1) .and. .not. has_total(k + 1)) then
+                pencil%a0(lo:hi) = total(:, k)
+                pencil%a1(lo:hi) = coefficients(:, k + 1)
+                return
+            end if
+        end if
+        message = 'has the powers of h ' // powers_text(has) // ' in dF/dY and ' // &
+            powers_text(has_total) // ' in dF/dY + dF/dX_n, which a consistent ' // &
+            'one-step scheme B x'' + A x = 0 does not have (docs/theory/modes.md)'
+    end subroutine classify_one_step_row
 
     !> The powers of h present in a row (its entries' coefficients), by their terms at z0
     !> against the row's largest sample entry.

@@ -91,6 +91,9 @@ module rs_system_rod_system
         procedure :: step_admissible => system_step_admissible
         procedure :: refuses_iterates => system_refuses_iterates
         procedure :: step_jacobian => system_step_jacobian
+        !> dF/dX_n (rod_formulation_t%state_jacobian): one rod's; refused (state_invalid) for
+        !> coupled systems, whose couplings have none.
+        procedure :: state_jacobian => system_state_jacobian
         !> Book an accepted step: the members' energy terms and the Newton statistics in the
         !> ledger, the work of the couplings on each rod; step_energy for the sentinel.
         procedure :: accept_step => system_accept_step
@@ -738,6 +741,17 @@ contains
                 y, values)
         end do
     end subroutine system_step_jacobian
+
+    subroutine system_state_jacobian(this, t_n, h, x_n, y, values, status)
+        class(rod_system_t), intent(inout) :: this
+        real(rk), intent(in) :: t_n, h, x_n(:), y(:)
+        real(rk), intent(out) :: values(:)
+        integer, intent(out) :: status
+        values = 0.0_rk
+        status = state_invalid
+        if (.not. this%direct) return
+        call this%members(1)%rod%state_jacobian(t_n, h, x_n, y, values, status)
+    end subroutine system_state_jacobian
 
     ! ---- Before and after a step ----------------------------------------------------------
 

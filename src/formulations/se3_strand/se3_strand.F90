@@ -43,7 +43,7 @@ module rs_se3_strand
     use rs_math_se3, only: log_se3, pose_relative
     use rs_assembly_csr_pattern, only: csr_builder_t, csr_pattern_t
     use rs_formulations_formulation, only: rod_formulation_t, formulation_traits_t, state_valid, &
-        state_invalid, state_measures_t
+        state_invalid, state_measures_t, modal_one_step
     use rs_formulations_energy_sentinel, only: step_energy_t, energy_dissipative
     use rs_se3_strand_kernels, only: cross_matrix, strand_march, strand_ad_transpose_block, &
         strand_ad_block, strand_ad_times, strand_cross, strand_row_residual, strand_row_to_csr, &
@@ -141,6 +141,7 @@ module rs_se3_strand
         procedure :: update => strand_update
         procedure :: step_residual => strand_step_residual
         procedure :: step_jacobian => strand_step_jacobian
+        procedure :: state_jacobian => strand_state_jacobian
         procedure :: accept_step => strand_accept_step
         procedure :: init_history => strand_init_history
         procedure :: record => strand_record
@@ -583,13 +584,21 @@ contains
         real(rk), intent(in) :: t_n, h, x_n(:), y(:)
         real(rk), intent(out) :: values(:)
         integer, intent(out) :: status
-        integer :: b, c, i, j, at
         call this%ensure_assembled(t_n, h, x_n, status)
         if (status /= state_valid) return
+        call blocks_to_csr(this, this%blocks, values)
+    end subroutine strand_step_jacobian
+
+    !> The blocks (6, 6, 3, 0:n_blocks-1) of a matrix on the step's pattern as its CSR values.
+    subroutine blocks_to_csr(this, blocks, values)
+        type(se3_strand_t), intent(in) :: this
+        real(rk), intent(in) :: blocks(:, :, :, 0:)
+        real(rk), intent(out) :: values(:)
+        integer :: b, c, i, j, at
         if (this%csr_in_block_order) then
             at = 0
             do b = 0, this%n_blocks - 1
-                call strand_row_to_csr(this%blocks(:, :, :, b), this%n_row_blocks(b), &
+                call strand_row_to_csr(blocks(:, :, :, b), this%n_row_blocks(b), &
                     values(at + 1:at + 36 * this%n_row_blocks(b)))
                 at = at + 36 * this%n_row_blocks(b)
             end do
@@ -600,12 +609,76 @@ contains
                 if (this%row_blocks(c, b) < 0) cycle
                 do j = 1, 6
                     do i = 1, 6
-                        values(this%block_map(i, j, c, b)) = this%blocks(i, j, c, b)
+                        values(this%block_map(i, j, c, b)) = blocks(i, j, c, b)
                     end do
                 end do
             end do
         end do
-    end subroutine strand_step_jacobian
+    end subroutine blocks_to_csr
+
+    !> dF/dX_n of the step (rod_formulation_t%state_jacobian, modal_one_step): the frozen
+    !> coefficients' dependence on P_n and Sigma_n (ad_{V_n}, ad_{U_n}, U_n = A^-1 Sigma_n +
+    !> U_bar), the right-hand side's P_n / h and Sigma_n / h, the Kelvin-Voigt and internal
+    !> laws' Sigma_n (docs/theory/modes.md, "se3_strand"). F is at most quadratic in X_n (the
+    !> Kelvin-Voigt right-hand side c(Sigma_n) theta Sigma_n; the rest is affine), so central
+    !> differences are exact up to round-off for any step; row b reads X_n's blocks b - 1 .. b +
+    !> 1 only, so the columns of blocks three apart are differenced together (18 pairs of
+    !> residuals). Not available with dead loads: their directions at t_n come from the
+    !> placement marched from s = 0, which couples a node to every segment before it, outside
+    !> the pattern.
+    subroutine strand_state_jacobian(this, t_n, h, x_n, y, values, status)
+        class(se3_strand_t), intent(inout) :: this
+        real(rk), intent(in) :: t_n, h, x_n(:), y(:)
+        real(rk), intent(out) :: values(:)
+        integer, intent(out) :: status
+        real(rk), allocatable :: x_plus(:), x_minus(:), f_plus(:), f_minus(:), steps(:)
+        real(rk), allocatable :: derivative(:, :, :, :)
+        integer :: first, i, c, b, slot, k, j, n
+        values = 0.0_rk
+        status = state_invalid
+        if (this%needs_pose) return
+        n = this%n_unknown()
+        allocate(f_plus(n), f_minus(n), steps(0:this%n_blocks - 1))
+        allocate(derivative(6, 6, 3, 0:this%n_blocks - 1), source=0.0_rk)
+        do first = 0, 2
+            do i = 1, 6
+                x_plus = x_n
+                x_minus = x_n
+                do c = first, this%n_blocks - 1, 3
+                    j = 6 * c + i
+                    if (mod(c, 2) == 1) then
+                        ! P_k: a velocity of 1 (m/s or rad/s).
+                        k = (c - 1) / 2
+                        steps(c) = max(this%mass(i, k), 1.0e-3_rk * abs(x_n(j)))
+                    else
+                        ! Sigma_k (k = -1 the ghost): a strain of 1e-3.
+                        k = c / 2 - 1
+                        steps(c) = max(1.0e-3_rk * this%stiff(i, k), 1.0e-3_rk * abs(x_n(j)))
+                    end if
+                    x_plus(j) = x_n(j) + steps(c)
+                    x_minus(j) = x_n(j) - steps(c)
+                end do
+                call this%step_residual(t_n, h, x_plus, y, f_plus, status)
+                if (status == state_valid) &
+                    call this%step_residual(t_n, h, x_minus, y, f_minus, status)
+                if (status /= state_valid) exit
+                do b = 0, this%n_blocks - 1
+                    do slot = 1, 3
+                        c = this%row_blocks(slot, b)
+                        if (c < 0) cycle
+                        if (mod(c, 3) /= first) cycle
+                        derivative(:, i, slot, b) = (f_plus(6 * b + 1:6 * b + 6) - &
+                            f_minus(6 * b + 1:6 * b + 6)) / (2.0_rk * steps(c))
+                    end do
+                end do
+            end do
+            if (status /= state_valid) exit
+        end do
+        ! The cache holds a perturbed step now.
+        this%cached = .false.
+        if (status /= state_valid) return
+        call blocks_to_csr(this, derivative, values)
+    end subroutine strand_state_jacobian
 
     !> Assemble the system of the step (t_n, h, x_n) unless it is the cached one.
     subroutine ensure_assembled(this, t_n, h, x_n, status)
@@ -1086,6 +1159,7 @@ contains
         traits%banded_unknowns = .true.
         traits%linear_step = .true.
         traits%energy_scheme = energy_dissipative
+        traits%modal_form = modal_one_step
     end function strand_traits
 
 end module rs_se3_strand

@@ -28,6 +28,8 @@ contains
         ! external_damping, internal_damping, its own) and the Kelvin-Voigt stress and drag of
         ! every damped formulation (kelvin_voigt_time, drag, angular_drag), not Maxwell
         ! branches. &segment: a stiffness per segment, an inertia per node (issue 26 item 5).
+        ! Modes about the reference, damped ones included (first-order pencil of its one-step
+        ! scheme with dF/dX_n, docs/theory/modes.md), not with dead loads.
         d%capability = capability_t(formulation=d%name, available=.true., &
             end_kinds='clamped|driven|free', end_kinds_at_end='free', &
             end_kinds_note='; se3_strand prescribes the motion or no stress at s = 0 and the ' // &
@@ -36,7 +38,7 @@ contains
             constraints='none', quasistatic=.false., viscoelastic=.false., actuation=.false., &
             curved_reference=.true., prestressed=.true., joints='', planar=.false., &
             relaxation=.true., damping=.true., drive='velocity', segments=.true., &
-            prestrain=.true.)
+            prestrain=.true., modes=.true., damped_modes=.true.)
         ! The damping of seed 004 (methods/se3_strands.md §2.7) and the treatment of the free
         ! end are read by this formulation only.
         d%own_rod_variables = 'free_end|external_damping|internal_damping'
