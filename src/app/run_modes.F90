@@ -1,8 +1,9 @@
 #include "rs_macros.h"
 !> Modal analysis of a scene (&modes; issue 27 item 1, docs/theory/modes.md), after its run:
 !> for every system (one rod, or the rods that joints, plates or contact couple), the
-!> equations of motion linearized about the reference state or the endpoint equilibrium of a
-!> quasistatic run (rs_system_linearization, from the step Jacobians of the system built for
+!> equations of motion linearized about the reference state or the end state of a quasistatic
+!> run with the loads of its load time (t_end, or a continuation's last point's:
+!> system_state_t) (rs_system_linearization, from the step Jacobians of the system built for
 !> dynamics with the midpoint rule, whatever the run's scheme: couplings and constraints
 !> included), their lowest modes
 !> (rs_solver_modal_solver, SLEPc on all ranks together), and on rank 0 the frequencies and
@@ -35,17 +36,20 @@ module rs_app_run_modes
     public :: run_modes
 
     !> The state of one system (in coupled_systems' order) at the end of the run, whole on
-    !> every rank: what about = 'equilibrium' linearizes about.
+    !> every rank, and its load time: what about = 'equilibrium' linearizes about, with the
+    !> loads of that time (rod_runner_t%load_time: t_end after load steps, the path's last
+    !> point's after a continuation, which may be anywhere).
     type, public :: system_state_t
         real(rk), allocatable :: x(:)
+        real(rk) :: load_time = 0.0_rk
     end type system_state_t
 
 
 contains
 
     !> The modes of every system of `scene` into the result file at `path` (which the run has
-    !> completed); `states` are the systems' end states (about = 'equilibrium'). Collective on
-    !> all ranks; `err` is set on every rank.
+    !> completed); `states` are the systems' end states and their load times (about =
+    !> 'equilibrium'). Collective on all ranks; `err` is set on every rank.
     subroutine run_modes(scene, path, states, err)
         type(scene_t), intent(in) :: scene
         character(len=*), intent(in) :: path
@@ -69,12 +73,14 @@ contains
         dynamic%time%scheme = 'midpoint'
         equilibrium = trim(scene%modes%about) == 'equilibrium'
         buckling = trim(scene%modes%kind) == 'buckling'
-        ! The loads of the state: those of t = 0, or of t_end at the endpoint equilibrium.
-        t = merge(scene%time%t_end, 0.0_rk, equilibrium)
         call coupled_systems(scene, system_of, first, members)
         allocate(sidecar(0))
         do k = 1, size(first) - 1
             started = wall_time()
+            ! The loads of the state: those of t = 0, or of the end state's own load time
+            ! (after a continuation not t_end: the path's last point may be anywhere).
+            t = 0.0_rk
+            if (equilibrium) t = states(k)%load_time
             ! Every rank builds the whole system (a modal analysis is one linearization and
             ! one eigen solve: the assembly is cheap next to the solve, which is distributed).
             call build_system(scene, dynamic, members(first(k):first(k + 1) - 1), buckling, &
@@ -103,7 +109,7 @@ contains
             end if
             call log_modes(name, pencil, modes, wall_time() - started)
             if (world_rank() == 0) then
-                call write_modes(scene, path, name, system, x, pencil, modes, rods, err)
+                call write_modes(scene, path, name, system, x, t, pencil, modes, rods, err)
                 if (.not. allocated(err)) sidecar = [sidecar, rods]
             end if
             deallocate(system, x)
@@ -234,12 +240,13 @@ contains
 
     !> /modes/<system>/: frequencies and, per rod, the reference positions of its nodes and
     !> the mode shapes as nodal displacements, each mode scaled to a largest nodal
-    !> displacement of 1 over the system (rank 0).
-    subroutine write_modes(scene, path, name, system, x, pencil, modes, rods, err)
+    !> displacement of 1 over the system (rank 0); the load time t of the loads linearized
+    !> with as an attribute.
+    subroutine write_modes(scene, path, name, system, x, t, pencil, modes, rods, err)
         type(scene_t), intent(in) :: scene
         character(len=*), intent(in) :: path, name
         type(rod_system_t), intent(in) :: system
-        real(rk), intent(in) :: x(:)
+        real(rk), intent(in) :: x(:), t
         type(pencil_t), intent(in) :: pencil
         type(modes_t), intent(in) :: modes
         type(xdmf_mode_rod_t), allocatable, intent(out) :: rods(:)
@@ -268,8 +275,8 @@ contains
                 ! Linearized buckling: load factors, no frequencies.
                 call file%write_dataset(group // '/load_factor', modes%load_factor(1:n), '-', &
                     'critical load factor lambda of each buckling mode relative to the run''s ' // &
-                    'loads (those of t_end), smallest |lambda| first (negative: the reversed ' // &
-                    'loads), [mode]', err)
+                    'loads (those of the end state''s load time, attribute load_time), ' // &
+                    'smallest |lambda| first (negative: the reversed loads), [mode]', err)
                 if (.not. allocated(err)) call file%write_dataset(group // '/residual', &
                     modes%residual(1:n), '-', 'backward error of each eigenpair (SLEPc, ' // &
                     '|r| / ((|A| + |mu| |B|) |x|) of the equilibrated pencil), [mode]', err)
@@ -277,6 +284,7 @@ contains
                     modes%solver, err)
                 if (.not. allocated(err)) call file%write_attribute(group, 'unbalance', &
                     pencil%unbalance, err)
+                if (.not. allocated(err)) call file%write_attribute(group, 'load_time', t, err)
                 if (allocated(err)) exit body
             else
                 call file%write_dataset(group // '/frequency', modes%omega(1:n) / (2.0_rk * pi), &
@@ -301,6 +309,7 @@ contains
                     trim(merge('first ', 'second', pencil%form == modal_first_order)) // '-order', err)
                 if (.not. allocated(err)) call file%write_attribute(group, 'unbalance', &
                     pencil%unbalance, err)
+                if (.not. allocated(err)) call file%write_attribute(group, 'load_time', t, err)
                 if (allocated(err)) exit body
             end if
             shapes = node_phase(system, modes)

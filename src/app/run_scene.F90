@@ -64,7 +64,7 @@ contains
         type(error_t), allocatable :: local_err
         character(len=:), allocatable :: path, message
         integer, allocatable :: records(:)
-        real(rk), allocatable :: record_times(:)
+        real(rk), allocatable :: record_times(:), load_time(:)
         real(rk) :: started, output_seconds, last_report, t_flush, last_sidecar
         integer :: i, n, n_steps, first_step, capacity, n_times
         logical :: restarting, failed, last, unrelaxed
@@ -218,14 +218,19 @@ contains
         output_seconds = output_seconds + (wall_time() - t_flush)
         if (collective_failure(local_err, err, 'the result file could not be completed')) return
         call report_summary(runners, started, output_seconds, min(n, n_steps) - first_step + 1, path)
-        ! Modal analysis (&modes) about the reference state or the run's end state (every
-        ! rank gets each system's from its owner), into the completed file.
+        ! Modal analysis (&modes) about the reference state or the run's end state and its
+        ! load time (every rank gets each system's from its owner), into the completed file.
         if (scene%modes%given .and. .not. failed) then
             allocate(states(size(runners)))
             if (trim(scene%modes%about) == 'equilibrium') then
                 do i = 1, size(runners)
-                    if (system_owner(i) == world_rank()) states(i)%x = runners(i)%x
+                    if (system_owner(i) == world_rank()) then
+                        states(i)%x = runners(i)%x
+                        load_time = [runners(i)%load_time()]
+                    end if
                     call broadcast_array(states(i)%x, system_owner(i))
+                    call broadcast_array(load_time, system_owner(i))
+                    states(i)%load_time = load_time(1)
                 end do
             end if
             call run_modes(scene, path, states, err)
@@ -252,11 +257,21 @@ contains
             end if
             RS_SET_ERROR(err, 'run_scene', message)
         else if (stop_signal /= 0 .and. n < n_steps) then
-            call set_error(err, 'interrupted by ' // signal_name(stop_signal) // ' after step ' // &
-                str(n) // ' of ' // str(n_steps) // ' (t = ' // str(real(n, rk) * scene%time%dt) // &
-                '): every record up to it and the checkpoint are in ' // path // ', with ' // &
-                'status ''interrupted''; &run restart_from = ''' // path // ''' with the same ' // &
-                'scene continues it', 'run_scene', __FILE__, __LINE__, exit_status=128 + stop_signal)
+            if (trim(scene%time%continuation) == 'arc_length') then
+                ! A path step has no time on the grid, and the path cannot be restarted.
+                message = 'interrupted by ' // signal_name(stop_signal) // ' after path step ' // &
+                    str(n) // ' of at most ' // str(n_steps) // ': every record up to it is ' // &
+                    'in ' // path // ', with status ''interrupted'' (the load times in ' // &
+                    '/rods/NAME/series/load_time); a continuation cannot be restarted: run it again'
+            else
+                message = 'interrupted by ' // signal_name(stop_signal) // ' after step ' // &
+                    str(n) // ' of ' // str(n_steps) // ' (t = ' // str(real(n, rk) * &
+                    scene%time%dt) // '): every record up to it and the checkpoint are in ' // &
+                    path // ', with status ''interrupted''; &run restart_from = ''' // path // &
+                    ''' with the same scene continues it'
+            end if
+            call set_error(err, message, 'run_scene', __FILE__, __LINE__, &
+                exit_status=128 + stop_signal)
         else if (unrelaxed) then
             call set_error(err, 'the run did not relax by t_end = ' // str(scene%time%t_end) // &
                 ' (above); its records are in ' // path // ', with status ''not relaxed''', &
@@ -460,8 +475,12 @@ contains
         do i = 1, size(totals)
             if (failed(i) == 1) cycle
             if (rod_owner(i) == world_rank() .and. rod_slot(i) == 1) then
-                call writer%write_checkpoint(i, n, t, one_err, &
-                    runners(rod_system(i))%checkpoint_state(), runners(rod_system(i))%ledger())
+                ! A continuation's step n is a path step, off the time grid: its state is at
+                ! its path's load time.
+                associate (runner => runners(rod_system(i)))
+                    call writer%write_checkpoint(i, n, merge(runner%load_time(), t, &
+                        runner%continuation), one_err, runner%checkpoint_state(), runner%ledger())
+                end associate
             else if (rod_owner(i) == world_rank()) then
                 ! Coupled to the system's first rod, which holds the checkpoint.
                 call writer%write_checkpoint(i, n, t, one_err, no_values, no_values)

@@ -45,7 +45,7 @@ contains
         integer, allocatable :: system_of(:), first(:), members(:), system_rank(:)
         type(formulation_descriptor_t) :: d
         class(rod_formulation_t), allocatable :: mold
-        character(len=:), allocatable :: semi_implicit_step, after_path
+        character(len=:), allocatable :: semi_implicit_step, after_path, ending
 
         units = trim(scene%run%units)
         n_steps = step_count(scene)
@@ -103,16 +103,20 @@ contains
                 'every ' // str(scene%output%flush_every) // ' step(s), XDMF sidecar ' // &
                 trim(merge('yes', 'no ', scene%output%xdmf)))
         end if
-        ! After a continuation the equilibrium is the path's last point, whose load time
-        ! passed t_end, while the linearization takes the loads of t_end (rs_app_run_modes).
+        ! After a continuation the equilibrium is the path's last point, with the loads of its
+        ! own load time, which may be anywhere (rs_app_run_modes, rod_runner_t%load_time).
         after_path = ''
+        ending = 't_end'
+        if (trim(scene%time%continuation) == 'arc_length') ending = 'the end state''s load time'
         if (trim(scene%time%continuation) == 'arc_length' .and. &
             trim(scene%modes%about) == 'equilibrium') after_path = ' (after the ' // &
-            'continuation: about the path''s last point, whose load time is past t_end, with ' // &
-            'the loads of t_end; the run reports the unbalance)'
+            'continuation: about the path''s last point, with the loads of its load time, ' // &
+            'past t_end or, after path_steps or past a limit point, anywhere below it; the ' // &
+            'attribute load_time of the group says which)'
         if (scene%modes%given .and. trim(scene%modes%kind) == 'buckling') then
             call add('buckling: after the run, the ' // str(scene%modes%n_modes) // &
-                ' load factors nearest 0 of the run''s loads (those of t_end) and their ' // &
+                ' load factors nearest 0 of the run''s loads (those of ' // ending // &
+                ') and their ' // &
                 'buckling modes, (K_0 + lambda K_geo) phi = 0 with K_0 the unloaded ' // &
                 'reference''s stiffness and K_geo the stiffness of the end equilibrium''s ' // &
                 'stresses and of the loads at the reference (se3_pg; ph_planar: K_geo = ' // &

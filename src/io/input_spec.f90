@@ -972,12 +972,15 @@ contains
             spec_v('about', 'string', '-', "'reference'", &
                 'The state the equations of motion are linearized about: ''reference'', the ' // &
                 'initial state of the scene (with the loads of t = 0); ''equilibrium'', the ' // &
-                'endpoint equilibrium of a quasistatic run (with the loads of t_end: ' // &
-                'prestress and load stiffness included).', &
+                'end state of a quasistatic run with the loads of its load time (prestress ' // &
+                'and load stiffness included): t_end after load steps; after a continuation ' // &
+                'the path''s last point, whose load time may be past t_end or, after ' // &
+                'path_steps or past a limit point, below it (attribute load_time of /modes).', &
                 allowed='reference|equilibrium', example="'equilibrium'"), &
             spec_v('kind', 'string', '-', "'modes'", &
                 '''modes'': frequencies and mode shapes; ''buckling'': linearized buckling, ' // &
-                'the critical load factors lambda of the run''s loads (those of t_end) and ' // &
+                'the critical load factors lambda of the run''s loads (those of the end ' // &
+                'state''s load time, as for about) and ' // &
                 'the buckling modes, from (K_0 + lambda K_geo) phi = 0 with K_0 the ' // &
                 'stiffness of the reference state (loads of t = 0, give a ramp) and K_geo ' // &
                 'that of the stresses of the equilibrium u_1 and of the loads, at the ' // &

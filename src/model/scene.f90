@@ -511,7 +511,8 @@ module rs_model_scene
         !> Number of modes (rigid-body modes included), lowest first.
         integer :: n_modes = 10
         !> The state the equations are linearized about: 'reference' (the initial state, loads
-        !> of t = 0) or 'equilibrium' (the endpoint of a quasistatic run, loads of t_end).
+        !> of t = 0) or 'equilibrium' (the end state of a quasistatic run, with the loads of
+        !> its load time: t_end, or a continuation's last point's).
         character(len=16) :: about = 'reference'
         !> What is computed: 'modes' (frequencies) or 'buckling' (the critical load factors of
         !> the run's loads about the reference state, issue 27 item 2).

@@ -122,6 +122,8 @@ module rs_solver_rod_run
         procedure :: checkpoint_state => runner_checkpoint_state
         !> Kinetic energy of the state (-1: not reported).
         procedure :: kinetic_energy => runner_kinetic_energy
+        !> The load time of the state x: the loads' time functions at it.
+        procedure :: load_time => runner_load_time
         !> Wall time spent assembling residuals and Jacobians.
         procedure :: assembly_seconds => runner_assembly_seconds
         !> Destroy the stepper and the system and print the rod's summary line.
@@ -684,6 +686,20 @@ contains
         measures = this%system%state_measures(this%x)
         runner_kinetic_energy = measures%kinetic_energy
     end function runner_kinetic_energy
+
+    !> The load time of the state x: a continuation's is its path's current point's (the
+    !> load time an unknown of the path, anywhere: past t_end at its end, or below it after
+    !> path_steps or past a limit point), a run on the time grid's the time of its last step,
+    !> min(step dt, t_end) (t_end once it completed). What &modes about = 'equilibrium'
+    !> linearizes with (rs_app_run_modes), not t_end.
+    real(rk) function runner_load_time(this)
+        class(rod_runner_t), intent(in) :: this
+        if (this%continuation) then
+            runner_load_time = this%path%load
+        else
+            runner_load_time = min(real(this%step, rk) * this%time%dt, this%time%t_end)
+        end if
+    end function runner_load_time
 
     real(rk) function runner_assembly_seconds(this)
         class(rod_runner_t), intent(in) :: this

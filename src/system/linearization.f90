@@ -144,7 +144,7 @@ contains
     !> The stiffnesses of linearized buckling (docs/theory/modes.md), K_0 phi = -lambda K_geo
     !> phi, as the a0 of two pencils on the system's pattern: `reference`, K_0 at the unloaded
     !> initial state x_0 with the loads of t = 0, and `geometric`, K_geo, the stiffness the
-    !> loads of t add (the run's t_end: the load pattern) for the run's equilibrium x. Read
+    !> loads of t add (x's load time: the load pattern) for the run's equilibrium x. Read
     !> - where the formulation's static problem has K_T as its Jacobian (traits%static_tangent:
     !>   ph_director in a quasistatic run), from that Jacobian (static_tangent): K_geo =
     !>   K_T(x) - K_0;

@@ -35,6 +35,15 @@ Cases:
       load of the stability analysis; within 2e-3 of the path's maximum (a parabola through
       the three path points about it; measured 1.8e-4). `rodplot.py path` prints the same
       limit point.
+  path_end_modes_se3_pg
+      &modes about = 'equilibrium' after a continuation that ends below t_end: a se3_pg
+      cantilever bent by a follower tip force normal to its end (whose load stiffness enters
+      the modes), 12 path steps ending at the load time 0.397 of t_end = 1. The modes must be
+      those of the path's last point under the loads of its own load time (attribute
+      load_time of /modes/column): against the modes of a load-stepped run to that load time
+      (its endpoint equilibrium, the same state) within 1e-6 (measured 3.1e-8; with the loads
+      of t_end they were up to 0.357 off). The checkpoint's time is that load time too, and
+      the state's unbalance under the loads is at round-off.
 """
 import math
 import os
@@ -160,9 +169,9 @@ def elastica(formulation, meshes, order, pinned=True, **options):
     return case
 
 
-def load_stepped(text, load_time):
+def load_stepped(text, load_time, n_modes=3):
     """The scene `text` with load steps to `load_time` in place of its continuation, and the
-    modes about its equilibrium."""
+    lowest `n_modes` modes about its equilibrium."""
     start = text.index("\n&time")
     end = text.index("\n/", start + 1)
     time = f"""
@@ -171,7 +180,7 @@ def load_stepped(text, load_time):
     dt = {load_time / 40!r}
     quasistatic = .true."""
     return (text[:start] + time + text[end:] +
-            "&modes\n    n_modes = 3, about = 'equilibrium'\n/\n")
+            f"&modes\n    n_modes = {n_modes}, about = 'equilibrium'\n/\n")
 
 
 def snap_through(args, checks):
@@ -229,6 +238,80 @@ def snap_through(args, checks):
     checks.check("limit load: |stability analysis / path - 1|", abs(stability / limit - 1), 2e-3)
 
 
+def follower_cantilever():
+    """The cantilever of the elastica cases (se3_pg, 40 elements) under a tip force normal to
+    the rod's end (a follower force along d1, its frame turning with the end), growing linearly
+    with the load time to 0.9 N (5.7 EI / L^2) at t_end = 1; a continuation of 12 path steps,
+    which end near the load time 0.4, well below t_end. No &modes (the callers add them)."""
+    return f"""&run
+    title = 'Cantilever under a follower tip force, modes at the end of its path'
+/
+&time
+    t_end = 1.0
+    dt = 1.0
+    quasistatic = .true.
+    continuation = 'arc_length'
+    arc_length = 0.05
+    arc_length_max = 0.1
+    path_steps = 12
+/
+&solver
+    newton_atol = 1e-7
+/
+&rod
+    name = 'column', formulation = 'se3_pg', n_elements = 40, length = 1.0
+    start = 0.0, 0.0, 0.0, direction = 1.0, 0.0, 0.0
+    section = 'circle', radius = 1e-3, E = {E}, G = {G}, density = {RHO}
+/
+&bc
+    rod = 'column', end = 'start', kind = 'clamped'
+/
+&load
+    rod = 'column', where = 'end', force = 0.9, 0.0, 0.0, frame = 'follower'
+    {LINEAR}
+/
+&output
+    path = 'x.h5'
+/
+"""
+
+
+def path_end_modes(args, checks):
+    text = follower_cantilever()
+    path = run(args, text + "&modes\n    n_modes = 4, about = 'equilibrium'\n/\n", "path_end")
+    with h5py.File(path, "r") as f:
+        load_time = f["rods"]["column"]["series"]["load_time"][()]
+        tip = f["rods"]["column"]["position"][-1, -1]
+        modes = f["modes"]["column"]
+        frequency = modes["frequency"][()]
+        about_load_time = modes.attrs["load_time"]
+        unbalance = modes.attrs["unbalance"]
+        checkpoint_time = f["checkpoint"]["column"]["time"][()][0]
+    end = load_time[-1]
+    print(f"path: {len(load_time) - 1} steps to the load time {end:.8f}, tip at {tip}; "
+          f"frequencies (Hz) {frequency}, unbalance {unbalance:.3e}")
+    checks.check("the path ends well below t_end = 1: its last load time - 0.5", end - 0.5, 0.0)
+    checks.check("the path bends the rod: tip x / L - 0.9 (below 0)", tip[0] - 0.9, 0.0)
+    checks.check("/modes load_time is the path's last load time (difference)",
+                 abs(about_load_time - end), 0.0)
+    checks.check("/checkpoint time is the path's last load time (difference)",
+                 abs(checkpoint_time - end), 0.0)
+    # Measured 2.2e-17; with the loads of t_end 1.9e-9, below the run's warning at 1e-8.
+    checks.check("the modes' state is in equilibrium under their loads: unbalance", unbalance,
+                 1e-15)
+    reference = run(args, load_stepped(text, end, n_modes=4), "path_end_load_stepped")
+    with h5py.File(reference, "r") as f:
+        expected = f["modes"]["column"]["frequency"][()]
+    print(f"load steps to {end:.8f}: frequencies (Hz) {expected}")
+    # Measured 3.1e-8 (both states converged to newton_atol = 1e-7). With the loads of t_end,
+    # which the modes took before the end state carried its load time (the follower force
+    # 1 / 0.397 = 2.5 times its value at the state, and so its stiffness), the same state gave
+    # 1.7686, 2.0938, 7.4051, 8.5056 Hz: up to 0.357 off, 3.6e5 times the bound.
+    checks.check("modes about the path's end against the load-stepped equilibrium at its load "
+                 "time: largest |f / f_reference - 1|", np.abs(frequency / expected - 1).max(),
+                 1e-6)
+
+
 run_cases(__doc__, {
     # Measured 6.9e-5 and 2.2e-6.
     "elastica_ph_planar": elastica("ph_planar", (160, 640), 2),
@@ -239,4 +322,5 @@ run_cases(__doc__, {
     "elastica_ph_director": elastica("ph_director", (16, 32), 4, pinned=False,
                                      extra="constraint = 'inextensible'"),
     "arch_se3_pg": snap_through,
+    "path_end_modes_se3_pg": path_end_modes,
 })

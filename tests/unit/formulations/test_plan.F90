@@ -126,7 +126,7 @@ contains
     ! the load steps and the endpoint solve (the time line says how many, the smallest step
     ! arc_length / 4^max_cutbacks and where the path ends), the bordered solves and the records'
     ! load times are named, se3_pg's statics follow the path, and modes after it say about which
-    ! point they are; a load-stepped run keeps its lines.
+    ! point and with the loads of which time they are; a load-stepped run keeps its lines.
     subroutine test_continuation_plan()
         character(len=*), parameter :: path = "&time t_end = 1, dt = 1, quasistatic = .true., " // &
             "continuation = 'arc_length', arc_length = 0.02, arc_length_max = 0.1, " // &
@@ -150,6 +150,9 @@ contains
         CHECK_CONTAINS(plan, '/rods/NAME/series/load_time', 'load times')
         CHECK_CONTAINS(plan, 'statics: Newton at the points of the arc-length path', 'se3_pg')
         CHECK_CONTAINS(plan, 'after the continuation: about the path''s last point', 'modes')
+        ! Its loads are those of its own load time, not t_end's (rs_app_run_modes).
+        CHECK_CONTAINS(plan, 'last point, with the loads of its load time', 'modes'' loads')
+        CHECK_TRUE(index(plan, 'loads of t_end') == 0, 'not the loads of t_end')
         CHECK_TRUE(index(plan, 'load step(s)') == 0, 'no load steps')
         CHECK_TRUE(index(plan, 'statics: Newton at each load factor') == 0, 'no load factors')
         plan = plan_of(cantilever(", formulation = 'se3_pg'", ''), 1)
