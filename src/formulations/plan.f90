@@ -224,6 +224,7 @@ contains
         !> rs_solver_arc_length and rod_run's start_path): its path steps replace the load
         !> steps and the endpoint solve; the bordered solves reuse the stepper's LU.
         subroutine add_continuation_lines()
+            character(len=:), allocatable :: switch
             call add('time: quasistatic by arc-length continuation (docs/theory/' // &
                 'continuation.md): the load time an unknown, at most ' // &
                 str(scene%time%path_steps) // ' path step(s), the first of arc length ' // &
@@ -246,6 +247,13 @@ contains
                 'per Newton iteration, solved twice there, J a = -R and J b = -R_lambda ' // &
                 '(R_lambda by a central difference in the load time), the load-time ' // &
                 'increment from the arc-length row; the bordered matrix is never formed')
+            switch = 'logged, the path goes on (branch_switch = .false.)'
+            if (scene%time%branch_switch) switch = 'the path leaves the first one along its ' // &
+                'mode (branch_switch)'
+            call add('bifurcations: the critical eigenvalue of the stiffness condensed on ' // &
+                'the nodes at every point by inverse iteration (3 solves of the tangent''s ' // &
+                'factorization), a bifurcation where it changes sign with the load still ' // &
+                'rising or falling; ' // switch)
             if (scene%time%equilibrium_solves) then
                 call add('equilibrium: at t = 0 before the path (ph_director and planar ' // &
                     'rods; continued from the initial state); no endpoint solve: every path ' // &

@@ -321,6 +321,12 @@ contains
             spec_v('path_steps', 'integer', '-', '200', 'Most steps of the continuation; ' // &
                 'the records are its steps (/time holds the step number).', lower=1.0_rk, &
                 only_if='continuation=arc_length', example='500'), &
+            spec_v('branch_switch', 'logical', '-', '.false.', 'At the first bifurcation the ' // &
+                'path crosses (the tangent stiffness singular with the load still rising, as ' // &
+                'in a perfect column at its buckling load), leave the path for the branch ' // &
+                'that bifurcates there, along its buckling mode; false: bifurcations are ' // &
+                'logged and the path goes on (docs/theory/continuation.md, Bifurcations).', &
+                only_if='continuation=arc_length', example='.true.'), &
             spec_v('relaxation', 'logical', '-', '.false.', &
                 'Statics by damped dynamics (seed 004, methods/se3_strands.md §3.7): the ' // &
                 'dynamics run with the rods'' damping, and the run stops as soon as the kinetic ' // &

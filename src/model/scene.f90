@@ -104,6 +104,9 @@ module rs_model_scene
         real(rk) :: arc_length = 0.05_rk
         real(rk) :: arc_length_max = 0.2_rk
         integer :: path_steps = 200
+        !> Leave the path at the first bifurcation it crosses for the branch that bifurcates
+        !> there (docs/theory/continuation.md, "Bifurcations").
+        logical :: branch_switch = .false.
         !> Line of the &time group (set by the reader; not an input variable).
         integer :: input_line = 0
     end type time_input_t

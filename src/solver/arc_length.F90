@@ -54,6 +54,9 @@ module rs_solver_arc_length
         real(rk) :: max_rotation = 0.5_rk
         !> The first step's direction in the load: +1 (the load grows) or -1.
         real(rk) :: direction = 1.0_rk
+        !> At the first bifurcation the path crosses, leave the path for the branch that
+        !> bifurcates there (&time branch_switch); false: bifurcations are reported only.
+        logical :: branch_switch = .false.
     end type arc_length_settings_t
 
     !> A path being traced: the current point's load time and the next step's length, the last
@@ -79,6 +82,26 @@ module rs_solver_arc_length
         real(rk) :: secant_load = 0.0_rk
         real(rk), allocatable :: weights(:), tangent(:), y_start(:), y(:), f(:), f_plus(:), &
             a(:), b(:), values(:), x_new(:)
+        !> Bifurcations (track_critical_mode): the critical eigenvalue at the current point and
+        !> its (unit in the path's norm) mode, by inverse iteration carried along the path,
+        !> and those of the point before; the current point is `tested`.
+        real(rk) :: critical = 0.0_rk, critical_before = 0.0_rk
+        !> The load time (over t_end) of the point before.
+        real(rk) :: mu_before = 0.0_rk
+        real(rk), allocatable :: mode(:), mode_before(:)
+        !> The row of the force conjugate to each unknown (rod_system_t%force_rows).
+        integer, allocatable :: force_rows(:)
+        logical :: has_critical = .false., tested = .false.
+        !> The load component of the tangent at the point before (a limit point turns it).
+        real(rk) :: tangent_load_before = 0.0_rk
+        !> Bifurcations crossed, the load time of the last one, and the switch to its branch:
+        !> pending (the next step leaves along the mode) and done.
+        integer :: bifurcations = 0
+        real(rk) :: bifurcation_load = 0.0_rk
+        logical :: switch_pending = .false., switched = .false.
+        !> What the last step found (a bifurcation, the switch), for the run's log; empty:
+        !> nothing.
+        character(len=:), allocatable :: event
     contains
         procedure :: init => path_init
         !> One step along the path from the state x at the load time `load`: x and load become
@@ -97,7 +120,7 @@ contains
         type(arc_length_settings_t), intent(in) :: settings
         integer, intent(in) :: n_values
         real(rk), intent(in) :: load, x(:)
-        integer :: n
+        integer :: n, i
         this%settings = settings
         this%load = load
         this%step = settings%arc_length
@@ -106,11 +129,24 @@ contains
         this%factorizations = 0
         n = system%n_unknown()
         if (allocated(this%weights)) deallocate(this%weights, this%tangent, this%y_start, this%y, &
-            this%f, this%f_plus, this%a, this%b, this%values, this%secant, this%x_new)
+            this%f, this%f_plus, this%a, this%b, this%values, this%secant, this%x_new, &
+            this%mode, this%mode_before, this%force_rows)
         allocate(this%weights(n), this%tangent(n), this%y_start(n), this%y(n), this%f(n), &
-            this%f_plus(n), this%a(n), this%b(n), this%secant(n))
+            this%f_plus(n), this%a(n), this%b(n), this%secant(n), this%mode(n), &
+            this%mode_before(n), this%force_rows(n))
         allocate(this%values(n_values), this%x_new(system%n_state()))
+        ! Inverse iteration's start: every component present, none favoured (a fixed sequence,
+        ! so that runs repeat).
+        this%mode = [(sin(1.0_rk + 0.7_rk * real(i, rk)), i = 1, n)]
+        this%has_critical = .false.
+        this%tested = .false.
+        this%bifurcations = 0
+        this%switch_pending = .false.
+        this%switched = .false.
+        this%event = ''
         call system%path_weights(this%weights)
+        call system%force_rows(this%force_rows)
+        this%mode = this%mode / sqrt(weighted(this, this%mode, this%mode))
         call system%set_load_problem(load, base=x)
     end subroutine path_init
 
@@ -139,6 +175,7 @@ contains
         call system%load_step(this%load, t_n, h)
         call system%accept_step(t_n, h, x, this%x_new, this%iterations, this%residual)
         x = this%x_new
+        this%tested = .false.
         ! The next step's length from this one's iterations (halved steps do not grow at once).
         if (this%cutbacks == 0) this%step = this%step * min(2.0_rk, max(0.5_rk, &
             sqrt(real(this%settings%target_iterations, rk) / max(1, this%iterations))))
@@ -205,6 +242,26 @@ contains
             tangent_mu = -tangent_mu
         end if
 
+        ! Once per point: the critical eigenvalue there, and whether the last step crossed a
+        ! bifurcation (with branch_switch, the first one is left along its mode).
+        if (.not. this%tested) then
+            call track_critical_mode(this, stepper, ok, err)
+            RS_RETURN_IF_ERROR(err)
+            if (.not. ok) then
+                why = 'a linear solve of the critical mode failed'
+                return
+            end if
+            this%tested = .true.
+            call check_bifurcation(this, mu_start, tangent_mu)
+        end if
+        if (this%switch_pending) then
+            ! The branch leaves the bifurcation along the critical mode at constant load (to
+            ! first order; a symmetric branch): the predictor goes along it, the corrector in
+            ! the hyperplane normal to it, which the path just crossed does not meet nearby.
+            this%tangent = this%mode
+            tangent_mu = 0.0_rk
+        end if
+
         ! Predictor, then Newton in the normal hyperplane.
         this%y = this%y_start + this%step * this%tangent
         mu = mu_start + this%step * tangent_mu
@@ -267,10 +324,90 @@ contains
         this%secant = (this%y - this%y_start) / this%step
         this%secant_load = (mu - mu_start) / this%step
         this%has_secant = .true.
+        if (this%switch_pending) then
+            this%switch_pending = .false.
+            this%switched = .true.
+            ! The branch's first point: its critical mode is another one, no crossing.
+            this%has_critical = .false.
+            this%event = this%event // '; left the path for the branch that bifurcates there ' // &
+                '(along its critical mode)'
+        end if
         this%fresh = this%iterations > 0
         this%load = mu * this%settings%load_scale
         converged = .true.
     end subroutine try_step
+
+    !> The critical eigenvalue at the current point: that of smallest modulus of J phi = kappa
+    !> W phi, W = diag(path weights) with its forces in the equilibrium rows of their
+    !> coordinates (rod_system_t%force_rows), by inverse iteration (phi <- J^-1 W phi) from the last
+    !> point's mode, a few solves of the tangent's factorization per point (no factorization).
+    !> The weights vanish on stresses, multipliers and rates, so these are the eigenvalues of J
+    !> condensed on the nodes' positions and rotations, the constraints kept (phi_w tangent to
+    !> them): the stiffness of the structure, positive definite where it is stable, its
+    !> smallest eigenvalue crossing zero at a bifurcation or limit point. (Of J itself, a
+    !> saddle point with ph_director's multipliers, the eigenvalues nearest zero came in pairs
+    !> of either sign and the iteration did not settle: spurious crossings.) The modes are
+    !> W-unit; this%critical = 1 / (phi . W J^-1 W phi).
+    subroutine track_critical_mode(this, stepper, ok, err)
+        type(arc_length_path_t), intent(inout) :: this
+        type(rod_stepper_t), intent(inout) :: stepper
+        logical, intent(out) :: ok
+        type(error_t), allocatable, intent(out) :: err
+        integer, parameter :: iterations = 3
+        real(rk) :: quotient, norm
+        integer :: k, i
+        this%mode_before = this%mode
+        this%critical_before = this%critical
+        do k = 1, iterations
+            ! The forces W phi, each in the equilibrium row of its coordinate.
+            this%f_plus = 0.0_rk
+            do i = 1, size(this%mode)
+                this%f_plus(this%force_rows(i)) = this%f_plus(this%force_rows(i)) + &
+                    this%weights(i) * this%mode(i)
+            end do
+            call solve(stepper, this%f_plus, this%a, ok, err)
+            RS_RETURN_IF_ERROR(err)
+            if (.not. ok) return
+            quotient = weighted(this, this%mode, this%a)
+            norm = sqrt(weighted(this, this%a, this%a))
+            ok = norm > 0.0_rk
+            if (.not. ok) return
+            this%mode = this%a / norm
+        end do
+        ok = quotient /= 0.0_rk
+        if (.not. ok) return
+        this%critical = 1.0_rk / quotient
+    end subroutine track_critical_mode
+
+    !> A bifurcation between the last point and the current one (at mu, its tangent's load
+    !> component tangent_mu): the critical eigenvalue changed sign, its mode stayed the same
+    !> (|cos| > 0.9, not another eigenvalue taking over), and the tangent's load component kept
+    !> its sign (at a limit point J is singular too, but the load turns there and the path
+    !> passes it). With branch_switch the first one is switched to.
+    subroutine check_bifurcation(this, mu, tangent_mu)
+        type(arc_length_path_t), intent(inout) :: this
+        real(rk), intent(in) :: mu, tangent_mu
+        real(rk), parameter :: same_mode = 0.9_rk
+        real(rk) :: previous
+        logical :: crossed
+        crossed = this%has_critical .and. this%critical * this%critical_before < 0.0_rk .and. &
+            tangent_mu * this%tangent_load_before > 0.0_rk .and. &
+            abs(weighted(this, this%mode, this%mode_before)) > same_mode
+        this%has_critical = .true.
+        previous = this%mu_before
+        this%mu_before = mu
+        this%tangent_load_before = tangent_mu
+        if (.not. crossed) return
+        this%bifurcations = this%bifurcations + 1
+        ! Where the eigenvalue, linear in the load between the two points, vanishes.
+        this%bifurcation_load = this%settings%load_scale * (previous + (mu - previous) * &
+            this%critical_before / (this%critical_before - this%critical))
+        this%event = 'crossed a bifurcation at the load time ' // &
+            str_significant(this%bifurcation_load, 8) // ' (the smallest eigenvalue of the ' // &
+            'tangent changed sign, the load did not turn)'
+        if (.not. this%settings%branch_switch .or. this%switched) return
+        this%switch_pending = .true.
+    end subroutine check_bifurcation
 
     !> R(Y; lambda = mu t_end) into f; ok = false for an invalid state.
     subroutine residual(this, system, x, y, mu, f, ok)

@@ -208,7 +208,7 @@ contains
         settings = arc_length_settings_t(arc_length=scene%time%arc_length, &
             arc_length_max=max(scene%time%arc_length, scene%time%arc_length_max), &
             load_scale=scene%time%t_end, newton_atol=scene%solver%newton_atol, &
-            max_newton=scene%solver%max_newton)
+            max_newton=scene%solver%max_newton, branch_switch=scene%time%branch_switch)
         settings%arc_length_min = settings%arc_length * 0.5_rk**(2 * scene%solver%max_cutbacks)
         call this%path%init(this%system, settings, this%context%n_values, 0.0_rk, this%x)
         do i = 1, size(this%histories)
@@ -238,6 +238,11 @@ contains
         this%step = n
         this%steps_done = this%steps_done + 1
         this%context%t_reached = real(n, rk)
+        if (len(this%path%event) > 0) then
+            call log_info('  ' // this%name() // ': path step ' // str(n) // ': ' // &
+                this%path%event)
+            this%path%event = ''
+        end if
         if (this%path%load > scene%time%t_end .and. load_before <= scene%time%t_end) &
             this%relaxed = .true.
         if (mod(n, scene%output%stride) == 0 .or. n == step_count(scene) .or. this%relaxed) then

@@ -111,6 +111,8 @@ module rs_system_rod_system
         !> The members' path weights (rod_formulation_t%path_weights) over the system's
         !> unknowns, each member's share over the number of members.
         procedure :: path_weights => system_path_weights
+        !> The row of the generalized force conjugate to each step unknown (force_rows).
+        procedure :: force_rows => system_force_rows
         procedure :: state_measures => system_state_measures
         !> Each member's state brought to rest (rod_formulation_t%rest_state).
         procedure :: rest_state => system_rest_state
@@ -1169,6 +1171,29 @@ contains
         h = 1.0_rk
         t_n = merge(t_load - 1.0_rk, 0.0_rk, traits%equilibrium_steps)
     end subroutine system_load_step
+
+    !> The equilibrium row of each step unknown: where a generalized force conjugate to it
+    !> enters (rod_nodes_t%momentum: ph_director's momentum rows for its q, whose own rows are
+    !> kinematic), its own row for an unknown without node access (stresses, multipliers, a
+    !> formulation without a node table, ph_planar, whose rows are those of its unknowns).
+    !> The continuation's stability test applies forces there (rs_solver_arc_length).
+    subroutine system_force_rows(this, rows)
+        class(rod_system_t), intent(in) :: this
+        integer, intent(out) :: rows(:)
+        integer :: i, j, k, m
+        rows = [(i, i = 1, size(rows))]
+        do m = 1, size(this%layout%members)
+            associate (place => this%layout%members(m), nodes => this%layout%members(m)%nodes)
+                do k = 1, nodes%n_nodes
+                    do j = 1, nodes%n_coordinates
+                        if (nodes%unknown(j, k) <= 0 .or. nodes%momentum(j, k) <= 0) cycle
+                        rows(place%unknown_offset + nodes%unknown(j, k)) = &
+                            place%unknown_offset + nodes%momentum(j, k)
+                    end do
+                end do
+            end associate
+        end do
+    end subroutine system_force_rows
 
     subroutine system_path_weights(this, w)
         class(rod_system_t), intent(in) :: this
