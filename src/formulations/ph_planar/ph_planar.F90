@@ -1383,9 +1383,10 @@ contains
             this%scheme /= scheme_ph_em
         traits%full_newton = .true.
         ! Y = q_{n+1} (v eliminated, methods §4.3) and, uncondensed, the element strains, whose
-        ! rows are algebraic at rest (docs/theory/modes.md).
-        if (.not. this%quasistatic .and. this%scheme /= scheme_stander_stein) &
-            traits%modal_form = modal_second_order
+        ! rows are algebraic at rest (docs/theory/modes.md). Every scheme: cl-EM's Z1 = cos(dphi
+        ! / 2) and Z2 = sinc(dphi / 2) are smooth at rest, 1 with zero derivatives, so its step
+        ! Jacobian there is 2 M / h^2 + K / 2 as well.
+        if (.not. this%quasistatic) traits%modal_form = modal_second_order
     end function planar_traits
 
     !> The next steps solve the equilibrium at load time t_load (`endpoint`; static_rows), or
