@@ -990,7 +990,7 @@ contains
                 'the buckling modes, from (K_0 + lambda K_geo) phi = 0 with K_0 the ' // &
                 'stiffness of the reference state (loads of t = 0, give a ramp) and K_geo ' // &
                 'that of the stresses of the equilibrium u_1 and of the loads, at the ' // &
-                'reference (se3_pg; ph_planar and ph_director: K_T(u_1) - K_0; ' // &
+                'reference (se3_pg; the planar rods and ph_director: K_T(u_1) - K_0; ' // &
                 'docs/theory/modes.md; needs ' // &
                 'about = ''equilibrium''; /buckling of the result file).', &
                 allowed='modes|buckling', example="'buckling'")]

@@ -48,7 +48,7 @@ module rs_ph_planar
         cl_em_residual, cl_em_jacobian, ph_emi_residual, ph_emi_jacobian, ph_emi_strains, &
         element_mass, mixed_strain_energy, compatible_strain_energy, compatible_strains, &
         ph_emi_strain_energy, ph_em_static, ph_em_static_condensed, ph_em_projected_strains, &
-        cl_em_static, viscous_dissipation
+        cl_em_static, viscous_dissipation, reference_stretches
     implicit none
     private
 
@@ -123,8 +123,12 @@ module rs_ph_planar
         integer, allocatable :: element_rod(:), element_dofs(:, :)
         real(rk), allocatable :: element_length(:)
         !> Per element in system order: (EA, GA, EI) and their Kelvin-Voigt viscosities (the
-        !> rods' element_stiffness, element_viscosity), and the rod's axial_reference.
-        real(rk), allocatable :: stiffness(:, :), viscosity(:, :), axial_reference(:)
+        !> rods' element_stiffness, element_viscosity).
+        real(rk), allocatable :: stiffness(:, :), viscosity(:, :)
+        !> Per element, reference(:, g, e): the stretch Lambda^T d_s r of its stress-free state
+        !> at Gauss point g, from which the strains formed from positions are measured
+        !> (planar_element reference_stretches of the initial state, set_initial_state).
+        real(rk), allocatable :: reference(:, :, :)
         !> Per element: the consistent mass (6, 6) in its q ordering (methods §3.2), built once:
         !> residual and Jacobian need it at every Newton iteration.
         real(rk), allocatable :: mass(:, :, :)
@@ -239,8 +243,7 @@ contains
         ! Elements in system order.
         allocate(this%element_rod(this%n_elements), this%element_dofs(6, this%n_elements), &
             this%element_length(this%n_elements), this%mass(6, 6, this%n_elements), &
-            this%stiffness(3, this%n_elements), this%viscosity(3, this%n_elements), &
-            this%axial_reference(this%n_elements))
+            this%stiffness(3, this%n_elements), this%viscosity(3, this%n_elements))
         do r = 1, size(this%rods)
             associate (rod => this%rods(r))
                 do e = 1, rod%n_elements
@@ -250,7 +253,6 @@ contains
                     this%element_length(next) = rod%length / real(rod%n_elements, rk)
                     this%stiffness(:, next) = rod%element_stiffness(:, e)
                     this%viscosity(:, next) = rod%element_viscosity(:, e)
-                    this%axial_reference(next) = rod%axial_reference
                     call element_mass(this%element_length(next), rod%element_rho(1, e), &
                         rod%element_rho(2, e), this%mass(:, :, next))
                 end do
@@ -290,12 +292,15 @@ contains
     !> docs/theory/prestretched_starts.md) in the history of PH-EM (per element) and PH-EMi
     !> (per Gauss point); v = velocity + omega x (x -
     !> rotation_center) and theta' = omega . normal. A shared node takes the values of the
-    !> first rod that reaches it (joined rods agree there by the input check).
+    !> first rod that reaches it (joined rods agree there by the input check). Then every
+    !> element's reference stretch (reference_stretches) from these nodal coordinates, so that
+    !> the given rod is stress-free to the last bit (prestrained: its stress-free state is it
+    !> shortened by axial_reference; docs/theory/ph_planar.md "The reference stretch").
     subroutine set_initial_state(this, scene, rods)
         type(ph_planar_t), intent(inout) :: this
         type(scene_t), intent(in) :: scene
         integer, intent(in) :: rods(:)
-        real(rk) :: p(3), v(3), t(3)
+        real(rk) :: p(3), v(3), t(3), q0(6)
         logical :: done(this%n_q)
         integer :: r, k, e, at, stride
         allocate(this%initial(this%n_state()), source=0.0_rk)
@@ -305,7 +310,8 @@ contains
             stride = merge(3, 2, this%scheme == scheme_ph_em)
             do e = 1, this%n_elements
                 at = 2 * this%n_q + this%n_history * (e - 1)
-                this%initial(at + 1:at + this%n_history:stride) = 1.0_rk - this%axial_reference(e)
+                this%initial(at + 1:at + this%n_history:stride) = &
+                    1.0_rk - this%rods(this%element_rod(e))%axial_reference
             end do
         end if
         done = .false.
@@ -327,6 +333,18 @@ contains
                         done(rod%dofs(3, k)) = .true.
                     end if
                 end do
+            end associate
+        end do
+        ! With its own rod's theta_0 at both nodes: a rigid joint gives the joined rod the first
+        ! rod's angle at the shared node, and a rod joined at an angle keeps that kink as a
+        ! strain, as before the reference stretch (its curvature has no reference either).
+        allocate(this%reference(2, this%n_gauss, this%n_elements))
+        do e = 1, this%n_elements
+            associate (rod => this%rods(this%element_rod(e)))
+                q0 = this%initial(this%element_dofs(:, e))
+                q0(3:6:3) = rod%theta0
+                call reference_stretches(this%element_length(e), this%n_gauss, q0, &
+                    rod%axial_reference, this%reference(:, :, e))
             end associate
         end do
     end subroutine set_initial_state
@@ -768,12 +786,12 @@ contains
         if (this%static) then
             ! An equilibrium: the strains of the state itself (ph_em_static, cl_em_static).
             call compatible_strains(this%element_length(e), this%n_gauss, q_16, &
-                gammas3(:, 1:this%n_gauss), this%axial_reference(e))
+                gammas3(:, 1:this%n_gauss), this%reference(:, :, e))
             select case (this%scheme)
             case (scheme_ph_em)
                 if (this%condensed) then
                     hist = ph_em_projected_strains(this%element_length(e), this%n_gauss, q_16, &
-                        this%axial_reference(e))
+                        this%reference(:, :, e))
                 else
                     hist = y(this%n_free + 3 * (e - 1) + 1:this%n_free + 3 * e)
                 end if
@@ -869,7 +887,7 @@ contains
                     end if
                 case (scheme_stander_stein)
                     call cl_em_residual(le, this%stiffness(:, e), this%viscosity(:, e), this%n_gauss, h, q_n6, &
-                        q_16, r9(1:6), this%axial_reference(e))
+                        q_16, r9(1:6), this%reference(:, :, e))
                 case (scheme_ph_irreducible)
                     call history_at_gauss_points(this, x_n, at, gamma_n)
                     call ph_emi_residual(le, this%stiffness(:, e), this%viscosity(:, e), this%n_gauss, h, q_n6, &
@@ -923,25 +941,25 @@ contains
                 case (scheme_ph_em)
                     if (this%condensed .and. present(values)) then
                         call ph_em_static_condensed(le, this%stiffness(:, e), this%n_gauss, &
-                            this%q_1(dofs), r9(1:6), e_1, k9(1:6, 1:6), this%axial_reference(e))
+                            this%q_1(dofs), r9(1:6), e_1, k9(1:6, 1:6), this%reference(:, :, e))
                     else if (this%condensed) then
                         call ph_em_static_condensed(le, this%stiffness(:, e), this%n_gauss, &
-                            this%q_1(dofs), r9(1:6), e_1, axial_reference=this%axial_reference(e))
+                            this%q_1(dofs), r9(1:6), e_1, reference=this%reference(:, :, e))
                     else if (present(values)) then
                         call ph_em_static(le, this%stiffness(:, e), this%n_gauss, scale, this%q_1(dofs), &
-                            y(row + 1:row + 3), r9, k9, this%axial_reference(e))
+                            y(row + 1:row + 3), r9, k9, this%reference(:, :, e))
                     else
                         call ph_em_static(le, this%stiffness(:, e), this%n_gauss, scale, this%q_1(dofs), &
-                            y(row + 1:row + 3), r9, axial_reference=this%axial_reference(e))
+                            y(row + 1:row + 3), r9, reference=this%reference(:, :, e))
                         f(row + 1:row + 3) = r9(7:9)
                     end if
                 case default
                     if (present(values)) then
                         call cl_em_static(le, this%stiffness(:, e), this%n_gauss, this%q_1(dofs), &
-                            r9(1:6), k9(1:6, 1:6), this%axial_reference(e))
+                            r9(1:6), k9(1:6, 1:6), this%reference(:, :, e))
                     else
                         call cl_em_static(le, this%stiffness(:, e), this%n_gauss, this%q_1(dofs), &
-                            r9(1:6), axial_reference=this%axial_reference(e))
+                            r9(1:6), reference=this%reference(:, :, e))
                     end if
                 end select
             end associate
@@ -1021,7 +1039,7 @@ contains
                     end if
                 case (scheme_stander_stein)
                     call cl_em_jacobian(le, this%stiffness(:, e), this%viscosity(:, e), this%n_gauss, h, q_n6, &
-                        q_16, k6, this%axial_reference(e))
+                        q_16, k6, this%reference(:, :, e))
                     k9(1:6, 1:6) = k6
                 case (scheme_ph_irreducible)
                     call history_at_gauss_points(this, x_n, at, gamma_n)
@@ -1138,7 +1156,7 @@ contains
                         strain = strain + mixed_strain_energy(le, this%stiffness(:, e), x(at + 1:at + 3))
                     case (scheme_stander_stein)
                         strain = strain + compatible_strain_energy(le, this%stiffness(:, e), &
-                            this%n_gauss, q6, this%axial_reference(e))
+                            this%n_gauss, q6, this%reference(:, :, e))
                     case (scheme_ph_irreducible)
                         call history_at_gauss_points(this, x, at, g)
                         strain = strain + ph_emi_strain_energy(le, this%stiffness(:, e), &
@@ -1275,7 +1293,7 @@ contains
                         planar = x(at + 1:at + 3)
                     case (scheme_stander_stein)
                         call compatible_strains(le, this%n_gauss, q6, gammas(:, 1:this%n_gauss), &
-                            this%axial_reference(i))
+                            this%reference(:, :, i))
                         planar = sum(gammas(:, 1:this%n_gauss), dim=2) / real(this%n_gauss, rk)
                     case default
                         call history_at_gauss_points(this, x, at, history)
@@ -1365,9 +1383,10 @@ contains
             this%scheme /= scheme_ph_em
         traits%full_newton = .true.
         ! Y = q_{n+1} (v eliminated, methods §4.3) and, uncondensed, the element strains, whose
-        ! rows are algebraic at rest (docs/theory/modes.md).
-        if (.not. this%quasistatic .and. this%scheme /= scheme_stander_stein) &
-            traits%modal_form = modal_second_order
+        ! rows are algebraic at rest (docs/theory/modes.md). Every scheme: cl-EM's Z1 = cos(dphi
+        ! / 2) and Z2 = sinc(dphi / 2) are smooth at rest, 1 with zero derivatives, so its step
+        ! Jacobian there is 2 M / h^2 + K / 2 as well.
+        if (.not. this%quasistatic) traits%modal_form = modal_second_order
     end function planar_traits
 
     !> The next steps solve the equilibrium at load time t_load (`endpoint`; static_rows), or

@@ -49,8 +49,8 @@ contains
         ! Prestretched starts (issue 26 item 3, docs/theory/prestretched_starts.md): axial
         ! prestrain, the initial equilibrium (the equilibrium rows of quasistatics in a
         ! dynamic run) and supports released at a time (held rows).
-        ! Modes (&modes, docs/theory/modes.md) for ph_planar: cl_em_planar's Stander-Stein
-        ! step cannot start from rest (its correction factors are 0/0 there).
+        ! Modes and linearized buckling (&modes, docs/theory/modes.md) from the step
+        ! Jacobian at rest, 2 M / h^2 + K / 2 with every scheme (cl-EM's Z1, Z2 are 1 there).
         d%capability = capability_t(formulation=name, available=.true., &
             end_kinds='clamped|pinned|free|sliding|held', &
             load_places='start|end|distributed|gravity', &
@@ -58,8 +58,7 @@ contains
             viscoelastic=.false., actuation=.false., curved_reference=.false., &
             joints='revolute|rigid', planar=.true., order_4=.true., adaptive=.true., &
             damping=.true., segments=.true., prestrain=.true., initial_equilibrium=.true., &
-            release=.true., modes=name == 'ph_planar', damped_modes=.false., &
-            buckling=name == 'ph_planar')
+            release=.true., modes=.true., damped_modes=.false., buckling=.true.)
         ! Arc-length continuation (docs/theory/continuation.md) on the static rows.
         d%capability%continuation = name == 'ph_planar'
         d%create => create

@@ -7,14 +7,18 @@
 !>
 !> Conventions (fixed; the planar formulation relies on them):
 !> - Two-node element of reference length le (straight, stress-free reference: Gamma_ref = 0,
-!>   kappa_ref = 0, methods §2.3). A prestrained rod (&rod prestrain, docs/theory/
-!>   prestretched_starts.md) has the reference axial strain axial_reference = 1 / (1 +
-!>   prestrain) per unit le: the kernels that form strains from positions take it as the
-!>   optional `axial_reference` (default 1, the compatible strain Lambda^T d_s r -
-!>   axial_reference e1); the rate forms (PH-EM, PH-EMi) carry the elastic strains from their
-!>   initial values and need none. Nodal unknowns q = (x_a, y_a, phi_a, x_b, y_b, phi_b);
-!>   element strains e = (Gamma1, Gamma2, kappa) (methods §3.1, P0); the angle phi is never
-!>   wrapped (§2.2).
+!>   kappa_ref = 0, methods §2.3). The kernels that form strains from positions measure them
+!>   from the element's reference stretch, the optional `reference(2, n_gauss)`: Gamma_g =
+!>   Lambda(phi_g)^T d_s r - reference(:, g) (default e1, methods eqs. 5-6). The formulation
+!>   passes reference_stretches of the initial nodal coordinates: formed with the strains' own
+!>   arithmetic, they make the given straight rod exactly stress-free (against e1, the
+!>   round-off of d_s r, eps |r| / le, times EA was a force above Newton's tolerance:
+!>   docs/theory/ph_planar.md "The reference stretch"). A prestrained rod (&rod prestrain,
+!>   docs/theory/prestretched_starts.md) has that stretch times axial_reference = 1 / (1 +
+!>   prestrain), its stress-free length per unit given length. The rate forms (PH-EM, PH-EMi)
+!>   carry the elastic strains from their initial values and need none in a step. Nodal
+!>   unknowns q = (x_a, y_a, phi_a, x_b, y_b, phi_b); element strains e = (Gamma1, Gamma2,
+!>   kappa) (methods §3.1, P0); the angle phi is never wrapped (§2.2).
 !> - Lambda(phi) = [[cos, -sin], [sin, cos]], S = [[0, 1], [-1, 0]], dLambda/dphi = S^T Lambda
 !>   (methods §2.1 eq. 1, §2.2 eqs. 3-4); the planar cross product is a x b = a^T S b.
 !> - stiffness = (EA, GA, EI) with GA the shear stiffness k G A: D_ts = diag(EA, GA) (eq. 10).
@@ -44,7 +48,7 @@ module rs_ph_planar_element
     public :: ph_em_static, ph_em_static_condensed, ph_em_projected_strains, cl_em_static
     public :: cl_em_residual, cl_em_jacobian
     public :: ph_emi_residual, ph_emi_jacobian, ph_emi_strains
-    public :: compatible_strains, element_mass
+    public :: compatible_strains, reference_stretches, element_mass
     public :: mixed_strain_energy, compatible_strain_energy, ph_emi_strain_energy
     public :: planar_sinc, viscous_dissipation
 
@@ -142,19 +146,19 @@ contains
     !> only through their means, so d/dq = 2 d/dq_1 and d/de = 2 d/de_1 of ph_em_forces; and
     !> d(le e_P0)/dq is the increment matrix of eq. 64 at q (inc = G2^T dr - V^T dphi is the
     !> linearization of le e_P0, methods §4.3).
-    pure subroutine ph_em_static(le, stiffness, n_gauss, h, q, e, r, k, axial_reference)
+    pure subroutine ph_em_static(le, stiffness, n_gauss, h, q, e, r, k, reference)
         real(rk), intent(in) :: le, stiffness(3)
         integer, intent(in) :: n_gauss
         real(rk), intent(in) :: h, q(6), e(3)
         real(rk), intent(out) :: r(9)
         real(rk), intent(out), optional :: k(9, 9)
-        real(rk), intent(in), optional :: axial_reference
+        real(rk), intent(in), optional :: reference(2, n_gauss)
         real(rk) :: w(max_gauss_points), nn(2, max_gauss_points), cs(2, max_gauss_points)
         real(rk) :: inc(3), dinc(3, 6), kf(9, 9)
         integer :: i
         call gauss_shapes(n_gauss, w, nn)
         call gauss_point_angles(n_gauss, nn, q(3), q(6), cs)
-        r(7:9) = le * (ph_em_projected_strains(le, n_gauss, q, axial_reference) - e) / h
+        r(7:9) = le * (ph_em_projected_strains(le, n_gauss, q, reference) - e) / h
         if (.not. present(k)) then
             call ph_em_forces(le, stiffness, no_viscosity, n_gauss, w, nn, cs, q, e, e, r(1:6))
             return
@@ -172,20 +176,19 @@ contains
     !> ph_em_static with the strains eliminated: e = e_P0(q) (the strain rows), the nodal rows
     !> r(6) at that e and the condensed tangent k(6, 6) = dr/dq + dr/de de/dq (optional), as
     !> ph_em_condensed does for a step.
-    pure subroutine ph_em_static_condensed(le, stiffness, n_gauss, q, r, e, k, axial_reference)
+    pure subroutine ph_em_static_condensed(le, stiffness, n_gauss, q, r, e, k, reference)
         real(rk), intent(in) :: le, stiffness(3)
         integer, intent(in) :: n_gauss
         real(rk), intent(in) :: q(6)
         real(rk), intent(out) :: r(6), e(3)
         real(rk), intent(out), optional :: k(6, 6)
-        real(rk), intent(in), optional :: axial_reference
+        real(rk), intent(in), optional :: reference(2, n_gauss)
         real(rk) :: r9(9), k9(9, 9)
-        e = ph_em_projected_strains(le, n_gauss, q, axial_reference)
+        e = ph_em_projected_strains(le, n_gauss, q, reference)
         if (.not. present(k)) then
-            call ph_em_static(le, stiffness, n_gauss, 1.0_rk, q, e, r9, &
-                axial_reference=axial_reference)
+            call ph_em_static(le, stiffness, n_gauss, 1.0_rk, q, e, r9, reference=reference)
         else
-            call ph_em_static(le, stiffness, n_gauss, 1.0_rk, q, e, r9, k9, axial_reference)
+            call ph_em_static(le, stiffness, n_gauss, 1.0_rk, q, e, r9, k9, reference)
             ! de/dq = (k9 strain rows in q) / le with h = 1.
             k = k9(1:6, 1:6) + matmul(k9(1:6, 7:9), k9(7:9, 1:6) / le)
         end if
@@ -193,17 +196,17 @@ contains
     end subroutine ph_em_static_condensed
 
     !> The P0 projection onto one element of the compatible strains of nodal q (methods §3.1,
-    !> §4.5) with the element's Gauss rule: sum_g w_g/2 (Lambda(phi_g)^T d_s r - e1), and
-    !> kappa = d_s phi. The strains the rate form (eqs. 63-64) tracks to O(h^2).
-    pure function ph_em_projected_strains(le, n_gauss, q, axial_reference) result(e)
+    !> §4.5) with the element's Gauss rule: sum_g w_g/2 (Lambda(phi_g)^T d_s r - reference(:, g)),
+    !> and kappa = d_s phi. The strains the rate form (eqs. 63-64) tracks to O(h^2).
+    pure function ph_em_projected_strains(le, n_gauss, q, reference) result(e)
         real(rk), intent(in) :: le
         integer, intent(in) :: n_gauss
         real(rk), intent(in) :: q(6)
-        real(rk), intent(in), optional :: axial_reference
+        real(rk), intent(in), optional :: reference(2, n_gauss)
         real(rk) :: e(3)
         real(rk) :: gammas(3, max_gauss_points), xi(max_gauss_points), w(max_gauss_points)
         call gauss_rule(n_gauss, xi, w)
-        call compatible_strains(le, n_gauss, q, gammas(:, 1:n_gauss), axial_reference)
+        call compatible_strains(le, n_gauss, q, gammas(:, 1:n_gauss), reference)
         e = matmul(gammas(:, 1:n_gauss), 0.5_rk * w(1:n_gauss))
     end function ph_em_projected_strains
 
@@ -214,17 +217,17 @@ contains
     !> k = dr/dq = 2 dr/dq_1: the midpoint residual is symmetric in (q_n, q_1) (Z1, Z2 are even
     !> in dphi, N uses the mean of the endpoint strains), so both partial derivatives agree at
     !> q_n = q_1.
-    pure subroutine cl_em_static(le, stiffness, n_gauss, q, r, k, axial_reference)
+    pure subroutine cl_em_static(le, stiffness, n_gauss, q, r, k, reference)
         real(rk), intent(in) :: le, stiffness(3)
         integer, intent(in) :: n_gauss
         real(rk), intent(in) :: q(6)
         real(rk), intent(out) :: r(6)
         real(rk), intent(out), optional :: k(6, 6)
-        real(rk), intent(in), optional :: axial_reference
+        real(rk), intent(in), optional :: reference(2, n_gauss)
         real(rk) :: gamma_n(2, max_gauss_points)
         gamma_n = 0.0_rk
         call displacement_forces(.true., le, stiffness, no_viscosity, n_gauss, q, q, gamma_n, &
-            reference_or_one(axial_reference), r, k)
+            reference_or_e1(n_gauss, reference), r, k)
         if (present(k)) k = 2.0_rk * k
     end subroutine cl_em_static
 
@@ -243,31 +246,31 @@ contains
     !> le sum_g w_g/2 (Z1 - Z2) d_s r05 x (Lambda05_g N_g) = O(dphi^2), not zero (unlike PH-EM
     !> and PH-EMi, where the Gauss-point integrands cancel, methods §4.3).
     pure subroutine cl_em_residual(le, stiffness, viscosity, n_gauss, h, q_n, q_1, r, &
-            axial_reference)
+            reference)
         real(rk), intent(in) :: le, stiffness(3), viscosity(3)
         integer, intent(in) :: n_gauss
         real(rk), intent(in) :: h, q_n(6), q_1(6)
         real(rk), intent(out) :: r(6)
-        real(rk), intent(in), optional :: axial_reference
+        real(rk), intent(in), optional :: reference(2, n_gauss)
         real(rk) :: gamma_n(2, max_gauss_points)
         gamma_n = 0.0_rk
         call displacement_forces(.true., le, stiffness, viscosity / h, n_gauss, q_n, q_1, &
-            gamma_n, reference_or_one(axial_reference), r)
+            gamma_n, reference_or_e1(n_gauss, reference), r)
     end subroutine cl_em_residual
 
     !> cl-EM Jacobian k(6, 6) = d r / d q_1 of cl_em_residual, analytic; smooth through
     !> dphi_g = 0 (series for Z2).
     pure subroutine cl_em_jacobian(le, stiffness, viscosity, n_gauss, h, q_n, q_1, k, &
-            axial_reference)
+            reference)
         real(rk), intent(in) :: le, stiffness(3), viscosity(3)
         integer, intent(in) :: n_gauss
         real(rk), intent(in) :: h, q_n(6), q_1(6)
         real(rk), intent(out) :: k(6, 6)
-        real(rk), intent(in), optional :: axial_reference
+        real(rk), intent(in), optional :: reference(2, n_gauss)
         real(rk) :: gamma_n(2, max_gauss_points), r(6)
         gamma_n = 0.0_rk
         call displacement_forces(.true., le, stiffness, viscosity / h, n_gauss, q_n, q_1, &
-            gamma_n, reference_or_one(axial_reference), r, k)
+            gamma_n, reference_or_e1(n_gauss, reference), r, k)
     end subroutine cl_em_jacobian
 
     !> PH-EMi internal nodal forces r(6) of one step (methods §5.2 eqs. 77-78): as cl-EM with
@@ -282,7 +285,7 @@ contains
         real(rk), intent(in) :: h, q_n(6), q_1(6), gamma_n(2, n_gauss)
         real(rk), intent(out) :: r(6)
         call displacement_forces(.false., le, stiffness, viscosity / h, n_gauss, q_n, q_1, &
-            gamma_n, 1.0_rk, r)
+            gamma_n, reference_or_e1(n_gauss), r)
     end subroutine ph_emi_residual
 
     !> PH-EMi Jacobian k(6, 6) = d r / d q_1 of ph_emi_residual (history gamma_n fixed).
@@ -293,7 +296,7 @@ contains
         real(rk), intent(out) :: k(6, 6)
         real(rk) :: r(6)
         call displacement_forces(.false., le, stiffness, viscosity / h, n_gauss, q_n, q_1, &
-            gamma_n, 1.0_rk, r, k)
+            gamma_n, reference_or_e1(n_gauss), r, k)
     end subroutine ph_emi_jacobian
 
     !> PH-EMi history update at the Gauss points (methods §5.2 eq. 78a, i.e. eq. 65 pointwise):
@@ -319,25 +322,36 @@ contains
     end subroutine ph_emi_strains
 
     !> Kinematically compatible strains of nodal q at the Gauss points (methods §2.3 eqs. 5-6):
-    !> gammas(1:2, g) = Lambda(phi_g)^T d_s r - e1, gammas(3, g) = kappa = d_s phi (constant).
-    !> For cl-EM energies and the drift diagnostic of PH-EM (methods §4.5).
-    pure subroutine compatible_strains(le, n_gauss, q, gammas, axial_reference)
+    !> gammas(1:2, g) = Lambda(phi_g)^T d_s r - reference(:, g) (default e1), gammas(3, g) =
+    !> kappa = d_s phi (constant). For cl-EM energies and the drift diagnostic of PH-EM
+    !> (methods §4.5).
+    pure subroutine compatible_strains(le, n_gauss, q, gammas, reference)
         real(rk), intent(in) :: le
         integer, intent(in) :: n_gauss
         real(rk), intent(in) :: q(6)
         real(rk), intent(out) :: gammas(3, n_gauss)
-        real(rk), intent(in), optional :: axial_reference
-        real(rk) :: w(max_gauss_points), nn(2, max_gauss_points), cs(2, max_gauss_points), r_s(2)
-        integer :: g
-        call gauss_shapes(n_gauss, w, nn)
-        call gauss_point_angles(n_gauss, nn, q(3), q(6), cs)
-        r_s = (q(4:5) - q(1:2)) / le
-        do g = 1, n_gauss
-            gammas(1:2, g) = rotate_back(cs(:, g), r_s)
-            gammas(1, g) = gammas(1, g) - reference_or_one(axial_reference)
-            gammas(3, g) = (q(6) - q(3)) / le
-        end do
+        real(rk), intent(in), optional :: reference(2, n_gauss)
+        real(rk) :: s(2, n_gauss)
+        call stretches(le, n_gauss, q, s)
+        gammas(1:2, :) = s - reference_or_e1(n_gauss, reference)
+        gammas(3, :) = (q(6) - q(3)) / le
     end subroutine compatible_strains
+
+    !> The reference stretch of an element whose stress-free state is nodal q0 shortened along
+    !> its length by axial_reference (1 / (1 + prestrain), 1 for a stress-free start, docs/
+    !> theory/prestretched_starts.md): reference(:, g) = axial_reference Lambda(phi_g)^T d_s r
+    !> of q0 at the points of the n_gauss rule, the `reference` of the strain kernels. Formed
+    !> with their arithmetic (stretches; cl-EM's step at q_n = q_1 forms the same products),
+    !> so that the strains of q0 itself are exactly zero when axial_reference = 1, and not the
+    !> round-off of d_s r against e1 (docs/theory/ph_planar.md "The reference stretch").
+    pure subroutine reference_stretches(le, n_gauss, q0, axial_reference, reference)
+        real(rk), intent(in) :: le
+        integer, intent(in) :: n_gauss
+        real(rk), intent(in) :: q0(6), axial_reference
+        real(rk), intent(out) :: reference(2, n_gauss)
+        call stretches(le, n_gauss, q0, reference)
+        reference = axial_reference * reference
+    end subroutine reference_stretches
 
     !> Consistent element mass m(6, 6) in the q ordering: rhoA M1^e on x and on y, rhoI M1^e on
     !> phi, M1^e = le/6 [[2, 1], [1, 2]] (methods §3.2, eq. 91; exact with 2-point Gauss, §4.3).
@@ -369,17 +383,17 @@ contains
     !> Strain energy of the compatible strains of nodal q with the n_gauss rule of the N terms
     !> (the cl-EM energy, methods §5.1 and Appendix A.5):
     !> sum_g w_g le/2 (1/2 Gamma_g^T D_ts Gamma_g) + le 1/2 EI kappa^2.
-    pure function compatible_strain_energy(le, stiffness, n_gauss, q, axial_reference) &
+    pure function compatible_strain_energy(le, stiffness, n_gauss, q, reference) &
             result(energy)
         real(rk), intent(in) :: le, stiffness(3)
         integer, intent(in) :: n_gauss
         real(rk), intent(in) :: q(6)
-        real(rk), intent(in), optional :: axial_reference
+        real(rk), intent(in), optional :: reference(2, n_gauss)
         real(rk) :: energy
         real(rk) :: gammas(3, max_gauss_points), xi(max_gauss_points), w(max_gauss_points)
         integer :: g
         call gauss_rule(n_gauss, xi, w)
-        call compatible_strains(le, n_gauss, q, gammas(:, 1:n_gauss), axial_reference)
+        call compatible_strains(le, n_gauss, q, gammas(:, 1:n_gauss), reference)
         energy = 0.5_rk * le * stiffness(3) * gammas(3, 1)**2
         do g = 1, n_gauss
             energy = energy + 0.25_rk * le * w(g) * sum(stiffness(1:2) * gammas(1:2, g)**2)
@@ -567,8 +581,8 @@ contains
     end subroutine ph_em_strain_increment
 
     ! Nodal rows of the displacement-based schemes (methods §5.1 eq. 75 for cl-EM, §5.2 eq. 77
-    ! for PH-EMi) and optionally k(6, 6) = dr/dq_1. cl-EM's strains are relative to the
-    ! reference axial strain axial_reference (PH-EMi's history carries its own). Bending is
+    ! for PH-EMi) and optionally k(6, 6) = dr/dq_1. cl-EM's strains are measured from the
+    ! reference stretch reference(:, g) (PH-EMi's history carries its own). Bending is
     ! G1 M05 with M05 = EI d_s phi05 in both. `stander_stein` selects cl-EM (endpoint-average strain, Z1, Z2); otherwise PH-EMi
     ! (history strain gamma_n, Z1 = Z2 = 1). rate(3) = V/h: the stresses of the step are
     ! N_g = D_ts Gamma05_g + rate (Gamma_1,g - Gamma_n,g) and M05 = EI kappa05 + rate_EI dkappa,
@@ -576,11 +590,11 @@ contains
     ! Gamma_1,g - Gamma_n,g = 2 (Gamma05_g - Gamma_n,g) as a function of q_1, so
     ! dN_g/dq_1 = (D_ts + 2 rate) dGamma05_g/dq_1.
     pure subroutine displacement_forces(stander_stein, le, stiffness, rate, n_gauss, q_n, q_1, &
-            gamma_n, axial_reference, r, k)
+            gamma_n, reference, r, k)
         logical, intent(in) :: stander_stein
         real(rk), intent(in) :: le, stiffness(3), rate(3)
         integer, intent(in) :: n_gauss
-        real(rk), intent(in) :: q_n(6), q_1(6), gamma_n(2, n_gauss), axial_reference
+        real(rk), intent(in) :: q_n(6), q_1(6), gamma_n(2, n_gauss), reference(2, n_gauss)
         real(rk), intent(out) :: r(6)
         real(rk), intent(out), optional :: k(6, 6)
         real(rk) :: w(max_gauss_points), nn(2, max_gauss_points), q05(6), dq(6), u(2)
@@ -624,13 +638,14 @@ contains
                 cs_half = [cos(half), sin(half)]
                 cs05 = rotate(cs_n, cs_half)
                 cs1 = rotate(cs05, cs_half)
-                ! Gamma05 = 1/2 (Lambda_1^T d_s r_1 + Lambda_n^T d_s r_n) - e1 (eq. 72)
-                ! and its increment Gamma_1 - Gamma_n
+                ! Gamma05 = 1/2 (Lambda_1^T d_s r_1 + Lambda_n^T d_s r_n) - e1 (eq. 72; e1
+                ! the reference stretch) and its increment Gamma_1 - Gamma_n. At q_n = q_1,
+                ! cs1 = cs_n exactly (cs_half = (1, 0)) and both products are those of
+                ! stretches: Gamma05 of the state reference_stretches had is exactly 0.
                 gam = rotate_back(cs1, rs_1)
                 g_n = rotate_back(cs_n, rs_n)
                 inc = gam - g_n
-                gam = 0.5_rk * (gam + g_n)
-                gam(1) = gam(1) - axial_reference
+                gam = 0.5_rk * (gam + g_n) - reference(:, g)
                 ! Z1 = cos(dphi/2), Z2 = sin(dphi/2)/(dphi/2) (eq. 67), derivatives in dphi_g
                 call sinc_of(half, cs_half(2), cs_half(1), z(2), dz(2))
                 z(1) = cs_half(1)
@@ -677,12 +692,37 @@ contains
         end do
     end subroutine displacement_forces
 
-    ! The reference axial strain of an optional axial_reference argument: 1 when absent.
-    pure real(rk) function reference_or_one(axial_reference) result(value)
-        real(rk), intent(in), optional :: axial_reference
-        value = 1.0_rk
-        if (present(axial_reference)) value = axial_reference
-    end function reference_or_one
+    ! The reference stretch of an optional `reference` argument: e1 at every point when absent.
+    pure function reference_or_e1(n_gauss, reference) result(value)
+        integer, intent(in) :: n_gauss
+        real(rk), intent(in), optional :: reference(2, n_gauss)
+        real(rk) :: value(2, n_gauss)
+        if (present(reference)) then
+            value = reference
+        else
+            value(1, :) = 1.0_rk
+            value(2, :) = 0.0_rk
+        end if
+    end function reference_or_e1
+
+    ! The stretches s(:, g) = Lambda(phi_g)^T d_s r of nodal q at the points of the n_gauss
+    ! rule (methods §2.3 eq. 5 without e1): the arithmetic of every strain formed from
+    ! positions (compatible_strains, reference_stretches; displacement_forces forms the same
+    ! products at q_n = q_1).
+    pure subroutine stretches(le, n_gauss, q, s)
+        real(rk), intent(in) :: le
+        integer, intent(in) :: n_gauss
+        real(rk), intent(in) :: q(6)
+        real(rk), intent(out) :: s(2, n_gauss)
+        real(rk) :: w(max_gauss_points), nn(2, max_gauss_points), cs(2, max_gauss_points), r_s(2)
+        integer :: g
+        call gauss_shapes(n_gauss, w, nn)
+        call gauss_point_angles(n_gauss, nn, q(3), q(6), cs)
+        r_s = (q(4:5) - q(1:2)) / le
+        do g = 1, n_gauss
+            s(:, g) = rotate_back(cs(:, g), r_s)
+        end do
+    end subroutine stretches
 
     ! Add the contribution of one Gauss point to the nodal rows of the displacement schemes
     ! (methods §4.3 "pointwise", §5.1 eq. 75), Lambda05 given by cs05 = (cos, sin) phi05_g:

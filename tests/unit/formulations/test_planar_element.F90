@@ -5,7 +5,8 @@
 !> and across dphi = 0 and the series switch of Z2); the condensed kernel as the Schur complement
 !> of the full one; the discrete energy identities of the three schemes; the internal force and
 !> torque balance (angular momentum, methods §4.3/§4.4); rigid motions (cl-EM exactly stress-free,
-!> PH-EM and PH-EMi with the Cayley-angle strain drift of §4.5); objectivity; hand-computed
+!> PH-EM and PH-EMi with the Cayley-angle strain drift of §4.5); the reference stretch (a straight
+!> element exactly stress-free at its initial coordinates); objectivity; hand-computed
 !> cases (axial stretch EA delta/L, uniform shear angle, pure bending) and the consistent mass.
 !> Kelvin-Voigt damping (issue 26, docs/theory/ph_planar.md "Damping"): the Jacobians with
 !> viscosity against central differences, the energy identities with the dissipation
@@ -26,7 +27,8 @@ module rs_test_planar_element
         cl_em_residual, cl_em_jacobian, ph_emi_residual, ph_emi_jacobian, ph_emi_strains, &
         compatible_strains, element_mass, mixed_strain_energy, compatible_strain_energy, &
         ph_emi_strain_energy, planar_max_gauss, planar_sinc, ph_em_static, &
-        ph_em_static_condensed, ph_em_projected_strains, cl_em_static, viscous_dissipation
+        ph_em_static_condensed, ph_em_projected_strains, cl_em_static, viscous_dissipation, &
+        reference_stretches
     implicit none
     private
 
@@ -81,6 +83,8 @@ contains
         call run_test('static_equilibrium_rows', test_static_equilibrium_rows)
         call run_test('damped_jacobian_fd', test_damped_jacobian_fd)
         call run_test('viscous_stretch_hand', test_viscous_stretch_hand)
+        ! Last: its random draws leave the other tests' cases as they were.
+        call run_test('reference_stretch', test_reference_stretch)
     end subroutine run_all_tests
 
     ! ---------------------------------------------------------------------------------------
@@ -792,6 +796,58 @@ contains
             end if
         end do
     end subroutine test_rigid_motion
+
+    ! The reference stretch (reference_stretches, docs/theory/ph_planar.md "The reference
+    ! stretch"): short straight elements far from the origin in random directions, the
+    ! discretization of a long steel rod (le = 1e-3 at |r| up to 30: d_s r is known to
+    ! eps |r| / le = 7e-12 against e1). From their own reference stretch the strains, the
+    ! cl-EM step at rest, its equilibrium rows and the PH-EM projected strains of the initial
+    ! coordinates are exactly zero; against e1 (the default) some are not (at most 2e-12,
+    ! bound 1e-10). Prestrained (axial_reference a), the strains are (1 - a, 0), as against
+    ! a e1 (to 1.9e-14, bound 1e-12), and the cl-EM energy identity holds with the reference
+    ! for a random step (to 8.8e-13 relative, bound 5e-11).
+    subroutine test_reference_stretch()
+        real(rk) :: le, stiffness(3), q0(6), q1(6), reference(2, 2), gam(3, 2), r(6), k(6, 6)
+        real(rk) :: e(3), largest_default, a, work, energy, expected(3, 2)
+        integer :: ng, sample
+        stiffness = [6.3e7_rk, 2.5e7_rk, 1.6e3_rk]
+        le = 1.0e-3_rk
+        largest_default = 0.0_rk
+        do sample = 1, 20
+            q0 = straight_element(random_vector(2, 30.0_rk), uniform(-6.0_rk, 6.0_rk), le)
+            do ng = 1, 2
+                call reference_stretches(le, ng, q0, 1.0_rk, reference(:, 1:ng))
+                call compatible_strains(le, ng, q0, gam(:, 1:ng), reference(:, 1:ng))
+                CHECK_TRUE(all(gam(:, 1:ng) == 0.0_rk), 'strains of the reference state: 0')
+                call cl_em_residual(le, stiffness, no_viscosity, ng, 1.0e-4_rk, q0, q0, r, &
+                    reference(:, 1:ng))
+                CHECK_TRUE(all(r == 0.0_rk), 'cl-EM step at rest: no force')
+                call cl_em_static(le, stiffness, ng, q0, r, k, reference(:, 1:ng))
+                CHECK_TRUE(all(r == 0.0_rk), 'cl-EM equilibrium rows of the reference: 0')
+                e = ph_em_projected_strains(le, ng, q0, reference(:, 1:ng))
+                CHECK_TRUE(all(e == 0.0_rk), 'PH-EM projected strains of the reference: 0')
+                call compatible_strains(le, ng, q0, gam(:, 1:ng))
+                largest_default = max(largest_default, maxval(abs(gam(1:2, 1:ng))))
+                a = 1.0_rk / (1.0_rk + uniform(-0.01_rk, 0.01_rk))
+                call reference_stretches(le, ng, q0, a, reference(:, 1:ng))
+                call compatible_strains(le, ng, q0, gam(:, 1:ng), reference(:, 1:ng))
+                expected(:, 1:ng) = 0.0_rk
+                expected(1, 1:ng) = 1.0_rk - a
+                CHECK_CLOSE(gam(:, 1:ng), expected(:, 1:ng), 1.0e-12_rk, 0.0_rk, 'prestrained: (1 - a, 0, 0)')
+                q1 = q0 + [random_vector(2, 1.0e-4_rk), uniform(-0.1_rk, 0.1_rk), &
+                    random_vector(2, 1.0e-4_rk), uniform(-0.1_rk, 0.1_rk)]
+                call cl_em_residual(le, stiffness, no_viscosity, ng, 1.0e-4_rk, q0, q1, r, &
+                    reference(:, 1:ng))
+                work = dot_product(r, q1 - q0)
+                energy = compatible_strain_energy(le, stiffness, ng, q1, reference(:, 1:ng)) - &
+                    compatible_strain_energy(le, stiffness, ng, q0, reference(:, 1:ng))
+                CHECK_CLOSE(work, energy, 0.0_rk, 5.0e-11_rk, 'cl-EM energy identity with the reference')
+            end do
+        end do
+        ! d_s r of these elements is known to 7e-12: against e1 their strains are round-off.
+        CHECK_TRUE(largest_default > 0.0_rk, 'against e1 the reference state has strains')
+        CHECK_CLOSE(largest_default, 0.0_rk, 1.0e-10_rk, 0.0_rk, 'against e1: round-off')
+    end subroutine test_reference_stretch
 
     ! Superposed rigid motion of both endpoint states (rotation alpha about the origin, shift):
     ! nodal forces rotate by Lambda(alpha), moments, strain rows, e_1 and the PH-EMi history
