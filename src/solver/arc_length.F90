@@ -16,7 +16,11 @@
 !> with two solves of one factorization of J (the stepper's own linear solver: the chain LU for
 !> one rod, DESIGN.md §3): J a = -R, J b = -R_mu, dmu = -(t_Y . w a) / (t_Y . w b + t_mu), dY = a
 !> + dmu b. J stays regular at a limit point (only the bordered matrix is needed there); it is
-!> singular only at a bifurcation, which a perfect structure meets (docs/theory/continuation.md).
+!> singular only at a bifurcation, which a perfect structure meets: the critical eigenvalue of
+!> the stiffness is followed along the path by inverse iteration on the same factorization,
+!> a bifurcation is where it changes sign while the load keeps its direction, and with
+!> branch_switch the path leaves the first one along its mode (docs/theory/continuation.md,
+!> "Bifurcations").
 !> R_mu = dR/dmu is a difference of R in the load time (exact to round-off for loads linear in
 !> their time functions: the residual is then affine in the loads).
 !>

@@ -6,7 +6,11 @@
 !>   (b) ph_director (first order) and se3_pg on a free rod: a0 applied to a rigid translation
 !>       of the nodes (the state's layout: positions moved, everything else still) vanishes,
 !>       and a1 (B) or a2 (M) applied to it does not (a translation has inertia);
-!>   (c) the refusals: a formulation without a modal form (se3_strand), a state in motion;
+!>   (c) the refusals: a state in motion, se3_strand under a dead load (its dF/dX_n couples
+!>       every node to the segments before it); se3_strand's one-step pencil (modal_one_step,
+!>       dF/dY + dF/dX_n): first order with simple zeros, a steady rigid translation of a free
+!>       rod (momenta rho A v at every node, no stress) in the null space of a0 = A and not of
+!>       a1 = B;
 !>   (d) buckling_stiffness of a quasistatic ph_director rod (the Jacobian of its static
 !>       problem, traits static_tangent): a rigid translation is in the null space of K_T at
 !>       the reference, the system is back in time steps after it, and a dynamic ph_director
@@ -42,6 +46,7 @@ contains
         call run_test('ph_director_translation', test_ph_director_translation)
         call run_test('se3_pg_translation', test_se3_pg_translation)
         call run_test('refusals', test_refusals)
+        call run_test('se3_strand_rigid_motion', test_se3_strand_rigid_motion)
         call run_test('ph_director_static_tangent', test_ph_director_static_tangent)
         call run_test('ph_director_equilibrate', test_ph_director_equilibrate)
         call run_test('se3_pg_equilibrate', test_se3_pg_equilibrate)
@@ -169,15 +174,49 @@ contains
         type(pencil_t) :: pencil
         type(error_t), allocatable :: err
         real(rk), allocatable :: x(:)
-        call build(scene_text('se3_strand', 6, .false., ''), system, x)
+        call build(scene_text('se3_strand', 6, .false., " /" // nl // &
+            "&load rod = 'beam', where = 'gravity', acceleration = 0, 0, -9.81"), system, x)
         call linearize_system(system, 0.0_rk, x, dt, pencil, err)
-        CHECK_TRUE(allocated(err), 'se3_strand is refused')
-        if (allocated(err)) CHECK_CONTAINS(err%message, 'not available for se3_strand', 'named')
+        CHECK_TRUE(allocated(err), 'se3_strand under a dead load is refused')
+        if (allocated(err)) CHECK_CONTAINS(err%message, 'by the state at t_n', 'the refusal says why')
         call build(scene_text('se3_pg', 6, .true., ', velocity = 0, 1, 0'), system, x)
         call linearize_system(system, 0.0_rk, x, dt, pencil, err)
         CHECK_TRUE(allocated(err), 'a state in motion is refused')
         if (allocated(err)) CHECK_CONTAINS(err%message, 'not at rest', 'the refusal says why')
     end subroutine test_refusals
+
+    !> se3_strand's pencil (modal_one_step) on a free rod: first order, its rigid motions simple
+    !> zeros; the unknowns are blocks of 6 (block 0 the ghost stress, 2k + 1 the momentum P_k
+    !> of node k, 2k + 2 the stress of segment k; methods/se3_strands.md §3.5), the linear
+    !> momentum in components 4..6. A steady translation, P_k = rho A (v, v, v) and no stress,
+    !> makes A vanish to round-off and B not (it is the rate of a momentum).
+    subroutine test_se3_strand_rigid_motion()
+        type(rod_system_t) :: system
+        type(pencil_t) :: pencil
+        type(error_t), allocatable :: err
+        real(rk), allocatable :: x(:), t(:), a0t(:), a1t(:)
+        real(rk), parameter :: rho_a = 7800.0_rk * 3.141592653589793_rk * 1.0e-4_rk
+        character(len=:), allocatable :: message
+        integer :: k, n_segments
+        n_segments = 6
+        call build(scene_text('se3_strand', n_segments, .true., ''), system, x)
+        call linearize_system(system, 0.0_rk, x, dt, pencil, err)
+        CHECK_TRUE(.not. allocated(err), 'se3_strand linearizes')
+        if (allocated(err)) return
+        CHECK_EQUAL(pencil%form, modal_first_order, 'se3_strand: a first-order pencil')
+        CHECK_TRUE(pencil%simple_zeros, 'se3_strand: rigid motions are simple zeros')
+        allocate(t(pencil%n), source=0.0_rk)
+        do k = 0, n_segments
+            t(6 * (2 * k + 1) + 4:6 * (2 * k + 1) + 6) = rho_a
+        end do
+        a0t = csr_times(pencil, pencil%a0, t)
+        a1t = csr_times(pencil, pencil%a1, t)
+        ! Exact cancellations: measured 0 against |a0| |t| of about 1e7.
+        message = 'se3_strand: a steady translation is in the null space of A (|A t| = ' // &
+            str_significant(maxval(abs(a0t)), 3) // ')'
+        CHECK_TRUE(maxval(abs(a0t)) <= 1.0e-12_rk * maxval(abs(pencil%a0)) * maxval(abs(t)), message)
+        CHECK_TRUE(maxval(abs(a1t)) > 1.0e-6_rk * maxval(abs(t)), 'se3_strand: B t /= 0')
+    end subroutine test_se3_strand_rigid_motion
 
     !> buckling_stiffness of a free quasistatic ph_director rod about its reference: both
     !> stiffnesses read from the static problem (no mass: a1 = a2 = 0), a rigid translation of
