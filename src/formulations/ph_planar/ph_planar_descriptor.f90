@@ -59,8 +59,10 @@ contains
             joints='revolute|rigid', planar=.true., order_4=.true., adaptive=.true., &
             damping=.true., segments=.true., prestrain=.true., initial_equilibrium=.true., &
             release=.true., modes=.true., damped_modes=.false., buckling=.true.)
-        ! Arc-length continuation (docs/theory/continuation.md) on the static rows.
-        d%capability%continuation = name == 'ph_planar'
+        ! Arc-length continuation (docs/theory/continuation.md) on the static rows of either
+        ! scheme (cl_em_planar's residual has a rounding floor: newton_atol about 3e-7 of the
+        ! loads).
+        d%capability%continuation = .true.
         d%create => create
         d%plan_lines => plan_lines
         d%check_rod => check_planar_rod

@@ -17,12 +17,23 @@ Cases:
       here by the arithmetic-geometric mean): alpha runs from 68 to 124 degrees. The rod's
       extension and shear move P by about P / EA ~ 5e-6 relative. Observed order about 2
       between 160 and 640 elements (6.9e-5 and 2.2e-6); the finest within 1e-5.
+  elastica_cl_em_planar
+      the same pinned column with Stander and Stein's displacement scheme (its static rows).
   elastica_se3_pg, elastica_ph_director
       the same for the cantilever, half the pinned column of twice its length: clamped at s =
       0, loaded at s = L to 2 P_c (P_c = pi^2 EI / (4 L^2)), the rotation of the free end against
       P / P_c = (2 K(k) / pi)^2. se3_pg: order 2 between 160 and 320 elements (9.3e-6, 1.9e-6);
       ph_director of degree 2 with constraint = 'inextensible' (Euler's elastica exactly):
       order 4 between 16 and 32 elements (2.0e-5, 1.3e-6); the finest within 1e-5.
+  branch_ph_planar, branch_cl_em_planar, branch_se3_pg, branch_ph_director
+      the perfect columns (no pulse) with &time branch_switch: the path crosses the bifurcation
+      at the buckling load, the run logs it and leaves the straight column along the critical
+      mode, once; then the elastica as above, from the branch's first points (1.5 degrees) on,
+      at the same meshes and bounds (a 3D rod of circular section: a double eigenvalue).
+  bifurcation_ph_director
+      the perfect inextensible ph_director cantilever without branch_switch: one bifurcation
+      logged, at Euler's load (0.5 of the load time) within 1e-6, and the column stays
+      straight past it.
   arch_se3_pg
       A shallow pinned circular arch (span 1 m, rise 6 mm, r = 5 mm: rise / radius of gyration
       2.4) under a uniform downward load growing linearly with the load time: the path passes
@@ -83,7 +94,7 @@ def column(formulation, n_elements, pinned, atol=1e-9, extra="", radius=1e-3, pe
     inertia = math.pi * radius**4 / 4
     critical = math.pi**2 * E * inertia / (1.0 if pinned else 4.0)
     if pinned:
-        hold = "'y'" if formulation == "ph_planar" else "'y', 'z'"
+        hold = "'y'" if formulation in ("ph_planar", "cl_em_planar") else "'y', 'z'"
         supports = f"""&bc
     rod = 'column', end = 'start', kind = 'pinned'
 /
@@ -373,10 +384,15 @@ if __name__ == "__main__":
         # Degree 2, inextensible and shear-rigid (Euler's elastica exactly): 2.0e-5, 1.3e-6.
         "elastica_ph_director": elastica("ph_director", (16, 32), 4, pinned=False,
                                          extra="constraint = 'inextensible'"),
+        # Stander and Stein's displacement scheme: its Newton residual has a rounding floor
+        # (EA eps |r| / l: 1.1e-8 N at 160 elements, 2e-7 N at 640), so newton_atol 1e-6 N,
+        # 3e-7 of the load.
+        "elastica_cl_em_planar": elastica("cl_em_planar", (160, 640), 2, atol=1e-6),
         # The perfect columns, switched onto the buckled branch at the bifurcation.
         "branch_ph_planar": elastica("ph_planar", (160, 640), 2, perfect=True),
         "branch_se3_pg": elastica("se3_pg", (160, 320), 2, pinned=False, atol=1e-6,
                                   perfect=True),
+        "branch_cl_em_planar": elastica("cl_em_planar", (160, 640), 2, atol=1e-6, perfect=True),
         "branch_ph_director": elastica("ph_director", (16, 32), 4, pinned=False,
                                        extra="constraint = 'inextensible'", perfect=True),
         "bifurcation_ph_director": bifurcation,
