@@ -12,7 +12,11 @@
 !>   scaled by h, ph_director's momentum rows, only scales the row);
 !> - second order (modal_second_order; se3_pg), M q'' + C q' + K q = 0 in positions alone:
 !>   J(h) = 2 M / h^2 + C / h + K / 2 (u_{n+1} = 2 dq / h - u_n).
-!> Both are the pencil P(s) = a0 + s a1 + s^2 a2 (first order: a0 = A, a1 = B, a2 = 0; second
+!> - a one-step scheme other than the midpoint rule (modal_one_step; se3_strand, coefficients
+!>   frozen at t_n): dF/dY = h^p (B/h + A_Y), dF/dX_n = h^p (-B/h + A_X)
+!>   (rod_system_t%state_jacobian), a first-order pencil with a0 = A_Y + A_X, a1 = B, read from
+!>   a second fit of dF/dY + dF/dX_n (classify_one_step_row).
+!> All are the pencil P(s) = a0 + s a1 + s^2 a2 (first order: a0 = A, a1 = B, a2 = 0; second
 !> order, rows doubled: a0 = 4 C_0 = K, a1 = 2 C_1 = C, a2 = C_2 = M, with C_k the coefficient
 !> of h^-k), whose eigenvalues s = +-i omega are the modes. Constraint rows (tie rows, rigid
 !> strain components) have one power of h only: they are algebraic rows of a0, whatever their
@@ -105,7 +109,7 @@ contains
             RS_SET_ERROR(err, 'linearize_system', message)
             return
         end if
-        ! A one-step scheme's pencil is first order; its A needs dF/dX_n as well (fit_total).
+        ! A one-step scheme's pencil is first order; its A needs dF/dX_n as well (fit with_state).
         pencil%form = merge(modal_first_order, traits%modal_form, &
             traits%modal_form == modal_one_step)
         pencil%simple_zeros = traits%modal_form == modal_one_step
