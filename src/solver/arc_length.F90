@@ -19,8 +19,9 @@
 !> singular only at a bifurcation, which a perfect structure meets: the critical eigenvalue of
 !> the stiffness is followed along the path by inverse iteration on the same factorization,
 !> a bifurcation is where it changes sign while the load keeps its direction, and with
-!> branch_switch the path leaves the first one along its mode (docs/theory/continuation.md,
-!> "Bifurcations").
+!> branch_switch the path leaves the first one along its mode, the branch's tangent at a
+!> simple symmetric bifurcation (Keller 1977, "Numerical solution of bifurcation and nonlinear
+!> eigenvalue problems"; docs/theory/continuation.md, "Bifurcations").
 !> R_mu = dR/dmu is a difference of R in the load time (exact to round-off for loads linear in
 !> their time functions: the residual is then affine in the loads).
 !>

@@ -1122,41 +1122,43 @@ contains
         logical, intent(in) :: endpoint
         real(rk), intent(in) :: t_load
         real(rk), intent(in), optional :: continue_from(:)
-        integer :: m, c
-        this%static = endpoint
-        if (this%direct) then
-            call this%members(1)%rod%set_step_problem(endpoint, t_load, continue_from)
-            return
-        end if
-        do m = 1, size(this%members)
-            call this%members(m)%rod%set_step_problem(endpoint, t_load)
-        end do
-        do c = 1, size(this%couplings)
-            call this%couplings(c)%coupling%set_endpoint(endpoint, t_load)
-        end do
+        call set_problems(this, endpoint, t_load, continue_from, members_continue=this%direct)
     end subroutine system_set_step_problem
 
     subroutine system_set_load_problem(this, t_load, base)
         class(rod_system_t), intent(inout) :: this
         real(rk), intent(in) :: t_load
         real(rk), intent(in), optional :: base(:)
+        call set_problems(this, .true., t_load, base, members_continue=.true.)
+    end subroutine system_set_load_problem
+
+    !> The members' and couplings' step problems (set_step_problem, set_load_problem), each
+    !> member continued from its part of `base` when given and `members_continue`: always for a
+    !> path's statics (whose anchors weigh 0), and for the endpoint equilibrium of one rod
+    !> without couplings only (a coupled system's members solve theirs uncontinued, on which
+    !> the quasistatic bundles' equilibria rest).
+    subroutine set_problems(this, endpoint, t_load, base, members_continue)
+        type(rod_system_t), intent(inout) :: this
+        logical, intent(in) :: endpoint, members_continue
+        real(rk), intent(in) :: t_load
+        real(rk), intent(in), optional :: base(:)
         integer :: m, c
-        this%static = .true.
+        this%static = endpoint
         do m = 1, size(this%members)
             associate (place => this%layout%members(m))
-                if (present(base)) then
-                    call this%members(m)%rod%set_step_problem(.true., t_load, &
+                if (present(base) .and. members_continue) then
+                    call this%members(m)%rod%set_step_problem(endpoint, t_load, &
                         continue_from=base(place%state_offset + 1:place%state_offset + &
                         place%n_state))
                 else
-                    call this%members(m)%rod%set_step_problem(.true., t_load)
+                    call this%members(m)%rod%set_step_problem(endpoint, t_load)
                 end if
             end associate
         end do
         do c = 1, size(this%couplings)
-            call this%couplings(c)%coupling%set_endpoint(.true., t_load)
+            call this%couplings(c)%coupling%set_endpoint(endpoint, t_load)
         end do
-    end subroutine system_set_load_problem
+    end subroutine set_problems
 
     !> The step (t_n, h) whose problem is the statics at load time t_load: a formulation whose
     !> every step is an equilibrium at t_n + h (equilibrium_steps, se3_pg) takes t_n = t_load -

@@ -618,8 +618,9 @@ contains
 
     !> dF/dX_n of the step (rod_formulation_t%state_jacobian, modal_one_step): the frozen
     !> coefficients' dependence on P_n and Sigma_n (ad_{V_n}, ad_{U_n}, U_n = A^-1 Sigma_n +
-    !> U_bar), the right-hand side's P_n / h and Sigma_n / h, the Kelvin-Voigt and internal
-    !> laws' Sigma_n (docs/theory/modes.md, "se3_strand"). F is at most quadratic in X_n (the
+    !> U_bar, in the node and segment rows of methods/se3_strands.md §3.5), the right-hand
+    !> side's P_n / h and Sigma_n / h, the Kelvin-Voigt and internal laws' Sigma_n
+    !> (docs/theory/modes.md, "se3_strand"). F is at most quadratic in X_n (the
     !> Kelvin-Voigt right-hand side c(Sigma_n) theta Sigma_n; the rest is affine), so central
     !> differences are exact up to round-off for any step; row b reads X_n's blocks b - 1 .. b +
     !> 1 only, so the columns of blocks three apart are differenced together (18 pairs of
