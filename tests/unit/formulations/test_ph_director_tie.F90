@@ -13,10 +13,9 @@
 !> tolerances bound round-off only. Measured worst values are printed.
 module rs_test_ph_director_tie
     use, intrinsic :: iso_fortran_env, only: output_unit
-    use, intrinsic :: ieee_exceptions, only: ieee_usual, ieee_get_halting_mode, &
-        ieee_set_halting_mode, ieee_set_flag
     use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
     use rs_core_kinds, only: rk, pi
+    use rs_test_singular_values, only: svd_values => singular_values
     use rs_test_random, only: set_random_seed, random_unit_vector, uniform, random_vector
     use rs_test_assert, only: run_test, assert_true, assert_close, assert_equal
     use rs_math_so3, only: exp_so3
@@ -29,16 +28,6 @@ module rs_test_ph_director_tie
 
     public :: run_all_tests
 
-    interface
-        subroutine dgesvd(jobu, jobvt, m, n, a, lda, s, u, ldu, vt, ldvt, work, lwork, info)
-            import :: rk
-            character(len=1), intent(in) :: jobu, jobvt
-            integer, intent(in) :: m, n, lda, ldu, ldvt, lwork
-            real(rk), intent(inout) :: a(lda, *)
-            real(rk), intent(out) :: s(*), u(ldu, *), vt(ldvt, *), work(*)
-            integer, intent(out) :: info
-        end subroutine dgesvd
-    end interface
 
     integer, parameter :: nz = ph_director_tie_size
     character(len=9), parameter :: kinds(3) = [character(len=9) :: 'spherical', 'rigid', &
@@ -195,16 +184,8 @@ contains
     function singular_values(a) result(s)
         real(rk), intent(in) :: a(:, :)
         real(rk) :: s(min(size(a, 1), size(a, 2)))
-        real(rk) :: work_a(size(a, 1), size(a, 2)), work(1000), u(1, 1), vt(1, 1)
-        logical :: halting(size(ieee_usual))
         integer :: info
-        work_a = a
-        call ieee_get_halting_mode(ieee_usual, halting)
-        call ieee_set_halting_mode(ieee_usual, .false.)
-        call dgesvd('N', 'N', size(a, 1), size(a, 2), work_a, size(a, 1), s, u, 1, vt, 1, work, &
-            size(work), info)
-        call ieee_set_flag(ieee_usual, .false.)
-        call ieee_set_halting_mode(ieee_usual, halting)
+        s = svd_values(a, info)
         CHECK_EQUAL(info, 0, 'dgesvd')
         CHECK_TRUE(all(ieee_is_finite(s)), 'finite singular values')
     end function singular_values

@@ -21,6 +21,7 @@
 !>       of 1, and the same scaling for a weight that differs in its last bits.
 module rs_test_system_linearization
     use rs_core_kinds, only: rk
+    use rs_test_singular_values, only: singular_values
     use rs_core_error, only: error_t, error_list_t
     use rs_core_strings, only: str, str_significant
     use rs_test_assert, only: run_test, assert_true, assert_equal, assert_contains
@@ -30,21 +31,9 @@ module rs_test_system_linearization
     use rs_system_rod_system, only: rod_system_t
     use rs_system_linearization, only: pencil_t, linearize_system, buckling_stiffness, &
         equilibrate
-    use, intrinsic :: ieee_exceptions, only: ieee_get_halting_mode, ieee_set_halting_mode, &
-        ieee_set_flag, ieee_usual
     implicit none
     private
 
-    interface
-        subroutine dgesvd(jobu, jobvt, m, n, a, lda, s, u, ldu, vt, ldvt, work, lwork, info)
-            import :: rk
-            character(len=1), intent(in) :: jobu, jobvt
-            integer, intent(in) :: m, n, lda, ldu, ldvt, lwork
-            real(rk), intent(inout) :: a(lda, *)
-            real(rk), intent(out) :: s(*), u(ldu, *), vt(ldvt, *), work(*)
-            integer, intent(out) :: info
-        end subroutine dgesvd
-    end interface
 
     public :: run_all_tests
 
@@ -211,7 +200,7 @@ contains
             col_scale(:)
         real(rk), parameter :: rho_a = 7800.0_rk * 3.141592653589793_rk * 1.0e-4_rk
         character(len=:), allocatable :: message
-        integer :: k, n_segments, i
+        integer :: k, n_segments, i, info
         n_segments = 6
         call build(scene_text('se3_strand', n_segments, .true., ''), system, x)
         call linearize_system(system, 0.0_rk, x, dt, pencil, err)
@@ -241,7 +230,8 @@ contains
         do i = 1, pencil%n
             a(i, :) = row_scale(i) * a(i, :) * col_scale
         end do
-        s = singular_values(a)
+        s = singular_values(a, info)
+        CHECK_EQUAL(info, 0, 'dgesvd')
         message = 'se3_strand: A of a free rod has six zero singular values (the smallest ' // &
             'seven over the largest: ' // str_significant(s(size(s) - 6) / s(1), 3) // ', ' // &
             str_significant(s(size(s) - 5) / s(1), 3) // ' ...)'
@@ -262,25 +252,6 @@ contains
         end do
     end function dense
 
-    !> The singular values of a, largest first (LAPACK dgesvd, with the FPE traps of the Debug
-    !> build held off during it: its scaling may underflow harmlessly).
-    function singular_values(a) result(s)
-        real(rk), intent(in) :: a(:, :)
-        real(rk) :: s(min(size(a, 1), size(a, 2)))
-        real(rk) :: work_a(size(a, 1), size(a, 2)), u(1, 1), vt(1, 1)
-        real(rk), allocatable :: work(:)
-        logical :: halting(size(ieee_usual))
-        integer :: info
-        work_a = a
-        allocate(work(10 * size(a, 1) + 1000))
-        call ieee_get_halting_mode(ieee_usual, halting)
-        call ieee_set_halting_mode(ieee_usual, .false.)
-        call dgesvd('N', 'N', size(a, 1), size(a, 2), work_a, size(a, 1), s, u, 1, vt, 1, work, &
-            size(work), info)
-        call ieee_set_flag(ieee_usual, .false.)
-        call ieee_set_halting_mode(ieee_usual, halting)
-        CHECK_EQUAL(info, 0, 'dgesvd')
-    end function singular_values
 
     !> buckling_stiffness of a free quasistatic ph_director rod about its reference: both
     !> stiffnesses read from the static problem (no mass: a1 = a2 = 0), a rigid translation of
